@@ -1,0 +1,49 @@
+/// \file problem.hpp
+/// The mixed complementarity problem of the thesis (eq. 12 and 15) as a small interface.
+///
+/// Unknowns x in R^n. The first m rows are smooth equations E(x) = 0; the remaining
+/// n - m rows are complementarity pairs
+///     A_j(x) >= 0,  B_j(x) >= 0,  A_j(x) B_j(x) = 0,   j = 0 .. n-m-1.
+/// The solver reformulates this as the square nonsmooth system
+///     Phi(x) = [ E(x) ; phi(A_j(x), B_j(x)) ] = 0
+/// and applies Algorithm 1 of the thesis (De Luca, Facchinei, Kanzow 1996).
+///
+/// The z-vector rule (DFK eq. 27, thesis section 3.1) needs a variable associated with
+/// each row: row i of Phi is associated with variable i (so pair j belongs to variable
+/// m + j). Order your unknowns so that this association is natural, e.g. for a standard
+/// NCP pair j is (x_j, F_j(x)).
+#pragma once
+
+#include "ncp/types.hpp"
+
+namespace ncp {
+
+class MixedProblem {
+ public:
+  virtual ~MixedProblem() = default;
+
+  /// n, the number of unknowns (= number of rows of Phi).
+  virtual int NumVariables() const = 0;
+  /// m, the number of smooth equations; the number of pairs is n - m.
+  virtual int NumEquations() const = 0;
+
+  /// Evaluates E (size m), A and B (size n - m) at x. The vectors arrive already sized.
+  /// Returning false means "cannot evaluate at this x" (e.g. outside a domain): the
+  /// line search then shortens the step.
+  virtual bool Evaluate(const Vector& x, Vector* E, Vector* A, Vector* B) = 0;
+
+  /// Jacobians dE/dx (m x n), dA/dx and dB/dx ((n-m) x n) at x, in compressed form.
+  /// The sparsity patterns should stay fixed after the first call (explicit zeros are
+  /// fine) so that the symbolic factorization is reused; a changed pattern is detected
+  /// and triggers a new analysis. Jacobian() is only called at points where Evaluate()
+  /// succeeded; returning false stops the solve with TerminationType::kEvaluationFailure.
+  virtual bool Jacobian(const Vector& x, SparseMatrix* JE, SparseMatrix* JA,
+                        SparseMatrix* JB) = 0;
+
+  /// The variable associated with pair j for the z-vector rule (DFK eq. 27: z has a 1 at
+  /// the associated variable of every degenerate pair). Default: m + j, the thesis's
+  /// choice of row i <-> variable i. Override only if your ordering differs.
+  virtual int PairVariable(int j) const { return NumEquations() + j; }
+};
+
+}  // namespace ncp

@@ -1,0 +1,156 @@
+/// \file solver.hpp
+/// Semismooth Newton method for complementarity problems: Algorithm 1 of the thesis
+/// (section 3.1), i.e. the globalized method of De Luca, Facchinei and Kanzow (1996):
+///
+///   0. k = 0, start point x^0.
+///   1. Stop if ||Phi(x^k)||_inf <= tolerance.
+///   2. Take J^k in the B-subdifferential of Phi at x^k (z-vector rule, DFK eq. 27) and
+///      solve J^k d = -Phi(x^k). If that fails, or the descent test
+///          grad psi(x^k)' d <= -rho ||d||^p                                    (eq. 22)
+///      fails, use d = -grad psi(x^k), where psi = 1/2 ||Phi||^2, grad psi = J' Phi.
+///   3. Armijo: smallest i = 0, 1, ... with
+///          psi(x^k + 2^-i d) <= psi(x^k) + beta 2^-i grad psi(x^k)' d          (eq. 23)
+///   4. x^{k+1} = x^k + 2^-i d, k = k + 1, go to 1.
+///
+/// Misuse (size mismatch, NaN/Inf in the start point, lower > upper, invalid options)
+/// throws std::invalid_argument. Numerical trouble never throws: it ends the solve with a
+/// TerminationType and a message in the Summary.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ncp/problem.hpp"
+#include "ncp/square_function.hpp"
+#include "ncp/types.hpp"
+
+namespace ncp {
+
+/// State after one iteration, passed to the callback and stored in Summary::trace.
+struct IterationRecord {
+  int iteration = 0;            ///< k (0 = the start point, before any step)
+  double phi_inf = 0.0;         ///< ||Phi(x^k)||_inf
+  double psi = 0.0;             ///< psi(x^k) = 1/2 ||Phi(x^k)||_2^2
+  double grad_psi_inf = 0.0;    ///< ||J' Phi||_inf at x^k
+  double step_length = 0.0;     ///< 2^-i accepted to reach x^k (0 for k = 0)
+  double direction_norm = 0.0;  ///< ||d||_2 of the step that reached x^k
+  int backtracks = 0;           ///< i of the step that reached x^k
+  bool gradient_step = false;   ///< the step that reached x^k was d = -grad psi
+  int degenerate_pairs = 0;     ///< |gamma| at x^k (pairs with A = B = 0)
+  double time_s = 0.0;          ///< wall time since the solve started
+};
+
+/// Return false to stop the solve (TerminationType::kUserAbort).
+using IterationCallback = std::function<bool(const IterationRecord&)>;
+
+struct Options {
+  NcpFunction ncp_function = NcpFunction::kFischerBurmeister;
+  /// lambda of the penalized FB function, in (0, 1]; 1 gives plain FB (CCK 2000 use 0.95).
+  double penalized_fb_lambda = 0.95;
+  /// Converged when ||Phi(x)||_inf <= tolerance (thesis section 6.4, eq. 109).
+  double tolerance = 1e-10;
+  /// Stop with kMaxIterations after this many Newton/gradient steps.
+  int max_iterations = 500;
+  /// Newton direction kept only if grad psi' d <= -descent_rho ||d||_2^descent_p (eq. 22).
+  double descent_rho = 1e-8;
+  double descent_p = 2.1;
+  /// Armijo constant beta in (0, 1/2) of eq. (23).
+  double armijo_beta = 1e-4;
+  /// Largest i tried in the step 2^-i; failing it ends with kLineSearchFailure.
+  int max_backtracks = 60;
+  /// A pair belongs to the degenerate set gamma when hypot(A_j, B_j) <= this (DFK: 0).
+  double degenerate_tolerance = 0.0;
+  /// When the line search cannot decrease psi, the end is reported as kStationaryPoint
+  /// (a local minimum of psi that is not a solution) if ||grad psi||_inf <=
+  /// stationarity_tolerance * ||Phi||_inf, else as kLineSearchFailure. grad psi = 0
+  /// exactly with Phi != 0 is always kStationaryPoint.
+  double stationarity_tolerance = 1e-6;
+  /// Algorithm 1 step 2: fall back to d = -grad psi. If false, a failed Newton solve
+  /// ends with kLinearSolverFailure and a failed descent test keeps the Newton direction.
+  bool gradient_fallback = true;
+  LinearSolverType linear_solver = LinearSolverType::kAuto;
+  /// kAuto uses dense LU for n <= dense_threshold, UMFPACK above.
+  int dense_threshold = 100;
+  /// Store an IterationRecord per iteration in Summary::trace.
+  bool keep_trace = false;
+  /// Print one line per iteration to stderr.
+  bool log_to_stderr = false;
+  /// Called after every iteration (and once for the start point).
+  IterationCallback callback;
+
+  /// Rejects settings outside their ranges; *error says which and why.
+  bool IsValid(std::string* error) const;
+};
+
+struct Summary {
+  TerminationType termination = TerminationType::kNotSolved;
+  std::string message = "not solved yet";
+
+  int num_variables = -1;
+  int num_equations = -1;
+  int num_pairs = -1;
+  NcpFunction ncp_function = NcpFunction::kFischerBurmeister;
+  LinearSolverType linear_solver_requested = LinearSolverType::kAuto;
+  LinearSolverType linear_solver_used = LinearSolverType::kAuto;
+
+  int iterations = -1;               ///< steps taken
+  int jacobian_evaluations = -1;     ///< calls of Jacobian()
+  int residual_evaluations = -1;     ///< calls of Evaluate() (line search included)
+  int gradient_steps = -1;           ///< steps with d = -grad psi
+  int linear_solver_failures = -1;   ///< Newton solves that failed (singular, non-finite)
+  int descent_test_failures = -1;    ///< Newton directions rejected by eq. (22)
+  int backtracks = -1;               ///< total halvings in the line search
+  int symbolic_factorizations = -1;  ///< sparse analyses (1 if the pattern never changed)
+
+  double initial_phi_inf = -1.0;  ///< ||Phi(x^0)||_inf
+  double final_phi_inf = -1.0;    ///< ||Phi(x)||_inf at the returned x
+  double final_psi = -1.0;        ///< psi at the returned x
+
+  double total_time_s = -1.0;
+  double evaluation_time_s = -1.0;     ///< inside Evaluate() and Jacobian()
+  double linear_solver_time_s = -1.0;  ///< factorizations and solves
+
+  std::vector<IterationRecord> trace;  ///< filled when Options::keep_trace
+
+  /// One line: status, iterations, evaluations, residual, time.
+  std::string BriefReport() const;
+  /// Several lines with every counter.
+  std::string FullReport() const;
+  /// True only for kConverged.
+  bool IsSolutionUsable() const { return termination == TerminationType::kConverged; }
+};
+
+/// Keeps the linear-solver state (symbolic factorization) between solves, so a sequence
+/// of problems with the same Jacobian pattern (time steps) pays the analysis once.
+class Solver {
+ public:
+  explicit Solver(const Options& options = Options());
+  ~Solver();
+  Solver(Solver&&) noexcept;
+  Solver& operator=(Solver&&) noexcept;
+
+  const Options& options() const { return options_; }
+
+  /// Mixed problem; *x holds the start point on entry and the last iterate on return.
+  void Solve(MixedProblem& problem, Vector* x, Summary* summary);
+  /// Box MCP l <= x <= u perp F(x); the start point is used as given (not projected).
+  void Solve(SquareFunction& F, const Vector& lower, const Vector& upper, Vector* x,
+             Summary* summary);
+  /// Standard NCP x >= 0 perp F(x) >= 0.
+  void SolveNcp(SquareFunction& F, Vector* x, Summary* summary);
+
+ private:
+  Options options_;
+  struct Workspace;
+  std::unique_ptr<Workspace> workspace_;
+};
+
+/// One-shot conveniences (a fresh Solver each call).
+void Solve(const Options& options, MixedProblem& problem, Vector* x, Summary* summary);
+void Solve(const Options& options, SquareFunction& F, const Vector& lower,
+           const Vector& upper, Vector* x, Summary* summary);
+void SolveNcp(const Options& options, SquareFunction& F, Vector* x, Summary* summary);
+
+}  // namespace ncp

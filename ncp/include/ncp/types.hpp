@@ -1,0 +1,54 @@
+/// \file types.hpp
+/// Basic linear-algebra types and the enumerations shared by the ncp public API.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <string>
+
+namespace ncp {
+
+using Vector = Eigen::VectorXd;
+/// Column-major compressed sparse matrix; the format every Jacobian is exchanged in.
+using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+using DenseMatrix = Eigen::MatrixXd;
+
+/// The NCP function phi(a, b) with phi(a, b) = 0  <=>  a >= 0, b >= 0, a b = 0.
+enum class NcpFunction {
+  /// phi(a, b) = sqrt(a^2 + b^2) - (a + b)            (thesis eq. 17; DFK 1996)
+  kFischerBurmeister,
+  /// phi(a, b) = min(a, b)                              (thesis eq. 16)
+  kMin,
+  /// phi(a, b) = lambda phi_FB(a, b) - (1 - lambda) max(a, 0) max(b, 0)
+  /// (Chen, Chen and Kanzow 2000), lambda = Options::penalized_fb_lambda.
+  kPenalizedFischerBurmeister,
+};
+
+/// Linear solver used for the Newton system J d = -Phi.
+enum class LinearSolverType {
+  kAuto,      ///< dense LU below Options::dense_threshold unknowns, else UMFPACK
+  kDenseLU,   ///< Eigen::FullPivLU on the densified Jacobian (rank-revealing)
+  kSparseLU,  ///< Eigen::SparseLU (supernodal, COLAMD ordering)
+  kUmfpack,   ///< SuiteSparse UMFPACK through Eigen::UmfPackLU
+  kKlu,       ///< SuiteSparse KLU through Eigen::KLU
+};
+
+/// Why a solve stopped. Only kConverged means the returned x solves the problem.
+enum class TerminationType {
+  kNotSolved,            ///< Solve() has not run yet (Summary default)
+  kConverged,            ///< ||Phi(x)||_inf <= Options::tolerance
+  kMaxIterations,        ///< Options::max_iterations reached
+  kLineSearchFailure,    ///< no step of length >= Options::min_step satisfies Armijo
+  kStationaryPoint,      ///< grad psi = 0 but Phi != 0: a local minimum of the merit
+                         ///< function that is not a solution (e.g. Billups from x0 = 0)
+  kLinearSolverFailure,  ///< Newton system unsolvable and the gradient fallback is disabled
+  kNonFiniteValues,      ///< NaN/Inf in the residual or Jacobian at the current iterate
+  kEvaluationFailure,    ///< Evaluate()/Jacobian() returned false at the current iterate
+  kUserAbort,            ///< the iteration callback asked to stop
+};
+
+const char* ToString(NcpFunction f);
+const char* ToString(LinearSolverType t);
+const char* ToString(TerminationType t);
+
+}  // namespace ncp

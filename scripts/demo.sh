@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds, and runs the main demo.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+bash scripts/build.sh
+echo
+echo "== examples/ncp: a user-defined NCP =="
+build/bin/ncp-example
+echo
+echo "== the ncp problem collection, every standard start point =="
+build/bin/ncp-collection

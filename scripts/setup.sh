@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages this project needs, if missing. Idempotent and
+# non-interactive; runs `apt-get update` once, and only when something must be installed.
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libeigen3-dev            # Eigen 3.4
+  libsuitesparse-dev       # UMFPACK, KLU, CHOLMOD
+  coinor-libipopt-dev      # Ipopt 3.11 (reference QP solver)
+  catch2                   # Catch2 2.13 (tests)
+  libgmsh-dev gmsh         # meshes (C++ API gmsh.h)
+  libtoml11-dev            # scene files
+  nlohmann-json3-dev       # JSON output
+  libcxxopts-dev           # command-line parsing
+  python3-matplotlib       # figures (run with /usr/bin/python3)
+  libsiconos-numerics-dev  # peer solver for benchmarks
+  libfclib-dev             # FCLIB reader for the fc3d data
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+echo "setup: installing ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
