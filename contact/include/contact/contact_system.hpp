@@ -1,0 +1,141 @@
+/// \file contact_system.hpp
+/// The complementarity system of one contact solve - a static equilibrium or one central
+/// difference time step - in the mixed form of ncp (thesis eq. 82, 90, 94).
+///
+/// Given a symmetric positive definite S (free dofs x free dofs, global frame), a vector q
+/// and the candidate contact nodes, find x and the contact forces such that
+///
+///     S x + q = sum_c F_c                                              (equilibrium)
+///     F_c = -lambda_c n_c + tau_c        (force of the obstacle on the body at node c)
+///     0 <= lambda_c  perp  gap_c = s_c - n_c . (u0_c + x_c) >= 0           (Signorini)
+///     |tau_c| <= g_c, tau_c = -g_c slip_c / |slip_c| when slip_c != 0      (Tresca)
+///
+/// with n_c the unit OUTWARD normal of the body (pointing towards the obstacle), s_c the
+/// initial gap along n_c, slip_c the tangential part of x_c, and g_c >= 0 the Tresca bound.
+/// Coulomb friction is obtained as in the thesis (section 4.2) by the fixed point
+/// g_c = f_c lambda_c of the previous time step (or of the previous static iterate).
+///
+/// Instances:
+///   static contact:   S = K, q = -f, u0 = 0,  x = u                   (slip = u_t)
+///   time step k:      S = M / Mmax, q = dt^2 Q^{t_k} / Mmax (eq. 73, 80, 81),
+///                     u0 = u^{t_k}, x = du = u^{t_{k+1}} - u^{t_k}     (slip = du_t)
+/// Forces in the system are in the units of S x + q; multiply by `force_scale` (1 for
+/// static, Mmax / dt^2 for a step) to get newtons. Friction is written in nodal forces
+/// against f_c times the nodal normal reaction, so stresses are forces / tributary area
+/// and, with the lumped boundary matrix, this equals the stress form |g_t| <= f_c p.
+///
+/// Unknowns (thesis eq. 92, 95): the local-frame components y = R x of every free dof
+/// (normal, tangent(s) at contact nodes; R rotates each contact node's free dofs into
+/// (n, t1[, t2])), except at friction nodes (g_c > 0 and a free tangent):
+///   one free tangent (2D, or 3D with one axis constrained): the tangential slot holds du+
+///       and two unknowns (du-, tau) are appended, with y_t = du+ - du- (eq. 89);
+///   two free tangents (3D): the two tangential slots hold du+, du- and (g, t1, t2) are
+///       appended, with y_T = (du+ - du-) (t1, t2), friction force tau = g (t1, t2),
+///       t1^2 + t2^2 = 1 (eq. 59, 66, 67).
+/// Rows: equations first (every non-normal row of R(S x + q) - tau, then t1^2 + t2^2 - 1),
+/// then pairs: (lambda_c, gap_c) for all contact nodes, (du+, tau + g), (du-, g - tau).
+///
+/// Nodes with g_c = 0 carry no friction unknowns: with g = 0, du+ and du- are not unique
+/// and the Jacobian would be singular (the likely reason the thesis needed random
+/// perturbations of the Newton start, section 6.4).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <vector>
+
+#include "ncp/problem.hpp"
+
+namespace contact {
+
+/// A candidate contact node in the numbering of the free (unconstrained) dofs.
+struct ContactNode {
+  int node = -1;                ///< mesh node id (for output only)
+  int dofs[3] = {-1, -1, -1};   ///< free-dof index of the x, y (, z) displacement components
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();    ///< unit outward normal of the body
+  Eigen::Vector3d tangent1 = Eigen::Vector3d::Zero();  ///< unit tangent, normal x t1 = t2
+  Eigen::Vector3d tangent2 = Eigen::Vector3d::Zero();  ///< 3D only
+  double gap = 0.0;   ///< s_c: initial distance to the obstacle along the normal [m]
+  double area = 0.0;  ///< tributary length (2D, per unit thickness: times thickness) or area [m^2]
+};
+
+/// Completes the tangents of a unit normal. All components free: 2D t1 = (-n_y, n_x),
+/// 3D a right-handed (n, t1, t2). With constrained components (dofs[a] = -1) the used
+/// tangents span the free directions orthogonal to n and the constrained axes follow.
+void CompleteContactFrame(int dim, ContactNode* node);
+
+class ContactSystem final : public ncp::MixedProblem {
+ public:
+  /// dim = 2 or 3; S n x n symmetric positive definite (free dofs). The rotation of S into
+  /// the contact frames is done once here. Throws std::invalid_argument on bad input.
+  ContactSystem(int dim, const Eigen::SparseMatrix<double>& S, std::vector<ContactNode> nodes);
+
+  /// Sets the data of one solve: q and u0 (size n) and one Tresca bound g_c >= 0 per node
+  /// (empty = frictionless). Cheap: O(n); the friction unknowns follow the bounds > 0.
+  void Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
+              const Eigen::VectorXd& tresca_bound);
+
+  int NumVariables() const override { return num_variables_; }
+  int NumEquations() const override { return num_equations_; }
+  int PairVariable(int j) const override { return pair_variable_[static_cast<size_t>(j)]; }
+  bool Evaluate(const ncp::Vector& z, ncp::Vector* E, ncp::Vector* A, ncp::Vector* B) override;
+  bool Jacobian(const ncp::Vector& z, ncp::SparseMatrix* JE, ncp::SparseMatrix* JA,
+                ncp::SparseMatrix* JB) override;
+
+  /// Deterministic start from a guess of x (global frame) and of the friction forces
+  /// (e.g. the previous step's): local components, slip split into positive and negative
+  /// parts, 3D direction from the slip or from the force, else t = t1 of the frame.
+  ncp::Vector StartPoint(const Eigen::VectorXd& x_guess) const;
+
+  /// Results at a solution z, in system units (multiply forces by force_scale).
+  struct Result {
+    Eigen::VectorXd x;               ///< global frame, free dofs
+    Eigen::VectorXd normal_force;    ///< lambda_c >= 0 per node
+    Eigen::MatrixXd tangent_force;   ///< per node: components along t1 (and t2), (dim-1) x N
+                                     ///< (0 for tangents along constrained axes)
+    Eigen::VectorXd gap;             ///< gap_c = s_c - n_c . (u0_c + x_c)
+    Eigen::MatrixXd slip;            ///< tangential part of x_c along t1 (and t2)
+  };
+  Result Extract(const ncp::Vector& z) const;
+
+  int num_friction_nodes() const { return num_friction_; }
+  const std::vector<ContactNode>& nodes() const { return nodes_; }
+
+ private:
+  /// Per contact node: its local slots and friction unknowns.
+  struct Layout {
+    int num_free = 0;          ///< free components (1..dim): slots 0 = normal, then tangents
+    int slot[3] = {-1, -1, -1};  ///< free dof holding local component a (a < num_free)
+    int tangent_dim = 0;       ///< num_free - 1
+    int friction = -1;         ///< friction node index k, or -1 (g_c = 0 or no tangent)
+    int extra = -1;            ///< first appended unknown (1 tangent: du-, tau; 2: g, t1, t2)
+    int unit_row = -1;         ///< row of t1^2 + t2^2 - 1 (2 tangents)
+  };
+
+  /// y = local components of x from the unknowns z.
+  void LocalDisplacement(const ncp::Vector& z, Eigen::VectorXd* y) const;
+
+  int dim_;
+  int n_;  // free dofs
+  Eigen::SparseMatrix<double> rotation_;                  // R
+  Eigen::SparseMatrix<double, Eigen::RowMajor> S_local_;  // R S R'
+  Eigen::VectorXd q_local_, u0_local_;
+  std::vector<ContactNode> nodes_;
+  std::vector<Layout> layout_;
+  Eigen::VectorXd bound_;  // g_c
+
+  // Bookkeeping.
+  std::vector<int> row_kind_;        // per local dof: 0 plain, 1 normal, 2 friction tangential
+  std::vector<int> equation_dofs_;   // local dofs whose row is an equation (in order)
+  std::vector<int> equation_row_;    // per local dof: its row in E, or -1 (normal rows)
+  Eigen::Index EquationRow(int dof) const { return equation_row_[static_cast<size_t>(dof)]; }
+  std::vector<int> pair_variable_;
+  int num_friction_ = 0, num_variables_ = 0, num_equations_ = 0;
+
+  mutable Eigen::VectorXd y_, r_;
+  std::vector<Eigen::Triplet<double, int>> td_, te_, ta_, tb_;
+  Eigen::SparseMatrix<double> D_;                          // dy/dz
+  Eigen::SparseMatrix<double, Eigen::RowMajor> dr_;        // d(R(Sx+q))/dz = S_local D
+};
+
+}  // namespace contact

@@ -1,0 +1,141 @@
+/// \file dynamics.hpp
+/// Elastodynamic contact by central differences (thesis section 4.3): for k = 0, 1, ...
+///     M (u^{k+1} - 2 u^k + u^{k-1}) / dt^2 + K u^k = f(t_k) + r^{k+1}            (eq. 68)
+/// where r^{k+1} are the contact forces, which satisfy Signorini's conditions at u^{k+1}
+/// and Tresca friction with bound f_c lambda^k (Coulomb by fixed point on the previous
+/// step's normal force, thesis eq. 70). Each step is one ContactSystem with
+///     S = M / Mmax,  q = dt^2 Q^k / Mmax,  Q^k = M (u^{k-1} - u^k) / dt^2 + K u^k - f(t_k)
+/// (eq. 73, 80, 81), unknown du = u^{k+1} - u^k, solved by ncp (or Ipopt, frictionless).
+///
+/// Energies are the exact discrete balance of central differences: with
+///     E^{k+1/2} = 1/2 v' M v + 1/2 (u^k)' K u^{k+1},   v = (u^{k+1} - u^k) / dt
+/// multiplying the step equation by (u^{k+1} - u^{k-1}) / 2 gives
+///     E^{k+1/2} - E^{-1/2} = W_ext + W_contact,
+///     W_ext += f(t_k) . (u^{k+1} - u^{k-1}) / 2,  W_contact += r^{k+1} . (u^{k+1} - u^{k-1}) / 2,
+/// so the reported balance error measures only the solver's residual and round-off.
+/// W_contact is split into its normal part and the friction dissipation (>= 0).
+#pragma once
+
+#include <Eigen/SparseCore>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "contact/contact_system.hpp"
+#include "ncp/solver.hpp"
+
+namespace contact {
+
+/// Critical step of central differences, dt_crit = 2 / omega_max, omega_max^2 the largest
+/// eigenvalue of M^-1 K, estimated by power iteration (a lower bound on omega_max that
+/// converges from below; the iteration runs until the Rayleigh quotient is stationary to
+/// `relative_tolerance`).
+struct CriticalTimeStep {
+  double dt_crit = -1.0;    ///< [s]
+  double omega_max = -1.0;  ///< [rad/s]
+  int iterations = 0;
+  bool converged = false;
+};
+CriticalTimeStep EstimateCriticalTimeStep(const Eigen::SparseMatrix<double>& K,
+                                          const Eigen::SparseMatrix<double>& M,
+                                          double relative_tolerance = 1e-9,
+                                          int max_iterations = 20000);
+
+enum class StepSolver {
+  kFischerBurmeister,           ///< semismooth Newton with phi_FB (default)
+  kMin,                         ///< semismooth Newton with phi_min
+  kPenalizedFischerBurmeister,  ///< semismooth Newton with CCK's penalized FB
+  kIpopt,                       ///< per-step convex QP by Ipopt (frictionless only)
+};
+const char* ToString(StepSolver s);
+
+/// The discretized body on its free dofs.
+struct DynamicModel {
+  int dim = 0;
+  Eigen::SparseMatrix<double> K;  ///< stiffness [N/m]
+  Eigen::SparseMatrix<double> M;  ///< mass [kg] (consistent or lumped)
+  /// External force at time t [N], free dofs; *f arrives sized.
+  std::function<void(double t, Eigen::VectorXd* f)> load;
+  std::vector<ContactNode> contact_nodes;
+};
+
+enum class InitialState {
+  kStaticEquilibrium,  ///< u^0 = static frictionless contact equilibrium for f(t0), v = 0,
+                       ///< u^{-1} = u^0 (thesis section 4.3)
+  kPrescribed,         ///< u^0, v^0 given; u^{-1} = u^0 - dt v^0 + dt^2/2 M^-1 (f(t0) - K u^0)
+};
+
+/// One completed step k -> k+1.
+struct StepRecord {
+  int step = 0;        ///< k + 1
+  double time = 0.0;   ///< t_{k+1} [s]
+  int newton_iterations = 0, jacobian_evaluations = 0, residual_evaluations = 0;
+  double seconds = 0.0;
+  std::string solver_status;
+  double kinetic = 0.0;  ///< 1/2 v' M v, v = (u^{k+1} - u^k) / dt [J]
+  double strain = 0.0;   ///< 1/2 (u^{k+1})' K u^{k+1} [J]
+  double external_work = 0.0;          ///< cumulative [J]
+  double normal_contact_work = 0.0;    ///< cumulative [J] (<= 0: impacts dissipate)
+  double friction_dissipation = 0.0;   ///< cumulative [J] (>= 0)
+  double energy_balance_error = 0.0;   ///< E - E0 - W_ext - W_contact [J]
+  double normal_force_sum = 0.0;       ///< sum_c lambda_c [N]
+  double tangent_force_sum = 0.0;      ///< sum_c |tau_c| [N]
+  double max_penetration = 0.0;        ///< max_c max(0, -gap_c) [m]
+  int active_nodes = 0;                ///< nodes with lambda_c > 0
+  /// With DynamicOptions::compare_with_ipopt: ||du - du_ipopt||_inf / max(||du||_inf, 1e-300)
+  /// for the same step data (-1 when not compared).
+  double ipopt_relative_difference = -1.0;
+};
+
+struct DynamicOptions {
+  double dt = 0.0;          ///< time step [s]
+  double start_time = 0.0;  ///< t_0 [s]
+  double end_time = 0.0;    ///< run until t >= end_time (within dt/1000) [s]
+  double friction_coefficient = 0.0;  ///< f_c (0 = frictionless)
+  StepSolver solver = StepSolver::kFischerBurmeister;
+  ncp::Options ncp;         ///< tolerance etc. (ncp_function is set from `solver`)
+  InitialState initial_state = InitialState::kStaticEquilibrium;
+  Eigen::VectorXd u0, v0;   ///< for kPrescribed (free dofs) [m], [m/s]
+  /// Frictionless runs: also solve every step's QP with Ipopt and record the relative
+  /// difference of the increments (a reference check; slow).
+  bool compare_with_ipopt = false;
+  /// Ipopt's `tol` for the QP steps. An interior point method ends with lambda_c gap_c of
+  /// the order of tol, so the gap of an active node is only resolved to ~tol / lambda_c;
+  /// 1e-14 resolves it to ~1e-9 relative on the validation problems (1e-10 gave 1e-4).
+  double ipopt_tolerance = 1e-14;
+  /// Refuse dt > dt_crit unless this is set.
+  bool allow_unstable_time_step = false;
+  /// Stop with kEnergyBlowUp when kinetic + strain energy exceeds this factor times
+  /// (their initial value + sum of |external work increments| + 1e-30). (The shadow
+  /// energy of the balance stays bounded even in an unstable run, so it is not used.)
+  double energy_blowup_factor = 100.0;
+  /// Called after every step with the record and the state (u^{k+1}, contact result).
+  std::function<void(const StepRecord&, const Eigen::VectorXd& u,
+                     const ContactSystem::Result& contact, double force_scale)>
+      on_step;
+  /// Print a progress line on stderr about once per second.
+  bool progress = false;
+};
+
+enum class DynamicStatus { kNotRun, kCompleted, kSolverFailure, kEnergyBlowUp, kRefusedUnstable };
+const char* ToString(DynamicStatus s);
+
+struct DynamicSummary {
+  DynamicStatus status = DynamicStatus::kNotRun;
+  std::string message = "not run yet";
+  int steps = 0;
+  long newton_iterations = 0, jacobian_evaluations = 0, residual_evaluations = 0;
+  double seconds = 0.0;
+  double max_penetration = 0.0;        ///< over all steps [m]
+  double energy_balance_error = 0.0;   ///< max over steps of |balance error| [J]
+  double critical_time_step = -1.0;    ///< [s]
+  double max_ipopt_relative_difference = -1.0;  ///< with compare_with_ipopt
+  std::vector<StepRecord> records;
+  Eigen::VectorXd u;                   ///< final displacement (free dofs)
+};
+
+/// Runs the time loop. Throws std::invalid_argument on inconsistent input (sizes, dt <= 0,
+/// Ipopt with friction); numerical trouble ends with a status.
+DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& options);
+
+}  // namespace contact

@@ -1,0 +1,24 @@
+/// \file gmsh_reader.hpp
+/// Reading a gmsh mesh file (.msh, format 4; format 2 also works through gmsh).
+#pragma once
+
+#include <string>
+
+#include "contact/mesh.hpp"
+
+namespace contact {
+
+/// Reads the mesh in `path` into a Mesh.
+///  - dimension: the highest dimension of the elements in the file (2 or 3); a 2D
+///    mesh must lie in the plane z = 0;
+///  - elements: all elements of that dimension, of one supported type (3-node
+///    triangles, 4-node quadrilaterals, 4-node tetrahedra or 8-node hexahedra);
+///  - boundary groups: the physical groups of dimension dim - 1, by name (an unnamed
+///    group is named by its number, e.g. "7"); groups of the same name are merged;
+///  - nodes: those used by the elements, renumbered 0 .. N-1 by increasing gmsh tag.
+/// Throws std::invalid_argument if the file cannot be read, contains unsupported elements
+/// (second-order, prisms, pyramids, mixed types), no 2D/3D elements, facets whose nodes
+/// are not nodes of the elements, or an inverted element (see ValidateMesh).
+Mesh ReadGmshMesh(const std::string& path);
+
+}  // namespace contact

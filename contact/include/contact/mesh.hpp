@@ -1,0 +1,110 @@
+/// \file mesh.hpp
+/// The finite element mesh of the elastic body as plain data: node coordinates, one type
+/// of linear element, and named boundary facet groups (gmsh physical groups of dimension
+/// dim - 1). Nothing here depends on gmsh; see mesh_generation.hpp and gmsh_reader.hpp
+/// for the ways to obtain a Mesh.
+///
+/// Local node order of elements and facets is the gmsh (and VTK) order:
+///   Triangle3       (0,0) (1,0) (0,1)                        counter-clockwise
+///   Quadrilateral4  (-1,-1) (1,-1) (1,1) (-1,1)              counter-clockwise
+///   Tetrahedron4    (0,0,0) (1,0,0) (0,1,0) (0,0,1)          node 3 on the side where
+///                                                            0-1-2 is counter-clockwise
+///   Hexahedron8     bottom face 0-1-2-3 (zeta = -1), top face 4-5-6-7 (zeta = +1)
+/// Elements must be positively oriented: det(dx/dxi) > 0 at every integration point.
+#pragma once
+
+#include <cstddef>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "contact/types.hpp"
+
+namespace contact {
+
+/// The supported (linear, Lagrange) volume elements.
+enum class ElementType {
+  kTriangle3,       ///< 2D, 3 nodes (gmsh type 2)
+  kQuadrilateral4,  ///< 2D, 4 nodes (gmsh type 3)
+  kTetrahedron4,    ///< 3D, 4 nodes (gmsh type 4)
+  kHexahedron8,     ///< 3D, 8 nodes (gmsh type 5)
+};
+
+/// The boundary facets of those elements: an edge in 2D, a face in 3D.
+enum class FacetType {
+  kLine2,           ///< facet of Triangle3 and Quadrilateral4 (gmsh type 1)
+  kTriangle3,       ///< facet of Tetrahedron4 (gmsh type 2)
+  kQuadrilateral4,  ///< facet of Hexahedron8 (gmsh type 3)
+};
+
+const char* ToString(ElementType type);
+const char* ToString(FacetType type);
+/// Spatial dimension of the element (2 or 3).
+int Dimension(ElementType type);
+int NodesPerElement(ElementType type);
+int NodesPerFacet(FacetType type);
+/// The facet type of the element's boundary.
+FacetType FacetTypeOf(ElementType type);
+
+/// One named part of the boundary, e.g. "fixed", "load" or "contact".
+struct BoundaryFacets {
+  FacetType type = FacetType::kLine2;
+  /// NodesPerFacet(type) x number of facets; column f holds the node indices of facet f.
+  Eigen::MatrixXi connectivity;
+
+  int NumFacets() const { return static_cast<int>(connectivity.cols()); }
+  /// The distinct node indices of the group, increasing.
+  std::vector<int> Nodes() const;
+};
+
+/// Conventional names of the boundary groups used by the contact module.
+inline constexpr const char* kFixedGroup = "fixed";  ///< Dirichlet boundary Gamma_u
+inline constexpr const char* kLoadGroup = "load";    ///< traction boundary Gamma_t
+inline constexpr const char* kContactGroup =
+    "contact";  ///< candidate contact boundary Gamma_c
+
+struct Mesh {
+  /// Spatial dimension, 2 or 3.
+  int dim = 0;
+  /// dim x NumNodes(); column i holds the coordinates of node i [m]. Nodes are numbered
+  /// compactly 0 .. NumNodes()-1, and every node belongs to at least one element.
+  Eigen::MatrixXd nodes;
+  ElementType element_type = ElementType::kTriangle3;
+  /// NodesPerElement(element_type) x NumElements(); column e lists the nodes of
+  /// element e.
+  Eigen::MatrixXi elements;
+  /// Identifier of element e in its source (the gmsh element tag), used in error
+  /// messages. Either empty or of size NumElements().
+  std::vector<std::size_t> element_tags;
+  /// Boundary groups by name (gmsh physical groups of dimension dim - 1).
+  std::map<std::string, BoundaryFacets> boundary_groups;
+
+  int NumNodes() const { return static_cast<int>(nodes.cols()); }
+  int NumElements() const { return static_cast<int>(elements.cols()); }
+  /// Number of displacement degrees of freedom, dim * NumNodes(). Layout is node-major:
+  /// dof = dim * node + component.
+  int NumDofs() const { return dim * NumNodes(); }
+
+  bool HasBoundaryGroup(const std::string& name) const;
+  /// The group `name`; throws std::invalid_argument naming the available groups if the
+  /// mesh has none of that name.
+  const BoundaryFacets& BoundaryGroup(const std::string& name) const;
+  /// Mean of the element's node coordinates [m].
+  Eigen::VectorXd ElementCentroid(int element) const;
+  /// "element 12 (source tag 345)", for error messages.
+  std::string DescribeElement(int element) const;
+};
+
+/// Checks the consistency of a mesh and throws std::invalid_argument on the first
+/// problem: dim and sizes, node indices in range, facet types matching the element type,
+/// finite coordinates, and orientation: an inverted element (det(dx/dxi) <= 0 at one of
+/// its integration points) is reported with its index, source tag and centroid.
+void ValidateMesh(const Mesh& mesh);
+
+/// Length (2D) or area (3D) of a boundary group [m or m^2].
+double BoundaryMeasure(const Mesh& mesh, const std::string& group);
+
+/// Area (2D) or volume (3D) of the mesh [m^2 or m^3].
+double DomainMeasure(const Mesh& mesh);
+
+}  // namespace contact

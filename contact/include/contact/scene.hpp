@@ -1,0 +1,84 @@
+/// \file scene.hpp
+/// A dynamic contact scene read from a TOML file: geometry (generated rectangle/box or a
+/// gmsh .msh file), material, loads, obstacle, friction, time stepping, solver and outputs.
+/// See examples/scenes/README.md for every key with its unit. Errors in a scene (unknown
+/// keys, missing values, values out of range) throw SceneError naming the key.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "contact/contact_frames.hpp"
+#include "contact/dynamics.hpp"
+#include "contact/material.hpp"
+#include "contact/mesh_generation.hpp"
+#include "contact/obstacle.hpp"
+
+namespace contact {
+
+class SceneError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+enum class LoadHistory {
+  kConstant,  ///< f(t) = f for all t (also at t0)
+  kStep,      ///< f(t0) = 0, f(t) = f for t > t0 (a load applied suddenly to a body at rest)
+  kRamp,      ///< f(t) = min((t - t0) / ramp_time, 1) f
+};
+enum class MassKind { kConsistent, kLumped };
+
+struct Scene {
+  std::string name;
+  std::string source;  ///< the file it was read from
+
+  // Geometry: exactly one of rectangle / box / msh_file.
+  int dim = 0;
+  std::optional<RectangleMeshOptions> rectangle;
+  std::optional<BoxMeshOptions> box;
+  std::string msh_file;
+  std::vector<int> fixed_components;  ///< components fixed on "fixed" (empty = all)
+
+  IsotropicMaterial material;
+  PlaneSettings plane;
+  MassKind mass = MassKind::kConsistent;
+
+  Eigen::VectorXd body_force;  ///< [N/m^3], size dim
+  Eigen::VectorXd traction;    ///< [N/m^2] on "load", size dim (empty = none)
+  LoadHistory load_history = LoadHistory::kConstant;
+  double ramp_time = 0.0;      ///< [s]
+
+  std::shared_ptr<RigidObstacle> obstacle;
+  NormalSource normal_source = NormalSource::kBody;
+  double friction_coefficient = 0.0;
+
+  DynamicOptions dynamics;       ///< dt, end_time, solver, ncp options, initial state ...
+  Eigen::VectorXd initial_velocity;  ///< uniform [m/s] for initial_state = "velocity"
+
+  std::string output_directory;  ///< empty = no files
+  std::vector<double> stress_times;  ///< times at which the contact stresses are written [s]
+  int snapshot_every = 0;            ///< VTK snapshot every n steps (0 = first and last only)
+  std::optional<Eigen::VectorXd> marked_point;  ///< history of the contact node nearest to it
+};
+
+/// Reads and validates a scene file; relative paths inside are relative to the file.
+Scene LoadScene(const std::string& path);
+
+/// What a run produced.
+struct SceneResult {
+  DynamicSummary summary;
+  int num_dofs = 0, num_free_dofs = 0, num_contact_nodes = 0, num_elements = 0;
+  int marked_node = -1;  ///< mesh node of the history output, -1 if none
+  std::vector<std::string> files_written;
+};
+
+/// Builds the model (mesh, K, M, loads, contact frames), runs the time loop and writes the
+/// outputs into scene.output_directory: steps.csv (one row per step), contact_stress.csv
+/// (per contact node at the stress times and the end), node_history.csv (marked node),
+/// and VTK snapshots. Progress lines go to stderr when `progress` is set.
+SceneResult RunScene(const Scene& scene, bool progress);
+
+}  // namespace contact

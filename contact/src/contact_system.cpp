@@ -1,0 +1,348 @@
+#include "contact/contact_system.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace contact {
+namespace {
+
+using Triplet = Eigen::Triplet<double, int>;
+
+std::string NodeName(size_t c, const ContactNode& node) {
+  return "contact node #" + std::to_string(c) + " (mesh node " + std::to_string(node.node) + ")";
+}
+
+}  // namespace
+
+void CompleteContactFrame(int dim, ContactNode* node) {
+  const Eigen::Vector3d& n = node->normal;
+  std::vector<int> constrained;
+  for (int a = 0; a < dim; ++a)
+    if (node->dofs[a] < 0) constrained.push_back(a);
+  if (dim == 2) {
+    node->tangent1 = Eigen::Vector3d(-n.y(), n.x(), 0.0);
+    node->tangent2.setZero();
+    return;
+  }
+  if (constrained.size() == 1) {
+    // The free tangent lies in the plane of the free axes; the constrained axis follows.
+    const Eigen::Vector3d e = Eigen::Vector3d::Unit(constrained[0]);
+    node->tangent1 = e.cross(n).normalized();
+    node->tangent2 = n.cross(node->tangent1);
+    return;
+  }
+  // t1 orthogonal to n, built from the coordinate axis least aligned with n (with two
+  // constrained axes this is one of them, and both tangents are constrained directions).
+  Eigen::Index axis;
+  n.cwiseAbs().minCoeff(&axis);
+  const Eigen::Vector3d e = Eigen::Vector3d::Unit(axis);
+  node->tangent1 = (e - e.dot(n) * n).normalized();
+  node->tangent2 = n.cross(node->tangent1);
+}
+
+ContactSystem::ContactSystem(int dim, const Eigen::SparseMatrix<double>& S,
+                             std::vector<ContactNode> nodes)
+    : dim_(dim), n_(static_cast<int>(S.rows())), nodes_(std::move(nodes)) {
+  const std::string who = "contact::ContactSystem: ";
+  if (dim != 2 && dim != 3)
+    throw std::invalid_argument(who + "dimension must be 2 or 3, got " + std::to_string(dim));
+  if (S.rows() != S.cols())
+    throw std::invalid_argument(who + "S must be square, got " + std::to_string(S.rows()) +
+                                " x " + std::to_string(S.cols()));
+
+  // Validate nodes and build the rotation R into the local frames (n, t1[, t2]) restricted
+  // to each node's free components: R[slot a, dof of free axis b] = frame_a(axis b).
+  std::vector<int> owner(static_cast<size_t>(n_), -1);
+  std::vector<Triplet> rotation;
+  rotation.reserve(static_cast<size_t>(n_) + 9 * nodes_.size());
+  layout_.resize(nodes_.size());
+  for (size_t c = 0; c < nodes_.size(); ++c) {
+    const ContactNode& node = nodes_[c];
+    Layout& L = layout_[c];
+    int free_axes[3];
+    for (int a = 0; a < dim; ++a) {
+      const int dof = node.dofs[a];
+      if (dof < -1 || dof >= n_)
+        throw std::invalid_argument(who + NodeName(c, node) + ": dof " + std::to_string(dof) +
+                                    " of component " + std::to_string(a) +
+                                    " is neither a free dof in [0, " + std::to_string(n_) +
+                                    ") nor -1 (constrained)");
+      if (dof < 0) continue;
+      if (owner[static_cast<size_t>(dof)] >= 0)
+        throw std::invalid_argument(who + NodeName(c, node) + ": dof " + std::to_string(dof) +
+                                    " is shared with another contact node or component");
+      owner[static_cast<size_t>(dof)] = static_cast<int>(c);
+      free_axes[L.num_free] = a;
+      L.slot[L.num_free++] = dof;
+    }
+    if (L.num_free == 0)
+      throw std::invalid_argument(who + NodeName(c, node) + ": all components are constrained");
+    L.tangent_dim = L.num_free - 1;
+    const Eigen::Vector3d frame[3] = {node.normal, node.tangent1, node.tangent2};
+    for (int a = 0; a < L.num_free; ++a) {
+      if (std::abs(frame[a].norm() - 1.0) > 1e-12)
+        throw std::invalid_argument(who + NodeName(c, node) + ": frame vector " +
+                                    std::to_string(a) + " is not a unit vector");
+      for (int b = 0; b < a; ++b)
+        if (std::abs(frame[a].dot(frame[b])) > 1e-12)
+          throw std::invalid_argument(who + NodeName(c, node) + ": frame is not orthogonal");
+      for (int axis = 0; axis < 3; ++axis) {
+        const bool is_free = std::find(free_axes, free_axes + L.num_free, axis) != free_axes + L.num_free;
+        if (!is_free && std::abs(frame[a](axis)) > 1e-12)
+          throw std::invalid_argument(
+              who + NodeName(c, node) + ": frame vector " + std::to_string(a) +
+              " has a component along axis " + std::to_string(axis) +
+              (axis < dim ? ", which is constrained (the normal must lie in the free directions)"
+                          : " in 2D"));
+      }
+      for (int b = 0; b < L.num_free; ++b) rotation.emplace_back(L.slot[a], L.slot[b], frame[a](free_axes[b]));
+    }
+    if (!std::isfinite(node.gap))
+      throw std::invalid_argument(who + NodeName(c, node) + ": gap is not finite");
+  }
+  for (int i = 0; i < n_; ++i)
+    if (owner[static_cast<size_t>(i)] < 0) rotation.emplace_back(i, i, 1.0);
+  Eigen::SparseMatrix<double> R(n_, n_);
+  R.setFromTriplets(rotation.begin(), rotation.end());
+  rotation_ = R;
+  S_local_ = R * S * R.transpose();
+  y_.resize(n_);
+  r_.resize(n_);
+  Update(Eigen::VectorXd::Zero(n_), Eigen::VectorXd::Zero(n_), Eigen::VectorXd());
+}
+
+void ContactSystem::Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
+                           const Eigen::VectorXd& tresca_bound) {
+  const std::string who = "contact::ContactSystem::Update: ";
+  if (q.size() != n_ || u0.size() != n_)
+    throw std::invalid_argument(who + "q and u0 must have size " + std::to_string(n_) +
+                                ", got " + std::to_string(q.size()) + " and " +
+                                std::to_string(u0.size()));
+  const auto num_nodes = static_cast<Eigen::Index>(nodes_.size());
+  if (tresca_bound.size() != 0 && tresca_bound.size() != num_nodes)
+    throw std::invalid_argument(who + "tresca_bound must be empty or have one entry per contact node (" +
+                                std::to_string(num_nodes) + "), got " +
+                                std::to_string(tresca_bound.size()));
+  q_local_ = rotation_ * q;
+  u0_local_ = rotation_ * u0;
+  bound_ = tresca_bound.size() ? tresca_bound : Eigen::VectorXd::Zero(num_nodes);
+
+  // Friction unknowns at nodes with g_c > 0 and at least one free tangent.
+  row_kind_.assign(static_cast<size_t>(n_), 0);
+  num_friction_ = 0;
+  int extra = n_, num_unit_rows = 0;
+  for (size_t c = 0; c < nodes_.size(); ++c) {
+    Layout& L = layout_[c];
+    const double g = bound_(static_cast<Eigen::Index>(c));
+    if (!(g >= 0.0) || !std::isfinite(g))
+      throw std::invalid_argument(who + NodeName(c, nodes_[c]) +
+                                  ": Tresca bound must be finite and >= 0, got " + std::to_string(g));
+    row_kind_[static_cast<size_t>(L.slot[0])] = 1;
+    L.friction = L.extra = L.unit_row = -1;
+    if (g > 0.0 && L.tangent_dim > 0) {
+      L.friction = num_friction_++;
+      L.extra = extra;
+      extra += L.tangent_dim == 1 ? 2 : 3;
+      if (L.tangent_dim == 2) L.unit_row = num_unit_rows++;
+      for (int a = 1; a < L.num_free; ++a) row_kind_[static_cast<size_t>(L.slot[a])] = 2;
+    }
+  }
+  num_variables_ = extra;
+  equation_dofs_.clear();
+  equation_row_.assign(static_cast<size_t>(n_), -1);
+  for (int i = 0; i < n_; ++i) {
+    if (row_kind_[static_cast<size_t>(i)] == 1) continue;
+    equation_row_[static_cast<size_t>(i)] = static_cast<int>(equation_dofs_.size());
+    equation_dofs_.push_back(i);
+  }
+  for (Layout& L : layout_)
+    if (L.unit_row >= 0) L.unit_row += static_cast<int>(equation_dofs_.size());
+  num_equations_ = static_cast<int>(equation_dofs_.size()) + num_unit_rows;
+  pair_variable_.clear();
+  for (const Layout& L : layout_) pair_variable_.push_back(L.slot[0]);
+  for (const Layout& L : layout_) {
+    if (L.friction < 0) continue;
+    pair_variable_.push_back(L.slot[1]);                                // du+
+    pair_variable_.push_back(L.tangent_dim == 1 ? L.extra : L.slot[2]);  // du-
+  }
+  if (num_equations_ + static_cast<int>(pair_variable_.size()) != num_variables_)
+    throw std::logic_error("ContactSystem: rows and unknowns do not match");
+}
+
+void ContactSystem::LocalDisplacement(const ncp::Vector& z, Eigen::VectorXd* y) const {
+  *y = z.head(n_);
+  for (const Layout& L : layout_) {
+    if (L.friction < 0) continue;
+    if (L.tangent_dim == 1) {
+      (*y)(L.slot[1]) = z(L.slot[1]) - z(L.extra);  // y_t = du+ - du-   (eq. 89)
+    } else {
+      const double slip = z(L.slot[1]) - z(L.slot[2]);  // y_T = (du+ - du-) (t1, t2) (eq. 67)
+      (*y)(L.slot[1]) = slip * z(L.extra + 1);
+      (*y)(L.slot[2]) = slip * z(L.extra + 2);
+    }
+  }
+}
+
+bool ContactSystem::Evaluate(const ncp::Vector& z, ncp::Vector* E, ncp::Vector* A,
+                             ncp::Vector* B) {
+  LocalDisplacement(z, &y_);
+  r_.noalias() = S_local_ * y_;
+  r_ += q_local_;
+  // Equations: rows of R (S x + q) minus the friction force.
+  for (size_t e = 0; e < equation_dofs_.size(); ++e)
+    (*E)(static_cast<Eigen::Index>(e)) = r_(equation_dofs_[e]);
+  Eigen::Index pair = static_cast<Eigen::Index>(nodes_.size());
+  for (size_t c = 0; c < nodes_.size(); ++c) {
+    const Layout& L = layout_[c];
+    const int n_dof = L.slot[0];
+    // Normal pair (thesis eq. 82, second row): reaction lambda = -(R(Sx+q))_n >= 0 and
+    // gap = s - n.(u0 + x) >= 0.
+    (*A)(static_cast<Eigen::Index>(c)) = -r_(n_dof);
+    (*B)(static_cast<Eigen::Index>(c)) = nodes_[c].gap - u0_local_(n_dof) - y_(n_dof);
+    if (L.friction < 0) continue;
+    const double g = bound_(static_cast<Eigen::Index>(c));
+    if (L.tangent_dim == 1) {
+      const double tau = z(L.extra + 1);
+      (*E)(EquationRow(L.slot[1])) -= tau;  // r_t = tau              (eq. 90, third row)
+      (*A)(pair) = z(L.slot[1]);            // (du+, tau + g)         (eq. 90, fourth row)
+      (*B)(pair++) = tau + g;
+      (*A)(pair) = z(L.extra);              // (du-, g - tau)         (eq. 90, fifth row)
+      (*B)(pair++) = g - tau;
+    } else {
+      const double gt = z(L.extra), t1 = z(L.extra + 1), t2 = z(L.extra + 2);
+      (*E)(EquationRow(L.slot[1])) -= gt * t1;  // r_T = g (t1, t2)     (eq. 94, 66)
+      (*E)(EquationRow(L.slot[2])) -= gt * t2;
+      (*E)(L.unit_row) = t1 * t1 + t2 * t2 - 1.0;  // eq. (59)
+      (*A)(pair) = z(L.slot[1]);
+      (*B)(pair++) = gt + g;
+      (*A)(pair) = z(L.slot[2]);
+      (*B)(pair++) = g - gt;
+    }
+  }
+  return true;
+}
+
+bool ContactSystem::Jacobian(const ncp::Vector& z, ncp::SparseMatrix* JE, ncp::SparseMatrix* JA,
+                             ncp::SparseMatrix* JB) {
+  // D = dy/dz: identity on plain slots, the slip split / direction at friction nodes.
+  td_.clear();
+  for (int i = 0; i < n_; ++i)
+    if (row_kind_[static_cast<size_t>(i)] != 2) td_.emplace_back(i, i, 1.0);
+  for (const Layout& L : layout_) {
+    if (L.friction < 0) continue;
+    if (L.tangent_dim == 1) {
+      td_.emplace_back(L.slot[1], L.slot[1], 1.0);
+      td_.emplace_back(L.slot[1], L.extra, -1.0);
+    } else {
+      const double slip = z(L.slot[1]) - z(L.slot[2]);
+      for (int a = 1; a <= 2; ++a) {
+        const double t = z(L.extra + a);
+        td_.emplace_back(L.slot[a], L.slot[1], t);
+        td_.emplace_back(L.slot[a], L.slot[2], -t);
+        td_.emplace_back(L.slot[a], L.extra + a, slip);
+      }
+    }
+  }
+  D_.resize(n_, num_variables_);
+  D_.setFromTriplets(td_.begin(), td_.end());
+  dr_ = S_local_ * D_;
+
+  te_.clear();
+  ta_.clear();
+  tb_.clear();
+  auto copy_row = [&](std::vector<Triplet>& out, int out_row, int dof, double sign) {
+    for (decltype(dr_)::InnerIterator it(dr_, dof); it; ++it)
+      out.emplace_back(out_row, static_cast<int>(it.col()), sign * it.value());
+  };
+  for (size_t e = 0; e < equation_dofs_.size(); ++e)
+    copy_row(te_, static_cast<int>(e), equation_dofs_[e], 1.0);
+  int pair = static_cast<int>(nodes_.size());
+  for (size_t c = 0; c < nodes_.size(); ++c) {
+    const Layout& L = layout_[c];
+    copy_row(ta_, static_cast<int>(c), L.slot[0], -1.0);       // d lambda / dz = -d r_n / dz
+    tb_.emplace_back(static_cast<int>(c), L.slot[0], -1.0);    // d gap / dz = -d y_n / dz
+    if (L.friction < 0) continue;
+    if (L.tangent_dim == 1) {
+      const int tau = L.extra + 1;
+      te_.emplace_back(static_cast<int>(EquationRow(L.slot[1])), tau, -1.0);
+      ta_.emplace_back(pair, L.slot[1], 1.0);
+      tb_.emplace_back(pair++, tau, 1.0);
+      ta_.emplace_back(pair, L.extra, 1.0);
+      tb_.emplace_back(pair++, tau, -1.0);
+    } else {
+      const int gv = L.extra;
+      const double gt = z(gv);
+      for (int a = 1; a <= 2; ++a) {
+        const int row = static_cast<int>(EquationRow(L.slot[a]));
+        te_.emplace_back(row, gv, -z(gv + a));  // d(-g t_a)/dg
+        te_.emplace_back(row, gv + a, -gt);     // d(-g t_a)/dt_a
+        te_.emplace_back(L.unit_row, gv + a, 2.0 * z(gv + a));
+      }
+      ta_.emplace_back(pair, L.slot[1], 1.0);
+      tb_.emplace_back(pair++, gv, 1.0);
+      ta_.emplace_back(pair, L.slot[2], 1.0);
+      tb_.emplace_back(pair++, gv, -1.0);
+    }
+  }
+  const int p = num_variables_ - num_equations_;
+  JE->resize(num_equations_, num_variables_);
+  JA->resize(p, num_variables_);
+  JB->resize(p, num_variables_);
+  JE->setFromTriplets(te_.begin(), te_.end());
+  JA->setFromTriplets(ta_.begin(), ta_.end());
+  JB->setFromTriplets(tb_.begin(), tb_.end());
+  return true;
+}
+
+ncp::Vector ContactSystem::StartPoint(const Eigen::VectorXd& x_guess) const {
+  if (x_guess.size() != n_)
+    throw std::invalid_argument("ContactSystem::StartPoint: guess has size " +
+                                std::to_string(x_guess.size()) + ", expected " +
+                                std::to_string(n_));
+  ncp::Vector z = ncp::Vector::Zero(num_variables_);
+  const Eigen::VectorXd y = rotation_ * x_guess;  // local components
+  z.head(n_) = y;
+  for (const Layout& L : layout_) {
+    if (L.friction < 0) continue;
+    if (L.tangent_dim == 1) {
+      z(L.slot[1]) = std::max(y(L.slot[1]), 0.0);
+      z(L.extra) = std::max(-y(L.slot[1]), 0.0);
+    } else {
+      const Eigen::Vector2d slip(y(L.slot[1]), y(L.slot[2]));
+      const double norm = slip.norm();
+      z(L.slot[1]) = norm;
+      z(L.slot[2]) = 0.0;
+      z(L.extra + 1) = norm > 0.0 ? slip(0) / norm : 1.0;
+      z(L.extra + 2) = norm > 0.0 ? slip(1) / norm : 0.0;
+    }
+  }
+  return z;
+}
+
+ContactSystem::Result ContactSystem::Extract(const ncp::Vector& z) const {
+  Result out;
+  LocalDisplacement(z, &y_);
+  r_.noalias() = S_local_ * y_;
+  r_ += q_local_;
+  const auto num_nodes = static_cast<Eigen::Index>(nodes_.size());
+  out.normal_force.resize(num_nodes);
+  out.gap.resize(num_nodes);
+  out.tangent_force.setZero(dim_ - 1, num_nodes);
+  out.slip.setZero(dim_ - 1, num_nodes);
+  for (Eigen::Index c = 0; c < num_nodes; ++c) {
+    const Layout& L = layout_[static_cast<size_t>(c)];
+    out.normal_force(c) = -r_(L.slot[0]);
+    out.gap(c) = nodes_[static_cast<size_t>(c)].gap - u0_local_(L.slot[0]) - y_(L.slot[0]);
+    for (int a = 1; a < L.num_free; ++a) {
+      out.tangent_force(a - 1, c) = r_(L.slot[a]);  // = tau at a solution (equation row)
+      out.slip(a - 1, c) = y_(L.slot[a]);
+    }
+  }
+  out.x = rotation_.transpose() * y_;  // back to the global frame
+  return out;
+}
+
+}  // namespace contact

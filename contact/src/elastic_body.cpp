@@ -1,0 +1,224 @@
+#include "contact/elastic_body.hpp"
+
+#include <stdexcept>
+#include <string>
+
+#include "boundary_geometry.hpp"
+#include "reference_element.hpp"
+#include "sparsity_pattern.hpp"
+
+namespace contact {
+namespace {
+
+using internal::ElementTraits;
+using internal::RulePurpose;
+using internal::ShapeData;
+
+// Isoparametric map at one integration point: det(dx/dxi) and the physical gradients
+// dN_a/dx_k = sum_l dN_a/dxi_l (J^-1)_lk, with J_kl = dx_k/dxi_l.
+template <ElementType T>
+struct PhysicalGradient {
+  static constexpr int kDim = ElementTraits<T>::kDim;
+  static constexpr int kNodes = ElementTraits<T>::kNodes;
+  double det = 0;
+  Eigen::Matrix<double, kNodes, kDim> G;
+
+  PhysicalGradient(const Eigen::Matrix<double, kDim, kNodes>& X,
+                   const Eigen::Matrix<double, kNodes, kDim>& dN_dxi) {
+    const Eigen::Matrix<double, kDim, kDim> J = X * dN_dxi;
+    det = J.determinant();
+    G = dN_dxi * J.inverse();
+  }
+};
+
+// Element stiffness from the weighted gradient products
+//   A_(a,k),(b,l) = sum_q w_q dN_a/dx_k dN_b/dx_l   (w_q = factor * weight * det J),
+// as K_(a,i),(b,j) = lambda A_(a,i),(b,j) + mu A_(a,j),(b,i) + mu delta_ij sum_k
+// A_(a,k),(b,k) (the bilinear form lambda div u div v + 2 mu eps(u) : eps(v)). A = V^T
+// diag(w) V with V_q,(a,k) = dN_a/dx_k at point q is one small matrix product per
+// element; A is made exactly symmetric so that K is.
+template <ElementType T>
+void AssembleStiffness(const Mesh& mesh, const internal::SparsityPattern& pattern,
+                       double lambda, double mu, double factor, SparseMatrix* K) {
+  constexpr int kDim = ElementTraits<T>::kDim;
+  constexpr int kNodes = ElementTraits<T>::kNodes;
+  constexpr int kDofs = kDim * kNodes;
+  constexpr int kPoints = ElementTraits<T>::kStiffnessPoints;
+  const auto& shape = ShapeData<T>(RulePurpose::kStiffness);
+  const int num_points = shape.NumPoints();
+  if (num_points != kPoints) throw std::logic_error("stiffness rule size mismatch");
+  Eigen::Matrix<double, kPoints, kDofs, Eigen::RowMajor> V, WV;
+  Eigen::Matrix<double, kDofs, kDofs> A;
+  Eigen::Matrix<double, kDofs, kDofs> Ke;
+  for (int e = 0; e < mesh.NumElements(); ++e) {
+    const auto X = internal::ElementCoordinates<T>(mesh, e);
+    for (int q = 0; q < num_points; ++q) {
+      const PhysicalGradient<T> map(X, shape.dN_dxi[q]);
+      const double w = factor * shape.weights[q] * map.det;
+      for (int a = 0; a < kNodes; ++a)
+        for (int k = 0; k < kDim; ++k) {
+          V(q, kDim * a + k) = map.G(a, k);
+          WV(q, kDim * a + k) = w * map.G(a, k);
+        }
+    }
+    A.noalias() = V.transpose() * WV;
+    A = (A + A.transpose()).eval() * 0.5;
+    for (int b = 0; b < kNodes; ++b)
+      for (int a = 0; a < kNodes; ++a) {
+        double trace = 0;
+        for (int k = 0; k < kDim; ++k) trace += A(kDim * a + k, kDim * b + k);
+        for (int j = 0; j < kDim; ++j)
+          for (int i = 0; i < kDim; ++i)
+            Ke(kDim * a + i, kDim * b + j) = lambda * A(kDim * a + i, kDim * b + j) +
+                                             mu * A(kDim * a + j, kDim * b + i) +
+                                             (i == j ? mu * trace : 0.0);
+      }
+    internal::ScatterElementMatrix(pattern, mesh.elements.col(e).data(), kNodes, Ke, K);
+  }
+}
+
+template <ElementType T>
+void AssembleMass(const Mesh& mesh, const internal::SparsityPattern& pattern, double rho,
+                  double factor, SparseMatrix* M) {
+  constexpr int kNodes = ElementTraits<T>::kNodes;
+  const auto& shape = ShapeData<T>(RulePurpose::kMass);
+  Eigen::Matrix<double, kNodes, kNodes>
+      Me;  // scalar: rho h int N_a N_b, same per component
+  for (int e = 0; e < mesh.NumElements(); ++e) {
+    const auto X = internal::ElementCoordinates<T>(mesh, e);
+    Me.setZero();
+    for (int q = 0; q < shape.NumPoints(); ++q) {
+      const double det = (X * shape.dN_dxi[q]).determinant();
+      Me.noalias() +=
+          (factor * rho * shape.weights[q] * det) * shape.N[q] * shape.N[q].transpose();
+    }
+    internal::ScatterBlockDiagonalElementMatrix(pattern, mesh.elements.col(e).data(),
+                                                kNodes, Me, M);
+  }
+}
+
+// f_(a,i) += factor int N_a value_i(x) dV over all elements, with value = weight(x) *
+// v(x) and v evaluated by `field` at each integration point.
+template <ElementType T, class Field>
+void IntegrateAgainstShapeFunctions(const Mesh& mesh, double factor, const Field& field,
+                                    Vector* f) {
+  constexpr int kDim = ElementTraits<T>::kDim;
+  constexpr int kNodes = ElementTraits<T>::kNodes;
+  const auto& shape = ShapeData<T>(RulePurpose::kMass);
+  for (int e = 0; e < mesh.NumElements(); ++e) {
+    const auto X = internal::ElementCoordinates<T>(mesh, e);
+    for (int q = 0; q < shape.NumPoints(); ++q) {
+      const double w = factor * shape.weights[q] * (X * shape.dN_dxi[q]).determinant();
+      const Eigen::VectorXd value = field(Eigen::VectorXd(X * shape.N[q]));
+      for (int a = 0; a < kNodes; ++a)
+        for (int i = 0; i < static_cast<int>(value.size()); ++i)
+          (*f)(kDim * mesh.elements(a, e) + i) += w * shape.N[q](a) * value(i);
+    }
+  }
+}
+
+void CheckVectorSize(const Eigen::VectorXd& value, int dim, const char* what) {
+  if (value.size() != dim)
+    throw std::invalid_argument(std::string(what) + " must have " + std::to_string(dim) +
+                                " components (the mesh dimension), got " +
+                                std::to_string(value.size()));
+}
+
+}  // namespace
+
+ElasticBody::ElasticBody(Mesh mesh, const IsotropicMaterial& material,
+                         const PlaneSettings& plane)
+    : mesh_(std::move(mesh)), material_(material), plane_(plane) {
+  material_.Validate();
+  ValidateMesh(mesh_);
+  if (mesh_.dim == 2) plane_.Validate();
+  pattern_ = std::make_shared<const internal::SparsityPattern>(mesh_);
+}
+
+double ElasticBody::IntegrationFactor() const {
+  return mesh_.dim == 2 ? plane_.thickness : 1.0;
+}
+
+long long ElasticBody::NumNonZeros() const { return pattern_->NumNonZeros(); }
+
+SparseMatrix ElasticBody::StiffnessMatrix() const {
+  const double mu = material_.ShearModulus();
+  const double lambda = ElasticityMatrix(material_, mesh_.dim, plane_.model)(0, 1);
+  SparseMatrix K = pattern_->ZeroMatrix();
+  internal::DispatchElement(mesh_.element_type, [&](auto tag) {
+    AssembleStiffness<decltype(tag)::value>(mesh_, *pattern_, lambda, mu,
+                                            IntegrationFactor(), &K);
+  });
+  return K;
+}
+
+SparseMatrix ElasticBody::ConsistentMassMatrix() const {
+  SparseMatrix M = pattern_->ZeroMatrix();
+  internal::DispatchElement(mesh_.element_type, [&](auto tag) {
+    AssembleMass<decltype(tag)::value>(mesh_, *pattern_, material_.density,
+                                       IntegrationFactor(), &M);
+  });
+  return M;
+}
+
+Vector ElasticBody::LumpedMass() const {
+  // Row sums of M: sum_b N_b = 1, so m_(a,i) = h int rho N_a dV.
+  Vector m = Vector::Zero(NumDofs());
+  const Eigen::VectorXd ones = Eigen::VectorXd::Constant(mesh_.dim, material_.density);
+  internal::DispatchElement(mesh_.element_type, [&](auto tag) {
+    IntegrateAgainstShapeFunctions<decltype(tag)::value>(
+        mesh_, IntegrationFactor(), [&](const Eigen::VectorXd&) { return ones; }, &m);
+  });
+  return m;
+}
+
+Vector ElasticBody::BodyForceLoad(const Eigen::VectorXd& b) const {
+  CheckVectorSize(b, mesh_.dim, "BodyForceLoad: body force density b");
+  return BodyForceFieldLoad([b](const Eigen::VectorXd&) { return b; });
+}
+
+Vector ElasticBody::BodyForceFieldLoad(const BodyForceField& b) const {
+  if (!b) throw std::invalid_argument("BodyForceFieldLoad: empty body force function");
+  Vector f = Vector::Zero(NumDofs());
+  internal::DispatchElement(mesh_.element_type, [&](auto tag) {
+    IntegrateAgainstShapeFunctions<decltype(tag)::value>(
+        mesh_, IntegrationFactor(),
+        [&](const Eigen::VectorXd& x) {
+          Eigen::VectorXd value = b(x);
+          CheckVectorSize(value, mesh_.dim,
+                          "BodyForceFieldLoad: body force density b(x)");
+          return value;
+        },
+        &f);
+  });
+  return f;
+}
+
+Vector ElasticBody::TractionLoad(const Eigen::VectorXd& t,
+                                 const std::string& group) const {
+  CheckVectorSize(t, mesh_.dim, "TractionLoad: traction t");
+  return TractionFieldLoad(
+      [t](const Eigen::VectorXd&, const Eigen::VectorXd&) { return t; }, group);
+}
+
+Vector ElasticBody::TractionFieldLoad(const TractionField& t,
+                                      const std::string& group) const {
+  if (!t) throw std::invalid_argument("TractionFieldLoad: empty traction function");
+  const BoundaryFacets& facets = mesh_.BoundaryGroup(group);
+  const auto points = internal::FacetIntegrationPoints(mesh_, group);
+  Vector f = Vector::Zero(NumDofs());
+  const int dim = mesh_.dim;
+  for (int facet = 0; facet < facets.NumFacets(); ++facet) {
+    for (const internal::FacetPoint& point : points[facet]) {
+      const Eigen::VectorXd value = t(point.x, point.normal);
+      CheckVectorSize(value, dim, "TractionFieldLoad: traction t(x, n)");
+      const double w = IntegrationFactor() * point.weight_dS;
+      for (int a = 0; a < point.N.size(); ++a)
+        for (int i = 0; i < dim; ++i)
+          f(dim * facets.connectivity(a, facet) + i) += w * point.N(a) * value(i);
+    }
+  }
+  return f;
+}
+
+}  // namespace contact

@@ -1,0 +1,259 @@
+#include "gmsh_model.hpp"
+
+#include <gmsh.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "reference_element.hpp"
+
+namespace contact::internal {
+namespace {
+
+std::mutex& GmshMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+// gmsh element type numbers (gmsh manual, section "MSH file format").
+constexpr int kGmshLine2 = 1;
+constexpr int kGmshTriangle3 = 2;
+constexpr int kGmshQuadrilateral4 = 3;
+constexpr int kGmshTetrahedron4 = 4;
+constexpr int kGmshHexahedron8 = 5;
+
+int GmshType(FacetType type) {
+  switch (type) {
+    case FacetType::kLine2:
+      return kGmshLine2;
+    case FacetType::kTriangle3:
+      return kGmshTriangle3;
+    case FacetType::kQuadrilateral4:
+      return kGmshQuadrilateral4;
+  }
+  return -1;
+}
+
+std::string DescribeGmshType(int gmsh_type) {
+  std::string name;
+  int dim = 0, order = 0, num_nodes = 0, num_primary = 0;
+  std::vector<double> local_coordinates;
+  gmsh::model::mesh::getElementProperties(gmsh_type, name, dim, order, num_nodes,
+                                          local_coordinates, num_primary);
+  return "'" + name + "' (gmsh type " + std::to_string(gmsh_type) + ", order " +
+         std::to_string(order) + ", " + std::to_string(num_nodes) + " nodes)";
+}
+
+}  // namespace
+
+GmshSession::GmshSession(const std::string& model_name) {
+  GmshMutex().lock();
+  try {
+    gmsh::initialize(0, nullptr, /*readConfigFiles=*/false);
+    gmsh::option::setNumber("General.Terminal", 0);
+    gmsh::model::add(model_name);
+  } catch (const std::string& what) {
+    GmshMutex().unlock();
+    throw std::runtime_error("gmsh initialization failed: " + what);
+  }
+}
+
+GmshSession::~GmshSession() {
+  try {
+    gmsh::finalize();
+  } catch (...) {
+    // finalize must not throw out of a destructor; gmsh state is reset on the next
+    // initialize anyway.
+  }
+  GmshMutex().unlock();
+}
+
+void ThrowGmshError(const std::string& context, bool input_error,
+                    const std::string& what) {
+  std::string last;
+  try {
+    gmsh::logger::getLastError(last);
+  } catch (...) {
+  }
+  std::string message = context + ": gmsh error: " + what;
+  if (!last.empty() && last != what) message += " (" + last + ")";
+  if (input_error) throw std::invalid_argument(message);
+  throw std::runtime_error(message);
+}
+
+Mesh ExtractGmshMesh(const std::string& source) {
+  Mesh mesh;
+  const int dim = gmsh::model::getDimension();
+  if (dim != 2 && dim != 3)
+    throw std::invalid_argument(source + ": expected a 2D or 3D mesh, got dimension " +
+                                std::to_string(dim));
+  mesh.dim = dim;
+
+  // Volume elements: exactly one supported type.
+  std::vector<int> types;
+  std::vector<std::vector<std::size_t>> element_tags, element_nodes;
+  gmsh::model::mesh::getElements(types, element_tags, element_nodes, dim, -1);
+  int chosen = -1;
+  for (std::size_t t = 0; t < types.size(); ++t) {
+    if (element_tags[t].empty()) continue;
+    const bool supported =
+        dim == 2 ? (types[t] == kGmshTriangle3 || types[t] == kGmshQuadrilateral4)
+                 : (types[t] == kGmshTetrahedron4 || types[t] == kGmshHexahedron8);
+    if (!supported)
+      throw std::invalid_argument(source + ": unsupported element type " +
+                                  DescribeGmshType(types[t]) + " (" +
+                                  std::to_string(element_tags[t].size()) +
+                                  " elements); supported are linear 3-node triangles and "
+                                  "4-node quadrilaterals in "
+                                  "2D, 4-node tetrahedra and 8-node hexahedra in 3D");
+    if (chosen >= 0)
+      throw std::invalid_argument(source + ": unsupported mixed element types " +
+                                  DescribeGmshType(types[chosen]) + " and " +
+                                  DescribeGmshType(types[t]) +
+                                  "; expected a single element type");
+    chosen = static_cast<int>(t);
+  }
+  if (chosen < 0)
+    throw std::invalid_argument(source + ": contains no " + std::to_string(dim) +
+                                "D elements");
+  switch (types[chosen]) {
+    case kGmshTriangle3:
+      mesh.element_type = ElementType::kTriangle3;
+      break;
+    case kGmshQuadrilateral4:
+      mesh.element_type = ElementType::kQuadrilateral4;
+      break;
+    case kGmshTetrahedron4:
+      mesh.element_type = ElementType::kTetrahedron4;
+      break;
+    default:
+      mesh.element_type = ElementType::kHexahedron8;
+  }
+  const int nen = NodesPerElement(mesh.element_type);
+
+  // Nodes: those of the volume elements, compact by increasing gmsh tag.
+  std::vector<std::size_t> node_tags;
+  std::vector<double> coordinates, parametric;
+  gmsh::model::mesh::getNodes(node_tags, coordinates, parametric, -1, -1, false, false);
+  const std::size_t max_tag =
+      node_tags.empty() ? 0 : *std::max_element(node_tags.begin(), node_tags.end());
+  std::vector<long long> position_of_tag(max_tag + 1,
+                                         -1);  // tag -> position in node_tags
+  for (std::size_t k = 0; k < node_tags.size(); ++k) position_of_tag[node_tags[k]] = k;
+  std::vector<int> index_of_tag(max_tag + 1, -1);
+  for (const std::size_t tag : element_nodes[chosen]) {
+    if (tag > max_tag || position_of_tag[tag] < 0)
+      throw std::invalid_argument(source + ": element refers to missing node tag " +
+                                  std::to_string(tag));
+    index_of_tag[tag] = 0;
+  }
+  int num_nodes = 0;
+  for (std::size_t tag = 0; tag <= max_tag; ++tag)
+    if (index_of_tag[tag] == 0) index_of_tag[tag] = ++num_nodes;  // 1-based for now
+  mesh.nodes.resize(dim, num_nodes);
+  double max_abs_z = 0, extent = 0;
+  for (std::size_t tag = 0; tag <= max_tag; ++tag) {
+    if (index_of_tag[tag] <= 0) continue;
+    const int node = --index_of_tag[tag];
+    const double* x = &coordinates[3 * position_of_tag[tag]];
+    for (int k = 0; k < dim; ++k) {
+      mesh.nodes(k, node) = x[k];
+      extent = std::max(extent, std::abs(x[k]));
+    }
+    max_abs_z = std::max(max_abs_z, std::abs(x[2]));
+  }
+  if (dim == 2 && max_abs_z > 1e-10 * std::max(1.0, extent))
+    throw std::invalid_argument(
+        source + ": a 2D mesh must lie in the plane z = 0, got |z| up to " +
+        std::to_string(max_abs_z));
+
+  const std::size_t num_elements = element_tags[chosen].size();
+  mesh.elements.resize(nen, static_cast<Eigen::Index>(num_elements));
+  for (std::size_t e = 0; e < num_elements; ++e)
+    for (int a = 0; a < nen; ++a)
+      mesh.elements(a, e) = index_of_tag[element_nodes[chosen][nen * e + a]];
+  mesh.element_tags = element_tags[chosen];
+
+  // Boundary groups: physical groups of dimension dim - 1, merged by name.
+  const FacetType facet_type = FacetTypeOf(mesh.element_type);
+  const int facet_nodes = NodesPerFacet(facet_type);
+  gmsh::vectorpair groups;
+  gmsh::model::getPhysicalGroups(groups, dim - 1);
+  std::map<std::string, std::vector<int>> connectivity_by_name;
+  for (const auto& [group_dim, group_tag] : groups) {
+    std::string name;
+    gmsh::model::getPhysicalName(group_dim, group_tag, name);
+    if (name.empty()) name = std::to_string(group_tag);
+    std::vector<int>& connectivity = connectivity_by_name[name];
+    std::vector<int> entities;
+    gmsh::model::getEntitiesForPhysicalGroup(group_dim, group_tag, entities);
+    for (const int entity : entities) {
+      std::vector<int> facet_types;
+      std::vector<std::vector<std::size_t>> facet_tags, facet_node_tags;
+      gmsh::model::mesh::getElements(facet_types, facet_tags, facet_node_tags, group_dim,
+                                     entity);
+      for (std::size_t t = 0; t < facet_types.size(); ++t) {
+        if (facet_tags[t].empty()) continue;
+        if (facet_types[t] != GmshType(facet_type))
+          throw std::invalid_argument(
+              source + ": boundary group '" + name + "' has unsupported facet type " +
+              DescribeGmshType(facet_types[t]) + "; " + ToString(mesh.element_type) +
+              " elements need facets of type " + DescribeGmshType(GmshType(facet_type)));
+        for (const std::size_t tag : facet_node_tags[t]) {
+          if (tag > max_tag || index_of_tag[tag] < 0)
+            throw std::invalid_argument(source + ": boundary group '" + name +
+                                        "' uses node tag " + std::to_string(tag) +
+                                        ", which belongs to no " + std::to_string(dim) +
+                                        "D element");
+          connectivity.push_back(index_of_tag[tag]);
+        }
+      }
+    }
+  }
+  for (const auto& [name, connectivity] : connectivity_by_name) {
+    BoundaryFacets facets;
+    facets.type = facet_type;
+    facets.connectivity = Eigen::Map<const Eigen::MatrixXi>(
+        connectivity.data(), facet_nodes,
+        static_cast<Eigen::Index>(connectivity.size()) / facet_nodes);
+    mesh.boundary_groups[name] = std::move(facets);
+  }
+  return mesh;
+}
+
+void OrientElementsPositively(Mesh* mesh) {
+  DispatchElement(mesh->element_type, [&](auto tag) {
+    constexpr ElementType T = decltype(tag)::value;
+    constexpr int kDim = ElementTraits<T>::kDim;
+    constexpr int kNodes = ElementTraits<T>::kNodes;
+    // Reference centroid: (1/3, 1/3), (1/4, 1/4, 1/4) or the origin.
+    double xi[3] = {0, 0, 0};
+    if (T == ElementType::kTriangle3 || T == ElementType::kTetrahedron4)
+      for (int k = 0; k < kDim; ++k) xi[k] = 1.0 / (kDim + 1);
+    double N[kNodes];
+    Eigen::Matrix<double, kNodes, kDim, Eigen::RowMajor> dN;
+    EvaluateShape(kDim, kNodes, xi, N, dN.data());
+    const Eigen::Matrix<double, kNodes, kDim> dN_dxi = dN;
+    for (int e = 0; e < mesh->NumElements(); ++e) {
+      const auto X = ElementCoordinates<T>(*mesh, e);
+      if ((X * dN_dxi).determinant() >= 0) continue;
+      auto column = mesh->elements.col(e);
+      // Mirror the reference element: a permutation with opposite orientation.
+      if (T == ElementType::kTriangle3 || T == ElementType::kTetrahedron4) {
+        std::swap(column(1), column(2));
+      } else if (T == ElementType::kQuadrilateral4) {
+        std::swap(column(1), column(3));
+      } else {
+        std::swap(column(1), column(3));
+        std::swap(column(5), column(7));
+      }
+    }
+  });
+}
+
+}  // namespace contact::internal

@@ -1,0 +1,517 @@
+#include "contact/scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <toml.hpp>
+
+#include "contact/contact_boundary.hpp"
+#include "contact/dof_map.hpp"
+#include "contact/elastic_body.hpp"
+#include "contact/gmsh_reader.hpp"
+#include "contact/vtk_writer.hpp"
+
+namespace contact {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// A TOML table that remembers which keys were read, so that unknown keys (typos) can be
+/// reported by name, and that names the key in every error.
+class Table {
+ public:
+  Table(const toml::value* value, std::string path, std::string file)
+      : value_(value), path_(std::move(path)), file_(std::move(file)) {}
+
+  bool Has(const std::string& key) const {
+    return value_ != nullptr && value_->as_table().count(key) > 0;
+  }
+
+  const toml::value& Get(const std::string& key) const {
+    used_.insert(key);
+    if (!Has(key)) Fail(key, "is missing");
+    return value_->as_table().at(key);
+  }
+
+  double Number(const std::string& key) const {
+    const toml::value& v = Get(key);
+    if (v.is_floating()) return v.as_floating();
+    if (v.is_integer()) return static_cast<double>(v.as_integer());
+    Fail(key, "must be a number", &v);
+  }
+  double Number(const std::string& key, double fallback) const {
+    return Has(key) ? Number(key) : (used_.insert(key), fallback);
+  }
+  /// A number > 0 (or >= 0 with allow_zero).
+  double Positive(const std::string& key, bool allow_zero = false) const {
+    const double x = Number(key);
+    if (!(allow_zero ? x >= 0.0 : x > 0.0) || !std::isfinite(x))
+      Fail(key, std::string("must be ") + (allow_zero ? ">= 0" : "> 0") + ", got " + Str(x), &Get(key));
+    return x;
+  }
+  int Integer(const std::string& key, int fallback) const {
+    if (!Has(key)) return used_.insert(key), fallback;
+    const toml::value& v = Get(key);
+    if (!v.is_integer()) Fail(key, "must be an integer", &v);
+    return static_cast<int>(v.as_integer());
+  }
+  bool Boolean(const std::string& key, bool fallback) const {
+    if (!Has(key)) return used_.insert(key), fallback;
+    const toml::value& v = Get(key);
+    if (!v.is_boolean()) Fail(key, "must be true or false", &v);
+    return v.as_boolean();
+  }
+  std::string String(const std::string& key) const {
+    const toml::value& v = Get(key);
+    if (!v.is_string()) Fail(key, "must be a string", &v);
+    return v.as_string().str;
+  }
+  std::string String(const std::string& key, const std::string& fallback) const {
+    return Has(key) ? String(key) : (used_.insert(key), fallback);
+  }
+  /// One of `choices`.
+  std::string Choice(const std::string& key, const std::vector<std::string>& choices,
+                     const std::string& fallback = "") const {
+    const std::string s = fallback.empty() || Has(key) ? String(key) : (used_.insert(key), fallback);
+    if (std::find(choices.begin(), choices.end(), s) == choices.end()) {
+      std::string list;
+      for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
+      Fail(key, "must be one of " + list + ", got \"" + s + "\"", &Get(key));
+    }
+    return s;
+  }
+  std::vector<double> Numbers(const std::string& key, int expected_size = -1) const {
+    const toml::value& v = Get(key);
+    if (!v.is_array()) Fail(key, "must be an array of numbers", &v);
+    std::vector<double> out;
+    for (const toml::value& e : v.as_array()) {
+      if (e.is_floating()) out.push_back(e.as_floating());
+      else if (e.is_integer()) out.push_back(static_cast<double>(e.as_integer()));
+      else Fail(key, "must be an array of numbers", &v);
+    }
+    if (expected_size >= 0 && static_cast<int>(out.size()) != expected_size)
+      Fail(key, "must have " + std::to_string(expected_size) + " entries, got " +
+                    std::to_string(out.size()), &v);
+    for (double x : out)
+      if (!std::isfinite(x)) Fail(key, "has a non-finite entry", &v);
+    return out;
+  }
+  Eigen::VectorXd Vec(const std::string& key, int size) const {
+    const std::vector<double> v = Numbers(key, size);
+    return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+  }
+  std::vector<std::string> Strings(const std::string& key) const {
+    if (!Has(key)) return used_.insert(key), std::vector<std::string>{};
+    const toml::value& v = Get(key);
+    if (!v.is_array()) Fail(key, "must be an array of strings", &v);
+    std::vector<std::string> out;
+    for (const toml::value& e : v.as_array()) {
+      if (!e.is_string()) Fail(key, "must be an array of strings", &v);
+      out.push_back(e.as_string().str);
+    }
+    return out;
+  }
+  Table Sub(const std::string& key, bool required) const {
+    if (!Has(key)) {
+      if (required) Fail(key, "(a table) is missing");
+      used_.insert(key);
+      return Table(nullptr, Join(key), file_);
+    }
+    const toml::value& v = Get(key);
+    if (!v.is_table()) Fail(key, "must be a table [" + Join(key) + "]", &v);
+    return Table(&v, Join(key), file_);
+  }
+  bool present() const { return value_ != nullptr; }
+
+  /// Throws on keys that were never read.
+  void RejectUnknownKeys(const std::string& known_hint = "") const {
+    if (value_ == nullptr) return;
+    for (const auto& [key, v] : value_->as_table()) {
+      if (used_.count(key)) continue;
+      std::string known;
+      for (const auto& k : used_) known += (known.empty() ? "" : ", ") + k;
+      throw SceneError(file_ + ":" + std::to_string(v.location().line()) + ": unknown key '" +
+                       Join(key) + "'" + (known.empty() ? "" : " (known keys here: " + known + ")") +
+                       known_hint);
+    }
+  }
+
+  [[noreturn]] void Fail(const std::string& key, const std::string& what,
+                         const toml::value* at = nullptr) const {
+    const std::string where = at ? file_ + ":" + std::to_string(at->location().line()) : file_;
+    throw SceneError(where + ": '" + Join(key) + "' " + what);
+  }
+
+ private:
+  std::string Join(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  static std::string Str(double x) {
+    std::ostringstream s;
+    s << x;
+    return s.str();
+  }
+  const toml::value* value_;
+  std::string path_, file_;
+  mutable std::set<std::string> used_;
+};
+
+Side ParseSide(const Table& t, const std::string& key, const std::string& s, int dim) {
+  static const std::map<std::string, Side> sides = {{"xmin", Side::kXMin}, {"xmax", Side::kXMax},
+                                                    {"ymin", Side::kYMin}, {"ymax", Side::kYMax},
+                                                    {"zmin", Side::kZMin}, {"zmax", Side::kZMax}};
+  const auto it = sides.find(s);
+  if (it == sides.end() || (dim == 2 && (s == "zmin" || s == "zmax")))
+    t.Fail(key, "has an unknown side \"" + s + "\" (xmin, xmax, ymin, ymax" +
+                    (dim == 3 ? ", zmin, zmax)" : ")"));
+  return it->second;
+}
+
+ElementType ParseElement(const Table& t, int dim) {
+  const std::string e = dim == 2 ? t.Choice("element", {"quad4", "tri3"}, "quad4")
+                                 : t.Choice("element", {"hex8", "tet4"}, "hex8");
+  if (e == "quad4") return ElementType::kQuadrilateral4;
+  if (e == "tri3") return ElementType::kTriangle3;
+  if (e == "hex8") return ElementType::kHexahedron8;
+  return ElementType::kTetrahedron4;
+}
+
+void ReadGeometry(const Table& g, Scene* s) {
+  const std::string type = g.Choice("type", {"rectangle", "box", "msh"});
+  if (type == "msh") {
+    s->msh_file = g.String("file");
+    s->dim = g.Integer("dimension", 0);
+    if (s->dim != 2 && s->dim != 3) g.Fail("dimension", "must be 2 or 3 for a .msh geometry");
+  } else {
+    s->dim = type == "rectangle" ? 2 : 3;
+    std::map<Side, BoundaryRole> roles;
+    const std::pair<const char*, BoundaryRole> role_keys[] = {
+        {"fixed", BoundaryRole::kFixed}, {"load", BoundaryRole::kLoad}, {"contact", BoundaryRole::kContact}};
+    for (const auto& [key, role] : role_keys)
+      for (const std::string& side : g.Strings(key)) {
+        const Side sd = ParseSide(g, key, side, s->dim);
+        if (roles.count(sd)) g.Fail(key, "assigns side " + side + " a second role");
+        roles[sd] = role;
+      }
+    const Eigen::VectorXd origin = g.Has("origin") ? g.Vec("origin", s->dim) : Eigen::VectorXd::Zero(s->dim);
+    const Eigen::VectorXd size = g.Vec("size", s->dim);
+    const std::vector<double> cells = g.Numbers("cells", s->dim);
+    for (int k = 0; k < s->dim; ++k) {
+      if (!(size(k) > 0)) g.Fail("size", "entries must be > 0");
+      if (!(cells[static_cast<size_t>(k)] >= 1) || cells[static_cast<size_t>(k)] != std::floor(cells[static_cast<size_t>(k)]))
+        g.Fail("cells", "entries must be integers >= 1");
+    }
+    const bool structured = g.Choice("topology", {"structured", "unstructured"}, "structured") == "structured";
+    if (s->dim == 2) {
+      RectangleMeshOptions o;
+      for (int k = 0; k < 2; ++k) {
+        o.origin[static_cast<size_t>(k)] = origin(k);
+        o.size[static_cast<size_t>(k)] = size(k);
+        o.cells[static_cast<size_t>(k)] = static_cast<int>(cells[static_cast<size_t>(k)]);
+      }
+      o.element_type = ParseElement(g, 2);
+      o.topology = structured ? MeshTopology::kStructured : MeshTopology::kUnstructured;
+      o.side_roles = roles;
+      s->rectangle = o;
+    } else {
+      BoxMeshOptions o;
+      for (int k = 0; k < 3; ++k) {
+        o.origin[static_cast<size_t>(k)] = origin(k);
+        o.size[static_cast<size_t>(k)] = size(k);
+        o.cells[static_cast<size_t>(k)] = static_cast<int>(cells[static_cast<size_t>(k)]);
+      }
+      o.element_type = ParseElement(g, 3);
+      o.topology = structured ? MeshTopology::kStructured : MeshTopology::kUnstructured;
+      o.side_roles = roles;
+      s->box = o;
+    }
+  }
+  for (double c : g.Has("fixed_components") ? g.Numbers("fixed_components") : std::vector<double>{}) {
+    if (c != std::floor(c) || c < 0 || c >= s->dim)
+      g.Fail("fixed_components", "entries must be components 0.." + std::to_string(s->dim - 1));
+    s->fixed_components.push_back(static_cast<int>(c));
+  }
+  g.RejectUnknownKeys();
+}
+
+std::shared_ptr<RigidObstacle> ReadObstacle(const Table& o, int dim) {
+  const std::string type = o.Choice("type", {"plane", "parabola", "sphere", "cylinder"});
+  std::shared_ptr<RigidObstacle> obstacle;
+  try {
+    if (type == "plane") {
+      // The obstacle fills {y : n . y <= offset}; the body lies where n . x >= offset.
+      obstacle = std::make_shared<HalfSpace>(o.Vec("normal", dim), o.Number("offset"));
+    } else if (type == "parabola") {
+      obstacle = std::make_shared<ParabolaObstacle>(dim, o.Number("vertex"), o.Number("coefficient"));
+    } else if (type == "sphere") {
+      obstacle = std::make_shared<SphereObstacle>(o.Vec("center", dim), o.Positive("radius"));
+    } else {
+      if (dim != 3) o.Fail("type", "\"cylinder\" needs a 3D geometry");
+      obstacle = std::make_shared<CylinderObstacle>(o.Vec("axis_point", 3), o.Vec("axis_direction", 3),
+                                                    o.Positive("radius"));
+    }
+  } catch (const SceneError&) {
+    throw;
+  } catch (const std::invalid_argument& e) {
+    o.Fail("type", std::string("= \"") + type + "\": " + e.what());
+  }
+  return obstacle;
+}
+
+}  // namespace
+
+Scene LoadScene(const std::string& path) {
+  toml::value root;
+  try {
+    root = toml::parse(path);
+  } catch (const std::exception& e) {
+    throw SceneError("cannot read scene file " + path + ": " + e.what());
+  }
+  Scene s;
+  s.source = path;
+  const fs::path base = fs::path(path).parent_path();
+  const Table top(&root, "", path);
+  s.name = top.String("name", fs::path(path).stem().string());
+
+  ReadGeometry(top.Sub("geometry", true), &s);
+  if (!s.msh_file.empty() && fs::path(s.msh_file).is_relative()) s.msh_file = (base / s.msh_file).string();
+
+  const Table m = top.Sub("material", true);
+  s.material.youngs_modulus = m.Positive("young_modulus");
+  s.material.poisson_ratio = m.Number("poisson_ratio");
+  if (!(s.material.poisson_ratio > -1.0 && s.material.poisson_ratio < 0.5))
+    m.Fail("poisson_ratio", "must lie in (-1, 0.5), got " + std::to_string(s.material.poisson_ratio), &m.Get("poisson_ratio"));
+  s.material.density = m.Positive("density");
+  s.mass = m.Choice("mass", {"consistent", "lumped"}, "consistent") == "lumped" ? MassKind::kLumped : MassKind::kConsistent;
+  if (s.dim == 2) {
+    s.plane.model = m.Choice("plane", {"strain", "stress"}, "strain") == "stress" ? PlaneModel::kPlaneStress : PlaneModel::kPlaneStrain;
+    s.plane.thickness = m.Has("thickness") ? m.Positive("thickness") : 1.0;
+  }
+  m.RejectUnknownKeys();
+
+  const Table l = top.Sub("loads", false);
+  s.body_force = l.Has("body_force") ? l.Vec("body_force", s.dim) : Eigen::VectorXd::Zero(s.dim);
+  if (l.Has("traction")) s.traction = l.Vec("traction", s.dim);
+  const std::string history = l.Choice("history", {"constant", "step", "ramp"}, "constant");
+  s.load_history = history == "step" ? LoadHistory::kStep : history == "ramp" ? LoadHistory::kRamp : LoadHistory::kConstant;
+  if (s.load_history == LoadHistory::kRamp) s.ramp_time = l.Positive("ramp_time");
+  l.RejectUnknownKeys();
+
+  const Table o = top.Sub("obstacle", true);
+  s.obstacle = ReadObstacle(o, s.dim);
+  s.normal_source = o.Choice("normal_source", {"body", "obstacle"}, "body") == "obstacle" ? NormalSource::kObstacle : NormalSource::kBody;
+  o.RejectUnknownKeys();
+
+  const Table f = top.Sub("friction", false);
+  s.friction_coefficient = f.Has("coefficient") ? f.Positive("coefficient", true) : 0.0;
+  f.RejectUnknownKeys();
+
+  const Table t = top.Sub("time", true);
+  s.dynamics.dt = t.Positive("dt");
+  s.dynamics.end_time = t.Positive("end_time");
+  s.dynamics.allow_unstable_time_step = t.Boolean("allow_unstable", false);
+  const std::string initial = t.Choice("initial_state", {"static", "velocity"}, "static");
+  if (initial == "velocity") {
+    s.dynamics.initial_state = InitialState::kPrescribed;
+    s.initial_velocity = t.Vec("initial_velocity", s.dim);
+  }
+  t.RejectUnknownKeys();
+
+  const Table v = top.Sub("solver", false);
+  const std::string method = v.Choice("method", {"fb", "min", "penalized-fb", "ipopt"}, "fb");
+  s.dynamics.solver = method == "min" ? StepSolver::kMin
+                      : method == "penalized-fb" ? StepSolver::kPenalizedFischerBurmeister
+                      : method == "ipopt" ? StepSolver::kIpopt : StepSolver::kFischerBurmeister;
+  if (s.dynamics.solver == StepSolver::kIpopt && s.friction_coefficient > 0)
+    v.Fail("method", "= \"ipopt\" solves frictionless steps only, but friction.coefficient = " +
+                         std::to_string(s.friction_coefficient));
+  s.dynamics.ncp.tolerance = v.Has("tolerance") ? v.Positive("tolerance") : 1e-10;
+  s.dynamics.ncp.max_iterations = v.Integer("max_iterations", 500);
+  if (s.dynamics.ncp.max_iterations < 1) v.Fail("max_iterations", "must be >= 1");
+  const std::string ls = v.Choice("linear_solver", {"auto", "dense", "sparse-lu", "umfpack", "klu"}, "auto");
+  s.dynamics.ncp.linear_solver = ls == "dense" ? ncp::LinearSolverType::kDenseLU
+                                 : ls == "sparse-lu" ? ncp::LinearSolverType::kSparseLU
+                                 : ls == "umfpack" ? ncp::LinearSolverType::kUmfpack
+                                 : ls == "klu" ? ncp::LinearSolverType::kKlu : ncp::LinearSolverType::kAuto;
+  s.dynamics.compare_with_ipopt = v.Boolean("compare_with_ipopt", false);
+  if (s.dynamics.compare_with_ipopt && s.friction_coefficient > 0)
+    v.Fail("compare_with_ipopt", "needs a frictionless scene");
+  v.RejectUnknownKeys();
+
+  const Table out = top.Sub("output", false);
+  if (out.Has("directory")) {
+    const fs::path d = out.String("directory");
+    s.output_directory = (d.is_relative() ? base / d : d).string();
+  }
+  if (out.Has("stress_times")) s.stress_times = out.Numbers("stress_times");
+  s.snapshot_every = out.Integer("snapshot_every", 0);
+  if (s.snapshot_every < 0) out.Fail("snapshot_every", "must be >= 0");
+  if (out.Has("marked_point")) s.marked_point = out.Vec("marked_point", s.dim);
+  out.RejectUnknownKeys();
+
+  top.RejectUnknownKeys();
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------
+
+SceneResult RunScene(const Scene& scene, bool progress) {
+  SceneResult result;
+  // Mesh and body.
+  Mesh mesh = !scene.msh_file.empty() ? ReadGmshMesh(scene.msh_file)
+              : scene.rectangle       ? MakeRectangleMesh(*scene.rectangle)
+                                      : MakeBoxMesh(*scene.box);
+  if (mesh.dim != scene.dim)
+    throw SceneError(scene.source + ": the mesh is " + std::to_string(mesh.dim) +
+                     "D but the scene is " + std::to_string(scene.dim) + "D");
+  ElasticBody body(std::move(mesh), scene.material, scene.plane);
+  const Mesh& M = body.mesh();
+  const int dim = M.dim;
+  std::vector<DirichletCondition> conditions;
+  if (M.HasBoundaryGroup(kFixedGroup)) {
+    DirichletCondition fixed;
+    fixed.components = scene.fixed_components;
+    conditions.push_back(fixed);
+  }
+  const DofMap dofs = MakeDofMap(M, conditions);
+  const ContactBoundary boundary = MakeContactBoundary(body);
+  const ContactFrames frames = MakeContactFrames(M, boundary, dofs, *scene.obstacle, scene.normal_source);
+  if (frames.nodes.empty())
+    throw SceneError(scene.source + ": no contact node is left after removing the " +
+                     std::to_string(frames.excluded_mesh_nodes.size()) +
+                     " nodes constrained by the 'fixed' group");
+
+  DynamicModel model;
+  model.dim = dim;
+  const SparseMatrix K_full = body.StiffnessMatrix();
+  model.K = dofs.RestrictMatrix(K_full);
+  if (scene.mass == MassKind::kLumped) {
+    const Vector lumped = body.LumpedMass();
+    SparseMatrix L(lumped.size(), lumped.size());
+    std::vector<Eigen::Triplet<double>> t;
+    for (Eigen::Index i = 0; i < lumped.size(); ++i) t.emplace_back(static_cast<int>(i), static_cast<int>(i), lumped(i));
+    L.setFromTriplets(t.begin(), t.end());
+    model.M = dofs.RestrictMatrix(L);
+  } else {
+    model.M = dofs.RestrictMatrix(body.ConsistentMassMatrix());
+  }
+  Vector f_full = body.BodyForceLoad(scene.body_force);
+  if (scene.traction.size()) f_full += body.TractionLoad(scene.traction);
+  const Vector f_free = dofs.RestrictLoad(K_full, f_full);
+  const double t0 = scene.dynamics.start_time;
+  const LoadHistory history = scene.load_history;
+  const double ramp = scene.ramp_time;
+  model.load = [f_free, t0, history, ramp](double t, Eigen::VectorXd* f) {
+    double factor = 1.0;
+    if (history == LoadHistory::kStep) factor = t > t0 + 1e-12 * std::max(1.0, std::abs(t0)) ? 1.0 : 0.0;
+    if (history == LoadHistory::kRamp) factor = std::min(std::max((t - t0) / ramp, 0.0), 1.0);
+    *f = factor * f_free;
+  };
+  model.contact_nodes = frames.nodes;
+  result.num_dofs = M.NumDofs();
+  result.num_free_dofs = dofs.NumFreeDofs();
+  result.num_contact_nodes = static_cast<int>(frames.nodes.size());
+  result.num_elements = M.NumElements();
+
+  DynamicOptions options = scene.dynamics;
+  options.friction_coefficient = scene.friction_coefficient;
+  options.progress = progress;
+  if (options.initial_state == InitialState::kPrescribed) {
+    options.u0 = Eigen::VectorXd::Zero(dofs.NumFreeDofs());
+    Vector v_full = Vector::Zero(M.NumDofs());
+    for (int i = 0; i < M.NumNodes(); ++i) v_full.segment(dim * i, dim) = scene.initial_velocity;
+    options.v0 = dofs.RestrictVector(v_full);
+  }
+
+  // Marked node: the contact node nearest to marked_point.
+  int marked = -1;
+  if (scene.marked_point) {
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t c = 0; c < frames.nodes.size(); ++c) {
+      const double d = (M.nodes.col(frames.nodes[c].node) - *scene.marked_point).norm();
+      if (d < best) best = d, marked = static_cast<int>(c);
+    }
+    result.marked_node = frames.nodes[static_cast<size_t>(marked)].node;
+  }
+
+  // Outputs.
+  const bool write = !scene.output_directory.empty();
+  std::ofstream steps_csv, stress_csv, history_csv;
+  const fs::path dir = scene.output_directory;
+  auto open = [&](std::ofstream& s, const std::string& name, const std::string& header) {
+    const std::string p = (dir / name).string();
+    s.open(p);
+    if (!s) throw SceneError("cannot write " + p);
+    s << header << "\n";
+    s.precision(10);
+    result.files_written.push_back(p);
+  };
+  const std::string coords = dim == 2 ? "x,y" : "x,y,z";
+  const std::string tangents = dim == 2 ? "friction_stress" : "friction_stress_1,friction_stress_2";
+  if (write) {
+    fs::create_directories(dir);
+    open(steps_csv, "steps.csv",
+         "step,time,newton_iterations,jacobian_evaluations,residual_evaluations,seconds,kinetic_energy,"
+         "strain_energy,external_work,normal_contact_work,friction_dissipation,energy_balance_error,"
+         "normal_force_sum,friction_force_sum,max_penetration,active_nodes");
+    open(stress_csv, "contact_stress.csv",
+         "time,node," + coords + ",normal_stress," + tangents + ",gap,normal_force");
+    if (marked >= 0) open(history_csv, "node_history.csv", "time,normal_stress,friction_stress");
+  }
+  const double dt = options.dt;
+  std::vector<double> pending = scene.stress_times;
+  std::sort(pending.begin(), pending.end());
+  auto snapshot = [&](const std::string& name, const Eigen::VectorXd& u_free) {
+    const std::string p = (dir / name).string();
+    WriteVtk(p, M, {NodalVectorField("displacement", M, dofs.Expand(u_free))});
+    result.files_written.push_back(p);
+  };
+  if (write) snapshot("snapshot_00000.vtk", Eigen::VectorXd::Zero(dofs.NumFreeDofs()));
+
+  options.on_step = [&](const StepRecord& r, const Eigen::VectorXd& u, const ContactSystem::Result& c,
+                        double force_scale) {
+    if (!write) return;
+    steps_csv << r.step << ',' << r.time << ',' << r.newton_iterations << ',' << r.jacobian_evaluations << ','
+              << r.residual_evaluations << ',' << r.seconds << ',' << r.kinetic << ',' << r.strain << ','
+              << r.external_work << ',' << r.normal_contact_work << ',' << r.friction_dissipation << ','
+              << r.energy_balance_error << ',' << r.normal_force_sum << ',' << r.tangent_force_sum << ','
+              << r.max_penetration << ',' << r.active_nodes << '\n';
+    auto stress_of = [&](size_t k) {
+      const double area = frames.nodes[k].area;
+      return std::pair<double, Eigen::VectorXd>(force_scale * c.normal_force(static_cast<Eigen::Index>(k)) / area,
+                                                force_scale * c.tangent_force.col(static_cast<Eigen::Index>(k)) / area);
+    };
+    if (marked >= 0) {
+      const auto [p, tau] = stress_of(static_cast<size_t>(marked));
+      history_csv << r.time << ',' << p << ',' << (dim == 2 ? tau(0) : tau.norm()) << '\n';
+    }
+    const bool last = r.time >= options.end_time - 1e-9 * dt;
+    bool at_time = false;
+    while (!pending.empty() && r.time >= pending.front() - 0.5 * dt) {
+      pending.erase(pending.begin());
+      at_time = true;
+    }
+    if (at_time || last) {
+      for (size_t k = 0; k < frames.nodes.size(); ++k) {
+        const auto [p, tau] = stress_of(k);
+        stress_csv << r.time << ',' << frames.nodes[k].node;
+        for (int a = 0; a < dim; ++a) stress_csv << ',' << M.nodes(a, frames.nodes[k].node);
+        stress_csv << ',' << p;
+        for (Eigen::Index a = 0; a < tau.size(); ++a) stress_csv << ',' << tau(a);
+        stress_csv << ',' << c.gap(static_cast<Eigen::Index>(k)) << ','
+                   << force_scale * c.normal_force(static_cast<Eigen::Index>(k)) << '\n';
+      }
+    }
+    if ((scene.snapshot_every > 0 && r.step % scene.snapshot_every == 0) || last) {
+      char name[64];
+      std::snprintf(name, sizeof name, "snapshot_%05d.vtk", r.step);
+      snapshot(name, u);
+    }
+  };
+  result.summary = RunDynamics(model, options);
+  return result;
+}
+
+}  // namespace contact

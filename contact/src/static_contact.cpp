@@ -1,0 +1,119 @@
+#include "contact/static_contact.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "contact/convex_qp.hpp"
+
+namespace contact {
+namespace {
+
+double MaxDiagonal(const Eigen::SparseMatrix<double>& K) {
+  double k = 0.0;
+  for (Eigen::Index i = 0; i < K.rows(); ++i) k = std::max(k, std::abs(K.coeff(i, i)));
+  if (!(k > 0.0)) throw std::invalid_argument("contact: the stiffness matrix has a zero diagonal");
+  return k;
+}
+
+}  // namespace
+
+StaticContactResult SolveStaticContact(int dim, const Eigen::SparseMatrix<double>& K,
+                                       const Eigen::VectorXd& f,
+                                       const std::vector<ContactNode>& nodes,
+                                       const StaticContactOptions& options) {
+  const auto num_nodes = static_cast<Eigen::Index>(nodes.size());
+  if (options.friction == FrictionLaw::kTresca && options.tresca_bound.size() != num_nodes)
+    throw std::invalid_argument("SolveStaticContact: tresca_bound needs one value per contact node (" +
+                                std::to_string(num_nodes) + "), got " +
+                                std::to_string(options.tresca_bound.size()));
+  if (options.friction == FrictionLaw::kCoulomb && !(options.friction_coefficient >= 0.0))
+    throw std::invalid_argument("SolveStaticContact: friction_coefficient must be >= 0, got " +
+                                std::to_string(options.friction_coefficient));
+  const double k = MaxDiagonal(K);
+  const Eigen::SparseMatrix<double> S = K / k;
+  const Eigen::VectorXd q = -f / k;
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(K.rows());
+
+  StaticContactResult result;
+  ncp::Solver solver(options.ncp);
+  Eigen::VectorXd bound = options.friction == FrictionLaw::kTresca
+                              ? Eigen::VectorXd(options.tresca_bound / k)
+                              : Eigen::VectorXd::Zero(num_nodes);
+  Eigen::VectorXd guess = zero;
+  Eigen::VectorXd lambda_previous = Eigen::VectorXd::Zero(num_nodes);
+  const int rounds = options.friction == FrictionLaw::kCoulomb ? options.max_fixed_point_iterations : 1;
+  ContactSystem system(dim, S, nodes);
+  for (int round = 0; round < rounds; ++round) {
+    system.Update(q, zero,
+                  options.friction == FrictionLaw::kFrictionless ? Eigen::VectorXd() : bound);
+    ncp::Vector z = system.StartPoint(guess);
+    solver.Solve(system, &z, &result.last_summary);
+    result.newton_iterations += result.last_summary.iterations;
+    result.fixed_point_iterations = round + 1;
+    const ContactSystem::Result r = system.Extract(z);
+    result.u = r.x;
+    result.normal_force = k * r.normal_force;
+    result.tangent_force = k * r.tangent_force;
+    result.gap = r.gap;
+    if (!result.last_summary.IsSolutionUsable()) {
+      result.converged = false;
+      result.message = "complementarity solve failed: " + result.last_summary.message;
+      return result;
+    }
+    if (options.friction != FrictionLaw::kCoulomb) {
+      result.converged = true;
+      result.message = result.last_summary.message;
+      return result;
+    }
+    // Coulomb by fixed point: g_c = f_c lambda_c of the previous iterate.
+    const double change = (result.normal_force - lambda_previous).lpNorm<Eigen::Infinity>();
+    const double scale = std::max(result.normal_force.lpNorm<Eigen::Infinity>(), 1e-300);
+    if (round > 0 && change <= options.fixed_point_tolerance * scale) {
+      result.converged = true;
+      result.message = "Coulomb fixed point converged after " + std::to_string(round + 1) +
+                       " Tresca solves";
+      return result;
+    }
+    lambda_previous = result.normal_force;
+    bound = options.friction_coefficient * r.normal_force.cwiseMax(0.0);
+    guess = r.x;
+  }
+  result.converged = false;
+  result.message = "Coulomb fixed point did not converge in " +
+                   std::to_string(options.max_fixed_point_iterations) + " Tresca solves";
+  return result;
+}
+
+StaticContactResult SolveStaticContactIpopt(int dim, const Eigen::SparseMatrix<double>& K,
+                                            const Eigen::VectorXd& f,
+                                            const std::vector<ContactNode>& nodes,
+                                            double tolerance) {
+  // Rows of G: n_c . u_c <= s_c (the linearized non-penetration condition).
+  std::vector<Eigen::Triplet<double>> triplets;
+  Eigen::VectorXd h(static_cast<Eigen::Index>(nodes.size()));
+  for (size_t c = 0; c < nodes.size(); ++c) {
+    for (int a = 0; a < dim; ++a)
+      triplets.emplace_back(static_cast<int>(c), nodes[c].dofs[a], nodes[c].normal(a));
+    h(static_cast<Eigen::Index>(c)) = nodes[c].gap;
+  }
+  Eigen::SparseMatrix<double> G(static_cast<Eigen::Index>(nodes.size()), K.cols());
+  G.setFromTriplets(triplets.begin(), triplets.end());
+  ConvexQpOptions qp_options;
+  qp_options.tolerance = tolerance;
+  const Eigen::VectorXd x0 = Eigen::VectorXd::Zero(K.cols());
+  const ConvexQpResult qp = SolveConvexQpIpopt(K, -f, G, h, x0, qp_options);
+
+  StaticContactResult result;
+  result.converged = qp.status == ConvexQpStatus::kSolved;
+  result.message = qp.message;
+  result.u = qp.x;
+  result.normal_force = qp.multipliers;
+  result.tangent_force.setZero(dim - 1, static_cast<Eigen::Index>(nodes.size()));
+  result.gap = h - G * qp.x;
+  result.newton_iterations = qp.iterations;
+  result.fixed_point_iterations = 1;
+  return result;
+}
+
+}  // namespace contact

@@ -1,0 +1,99 @@
+// contact-sim: runs a dynamic contact scene file and reports what it did.
+//
+//   contact-sim SCENE.toml [--json] [--solver fb|min|penalized-fb|ipopt] [--dt S]
+//                          [--friction F] [--end-time S] [--output DIR] [--quiet]
+#include <cxxopts.hpp>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "contact/scene.hpp"
+
+int main(int argc, char** argv) {
+  cxxopts::Options cli("contact-sim", "Elastodynamic contact of a body with a rigid obstacle");
+  cli.add_options()("scene", "scene file (TOML)", cxxopts::value<std::string>())(
+      "json", "print one JSON summary object on stdout")(
+      "solver", "override solver.method: fb, min, penalized-fb, ipopt", cxxopts::value<std::string>())(
+      "dt", "override time.dt [s]", cxxopts::value<double>())(
+      "end-time", "override time.end_time [s]", cxxopts::value<double>())(
+      "friction", "override friction.coefficient", cxxopts::value<double>())(
+      "tolerance", "override solver.tolerance", cxxopts::value<double>())(
+      "output", "override output.directory", cxxopts::value<std::string>())(
+      "no-output", "write no files")("quiet", "no progress lines on stderr")(
+      "h,help", "show this help");
+  cli.parse_positional({"scene"});
+  cli.positional_help("SCENE.toml");
+  contact::Scene scene;
+  bool json = false, quiet = false;
+  try {
+    const auto args = cli.parse(argc, argv);
+    if (args.count("help") || !args.count("scene")) {
+      std::cout << cli.help() << std::endl;
+      return args.count("help") ? 0 : 2;
+    }
+    json = args.count("json") > 0;
+    quiet = args.count("quiet") > 0;
+    scene = contact::LoadScene(args["scene"].as<std::string>());
+    if (args.count("solver")) {
+      const std::string s = args["solver"].as<std::string>();
+      if (s == "fb") scene.dynamics.solver = contact::StepSolver::kFischerBurmeister;
+      else if (s == "min") scene.dynamics.solver = contact::StepSolver::kMin;
+      else if (s == "penalized-fb") scene.dynamics.solver = contact::StepSolver::kPenalizedFischerBurmeister;
+      else if (s == "ipopt") scene.dynamics.solver = contact::StepSolver::kIpopt;
+      else throw contact::SceneError("--solver must be fb, min, penalized-fb or ipopt, got \"" + s + "\"");
+    }
+    if (args.count("dt")) scene.dynamics.dt = args["dt"].as<double>();
+    if (args.count("end-time")) scene.dynamics.end_time = args["end-time"].as<double>();
+    if (args.count("friction")) scene.friction_coefficient = args["friction"].as<double>();
+    if (args.count("tolerance")) scene.dynamics.ncp.tolerance = args["tolerance"].as<double>();
+    if (args.count("output")) scene.output_directory = args["output"].as<std::string>();
+    if (args.count("no-output")) scene.output_directory.clear();
+  } catch (const std::exception& e) {
+    std::cerr << "contact-sim: " << e.what() << std::endl;
+    return 2;
+  }
+
+  contact::SceneResult r;
+  try {
+    r = contact::RunScene(scene, !quiet);
+  } catch (const std::exception& e) {
+    std::cerr << "contact-sim: " << e.what() << std::endl;
+    return 2;
+  }
+  const contact::DynamicSummary& s = r.summary;
+  std::FILE* table = json ? stderr : stdout;
+  std::fprintf(table, "%s: %s (%s)\n", scene.name.c_str(), contact::ToString(s.status), s.message.c_str());
+  std::fprintf(table, "  %d dofs (%d free), %d elements, %d contact nodes, dt_crit = %.4g s\n", r.num_dofs,
+               r.num_free_dofs, r.num_elements, r.num_contact_nodes, s.critical_time_step);
+  std::fprintf(table, "  %-10s %-6s %-7s %-8s %-8s %-10s\n", "dt", "f_c", "k_sim", "N_Jac", "N_func", "t_comp[s]");
+  std::fprintf(table, "  %-10g %-6g %-7d %-8ld %-8ld %-10.4f\n", scene.dynamics.dt, scene.friction_coefficient,
+               s.steps, s.jacobian_evaluations, s.residual_evaluations, s.seconds);
+  std::fprintf(table, "  max penetration %.3e m, energy balance error %.3e J\n", s.max_penetration,
+               s.energy_balance_error);
+  if (!r.files_written.empty() && !quiet)
+    std::fprintf(stderr, "  wrote %zu files into %s\n", r.files_written.size(), scene.output_directory.c_str());
+  if (json) {
+    nlohmann::json j;
+    j["scene"] = scene.name;
+    j["status"] = contact::ToString(s.status);
+    j["message"] = s.message;
+    j["steps"] = s.steps;
+    j["newton_iterations"] = s.newton_iterations;
+    j["jacobian_evals"] = s.jacobian_evaluations;
+    j["residual_evals"] = s.residual_evaluations;
+    j["seconds"] = s.seconds;
+    j["max_penetration"] = s.max_penetration;
+    j["energy_balance_error"] = s.energy_balance_error;
+    j["dt"] = scene.dynamics.dt;
+    j["dt_crit"] = s.critical_time_step;
+    j["friction_coefficient"] = scene.friction_coefficient;
+    j["solver"] = contact::ToString(scene.dynamics.solver);
+    j["tolerance"] = scene.dynamics.ncp.tolerance;
+    j["dofs"] = r.num_dofs;
+    j["free_dofs"] = r.num_free_dofs;
+    j["contact_nodes"] = r.num_contact_nodes;
+    if (s.max_ipopt_relative_difference >= 0) j["max_ipopt_relative_difference"] = s.max_ipopt_relative_difference;
+    std::cout << j.dump(2) << std::endl;
+  }
+  return s.status == contact::DynamicStatus::kCompleted ? 0 : 1;
+}
