@@ -70,6 +70,7 @@ ContactFrames MakeContactFrames(const Mesh& mesh, const ContactBoundary& boundar
     }
     c.normal.normalize();
     c.area = boundary.tributary_area(k);
+    CompleteContactFrame(dim, &c);
     out.nodes.push_back(c);
     out.boundary_index.push_back(k);
   }

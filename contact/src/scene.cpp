@@ -357,16 +357,16 @@ Scene LoadScene(const std::string& path) {
 
 // ---------------------------------------------------------------------------------------
 
-SceneResult RunScene(const Scene& scene, bool progress) {
-  SceneResult result;
-  // Mesh and body.
+SceneModel BuildSceneModel(const Scene& scene) {
+  SceneModel out;
   Mesh mesh = !scene.msh_file.empty() ? ReadGmshMesh(scene.msh_file)
               : scene.rectangle       ? MakeRectangleMesh(*scene.rectangle)
                                       : MakeBoxMesh(*scene.box);
   if (mesh.dim != scene.dim)
     throw SceneError(scene.source + ": the mesh is " + std::to_string(mesh.dim) +
                      "D but the scene is " + std::to_string(scene.dim) + "D");
-  ElasticBody body(std::move(mesh), scene.material, scene.plane);
+  out.body = std::make_unique<ElasticBody>(std::move(mesh), scene.material, scene.plane);
+  const ElasticBody& body = *out.body;
   const Mesh& M = body.mesh();
   const int dim = M.dim;
   std::vector<DirichletCondition> conditions;
@@ -375,31 +375,31 @@ SceneResult RunScene(const Scene& scene, bool progress) {
     fixed.components = scene.fixed_components;
     conditions.push_back(fixed);
   }
-  const DofMap dofs = MakeDofMap(M, conditions);
-  const ContactBoundary boundary = MakeContactBoundary(body);
-  const ContactFrames frames = MakeContactFrames(M, boundary, dofs, *scene.obstacle, scene.normal_source);
-  if (frames.nodes.empty())
+  out.dofs = MakeDofMap(M, conditions);
+  out.boundary = MakeContactBoundary(body);
+  out.frames = MakeContactFrames(M, out.boundary, out.dofs, *scene.obstacle, scene.normal_source);
+  if (out.frames.nodes.empty())
     throw SceneError(scene.source + ": no contact node is left after removing the " +
-                     std::to_string(frames.excluded_mesh_nodes.size()) +
+                     std::to_string(out.frames.excluded_mesh_nodes.size()) +
                      " nodes constrained by the 'fixed' group");
 
-  DynamicModel model;
+  DynamicModel& model = out.model;
   model.dim = dim;
   const SparseMatrix K_full = body.StiffnessMatrix();
-  model.K = dofs.RestrictMatrix(K_full);
+  model.K = out.dofs.RestrictMatrix(K_full);
   if (scene.mass == MassKind::kLumped) {
     const Vector lumped = body.LumpedMass();
     SparseMatrix L(lumped.size(), lumped.size());
     std::vector<Eigen::Triplet<double>> t;
     for (Eigen::Index i = 0; i < lumped.size(); ++i) t.emplace_back(static_cast<int>(i), static_cast<int>(i), lumped(i));
     L.setFromTriplets(t.begin(), t.end());
-    model.M = dofs.RestrictMatrix(L);
+    model.M = out.dofs.RestrictMatrix(L);
   } else {
-    model.M = dofs.RestrictMatrix(body.ConsistentMassMatrix());
+    model.M = out.dofs.RestrictMatrix(body.ConsistentMassMatrix());
   }
   Vector f_full = body.BodyForceLoad(scene.body_force);
   if (scene.traction.size()) f_full += body.TractionLoad(scene.traction);
-  const Vector f_free = dofs.RestrictLoad(K_full, f_full);
+  const Vector f_free = out.dofs.RestrictLoad(K_full, f_full);
   const double t0 = scene.dynamics.start_time;
   const LoadHistory history = scene.load_history;
   const double ramp = scene.ramp_time;
@@ -409,21 +409,32 @@ SceneResult RunScene(const Scene& scene, bool progress) {
     if (history == LoadHistory::kRamp) factor = std::min(std::max((t - t0) / ramp, 0.0), 1.0);
     *f = factor * f_free;
   };
-  model.contact_nodes = frames.nodes;
+  model.contact_nodes = out.frames.nodes;
+
+  out.options = scene.dynamics;
+  out.options.friction_coefficient = scene.friction_coefficient;
+  if (out.options.initial_state == InitialState::kPrescribed) {
+    out.options.u0 = Eigen::VectorXd::Zero(out.dofs.NumFreeDofs());
+    Vector v_full = Vector::Zero(M.NumDofs());
+    for (int i = 0; i < M.NumNodes(); ++i) v_full.segment(dim * i, dim) = scene.initial_velocity;
+    out.options.v0 = out.dofs.RestrictVector(v_full);
+  }
+  return out;
+}
+
+SceneResult RunScene(const Scene& scene, bool progress) {
+  SceneResult result;
+  SceneModel built = BuildSceneModel(scene);
+  const Mesh& M = built.body->mesh();
+  const int dim = M.dim;
+  const DofMap& dofs = built.dofs;
+  const ContactFrames& frames = built.frames;
+  DynamicOptions& options = built.options;
+  options.progress = progress;
   result.num_dofs = M.NumDofs();
   result.num_free_dofs = dofs.NumFreeDofs();
   result.num_contact_nodes = static_cast<int>(frames.nodes.size());
   result.num_elements = M.NumElements();
-
-  DynamicOptions options = scene.dynamics;
-  options.friction_coefficient = scene.friction_coefficient;
-  options.progress = progress;
-  if (options.initial_state == InitialState::kPrescribed) {
-    options.u0 = Eigen::VectorXd::Zero(dofs.NumFreeDofs());
-    Vector v_full = Vector::Zero(M.NumDofs());
-    for (int i = 0; i < M.NumNodes(); ++i) v_full.segment(dim * i, dim) = scene.initial_velocity;
-    options.v0 = dofs.RestrictVector(v_full);
-  }
 
   // Marked node: the contact node nearest to marked_point.
   int marked = -1;
@@ -510,7 +521,7 @@ SceneResult RunScene(const Scene& scene, bool progress) {
       snapshot(name, u);
     }
   };
-  result.summary = RunDynamics(model, options);
+  result.summary = RunDynamics(built.model, options);
   return result;
 }
 

@@ -11,8 +11,11 @@
 #include <string>
 #include <vector>
 
+#include "contact/contact_boundary.hpp"
 #include "contact/contact_frames.hpp"
+#include "contact/dof_map.hpp"
 #include "contact/dynamics.hpp"
+#include "contact/elastic_body.hpp"
 #include "contact/material.hpp"
 #include "contact/mesh_generation.hpp"
 #include "contact/obstacle.hpp"
@@ -66,6 +69,18 @@ struct Scene {
 
 /// Reads and validates a scene file; relative paths inside are relative to the file.
 Scene LoadScene(const std::string& path);
+
+/// The discretized scene: body, Dirichlet map, contact boundary and frames, and the model
+/// on the free dofs that RunDynamics integrates (loads with their time history).
+struct SceneModel {
+  std::unique_ptr<ElasticBody> body;
+  DofMap dofs;
+  ContactBoundary boundary;
+  ContactFrames frames;
+  DynamicModel model;
+  DynamicOptions options;  ///< scene.dynamics with friction and initial velocity filled in
+};
+SceneModel BuildSceneModel(const Scene& scene);
 
 /// What a run produced.
 struct SceneResult {

@@ -1,0 +1,108 @@
+// Scene files: every error names its key; a 3D slab with plane-strain conditions follows
+// the 2D plane-strain model; f_c = 0 reproduces the frictionless run.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "contact/scene.hpp"
+
+using namespace contact;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string WriteScene(const std::string& name, const std::string& text) {
+  const fs::path dir = fs::temp_directory_path() / "contact_scene_tests";
+  fs::create_directories(dir);
+  const fs::path p = dir / (name + ".toml");
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+// A block falling onto a floor y >= -gap: 2D rectangle or 3D slab of depth 0.1 m with
+// u_z = 0 on both z faces (plane strain). Body force pushes it down and sideways.
+std::string Block(int dim, double friction, const std::string& extra = "") {
+  std::string geometry =
+      dim == 2 ? "[geometry]\ntype = \"rectangle\"\nsize = [1.0, 0.2]\ncells = [5, 2]\ncontact = [\"ymin\"]\n"
+               : "[geometry]\ntype = \"box\"\nsize = [1.0, 0.2, 0.1]\ncells = [5, 2, 1]\ncontact = [\"ymin\"]\n"
+                 "fixed = [\"zmin\", \"zmax\"]\nfixed_components = [2]\n";
+  return geometry +
+         "[material]\nyoung_modulus = 2e8\npoisson_ratio = 0.3\ndensity = 7800\nmass = \"lumped\"\n" +
+         "[loads]\nbody_force = " + (dim == 2 ? "[30000.0, -400000.0]" : "[30000.0, -400000.0, 0.0]") + "\n" +
+         "[obstacle]\ntype = \"plane\"\nnormal = " + (dim == 2 ? "[0.0, 1.0]" : "[0.0, 1.0, 0.0]") +
+         "\noffset = -0.0001\n" +
+         (friction >= 0 ? "[friction]\ncoefficient = " + std::to_string(friction) + "\n" : "") +
+         "[time]\ndt = 2e-5\nend_time = 0.004\ninitial_state = \"velocity\"\ninitial_velocity = " +
+         (dim == 2 ? "[0.0, 0.0]" : "[0.0, 0.0, 0.0]") + "\n" + extra;
+}
+
+// Full displacement at the end of a run, keyed by the node's (x, y) rounded to 1e-9 m.
+std::map<std::pair<long, long>, Eigen::Vector2d> FinalDisplacements(const Scene& scene) {
+  SceneModel built = BuildSceneModel(scene);
+  const DynamicSummary s = RunDynamics(built.model, built.options);
+  REQUIRE(s.status == DynamicStatus::kCompleted);
+  const Eigen::VectorXd u = built.dofs.Expand(s.u);
+  const Mesh& mesh = built.body->mesh();
+  std::map<std::pair<long, long>, Eigen::Vector2d> out;
+  for (int i = 0; i < mesh.NumNodes(); ++i) {
+    const auto key = std::make_pair(std::lround(mesh.nodes(0, i) * 1e9), std::lround(mesh.nodes(1, i) * 1e9));
+    out[key] = u.segment(mesh.dim * i, 2);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("Scene errors name the key", "[scene][errors]") {
+  const std::string good = Block(2, 0.0);
+  REQUIRE_NOTHROW(LoadScene(WriteScene("good", good)));
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {good + "[solver]\nmethd = \"fb\"\n", "unknown key 'solver.methd'"},
+      {good + "colour = 3\n", "unknown key 'time.colour'"},
+      {"colour = 3\n" + good, "unknown key 'colour'"},
+      {Block(2, 0.0, "[output]\nsnapshot_every = -1\n"), "'output.snapshot_every' must be >= 0"},
+      {std::string(good).replace(good.find("dt = 2e-5"), 9, "dt = \"x\""), "'time.dt' must be a number"},
+      {std::string(good).replace(good.find("dt = 2e-5"), 9, "dt = -1.0"), "'time.dt' must be > 0"},
+      {std::string(good).replace(good.find("poisson_ratio = 0.3"), 19, "poisson_ratio = 0.6"),
+       "'material.poisson_ratio' must lie in (-1, 0.5)"},
+      {std::string(good).replace(good.find("density = 7800"), 14, ""), "'material.density' is missing"},
+      {std::string(good).replace(good.find("\"ymin\""), 6, "\"top\""), "unknown side \"top\""},
+      {std::string(good).replace(good.find("\"plane\""), 7, "\"cone\""), "'obstacle.type' must be one of"},
+      {Block(2, 0.5, "[solver]\nmethod = \"ipopt\"\n"), "solves frictionless steps only"},
+      {std::string(good).replace(good.find("normal = [0.0, 1.0]"), 19, "normal = [0.0, 0.0]"),
+       "'obstacle.type'"},
+      {"[geometry\n", "cannot read scene file"},
+  };
+  for (const auto& [text, message] : cases) {
+    CAPTURE(message);
+    CHECK_THROWS_WITH(LoadScene(WriteScene("bad", text)), Catch::Contains(message));
+  }
+}
+
+TEST_CASE("A plane-strain 3D slab follows the 2D plane-strain model", "[scene][dynamics]") {
+  const double friction = GENERATE(0.0, 0.4);
+  CAPTURE(friction);
+  const auto u2 = FinalDisplacements(LoadScene(WriteScene("block2d", Block(2, friction))));
+  const auto u3 = FinalDisplacements(LoadScene(WriteScene("block3d", Block(3, friction))));
+  REQUIRE(u2.size() == 18);
+  double scale = 0.0, error = 0.0;
+  for (const auto& [key, v2] : u2) {
+    REQUIRE(u3.count(key) == 1);
+    scale = std::max(scale, v2.lpNorm<Eigen::Infinity>());
+    error = std::max(error, (u3.at(key) - v2).lpNorm<Eigen::Infinity>());
+  }
+  CHECK(scale > 1e-5);             // it moved: fell onto the floor and slid
+  CHECK(error <= 1e-8 * scale);
+}
+
+TEST_CASE("Friction coefficient 0 reproduces the frictionless run", "[scene][dynamics]") {
+  const auto with_zero = FinalDisplacements(LoadScene(WriteScene("fc0", Block(2, 0.0))));
+  const auto frictionless = FinalDisplacements(LoadScene(WriteScene("nofriction", Block(2, -1.0))));
+  for (const auto& [key, v] : frictionless) CHECK((with_zero.at(key) - v).lpNorm<Eigen::Infinity>() == 0.0);
+  // And friction changes the answer (the block is pushed sideways while pressed down).
+  const auto with_friction = FinalDisplacements(LoadScene(WriteScene("fc04", Block(2, 0.4))));
+  double difference = 0.0;
+  for (const auto& [key, v] : frictionless) difference = std::max(difference, std::abs(with_friction.at(key)(0) - v(0)));
+  CHECK(difference > 1e-7);
+}

@@ -1,0 +1,321 @@
+// Static contact of an elastic body with a rigid obstacle against answers known in closed
+// form: the contact patch test (uniform pressure on a flat frictionless obstacle), the 2D
+// Hertz contact of a cylinder on a rigid plane, agreement of the semismooth Newton solver
+// (Fischer-Burmeister and min) with the Ipopt QP reference, Tresca and Coulomb friction,
+// and bad input. Every solution is checked with residuals recomputed here from K, f and the
+// contact frames, never from the solver's summary.
+#include <gmsh.h>
+
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "contact/contact_boundary.hpp"
+#include "contact/contact_frames.hpp"
+#include "contact/dof_map.hpp"
+#include "contact/elastic_body.hpp"
+#include "contact/gmsh_reader.hpp"
+#include "contact/mesh_generation.hpp"
+#include "contact/obstacle.hpp"
+#include "contact/static_contact.hpp"
+#include "fem_test_support.hpp"
+
+using Catch::Matchers::Contains;
+using Catch::Matchers::WithinAbs;
+using Catch::Matchers::WithinRel;
+using namespace contact;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Steel; lengths in m, stresses in Pa, 2D quantities per metre of depth (thickness 1 m).
+const IsotropicMaterial kSteel{210e9, 0.3, 7850.0};
+
+// ---------------------------------------------------------------------------------------
+// The discrete problem and independent checks of a solution.
+// ---------------------------------------------------------------------------------------
+
+// K u = f + sum_c F_c on the free dofs, with the contact nodes of the "contact" group
+// against `obstacle` (normals and gaps from the obstacle: exact for a flat one) and a
+// constant traction on the "load" group. All Dirichlet conditions here are homogeneous,
+// so a constrained component of a contact node has zero displacement.
+struct StaticProblem {
+  StaticProblem(ElasticBody body_in, DofMap dofs_in, const RigidObstacle& obstacle,
+                const Eigen::VectorXd& traction)
+      : body(std::move(body_in)),
+        dofs(std::move(dofs_in)),
+        boundary(MakeContactBoundary(body)),
+        frames(MakeContactFrames(body.mesh(), boundary, dofs, obstacle,
+                                 NormalSource::kObstacle)),
+        K_full(body.StiffnessMatrix()),
+        f_full(body.TractionLoad(traction)),
+        K(dofs.RestrictMatrix(K_full)),
+        f(dofs.RestrictLoad(K_full, f_full)) {}
+
+  int dim() const { return body.dim(); }
+  const std::vector<ContactNode>& nodes() const { return frames.nodes; }
+  // Mesh coordinates of contact node c [m].
+  Eigen::VectorXd Position(size_t c) const {
+    return body.mesh().nodes.col(frames.nodes[c].node);
+  }
+
+  ElasticBody body;
+  DofMap dofs;
+  ContactBoundary boundary;
+  ContactFrames frames;
+  SparseMatrix K_full;
+  Vector f_full;
+  SparseMatrix K;  // K_FF [N/m]
+  Vector f;        // f_F [N]
+};
+
+// Displacement of contact node c (global frame, 3 components, 0 where constrained) [m].
+Eigen::Vector3d NodeDisplacement(const ContactNode& node, int dim, const Vector& u) {
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();
+  for (int a = 0; a < dim; ++a)
+    if (node.dofs[a] >= 0) v(a) = u(node.dofs[a]);
+  return v;
+}
+
+// Residuals of a static contact solution recomputed from the problem data:
+//   equilibrium  ||K u - f - sum_c F_c||_inf / max(||f||_inf, max_c lambda_c), with the
+//                force of the obstacle F_c = -lambda_c n_c + tau_c1 t_c1 (+ tau_c2 t_c2)
+//                (contact_system.hpp),
+//   signorini    max_c |min(lambda_c / max lambda, gap_c / ||u||_inf)| with the gap
+//                recomputed as gap_c = s_c - n_c . u_c: zero iff lambda_c >= 0,
+//                gap_c >= 0 and lambda_c gap_c = 0 at every node.
+struct ContactResiduals {
+  double equilibrium = -1.0;
+  double signorini = -1.0;
+};
+
+ContactResiduals Recompute(const StaticProblem& problem, const StaticContactResult& r) {
+  const int dim = problem.dim();
+  const auto& nodes = problem.nodes();
+  REQUIRE(r.u.size() == problem.K.rows());
+  REQUIRE(r.normal_force.size() == static_cast<Eigen::Index>(nodes.size()));
+  Vector residual = problem.K * r.u - problem.f;
+  const double force_scale =
+      std::max(problem.f.lpNorm<Eigen::Infinity>(), r.normal_force.maxCoeff());
+  const double lambda_scale = std::max(r.normal_force.maxCoeff(), 1e-300);
+  const double u_scale = std::max(r.u.lpNorm<Eigen::Infinity>(), 1e-300);
+  ContactResiduals out;
+  out.signorini = 0.0;
+  for (size_t c = 0; c < nodes.size(); ++c) {
+    const ContactNode& node = nodes[c];
+    const auto k = static_cast<Eigen::Index>(c);
+    Eigen::Vector3d F = -r.normal_force(k) * node.normal;
+    if (r.tangent_force.size() > 0) {
+      F += r.tangent_force(0, k) * node.tangent1;
+      if (dim == 3) F += r.tangent_force(1, k) * node.tangent2;
+    }
+    for (int a = 0; a < dim; ++a)
+      if (node.dofs[a] >= 0) residual(node.dofs[a]) -= F(a);
+    const double gap = node.gap - node.normal.dot(NodeDisplacement(node, dim, r.u));
+    out.signorini = std::max(
+        out.signorini, std::abs(std::min(r.normal_force(k) / lambda_scale, gap / u_scale)));
+  }
+  out.equilibrium = residual.lpNorm<Eigen::Infinity>() / force_scale;
+  return out;
+}
+
+// Semismooth Newton settings. The solver's tolerance is absolute on the system scaled by
+// k = max K_ii, whose rows are in metres (S u + q = (K u - f) / k, gaps in m): it must be
+// set relative to the expected displacement, e.g. 1e-10 m would be only ~1e-5 relative for
+// steel under 10 MPa (u ~ 1e-5 m).
+StaticContactOptions SolverOptions(double displacement_scale,
+                                   ncp::NcpFunction function =
+                                       ncp::NcpFunction::kFischerBurmeister) {
+  StaticContactOptions options;
+  options.ncp.ncp_function = function;
+  options.ncp.tolerance = 1e-13 * displacement_scale;
+  return options;
+}
+
+// ||a - b||_inf / ||b||_inf.
+double RelativeDifference(const Vector& a, const Vector& b) {
+  REQUIRE(a.size() == b.size());
+  return (a - b).lpNorm<Eigen::Infinity>() / b.lpNorm<Eigen::Infinity>();
+}
+
+// ---------------------------------------------------------------------------------------
+// Contact patch test
+// ---------------------------------------------------------------------------------------
+
+// Moves the nodes of the bottom face (coordinate dim-1 = 0) that are not on any other
+// side of the bounding box along the face by up to `fraction` h (fixed seed), so that the
+// tributary areas of the contact nodes differ.
+void PerturbBottomNodes(Mesh* mesh, double h, double fraction) {
+  std::mt19937 generator(11);
+  std::uniform_real_distribution<double> offset(-fraction * h, fraction * h);
+  const int dim = mesh->dim;
+  const Eigen::VectorXd lower = mesh->nodes.rowwise().minCoeff();
+  const Eigen::VectorXd upper = mesh->nodes.rowwise().maxCoeff();
+  const double tolerance = 1e-9 * (upper - lower).norm();
+  for (int i = 0; i < mesh->NumNodes(); ++i) {
+    if (std::abs(mesh->nodes(dim - 1, i) - lower(dim - 1)) > tolerance) continue;
+    bool on_edge = false;
+    for (int k = 0; k + 1 < dim; ++k)
+      on_edge |= std::abs(mesh->nodes(k, i) - lower(k)) <= tolerance ||
+                 std::abs(mesh->nodes(k, i) - upper(k)) <= tolerance;
+    if (on_edge) continue;
+    for (int k = 0; k + 1 < dim; ++k) mesh->nodes(k, i) += offset(generator);
+  }
+}
+
+struct PatchCase {
+  const char* name;
+  ElementType element;
+  MeshTopology topology;
+};
+
+// A block [0, 2] x [0, 1] (2D, plane strain) or [0, 2] x [0, 1] x [0, 1] m (3D) on the
+// frictionless floor {y <= 0} (3D: {z <= 0}), gap 0, pressed by a pressure p on the top.
+// Rigid tangential motions are removed by rollers: u_x = 0 on x = 0 (3D also u_y = 0 on
+// y = 0). The exact solution is the uniform uniaxial stress sigma_vertical = -p:
+//   2D plane strain: u_x = nu (1 + nu) p / E x,  u_y = -(1 - nu^2) p / E y,
+//   3D:              u_x = nu p / E x,  u_y = nu p / E y,  u_z = -p / E z,
+// which linear elements reproduce exactly; every contact node carries p times its
+// tributary area (consistent nodal force of a uniform traction).
+struct PatchSetup {
+  StaticProblem problem;
+  double p = 10e6;           // applied pressure [Pa]
+  double contact_area = 0;   // [m^2] (2D: length x thickness 1 m)
+  Vector u_exact;            // free dofs [m]
+};
+
+PatchSetup MakePatch(const PatchCase& c) {
+  const int dim = Dimension(c.element);
+  const double p = 10e6;
+  Mesh mesh;
+  double h = 0;
+  if (dim == 2) {
+    RectangleMeshOptions o;
+    o.size = {2.0, 1.0};
+    o.cells = {8, 4};
+    o.element_type = c.element;
+    o.topology = c.topology;
+    o.side_roles = {{Side::kXMin, BoundaryRole::kFixed},
+                    {Side::kYMin, BoundaryRole::kContact},
+                    {Side::kYMax, BoundaryRole::kLoad}};
+    mesh = MakeRectangleMesh(o);
+    h = 0.25;
+  } else {
+    BoxMeshOptions o;
+    o.size = {2.0, 1.0, 1.0};
+    o.cells = {6, 3, 3};
+    o.element_type = c.element;
+    o.side_roles = {{Side::kZMin, BoundaryRole::kContact}, {Side::kZMax, BoundaryRole::kLoad}};
+    mesh = MakeBoxMesh(o);
+    h = 1.0 / 3.0;
+  }
+  const double fraction = c.topology == MeshTopology::kStructured ? 0.2 : 0.05;
+  testing::PerturbInteriorNodes(&mesh, h, fraction);
+  PerturbBottomNodes(&mesh, h, 0.2);
+
+  // Rollers: x on x = 0 (the 'fixed' group in 2D), and y on y = 0 in 3D.
+  DofMap dofs;
+  if (dim == 2) {
+    dofs = MakeDofMap(mesh, {DirichletCondition{kFixedGroup, {0}, {}}});
+  } else {
+    std::vector<int> constrained;
+    for (int i = 0; i < mesh.NumNodes(); ++i)
+      for (int a = 0; a < 2; ++a)
+        if (std::abs(mesh.nodes(a, i)) < 1e-12) constrained.push_back(3 * i + a);
+    dofs = DofMap(mesh.NumDofs(), constrained);
+  }
+  Eigen::VectorXd strain(dim);  // diagonal of the exact (constant) strain
+  const double E = kSteel.youngs_modulus, nu = kSteel.poisson_ratio;
+  if (dim == 2) strain << nu * (1 + nu) * p / E, -(1 - nu * nu) * p / E;
+  else strain << nu * p / E, nu * p / E, -p / E;
+  const Vector u_exact_full =
+      testing::LinearField(mesh, Eigen::VectorXd::Zero(dim), strain.asDiagonal().toDenseMatrix());
+  Eigen::VectorXd traction = Eigen::VectorXd::Zero(dim);
+  traction(dim - 1) = -p;
+  const double contact_area = dim == 2 ? 2.0 : 2.0 * 1.0;
+  ElasticBody body(std::move(mesh), kSteel);
+  PatchSetup setup{StaticProblem(std::move(body), std::move(dofs),
+                                 HalfSpace::ObstacleBelow(dim, dim - 1, 0.0), traction),
+                   p, contact_area, Vector()};
+  setup.u_exact = setup.problem.dofs.RestrictVector(u_exact_full);
+  return setup;
+}
+
+// The checks of the patch test on one solution; returns max_c |sigma_c / p - 1|.
+double CheckPatchSolution(const PatchSetup& s, const StaticContactResult& r) {
+  REQUIRE(r.converged);
+  const ContactResiduals res = Recompute(s.problem, r);
+  CHECK(res.equilibrium < 1e-10);
+  CHECK(res.signorini < 1e-10);
+  // Contact stress per node: normal force / tributary area = p.
+  double stress_error = 0.0;
+  for (size_t c = 0; c < s.problem.nodes().size(); ++c) {
+    const double sigma = r.normal_force(static_cast<Eigen::Index>(c)) / s.problem.nodes()[c].area;
+    stress_error = std::max(stress_error, std::abs(sigma / s.p - 1.0));
+  }
+  CHECK(stress_error < 1e-8);
+  CHECK_THAT(r.normal_force.sum(), WithinRel(s.p * s.contact_area, 1e-10));
+  // The exact linear displacement field.
+  CHECK(RelativeDifference(r.u, s.u_exact) < 1e-8);
+  return stress_error;
+}
+
+}  // namespace
+
+TEST_CASE("Contact patch test: uniform pressure on a flat frictionless obstacle",
+          "[static][patch]") {
+  const PatchCase c = GENERATE(
+      PatchCase{"Q4 structured", ElementType::kQuadrilateral4, MeshTopology::kStructured},
+      PatchCase{"T3 unstructured", ElementType::kTriangle3, MeshTopology::kUnstructured},
+      PatchCase{"Hex8 structured", ElementType::kHexahedron8, MeshTopology::kStructured});
+  CAPTURE(c.name);
+  const PatchSetup s = MakePatch(c);
+  const int dim = s.problem.dim();
+  // Every bottom node is a contact node, the corner ones on the rollers included (their
+  // constrained components are orthogonal to the normal).
+  CHECK(s.problem.frames.excluded_mesh_nodes.empty());
+  REQUIRE(s.problem.nodes().size() == s.problem.boundary.nodes.size());
+  // The perturbed mesh has unequal tributary areas: the test is not trivially uniform.
+  Vector areas(static_cast<Eigen::Index>(s.problem.nodes().size()));
+  for (size_t c2 = 0; c2 < s.problem.nodes().size(); ++c2)
+    areas(static_cast<Eigen::Index>(c2)) = s.problem.nodes()[c2].area;
+  CHECK(areas.maxCoeff() > 1.2 * areas.minCoeff());
+  CHECK_THAT(areas.sum(), WithinRel(s.contact_area, 1e-12));
+
+  const double u_scale = s.p / kSteel.youngs_modulus;
+  const ncp::NcpFunction function =
+      GENERATE(ncp::NcpFunction::kFischerBurmeister, ncp::NcpFunction::kMin);
+  const ncp::LinearSolverType linear_solver =
+      GENERATE(ncp::LinearSolverType::kSparseLU, ncp::LinearSolverType::kUmfpack,
+               ncp::LinearSolverType::kKlu);
+  CAPTURE(ncp::ToString(function), ncp::ToString(linear_solver));
+  StaticContactOptions options = SolverOptions(u_scale, function);
+  options.ncp.linear_solver = linear_solver;
+  const StaticContactResult newton =
+      SolveStaticContact(dim, s.problem.K, s.problem.f, s.problem.nodes(), options);
+  INFO(newton.message);
+  const double newton_stress_error = CheckPatchSolution(s, newton);
+
+  const StaticContactResult ipopt =
+      SolveStaticContactIpopt(dim, s.problem.K, s.problem.f, s.problem.nodes(), 1e-14);
+  INFO(ipopt.message);
+  const double ipopt_stress_error = CheckPatchSolution(s, ipopt);
+  const double du = RelativeDifference(ipopt.u, newton.u);
+  const double dlambda = RelativeDifference(ipopt.normal_force, newton.normal_force);
+  CHECK(du < 1e-8);
+  CHECK(dlambda < 1e-8);
+  std::printf(
+      "patch %-16s %-18s %-9s: newton its %2d, stress error %.1e; ipopt its %2d, stress "
+      "error %.1e; |du|/|u| %.1e, |dlambda|/|lambda| %.1e\n",
+      c.name, ncp::ToString(function), ncp::ToString(linear_solver),
+      newton.newton_iterations, newton_stress_error, ipopt.newton_iterations,
+      ipopt_stress_error, du, dlambda);
+}
