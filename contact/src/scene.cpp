@@ -33,7 +33,7 @@ class Table {
 
   const toml::value& Get(const std::string& key) const {
     used_.insert(key);
-    if (!Has(key)) Fail(key, "is missing");
+    if (!Has(key)) Fail(key, "is missing" + TypoHint(key));
     return value_->as_table().at(key);
   }
 
@@ -148,6 +148,29 @@ class Table {
 
  private:
   std::string Join(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+
+  /// " (found 'youngs_modulus' in this table: a typo?)" for a present key within edit
+  /// distance 2 of the missing one.
+  std::string TypoHint(const std::string& missing) const {
+    if (value_ == nullptr) return "";
+    for (const auto& [key, v] : value_->as_table()) {
+      (void)v;
+      const size_t n = key.size(), m = missing.size();
+      std::vector<size_t> row(m + 1);
+      for (size_t j = 0; j <= m; ++j) row[j] = j;
+      for (size_t i = 1; i <= n; ++i) {
+        size_t diagonal = row[0];
+        row[0] = i;
+        for (size_t j = 1; j <= m; ++j) {
+          const size_t above = row[j];
+          row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (key[i - 1] == missing[j - 1] ? 0 : 1)});
+          diagonal = above;
+        }
+      }
+      if (row[m] <= 2) return " (found '" + Join(key) + "' instead: a typo?)";
+    }
+    return "";
+  }
   static std::string Str(double x) {
     std::ostringstream s;
     s << x;
