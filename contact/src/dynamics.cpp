@@ -182,8 +182,9 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
   if (options.solver == StepSolver::kIpopt || options.compare_with_ipopt) {
     std::vector<Eigen::Triplet<double>> t;
     for (size_t c = 0; c < model.contact_nodes.size(); ++c)
-      for (int a = 0; a < model.dim; ++a)
-        t.emplace_back(static_cast<int>(c), model.contact_nodes[c].dofs[a], model.contact_nodes[c].normal(a));
+      for (int a = 0; a < model.dim; ++a)  // constrained components (dofs[a] = -1) have n_a = 0
+        if (model.contact_nodes[c].dofs[a] >= 0)
+          t.emplace_back(static_cast<int>(c), model.contact_nodes[c].dofs[a], model.contact_nodes[c].normal(a));
     G.resize(static_cast<Eigen::Index>(model.contact_nodes.size()), n);
     G.setFromTriplets(t.begin(), t.end());
   }
@@ -288,6 +289,7 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       const ContactNode& node = model.contact_nodes[c];
       Eigen::Vector3d rc = Eigen::Vector3d::Zero(), sc = Eigen::Vector3d::Zero();
       for (int a = 0; a < model.dim; ++a) {
+        if (node.dofs[a] < 0) continue;  // constrained component: no motion, no work
         rc(a) = r(node.dofs[a]);
         sc(a) = half_span(node.dofs[a]);
       }

@@ -93,8 +93,9 @@ StaticContactResult SolveStaticContactIpopt(int dim, const Eigen::SparseMatrix<d
   std::vector<Eigen::Triplet<double>> triplets;
   Eigen::VectorXd h(static_cast<Eigen::Index>(nodes.size()));
   for (size_t c = 0; c < nodes.size(); ++c) {
-    for (int a = 0; a < dim; ++a)
-      triplets.emplace_back(static_cast<int>(c), nodes[c].dofs[a], nodes[c].normal(a));
+    for (int a = 0; a < dim; ++a)  // constrained components (dofs[a] = -1) have n_a = 0
+      if (nodes[c].dofs[a] >= 0)
+        triplets.emplace_back(static_cast<int>(c), nodes[c].dofs[a], nodes[c].normal(a));
     h(static_cast<Eigen::Index>(c)) = nodes[c].gap;
   }
   Eigen::SparseMatrix<double> G(static_cast<Eigen::Index>(nodes.size()), K.cols());

@@ -42,6 +42,10 @@ std::map<std::pair<long, long>, Eigen::Vector2d> FinalDisplacements(const Scene&
   SceneModel built = BuildSceneModel(scene);
   const DynamicSummary s = RunDynamics(built.model, built.options);
   REQUIRE(s.status == DynamicStatus::kCompleted);
+  // The exact discrete energy balance closes (it includes the contact work at nodes with
+  // constrained components in 3D).
+  CHECK(s.energy_balance_error <= 1e-8 * std::abs(s.records.back().external_work));
+  CHECK(s.records.back().friction_dissipation >= -1e-12 * std::abs(s.records.back().external_work));
   const Eigen::VectorXd u = built.dofs.Expand(s.u);
   const Mesh& mesh = built.body->mesh();
   std::map<std::pair<long, long>, Eigen::Vector2d> out;
