@@ -142,6 +142,7 @@ void ContactSystem::Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
                                   ": Tresca bound must be finite and >= 0, got " + std::to_string(g));
     row_kind_[static_cast<size_t>(L.slot[0])] = 1;
     L.friction = L.extra = L.unit_row = -1;
+    L.bound = g;
     if (g > 0.0 && L.tangent_dim > 0) {
       L.friction = num_friction_++;
       L.extra = extra;
@@ -179,9 +180,10 @@ void ContactSystem::LocalDisplacement(const ncp::Vector& z, Eigen::VectorXd* y) 
     if (L.tangent_dim == 1) {
       (*y)(L.slot[1]) = z(L.slot[1]) - z(L.extra);  // y_t = du+ - du-   (eq. 89)
     } else {
-      const double slip = z(L.slot[1]) - z(L.slot[2]);  // y_T = (du+ - du-) (t1, t2) (eq. 67)
-      (*y)(L.slot[1]) = slip * z(L.extra + 1);
-      (*y)(L.slot[2]) = slip * z(L.extra + 2);
+      // y_T = (du+ - du-) (t1, t2) (eq. 67), with the direction stored as w = g_c t.
+      const double slip_per_bound = (z(L.slot[1]) - z(L.slot[2])) / L.bound;
+      (*y)(L.slot[1]) = slip_per_bound * z(L.extra + 1);
+      (*y)(L.slot[2]) = slip_per_bound * z(L.extra + 2);
     }
   }
 }
@@ -212,10 +214,10 @@ bool ContactSystem::Evaluate(const ncp::Vector& z, ncp::Vector* E, ncp::Vector* 
       (*A)(pair) = z(L.extra);              // (du-, g - tau)         (eq. 90, fifth row)
       (*B)(pair++) = g - tau;
     } else {
-      const double gt = z(L.extra), t1 = z(L.extra + 1), t2 = z(L.extra + 2);
+      const double gt = z(L.extra), t1 = z(L.extra + 1) / g, t2 = z(L.extra + 2) / g;
       (*E)(EquationRow(L.slot[1])) -= gt * t1;  // r_T = g (t1, t2)     (eq. 94, 66)
       (*E)(EquationRow(L.slot[2])) -= gt * t2;
-      (*E)(L.unit_row) = t1 * t1 + t2 * t2 - 1.0;  // eq. (59)
+      (*E)(L.unit_row) = g * (t1 * t1 + t2 * t2 - 1.0);  // eq. (59), times g_c: force units
       (*A)(pair) = z(L.slot[1]);
       (*B)(pair++) = gt + g;
       (*A)(pair) = z(L.slot[2]);
@@ -237,12 +239,13 @@ bool ContactSystem::Jacobian(const ncp::Vector& z, ncp::SparseMatrix* JE, ncp::S
       td_.emplace_back(L.slot[1], L.slot[1], 1.0);
       td_.emplace_back(L.slot[1], L.extra, -1.0);
     } else {
+      const double g = L.bound;
       const double slip = z(L.slot[1]) - z(L.slot[2]);
       for (int a = 1; a <= 2; ++a) {
-        const double t = z(L.extra + a);
+        const double t = z(L.extra + a) / g;
         td_.emplace_back(L.slot[a], L.slot[1], t);
         td_.emplace_back(L.slot[a], L.slot[2], -t);
-        td_.emplace_back(L.slot[a], L.extra + a, slip);
+        td_.emplace_back(L.slot[a], L.extra + a, slip / g);
       }
     }
   }
@@ -274,12 +277,12 @@ bool ContactSystem::Jacobian(const ncp::Vector& z, ncp::SparseMatrix* JE, ncp::S
       tb_.emplace_back(pair++, tau, -1.0);
     } else {
       const int gv = L.extra;
-      const double gt = z(gv);
+      const double gt = z(gv), g = bound_(static_cast<Eigen::Index>(c));
       for (int a = 1; a <= 2; ++a) {
         const int row = static_cast<int>(EquationRow(L.slot[a]));
-        te_.emplace_back(row, gv, -z(gv + a));  // d(-g t_a)/dg
-        te_.emplace_back(row, gv + a, -gt);     // d(-g t_a)/dt_a
-        te_.emplace_back(L.unit_row, gv + a, 2.0 * z(gv + a));
+        te_.emplace_back(row, gv, -z(gv + a) / g);  // d(-gt w_a / g_c) / d gt
+        te_.emplace_back(row, gv + a, -gt / g);     // d(-gt w_a / g_c) / d w_a
+        te_.emplace_back(L.unit_row, gv + a, 2.0 * z(gv + a) / g);  // d((w.w)/g_c - g_c)/dw_a
       }
       ta_.emplace_back(pair, L.slot[1], 1.0);
       tb_.emplace_back(pair++, gv, 1.0);
@@ -297,27 +300,50 @@ bool ContactSystem::Jacobian(const ncp::Vector& z, ncp::SparseMatrix* JE, ncp::S
   return true;
 }
 
-ncp::Vector ContactSystem::StartPoint(const Eigen::VectorXd& x_guess) const {
+ncp::Vector ContactSystem::StartPoint(const Eigen::VectorXd& x_guess,
+                                      const Eigen::MatrixXd& friction_guess) const {
   if (x_guess.size() != n_)
     throw std::invalid_argument("ContactSystem::StartPoint: guess has size " +
                                 std::to_string(x_guess.size()) + ", expected " +
                                 std::to_string(n_));
+  const bool have_forces = friction_guess.size() > 0;
+  if (have_forces && (friction_guess.rows() != dim_ - 1 ||
+                      friction_guess.cols() != static_cast<Eigen::Index>(nodes_.size())))
+    throw std::invalid_argument("ContactSystem::StartPoint: friction guess must be " +
+                                std::to_string(dim_ - 1) + " x " + std::to_string(nodes_.size()));
   ncp::Vector z = ncp::Vector::Zero(num_variables_);
   const Eigen::VectorXd y = rotation_ * x_guess;  // local components
   z.head(n_) = y;
-  for (const Layout& L : layout_) {
+  for (size_t c = 0; c < nodes_.size(); ++c) {
+    const Layout& L = layout_[c];
     if (L.friction < 0) continue;
+    const double g = bound_(static_cast<Eigen::Index>(c));
     if (L.tangent_dim == 1) {
       z(L.slot[1]) = std::max(y(L.slot[1]), 0.0);
       z(L.extra) = std::max(-y(L.slot[1]), 0.0);
-    } else {
-      const Eigen::Vector2d slip(y(L.slot[1]), y(L.slot[2]));
-      const double norm = slip.norm();
-      z(L.slot[1]) = norm;
-      z(L.slot[2]) = 0.0;
-      z(L.extra + 1) = norm > 0.0 ? slip(0) / norm : 1.0;
-      z(L.extra + 2) = norm > 0.0 ? slip(1) / norm : 0.0;
+      if (have_forces)
+        z(L.extra + 1) = std::clamp(friction_guess(0, static_cast<Eigen::Index>(c)), -g, g);
+      continue;
     }
+    const Eigen::Vector2d slip(y(L.slot[1]), y(L.slot[2]));
+    const Eigen::Vector2d force =
+        have_forces ? Eigen::Vector2d(friction_guess.col(static_cast<Eigen::Index>(c)).head(2))
+                    : Eigen::Vector2d::Zero();
+    Eigen::Vector2d t(1.0, 0.0);
+    double magnitude = 0.5 * g;
+    if (force.norm() > 0.0) {
+      t = force.normalized();
+      magnitude = std::min(force.norm(), g);
+    } else if (slip.norm() > 0.0) {
+      t = slip.normalized();
+      magnitude = -g;  // sliding along +t: the friction force is -g t
+    }
+    const double s = slip.dot(t);
+    z(L.slot[1]) = std::max(s, 0.0);
+    z(L.slot[2]) = std::max(-s, 0.0);
+    z(L.extra) = magnitude;
+    z(L.extra + 1) = g * t(0);
+    z(L.extra + 2) = g * t(1);
   }
   return z;
 }

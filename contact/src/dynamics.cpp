@@ -206,6 +206,7 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
   double external_work = 0.0, normal_work = 0.0, friction_dissipation = 0.0, work_scale = 0.0;
 
   Eigen::VectorXd du = u - u_previous;  // start guess of the first step
+  Eigen::MatrixXd friction_previous;     // local friction forces of the previous step
   Eigen::VectorXd Q(n), q(n), r(n), u_next(n), bound;
   const long num_steps = std::lround(std::ceil((options.end_time - options.start_time) / dt - 1e-3));
   double last_progress = 0.0;
@@ -245,7 +246,7 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       contact = system.Extract(system.StartPoint(qp.x));
       contact.normal_force = qp.multipliers;
     } else {
-      ncp::Vector z = system.StartPoint(du);
+      ncp::Vector z = system.StartPoint(du, friction_previous);
       ncp::Summary s;
       solver.Solve(system, &z, &s);
       ok = s.IsSolutionUsable();
@@ -275,6 +276,7 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       break;
     }
     du = contact.x;
+    friction_previous = contact.tangent_force;
     u_next = u + du;
 
     // Contact forces r^{k+1} = M (u^{k+1} - 2u^k + u^{k-1}) / dt^2 + K u^k - f^k, in newtons,

@@ -472,7 +472,7 @@ SceneResult RunScene(const Scene& scene, bool progress) {
 
   // Outputs.
   const bool write = !scene.output_directory.empty();
-  std::ofstream steps_csv, stress_csv, history_csv;
+  std::ofstream steps_csv, stress_csv, history_csv, displacement_csv;
   const fs::path dir = scene.output_directory;
   auto open = [&](std::ofstream& s, const std::string& name, const std::string& header) {
     const std::string p = (dir / name).string();
@@ -493,7 +493,38 @@ SceneResult RunScene(const Scene& scene, bool progress) {
     open(stress_csv, "contact_stress.csv",
          "time,node," + coords + ",normal_stress," + tangents + ",gap,normal_force");
     if (marked >= 0) open(history_csv, "node_history.csv", "time,normal_stress,friction_stress");
+    // The mesh once, for plotting: nodes with the number of fixed components and the
+    // contact flag (a node of Gamma_c that keeps a free dof), and the connectivity.
+    std::ofstream nodes_csv, elements_csv;
+    open(nodes_csv, "mesh_nodes.csv", "node," + coords + ",fixed_components,contact");
+    std::vector<char> is_contact(static_cast<size_t>(M.NumNodes()), 0);
+    for (const ContactNode& c : frames.nodes) is_contact[static_cast<size_t>(c.node)] = 1;
+    for (int i = 0; i < M.NumNodes(); ++i) {
+      int fixed = 0;
+      for (int a = 0; a < dim; ++a) fixed += dofs.IsConstrained(dim * i + a) ? 1 : 0;
+      nodes_csv << i;
+      for (int a = 0; a < dim; ++a) nodes_csv << ',' << M.nodes(a, i);
+      nodes_csv << ',' << fixed << ',' << int(is_contact[static_cast<size_t>(i)]) << '\n';
+    }
+    std::string element_header = "element,type";
+    for (int a = 0; a < M.elements.rows(); ++a) element_header += ",n" + std::to_string(a);
+    open(elements_csv, "mesh_elements.csv", element_header);
+    for (int e = 0; e < M.NumElements(); ++e) {
+      elements_csv << e << ',' << ToString(M.element_type);
+      for (int a = 0; a < M.elements.rows(); ++a) elements_csv << ',' << M.elements(a, e);
+      elements_csv << '\n';
+    }
+    open(displacement_csv, "displacement.csv", dim == 2 ? "time,node,ux,uy" : "time,node,ux,uy,uz");
   }
+  // Full displacement of every node [m] at a stress time or the end.
+  auto write_displacement = [&](double time, const Eigen::VectorXd& u_free) {
+    const Eigen::VectorXd u_full = dofs.Expand(u_free);
+    for (int i = 0; i < M.NumNodes(); ++i) {
+      displacement_csv << time << ',' << i;
+      for (int a = 0; a < dim; ++a) displacement_csv << ',' << u_full(dim * i + a);
+      displacement_csv << '\n';
+    }
+  };
   const double dt = options.dt;
   std::vector<double> pending = scene.stress_times;
   std::sort(pending.begin(), pending.end());
@@ -528,6 +559,7 @@ SceneResult RunScene(const Scene& scene, bool progress) {
       at_time = true;
     }
     if (at_time || last) {
+      write_displacement(r.time, u);
       for (size_t k = 0; k < frames.nodes.size(); ++k) {
         const auto [p, tau] = stress_of(k);
         stress_csv << r.time << ',' << frames.nodes[k].node;

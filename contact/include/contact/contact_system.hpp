@@ -29,9 +29,14 @@
 /// (n, t1[, t2])), except at friction nodes (g_c > 0 and a free tangent):
 ///   one free tangent (2D, or 3D with one axis constrained): the tangential slot holds du+
 ///       and two unknowns (du-, tau) are appended, with y_t = du+ - du- (eq. 89);
-///   two free tangents (3D): the two tangential slots hold du+, du- and (g, t1, t2) are
+///   two free tangents (3D): the two tangential slots hold du+, du- and (g, w1, w2) are
 ///       appended, with y_T = (du+ - du-) (t1, t2), friction force tau = g (t1, t2),
-///       t1^2 + t2^2 = 1 (eq. 59, 66, 67).
+///       t1^2 + t2^2 = 1 (eq. 59, 66, 67). The direction is stored scaled, w = g_c t, and
+///       the unit row as g_c (t1^2 + t2^2 - 1), so that every unknown and row is in the
+///       force or displacement units of the system. Unscaled (t of order 1 beside
+///       increments of order 1e-6), DFK's descent test grad psi' d <= -rho |d|^p with
+///       rho = 1e-8 rejects nearly every Newton direction that turns t, and the method
+///       crawls along gradient steps - a likely cause of the thesis's Jacobian counts.
 /// Rows: equations first (every non-normal row of R(S x + q) - tau, then t1^2 + t2^2 - 1),
 /// then pairs: (lambda_c, gap_c) for all contact nodes, (du+, tau + g), (du-, g - tau).
 ///
@@ -82,10 +87,14 @@ class ContactSystem final : public ncp::MixedProblem {
   bool Jacobian(const ncp::Vector& z, ncp::SparseMatrix* JE, ncp::SparseMatrix* JA,
                 ncp::SparseMatrix* JB) override;
 
-  /// Deterministic start from a guess of x (global frame) and of the friction forces
-  /// (e.g. the previous step's): local components, slip split into positive and negative
-  /// parts, 3D direction from the slip or from the force, else t = t1 of the frame.
-  ncp::Vector StartPoint(const Eigen::VectorXd& x_guess) const;
+  /// Deterministic start from a guess of x (global frame) and, optionally, of the friction
+  /// forces in the local tangent frame ((dim-1) x nodes, system units; e.g. the previous
+  /// step's): local components, slip split into positive and negative parts. With two
+  /// tangents (eq. 94) the direction t and magnitude g start from the force guess if it is
+  /// nonzero, else from the slip (g = -g_c, sliding), else t = t1 and g = g_c / 2: a zero
+  /// magnitude would leave t in the unit-norm row only, a singular Jacobian.
+  ncp::Vector StartPoint(const Eigen::VectorXd& x_guess,
+                         const Eigen::MatrixXd& friction_guess = Eigen::MatrixXd()) const;
 
   /// Results at a solution z, in system units (multiply forces by force_scale).
   struct Result {
@@ -110,6 +119,7 @@ class ContactSystem final : public ncp::MixedProblem {
     int friction = -1;         ///< friction node index k, or -1 (g_c = 0 or no tangent)
     int extra = -1;            ///< first appended unknown (1 tangent: du-, tau; 2: g, t1, t2)
     int unit_row = -1;         ///< row of t1^2 + t2^2 - 1 (2 tangents)
+    double bound = 0.0;        ///< g_c, the Tresca bound of this solve
   };
 
   /// y = local components of x from the unknowns z.
