@@ -15,16 +15,19 @@
 int main(int argc, char** argv) {
   const bool markdown = argc > 1 && std::strcmp(argv[1], "--markdown") == 0;
   using ncp::NcpFunction;
-  std::vector<ncp::collection::TestProblem> problems = ncp::collection::StandardCollection();
+  std::vector<ncp::collection::TestProblem> problems =
+      ncp::collection::StandardCollection();
 
   if (markdown) {
     std::printf(
-        "| problem | n | start | function | status | iterations | Jacobian evals | residual "
+        "| problem | n | start | function | status | iterations | Jacobian evals | "
+        "residual "
         "evals | ||Phi||_inf | natural residual | documented failure |\n"
         "|---|---|---|---|---|---|---|---|---|---|---|\n");
   } else {
-    std::printf("%-26s %6s %-9s %-19s %-20s %5s %5s %6s %10s %10s\n", "problem", "n", "start",
-                "function", "status", "iter", "jac", "res", "|Phi|inf", "nat.res");
+    std::printf("%-26s %6s %-9s %-19s %-20s %5s %5s %6s %10s %10s\n", "problem", "n",
+                "start", "function", "status", "iter", "jac", "res", "|Phi|inf",
+                "nat.res");
   }
   int runs = 0, converged = 0, false_claims = 0, expected = 0;
   for (ncp::collection::TestProblem& p : problems) {
@@ -35,7 +38,8 @@ int main(int argc, char** argv) {
         ncp::Vector x = start.x;
         ncp::Summary summary;
         ncp::Solve(options, *p.F, p.lower, p.upper, &x, &summary);
-        const double residual = ncp::collection::NaturalResidual(*p.F, p.lower, p.upper, x);
+        const double residual =
+            ncp::collection::NaturalResidual(*p.F, p.lower, p.upper, x);
         const bool documented = p.FindExpectedFailure(start.label, function) != nullptr;
         ++runs;
         if (summary.IsSolutionUsable()) ++converged;

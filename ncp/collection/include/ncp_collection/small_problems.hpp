@@ -1,0 +1,41 @@
+/// \file small_problems.hpp
+/// The classical small complementarity problems of the literature, each with the
+/// starting points used there. Formulas are written out in the .cpp with their sources.
+#pragma once
+
+#include "ncp_collection/test_problem.hpp"
+
+namespace ncp::collection {
+
+/// Kojima and Shindo (1986), MCPLIB `kojshin`, n = 4, standard NCP, the 8 MCPLIB starts.
+/// Two solutions: (sqrt(6)/2, 0, 0, 1/2), degenerate in component 3 (x3 = F3 = 0), and
+/// (1, 0, 3, 0), nondegenerate.
+TestProblem KojimaShindo();
+
+/// Josephy (1979) via Kojima, MCPLIB `josephy`, n = 4, standard NCP, the 8 MCPLIB starts.
+/// Unique solution (sqrt(6)/2, 0, 0, 1/2), nondegenerate.
+TestProblem Josephy();
+
+/// Kanzow's modification of the Mathiesen equilibrium problem (Kanzow 1994; De Luca,
+/// Facchinei and Kanzow 1996, sec. 6), n = 4, standard NCP. Non-isolated solutions
+/// (lambda, 0, 0, 0) for lambda in [0, 3].
+TestProblem ModifiedMathiesen();
+
+/// Nash-Cournot oligopoly with 5 firms (Murphy, Sherali and Soyster 1982; Harker 1988),
+/// n = 5, standard NCP. Solution approx. (15.4293, 12.4986, 9.6635, 7.1651, 5.1326).
+TestProblem NashCournot5();
+
+/// Billups' one-dimensional NCP, F(x) = (x - 1)^2 - 1.01, x >= 0 (Billups 1995).
+/// From x0 = 0 a merit-function method stalls at a local minimizer of psi that is not a
+/// solution (documented failure); from x0 = 3 it converges to 1 + sqrt(1.01).
+TestProblem Billups();
+
+/// LCP of the KKT conditions of Hock-Schittkowski problem 35 (Hock and Schittkowski
+/// 1981), n = 4 (3 primal variables + 1 multiplier). Solution (4/3, 7/9, 4/9, 2/9).
+TestProblem Hs35Lcp();
+
+/// The 4x4 LCP of the PATH library examples (Ferris and Munson 1999), solution
+/// (2.8, 0, 0.8, 1.2).
+TestProblem PathManualLcp();
+
+}  // namespace ncp::collection

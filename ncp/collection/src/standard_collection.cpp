@@ -1,0 +1,26 @@
+#include "ncp_collection/collection.hpp"
+
+namespace ncp::collection {
+
+std::vector<TestProblem> StandardCollection() {
+  std::vector<TestProblem> problems;
+  problems.push_back(KojimaShindo());
+  problems.push_back(Josephy());
+  problems.push_back(ModifiedMathiesen());
+  problems.push_back(NashCournot5());
+  problems.push_back(Billups());
+  problems.push_back(Hs35Lcp());
+  problems.push_back(PathManualLcp());
+  problems.push_back(Obstacle1D(100, ObstacleKind::kLowerBump));
+  problems.push_back(Obstacle1D(100, ObstacleKind::kTwoSidedBand));
+  problems.push_back(Obstacle2D(20, ObstacleKind::kLowerBump));
+  problems.push_back(Obstacle2D(20, ObstacleKind::kTwoSidedBand));
+  problems.push_back(RandomPLcp(200));
+  RandomLcpOptions degenerate;
+  degenerate.degenerate_fraction = 0.1;
+  degenerate.seed = 7;
+  problems.push_back(RandomPLcp(200, degenerate));
+  return problems;
+}
+
+}  // namespace ncp::collection

@@ -1,0 +1,174 @@
+// Algorithm 1's safeguards are exercised and counted: the gradient fallback when the
+// Newton system is singular, Armijo backtracking, and a step shortened because
+// Evaluate() returned false. Residuals are recomputed here.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
+
+#include "ncp/solver.hpp"
+#include "ncp_collection/checks.hpp"
+#include "solve_support.hpp"
+
+using ncp::LinearSolverType;
+using ncp::NcpFunction;
+using ncp::SparseMatrix;
+using ncp::TerminationType;
+using ncp::Vector;
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Scalar or small F with a dense, fully stored Jacobian.
+class SmallFunction : public ncp::SquareFunction {
+ public:
+  explicit SmallFunction(int n) : n_(n) {}
+  int NumVariables() const override { return n_; }
+  bool Jacobian(const Vector& x, SparseMatrix* J) override {
+    ncp::DenseMatrix D = ncp::DenseMatrix::Zero(n_, n_);
+    if (!DenseJacobian(x, &D)) return false;
+    J->resize(n_, n_);
+    std::vector<Eigen::Triplet<double, int>> t;
+    for (int j = 0; j < n_; ++j)
+      for (int i = 0; i < n_; ++i) t.emplace_back(i, j, D(i, j));  // explicit zeros kept
+    J->setFromTriplets(t.begin(), t.end());
+    return true;
+  }
+  virtual bool DenseJacobian(const Vector& x, ncp::DenseMatrix* J) = 0;
+
+ private:
+  int n_;
+};
+
+// F1 = (x1 - 1)^2 + (x2 - 1)^2, F2 = x2 - 2. At x0 = (1, 1) pair 1 has a = x1 = 1 > 0,
+// b = F1 = 0, so d phi_FB/da = a/r - 1 = 0 and row 1 of the Newton matrix is
+// d phi/db grad F1 = -(0, 0): the matrix is singular and Algorithm 1 must take the
+// gradient step. Unique solution (0, 2) (F1 >= 1 > 0 whenever x2 = 2).
+class SingularAtStart : public SmallFunction {
+ public:
+  SingularAtStart() : SmallFunction(2) {}
+  bool Evaluate(const Vector& x, Vector* F) override {
+    (*F)(0) = (x(0) - 1) * (x(0) - 1) + (x(1) - 1) * (x(1) - 1);
+    (*F)(1) = x(1) - 2;
+    return true;
+  }
+  bool DenseJacobian(const Vector& x, ncp::DenseMatrix* J) override {
+    *J << 2 * (x(0) - 1), 2 * (x(1) - 1), 0, 1;
+    return true;
+  }
+};
+
+// F(x) = atan(x - 5), x >= 0: solution x* = 5. Far from x*, Newton on atan overshoots
+// (|x0 - x*| > 1.39 diverges without damping), so the line search must backtrack.
+class Arctangent : public SmallFunction {
+ public:
+  Arctangent() : SmallFunction(1) {}
+  bool Evaluate(const Vector& x, Vector* F) override {
+    (*F)(0) = std::atan(x(0) - 5.0);
+    return true;
+  }
+  bool DenseJacobian(const Vector& x, ncp::DenseMatrix* J) override {
+    (*J)(0, 0) = 1.0 / (1.0 + (x(0) - 5.0) * (x(0) - 5.0));
+    return true;
+  }
+};
+
+// F(x) = log(x), defined only for x > 0 (Evaluate returns false otherwise); x* = 1. From
+// x0 = 5 the first FB Newton step lands near x = -2.3, outside the domain.
+class Logarithm : public SmallFunction {
+ public:
+  Logarithm() : SmallFunction(1) {}
+  int failed_evaluations = 0;
+  bool Evaluate(const Vector& x, Vector* F) override {
+    if (!(x(0) > 0.0)) {
+      ++failed_evaluations;
+      return false;
+    }
+    (*F)(0) = std::log(x(0));
+    return true;
+  }
+  bool DenseJacobian(const Vector& x, ncp::DenseMatrix* J) override {
+    if (!(x(0) > 0.0)) return false;
+    (*J)(0, 0) = 1.0 / x(0);
+    return true;
+  }
+};
+
+const Vector kZero1 = Vector::Zero(1);
+const Vector kInf1 = Vector::Constant(1, kInf);
+
+}  // namespace
+
+TEST_CASE("singular Newton matrix at the start: gradient fallback",
+          "[solver][globalization]") {
+  const LinearSolverType backend =
+      GENERATE(LinearSolverType::kDenseLU, LinearSolverType::kSparseLU,
+               LinearSolverType::kUmfpack, LinearSolverType::kKlu);
+  SingularAtStart F;
+  Vector x(2);
+  x << 1.0, 1.0;
+  ncp::Options options = ncp::test::MakeOptions(NcpFunction::kFischerBurmeister, backend);
+  options.keep_trace = true;
+  ncp::Summary summary;
+  ncp::Solve(options, F, Vector::Zero(2), Vector::Constant(2, kInf), &x, &summary);
+  INFO(ncp::ToString(backend) << ": " << summary.FullReport());
+  CHECK(summary.linear_solver_failures >= 1);
+  CHECK(summary.gradient_steps >= 1);
+  REQUIRE(summary.trace.size() >= 2);
+  CHECK(summary.trace[1].gradient_step);  // the first step is the gradient step
+  CHECK(summary.termination == TerminationType::kConverged);
+  const double r =
+      ncp::collection::NaturalResidual(F, Vector::Zero(2), Vector::Constant(2, kInf), x);
+  CHECK(r <= 1e-8);
+  CHECK(x(0) == Approx(0.0).margin(1e-8));
+  CHECK(x(1) == Approx(2.0).epsilon(1e-8));
+
+  // With the fallback disabled the same start must end with an honest status.
+  options.gradient_fallback = false;
+  x << 1.0, 1.0;
+  ncp::Summary no_fallback;
+  ncp::Solve(options, F, Vector::Zero(2), Vector::Constant(2, kInf), &x, &no_fallback);
+  INFO(no_fallback.FullReport());
+  CHECK(no_fallback.termination == TerminationType::kLinearSolverFailure);
+  CHECK(no_fallback.gradient_steps == 0);
+}
+
+TEST_CASE("overshooting Newton steps are shortened by Armijo backtracking",
+          "[solver][globalization]") {
+  const LinearSolverType backend =
+      GENERATE(LinearSolverType::kDenseLU, LinearSolverType::kSparseLU,
+               LinearSolverType::kUmfpack, LinearSolverType::kKlu);
+  const NcpFunction function =
+      GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin);
+  Arctangent F;
+  Vector x = Vector::Constant(1, 20.0);
+  ncp::Summary summary;
+  ncp::Solve(ncp::test::MakeOptions(function, backend), F, kZero1, kInf1, &x, &summary);
+  INFO(ncp::ToString(function) << " / " << ncp::ToString(backend) << ": "
+                               << summary.FullReport());
+  CHECK(summary.backtracks > 0);
+  CHECK(summary.residual_evaluations > summary.iterations + 1);  // trial points counted
+  CHECK(summary.termination == TerminationType::kConverged);
+  CHECK(ncp::collection::NaturalResidual(F, kZero1, kInf1, x) <= 1e-8);
+  CHECK(x(0) == Approx(5.0).epsilon(1e-8));
+}
+
+TEST_CASE("Evaluate() returning false shortens the step and the solve still converges",
+          "[solver][globalization]") {
+  const LinearSolverType backend =
+      GENERATE(LinearSolverType::kDenseLU, LinearSolverType::kSparseLU,
+               LinearSolverType::kUmfpack, LinearSolverType::kKlu);
+  const NcpFunction function =
+      GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin);
+  Logarithm F;
+  Vector x = Vector::Constant(1, 5.0);
+  ncp::Summary summary;
+  ncp::Solve(ncp::test::MakeOptions(function, backend), F, kZero1, kInf1, &x, &summary);
+  INFO(ncp::ToString(function) << " / " << ncp::ToString(backend) << ": "
+                               << summary.FullReport());
+  CHECK(F.failed_evaluations >= 1);  // a trial point left the domain x > 0
+  CHECK(summary.backtracks >= 1);
+  CHECK(summary.termination == TerminationType::kConverged);
+  CHECK(ncp::collection::NaturalResidual(F, kZero1, kInf1, x) <= 1e-8);
+  CHECK(x(0) == Approx(1.0).epsilon(1e-8));
+}
