@@ -7,7 +7,12 @@
 
 namespace ncp {
 
-double FischerBurmeister(double a, double b) { return std::hypot(a, b) - (a + b); }
+double FischerBurmeister(double a, double b) {
+  // sqrt(a^2 + b^2) - (a + b) cancels when a >> b > 0 (e.g. a large gap and a small
+  // force); for a + b > 0 the equal form -2ab / (sqrt(a^2 + b^2) + a + b) does not.
+  const double r = std::hypot(a, b);
+  return a + b > 0.0 ? -2.0 * a * b / (r + a + b) : r - (a + b);
+}
 
 double MinFunction(double a, double b) { return std::min(a, b); }
 

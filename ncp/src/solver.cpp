@@ -83,6 +83,11 @@ bool Options::IsValid(std::string* error) const {
   if (!(penalized_fb_lambda > 0.0 && penalized_fb_lambda <= 1.0))
     return fail("Options::penalized_fb_lambda must lie in (0, 1], got " +
                 std::to_string(penalized_fb_lambda));
+  if (stagnation_window < 0)
+    return fail("Options::stagnation_window must be >= 0, got " + std::to_string(stagnation_window));
+  if (!(stagnation_tolerance >= 0.0 && stagnation_tolerance < 1.0))
+    return fail("Options::stagnation_tolerance must lie in [0, 1), got " +
+                std::to_string(stagnation_tolerance));
   if (dense_threshold < 0)
     return fail("Options::dense_threshold must be >= 0, got " + std::to_string(dense_threshold));
   return true;
@@ -322,6 +327,9 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
   }
 
   IterationRecord record;
+  // psi of the last stagnation_window + 1 iterates (ring buffer), for the stagnation test.
+  const size_t window = static_cast<size_t>(o.stagnation_window);
+  std::vector<double> psi_ring(window + 1, 0.0);
   if (o.log_to_stderr)
     std::fprintf(stderr, "%5s %12s %12s %12s %10s %4s %4s %5s\n", "iter", "|Phi|_inf", "psi",
                  "|grad|_inf", "step", "bt", "grad", "|gam|");
@@ -425,6 +433,18 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
       return;
     }
     const double grad_inf = w.grad.lpNorm<Eigen::Infinity>();
+    const size_t kk = static_cast<size_t>(k);
+    psi_ring[kk % (window + 1)] = psi;
+    const double psi_window_ago = psi_ring[(kk + 1) % (window + 1)];  // psi at k - window
+    if (window > 0 && kk >= window && psi_window_ago - psi <= o.stagnation_tolerance * psi_window_ago) {
+      finish(TerminationType::kStationaryPoint,
+             "psi decreased by less than " + Fmt("%.1e", o.stagnation_tolerance) +
+                 " relative over the last " + std::to_string(window) +
+                 " iterations (||Phi||_inf = " + Fmt("%.3e", phi_inf) + ", ||grad psi||_inf = " +
+                 Fmt("%.3e", grad_inf) +
+                 "): the iterates approach a stationary point of psi that is not a solution");
+      return;
+    }
     if (grad_inf == 0.0) {
       finish(TerminationType::kStationaryPoint,
              "grad psi = J' Phi = 0 with ||Phi||_inf = " + Fmt("%.3e", phi_inf) +

@@ -67,6 +67,11 @@ struct Options {
   /// stationarity_tolerance * ||Phi||_inf, else as kLineSearchFailure. grad psi = 0
   /// exactly with Phi != 0 is always kStationaryPoint.
   double stationarity_tolerance = 1e-6;
+  /// Stagnation: stop with kStationaryPoint when psi decreased by less than
+  /// stagnation_tolerance * psi over the last stagnation_window iterations (the iterates
+  /// approach a stationary point of psi that is not a solution). 0 disables the test.
+  int stagnation_window = 20;
+  double stagnation_tolerance = 1e-6;
   /// Algorithm 1 step 2: fall back to d = -grad psi. If false, a failed Newton solve
   /// ends with kLinearSolverFailure and a failed descent test keeps the Newton direction.
   bool gradient_fallback = true;

@@ -39,8 +39,9 @@ enum class TerminationType {
   kConverged,            ///< ||Phi(x)||_inf <= Options::tolerance
   kMaxIterations,        ///< Options::max_iterations reached
   kLineSearchFailure,    ///< no step of length >= Options::min_step satisfies Armijo
-  kStationaryPoint,      ///< grad psi = 0 but Phi != 0: a local minimum of the merit
-                         ///< function that is not a solution (e.g. Billups from x0 = 0)
+  kStationaryPoint,      ///< at (or stagnating near) a stationary point of psi that is not
+                         ///< a solution: grad psi = 0, no Armijo decrease with a tiny
+                         ///< gradient, or psi stalled (e.g. Billups from x0 = 0)
   kLinearSolverFailure,  ///< Newton system unsolvable and the gradient fallback is disabled
   kNonFiniteValues,      ///< NaN/Inf in the residual or Jacobian at the current iterate
   kEvaluationFailure,    ///< Evaluate()/Jacobian() returned false at the current iterate
