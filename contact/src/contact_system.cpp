@@ -17,6 +17,12 @@ std::string NodeName(size_t c, const ContactNode& node) {
 
 }  // namespace
 
+ncp::Options ContactNcpOptions() {
+  ncp::Options options;
+  options.min_tie_takes_b = true;
+  return options;
+}
+
 void CompleteContactFrame(int dim, ContactNode* node) {
   const Eigen::Vector3d& n = node->normal;
   std::vector<int> constrained;

@@ -27,6 +27,12 @@ StaticContactResult SolveStaticContact(int dim, const Eigen::SparseMatrix<double
     throw std::invalid_argument("SolveStaticContact: tresca_bound needs one value per contact node (" +
                                 std::to_string(num_nodes) + "), got " +
                                 std::to_string(options.tresca_bound.size()));
+  if (options.friction == FrictionLaw::kTresca)
+    for (Eigen::Index c = 0; c < num_nodes; ++c)
+      if (!(options.tresca_bound(c) >= 0.0) || !std::isfinite(options.tresca_bound(c)))
+        throw std::invalid_argument("SolveStaticContact: tresca_bound[" + std::to_string(c) +
+                                    "] must be finite and >= 0 N, got " +
+                                    std::to_string(options.tresca_bound(c)));
   if (options.friction == FrictionLaw::kCoulomb && !(options.friction_coefficient >= 0.0))
     throw std::invalid_argument("SolveStaticContact: friction_coefficient must be >= 0, got " +
                                 std::to_string(options.friction_coefficient));

@@ -15,6 +15,6 @@ struct PhiPartials {
   double db;
 };
 PhiPartials PhiDerivatives(NcpFunction f, double lambda, double a, double b, bool degenerate,
-                           double za, double zb);
+                           double za, double zb, bool min_tie_takes_b);
 
 }  // namespace ncp::internal

@@ -35,7 +35,7 @@ double PhiValue(NcpFunction f, double lambda, double a, double b) {
 }
 
 PhiPartials PhiDerivatives(NcpFunction f, double lambda, double a, double b, bool degenerate,
-                           double za, double zb) {
+                           double za, double zb, bool min_tie_takes_b) {
   // FB part: (d phi / da, d phi / db) = (a / r - 1, b / r - 1), r = ||(a, b)||  (DFK eq. 26).
   // On the degenerate set (a = b = 0) the B-subdifferential element of DFK eq. (27) uses
   // the directional values za = grad A' z, zb = grad B' z in place of (a, b).
@@ -53,9 +53,9 @@ PhiPartials PhiDerivatives(NcpFunction f, double lambda, double a, double b, boo
     case NcpFunction::kFischerBurmeister:
       return degenerate ? fb_partials(za, zb) : fb_partials(a, b);
     case NcpFunction::kMin:
-      // B-subdifferential of min: grad A where a < b, grad B where b < a; at a tie we take
-      // grad A (the "active constraint" choice).
-      if (b < a) return PhiPartials{0.0, 1.0};
+      // B-subdifferential of min: grad A where a < b, grad B where b < a; at a tie a = b
+      // either is an element, chosen by Options::min_tie_takes_b.
+      if (b < a || (a == b && min_tie_takes_b)) return PhiPartials{0.0, 1.0};
       return PhiPartials{1.0, 0.0};
     case NcpFunction::kPenalizedFischerBurmeister: {
       // d/da [a+ b+] = [a > 0] b+, d/db = a+ [b > 0] (one B-subdifferential element).

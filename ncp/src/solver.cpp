@@ -386,7 +386,7 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
             fb_family && std::hypot(w.A(j), w.B(j)) <= o.degenerate_tolerance;
         const internal::PhiPartials dp = internal::PhiDerivatives(
             o.ncp_function, o.penalized_fb_lambda, w.A(j), w.B(j), degenerate,
-            degenerate ? w.za(j) : 0.0, degenerate ? w.zb(j) : 0.0);
+            degenerate ? w.za(j) : 0.0, degenerate ? w.zb(j) : 0.0, o.min_tie_takes_b);
         w.da(j) = dp.da;
         w.db(j) = dp.db;
       }

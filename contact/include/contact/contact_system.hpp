@@ -50,6 +50,7 @@
 #include <vector>
 
 #include "ncp/problem.hpp"
+#include "ncp/solver.hpp"
 
 namespace contact {
 
@@ -63,6 +64,10 @@ struct ContactNode {
   double gap = 0.0;   ///< s_c: initial distance to the obstacle along the normal [m]
   double area = 0.0;  ///< tributary length (2D, per unit thickness: times thickness) or area [m^2]
 };
+
+/// ncp::Options defaults for contact solves: min_tie_takes_b = true (the pair is
+/// (reaction, gap); at a tie the node is treated as closed).
+ncp::Options ContactNcpOptions();
 
 /// Completes the tangents of a unit normal. All components free: 2D t1 = (-n_y, n_x),
 /// 3D a right-handed (n, t1, t2). With constrained components (dofs[a] = -1) the used

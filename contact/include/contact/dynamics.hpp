@@ -93,7 +93,9 @@ struct DynamicOptions {
   double end_time = 0.0;    ///< run until t >= end_time (within dt/1000) [s]
   double friction_coefficient = 0.0;  ///< f_c (0 = frictionless)
   StepSolver solver = StepSolver::kFischerBurmeister;
-  ncp::Options ncp;         ///< tolerance etc. (ncp_function is set from `solver`)
+  /// Semismooth Newton settings. The scaled equations are displacements, so `tolerance`
+  /// is in metres. Default min tie: a touching node counts as closed (see ncp::Options).
+  ncp::Options ncp = ContactNcpOptions();
   InitialState initial_state = InitialState::kStaticEquilibrium;
   Eigen::VectorXd u0, v0;   ///< for kPrescribed (free dofs) [m], [m/s]
   /// Frictionless runs: also solve every step's QP with Ipopt and record the relative

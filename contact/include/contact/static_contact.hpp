@@ -27,7 +27,9 @@ struct StaticContactOptions {
   /// Coulomb fixed point stops when max_c |lambda_c^{i+1} - lambda_c^i| <= this * max_c lambda_c.
   double fixed_point_tolerance = 1e-10;
   int max_fixed_point_iterations = 100;
-  ncp::Options ncp;  ///< semismooth Newton settings (tolerance on the scaled system)
+  /// Semismooth Newton settings. The scaled equations are displacements, so `tolerance`
+  /// is in metres. Default min tie: a touching node counts as closed (see ncp::Options).
+  ncp::Options ncp = ContactNcpOptions();
 };
 
 struct StaticContactResult {

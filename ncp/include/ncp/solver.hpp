@@ -47,6 +47,11 @@ using IterationCallback = std::function<bool(const IterationRecord&)>;
 
 struct Options {
   NcpFunction ncp_function = NcpFunction::kFischerBurmeister;
+  /// min function at a tie A_j = B_j: take grad B_j (true) or grad A_j (false) as the
+  /// B-subdifferential element. false (x_j = 0 for a standard NCP pair (x, F)) solves more
+  /// of the collection; the contact module uses true (a touching node is closed), which
+  /// keeps the Newton matrix regular for a body held only by contact.
+  bool min_tie_takes_b = false;
   /// lambda of the penalized FB function, in (0, 1]; 1 gives plain FB (CCK 2000 use 0.95).
   double penalized_fb_lambda = 0.95;
   /// Converged when ||Phi(x)||_inf <= tolerance (thesis section 6.4, eq. 109).

@@ -1,0 +1,228 @@
+// hertz-example: a steel cylinder pressed onto a rigid plane (plane strain), compared
+// with the Hertz solution on three meshes refined at the contact.
+//
+//   hertz-example OUTPUT_DIR
+//
+// prints the comparison table and writes into OUTPUT_DIR
+//   hertz_table.csv               one row per mesh: h, a, p0 and their errors
+//   hertz_pressure_a_over_h_N.csv contact pressure vs x, computed and exact, per mesh.
+//
+// Hertz (Johnson, Contact Mechanics, 1985, section 4.3, eq. 4.43-4.45), cylinder of
+// radius R on a rigid flat, load P per unit length, E* = E / (1 - nu^2):
+//     a = sqrt(4 P R / (pi E*)),   p(x) = p0 sqrt(1 - x^2 / a^2),   p0 = 2 P / (pi a).
+#include <gmsh.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "contact/contact_boundary.hpp"
+#include "contact/contact_frames.hpp"
+#include "contact/dof_map.hpp"
+#include "contact/elastic_body.hpp"
+#include "contact/gmsh_reader.hpp"
+#include "contact/obstacle.hpp"
+#include "contact/static_contact.hpp"
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Data of the problem: steel, R = 50 mm, a load giving a = 0.02 R (small, so that the
+// finite cylinder behaves like the half-space of the theory and the exact circular gap
+// R - sqrt(R^2 - x^2) is the parabola x^2 / 2R to 1e-4).
+struct HertzData {
+  contact::IsotropicMaterial steel{210e9, 0.3, 7850.0};
+  double R = 0.05;                              // [m]
+  double E_star = 210e9 / (1.0 - 0.3 * 0.3);    // [Pa]
+  double a = 0.02 * R;                          // half-width [m]
+  double P = kPi * E_star * a * a / (4.0 * R);  // load per metre [N/m]
+  double p0 = 2.0 * P / (kPi * a);              // peak pressure [Pa]
+  double q = P / (2.0 * R);                     // pressure on the cut y = R [Pa]
+  double Pressure(double x) const {
+    return std::abs(x) >= a ? 0.0 : p0 * std::sqrt(1.0 - x * x / (a * a));
+  }
+};
+
+struct Row {
+  double h = 0, a = 0, p0 = 0, max_error = 0;
+  int dofs = 0, loaded = 0, newton_iterations = 0;
+};
+
+// One mesh: the quarter x >= 0 of the lower half of the cylinder, axis through (0, R),
+// touching the floor y <= 0 at the origin. Symmetry u_x = 0 on x = 0 ("fixed"), the
+// pressure q on the cut y = R ("load"), the arc up to x = 3a is Gamma_c ("contact").
+class HertzProblem {
+ public:
+  HertzProblem(const HertzData& data, int elements_per_half_width)
+      : data_(data),
+        elements_per_a_(elements_per_half_width),
+        h_(data.a / elements_per_half_width) {}
+
+  Row run(const std::filesystem::path& output_dir) {
+    make_mesh();
+    assemble();
+    solve();
+    return write_output(output_dir);
+  }
+
+ private:
+  // gmsh geometry with a Distance + Threshold size field: h within 1.5 a of the origin,
+  // growing with slope 1/4 to R / 8 (gmsh tutorial t10).
+  void make_mesh() {
+    const double R = data_.R, h_max = R / 8.0, refined = 1.5 * data_.a;
+    const std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                       ("hertz_example_" + std::to_string(::getpid()) +
+                                        "_" + std::to_string(elements_per_a_) + ".msh");
+    gmsh::initialize(0, nullptr, false);
+    gmsh::option::setNumber("General.Terminal", 0);
+    gmsh::model::add("hertz");
+    namespace geo = gmsh::model::geo;
+    const double xs = 3.0 * data_.a, ys = R - std::sqrt(R * R - xs * xs);
+    const int origin = geo::addPoint(0, 0, 0), split = geo::addPoint(xs, ys, 0);
+    const int right = geo::addPoint(R, R, 0), centre = geo::addPoint(0, R, 0);
+    const int contact_arc = geo::addCircleArc(origin, centre, split);
+    const int free_arc = geo::addCircleArc(split, centre, right);
+    const int cut = geo::addLine(right, centre);
+    const int symmetry = geo::addLine(centre, origin);
+    const int surface =
+        geo::addPlaneSurface({geo::addCurveLoop({contact_arc, free_arc, cut, symmetry})});
+    geo::synchronize();
+    gmsh::model::setPhysicalName(1, gmsh::model::addPhysicalGroup(1, {contact_arc}),
+                                 "contact");
+    gmsh::model::setPhysicalName(1, gmsh::model::addPhysicalGroup(1, {cut}), "load");
+    gmsh::model::setPhysicalName(1, gmsh::model::addPhysicalGroup(1, {symmetry}),
+                                 "fixed");
+    gmsh::model::setPhysicalName(2, gmsh::model::addPhysicalGroup(2, {surface}), "body");
+    namespace field = gmsh::model::mesh::field;
+    const int distance = field::add("Distance");
+    field::setNumbers(distance, "PointsList", {static_cast<double>(origin)});
+    const int threshold = field::add("Threshold");
+    field::setNumber(threshold, "InField", distance);
+    field::setNumber(threshold, "SizeMin", h_);
+    field::setNumber(threshold, "SizeMax", h_max);
+    field::setNumber(threshold, "DistMin", refined);
+    field::setNumber(threshold, "DistMax", refined + 4.0 * (h_max - h_));
+    field::setAsBackgroundMesh(threshold);
+    gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
+    gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
+    gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+    gmsh::model::mesh::generate(2);
+    gmsh::write(path.string());
+    gmsh::finalize();
+    mesh_ = contact::ReadGmshMesh(path.string());
+    std::filesystem::remove(path);
+  }
+
+  // K and f on the free dofs, contact frames against the floor (normal -e_y, gap = y).
+  void assemble() {
+    const contact::ElasticBody body(mesh_, data_.steel);
+    const contact::DofMap dofs = contact::MakeDofMap(
+        mesh_, {contact::DirichletCondition{contact::kFixedGroup, {0}, {}}});
+    const contact::ContactBoundary boundary = contact::MakeContactBoundary(body);
+    frames_ = contact::MakeContactFrames(mesh_, boundary, dofs,
+                                         contact::HalfSpace::ObstacleBelow(2, 1, 0.0),
+                                         contact::NormalSource::kObstacle);
+    const contact::SparseMatrix K = body.StiffnessMatrix();
+    K_ = dofs.RestrictMatrix(K);
+    f_ = dofs.RestrictLoad(K, body.TractionLoad(Eigen::Vector2d(0.0, -data_.q)));
+  }
+
+  // Frictionless, Fischer-Burmeister. The tolerance is absolute on the scaled system
+  // (rows in metres): 1e-13 a.
+  void solve() {
+    contact::StaticContactOptions options;
+    options.ncp.tolerance = 1e-13 * data_.a;
+    result_ = contact::SolveStaticContact(2, K_, f_, frames_.nodes, options);
+    if (!result_.converged) std::cerr << "solve failed: " << result_.message << "\n";
+  }
+
+  // Pressure p_c = lambda_c / tributary area_c; a from the last two loaded nodes (p^2 is
+  // linear in x^2 near the edge); p0 at the node x = 0.
+  Row write_output(const std::filesystem::path& output_dir) {
+    struct Sample {
+      double x, p;
+    };
+    std::vector<Sample> profile;
+    const double threshold = 1e-9 * result_.normal_force.maxCoeff();
+    for (size_t c = 0; c < frames_.nodes.size(); ++c) {
+      const double lambda = result_.normal_force(static_cast<Eigen::Index>(c));
+      profile.push_back({mesh_.nodes(0, frames_.nodes[c].node),
+                         lambda > threshold ? lambda / frames_.nodes[c].area : 0.0});
+    }
+    std::sort(profile.begin(), profile.end(),
+              [](const Sample& s, const Sample& t) { return s.x < t.x; });
+    Row row;
+    row.h = h_;
+    row.dofs = static_cast<int>(K_.rows());
+    row.newton_iterations = result_.newton_iterations;
+    row.p0 = profile.front().p;
+    size_t last = 0;
+    while (last + 1 < profile.size() && profile[last + 1].p > 0.0) ++last;
+    row.loaded = static_cast<int>(last) + 1;
+    const double x1 = profile[last - 1].x, p1 = profile[last - 1].p;
+    const double x2 = profile[last].x, p2 = profile[last].p;
+    row.a = std::sqrt(x2 * x2 + p2 * p2 * (x2 * x2 - x1 * x1) / (p1 * p1 - p2 * p2));
+    std::ofstream csv(output_dir / ("hertz_pressure_a_over_h_" +
+                                    std::to_string(elements_per_a_) + ".csv"));
+    csv << "x_m,x_over_a,p_computed_Pa,p_exact_Pa\n";
+    csv.precision(10);
+    for (const Sample& s : profile) {
+      csv << s.x << "," << s.x / data_.a << "," << s.p << "," << data_.Pressure(s.x)
+          << "\n";
+      row.max_error =
+          std::max(row.max_error, std::abs(s.p - data_.Pressure(s.x)) / data_.p0);
+    }
+    return row;
+  }
+
+  HertzData data_;
+  int elements_per_a_;
+  double h_;
+  contact::Mesh mesh_;
+  contact::ContactFrames frames_;
+  contact::SparseMatrix K_;
+  contact::Vector f_;
+  contact::StaticContactResult result_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::cerr << "usage: " << argv[0] << " OUTPUT_DIR\n";
+    return 2;
+  }
+  const std::filesystem::path output_dir = argv[1];
+  std::filesystem::create_directories(output_dir);
+  const HertzData data;
+  std::printf("Hertz, plane strain: R = %g m, E = %g Pa, nu = %g, P = %.6g N/m\n", data.R,
+              data.steel.youngs_modulus, data.steel.poisson_ratio, data.P);
+  std::printf("exact: a = %.6e m, p0 = %.6e Pa\n\n", data.a, data.p0);
+  std::printf(
+      "| h [m] | a/h | dofs | loaded nodes | a [m] | a error | p0 [Pa] | p0 error | max "
+      "|p - p_exact| / p0 | Newton its |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  std::ofstream table(output_dir / "hertz_table.csv");
+  table << "h_m,a_over_h,dofs,loaded_nodes,a_m,a_exact_m,p0_Pa,p0_exact_Pa,max_error_"
+           "over_p0\n";
+  table.precision(10);
+  for (const int n : {10, 20, 40}) {
+    HertzProblem problem(data, n);
+    const Row r = problem.run(output_dir);
+    std::printf("| %.2e | %d | %d | %d | %.5e | %+.2e | %.5e | %+.2e | %.2e | %d |\n",
+                r.h, n, r.dofs, r.loaded, r.a, r.a / data.a - 1, r.p0, r.p0 / data.p0 - 1,
+                r.max_error, r.newton_iterations);
+    table << r.h << "," << n << "," << r.dofs << "," << r.loaded << "," << r.a << ","
+          << data.a << "," << r.p0 << "," << data.p0 << "," << r.max_error << "\n";
+  }
+  std::printf("\nwritten: %s/hertz_table.csv, hertz_pressure_a_over_h_{10,20,40}.csv\n",
+              output_dir.string().c_str());
+  return 0;
+}
