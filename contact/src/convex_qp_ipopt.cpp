@@ -11,16 +11,12 @@
 #include <coin/IpIpoptApplication.hpp>
 #include <coin/IpSolveStatistics.hpp>
 #include <coin/IpTNLP.hpp>
+#include "text_format.hpp"
 
 namespace contact {
 namespace {
 
-std::string Format(double value) {
-  std::ostringstream out;
-  out.precision(17);
-  out << value;
-  return out.str();
-}
+using internal::Format;
 
 std::string Shape(const SparseMatrix& A) {
   return std::to_string(A.rows()) + " x " + std::to_string(A.cols());

@@ -3,16 +3,12 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include "text_format.hpp"
 
 namespace contact {
 namespace {
 
-std::string Format(double value) {
-  std::ostringstream out;
-  out.precision(17);
-  out << value;
-  return out.str();
-}
+using internal::Format;
 
 }  // namespace
 

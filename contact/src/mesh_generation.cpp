@@ -167,6 +167,57 @@ Mesh MakeRectangleMesh(const RectangleMeshOptions& options) {
   return mesh;
 }
 
+Mesh MakeQuarterDiskMesh(const QuarterDiskMeshOptions& o) {
+  const char* who = "MakeQuarterDiskMesh";
+  const double R = o.radius;
+  if (!(R > 0) || !(o.contact_size > 0) || !(o.max_size >= o.contact_size) ||
+      !(o.refined_radius > 0) || !(o.contact_extent > 0 && o.contact_extent < R))
+    throw std::invalid_argument(std::string(who) +
+                                ": need radius > 0, 0 < contact_size <= max_size, refined_radius > 0 "
+                                "and 0 < contact_extent < radius");
+  Mesh mesh;
+  {
+    internal::GmshSession session("contact_quarter_disk");
+    internal::CallGmsh(who, /*input_error=*/false, [&] {
+      namespace geo = gmsh::model::geo;
+      const double xs = o.contact_extent, ys = R - std::sqrt(R * R - xs * xs);
+      const int origin = geo::addPoint(0, 0, 0), split = geo::addPoint(xs, ys, 0);
+      const int right = geo::addPoint(R, R, 0), centre = geo::addPoint(0, R, 0);
+      // Counter-clockwise: arc up to (R, R), cut back to (0, R), symmetry line down.
+      const int contact_arc = geo::addCircleArc(origin, centre, split);
+      const int free_arc = geo::addCircleArc(split, centre, right);
+      const int cut = geo::addLine(right, centre);
+      const int symmetry = geo::addLine(centre, origin);
+      const int surface =
+          geo::addPlaneSurface({geo::addCurveLoop({contact_arc, free_arc, cut, symmetry})});
+      geo::synchronize();
+      gmsh::model::setPhysicalName(1, gmsh::model::addPhysicalGroup(1, {contact_arc}), kContactGroup);
+      gmsh::model::setPhysicalName(1, gmsh::model::addPhysicalGroup(1, {cut}), kLoadGroup);
+      gmsh::model::setPhysicalName(1, gmsh::model::addPhysicalGroup(1, {symmetry}), kFixedGroup);
+      gmsh::model::setPhysicalName(2, gmsh::model::addPhysicalGroup(2, {surface}), "body");
+      namespace field = gmsh::model::mesh::field;
+      const int distance = field::add("Distance");
+      field::setNumbers(distance, "PointsList", {static_cast<double>(origin)});
+      const int threshold = field::add("Threshold");
+      field::setNumber(threshold, "InField", distance);
+      field::setNumber(threshold, "SizeMin", o.contact_size);
+      field::setNumber(threshold, "SizeMax", o.max_size);
+      field::setNumber(threshold, "DistMin", o.refined_radius);
+      field::setNumber(threshold, "DistMax", o.refined_radius + 4.0 * (o.max_size - o.contact_size));
+      field::setAsBackgroundMesh(threshold);
+      // (gmsh 4.8 crashes with Mesh.Algorithm = 8 and a Threshold field: default algorithm.)
+      gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+      gmsh::model::mesh::generate(2);
+      mesh = internal::ExtractGmshMesh(who);
+      internal::OrientElementsPositively(&mesh);
+    });
+  }
+  ValidateMesh(mesh);
+  return mesh;
+}
+
 Mesh MakeBoxMesh(const BoxMeshOptions& options) {
   const char* who = "MakeBoxMesh";
   CheckGeometry<3>(who, options.origin, options.size, options.cells);

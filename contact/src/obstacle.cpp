@@ -5,25 +5,12 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include "text_format.hpp"
 
 namespace contact {
 namespace {
 
-std::string Format(double value) {
-  std::ostringstream out;
-  out.precision(17);
-  out << value;
-  return out.str();
-}
-
-std::string Format(const Vector& v) {
-  std::ostringstream out;
-  out.precision(17);
-  out << "(";
-  for (Eigen::Index i = 0; i < v.size(); ++i) out << (i ? ", " : "") << v[i];
-  out << ")";
-  return out.str();
-}
+using internal::Format;
 
 void RequireSpatialSize(const std::string& who, const std::string& what,
                         const Vector& v) {

@@ -10,8 +10,6 @@
 // Hertz (Johnson, Contact Mechanics, 1985, section 4.3, eq. 4.43-4.45), cylinder of
 // radius R on a rigid flat, load P per unit length, E* = E / (1 - nu^2):
 //     a = sqrt(4 P R / (pi E*)),   p(x) = p0 sqrt(1 - x^2 / a^2),   p0 = 2 P / (pi a).
-#include <gmsh.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -26,7 +24,7 @@
 #include "contact/contact_frames.hpp"
 #include "contact/dof_map.hpp"
 #include "contact/elastic_body.hpp"
-#include "contact/gmsh_reader.hpp"
+#include "contact/mesh_generation.hpp"
 #include "contact/obstacle.hpp"
 #include "contact/static_contact.hpp"
 
@@ -73,52 +71,18 @@ class HertzProblem {
   }
 
  private:
-  // gmsh geometry with a Distance + Threshold size field: h within 1.5 a of the origin,
-  // growing with slope 1/4 to R / 8 (gmsh tutorial t10).
+  // Element size h within 1.5 a of the origin,
+  // growing with slope 1/4 to R / 8 (MakeQuarterDiskMesh).
   void make_mesh() {
-    const double R = data_.R, h_max = R / 8.0, refined = 1.5 * data_.a;
-    const std::filesystem::path path = std::filesystem::temp_directory_path() /
-                                       ("hertz_example_" + std::to_string(::getpid()) +
-                                        "_" + std::to_string(elements_per_a_) + ".msh");
-    gmsh::initialize(0, nullptr, false);
-    gmsh::option::setNumber("General.Terminal", 0);
-    gmsh::model::add("hertz");
-    namespace geo = gmsh::model::geo;
-    const double xs = 3.0 * data_.a, ys = R - std::sqrt(R * R - xs * xs);
-    const int origin = geo::addPoint(0, 0, 0), split = geo::addPoint(xs, ys, 0);
-    const int right = geo::addPoint(R, R, 0), centre = geo::addPoint(0, R, 0);
-    const int contact_arc = geo::addCircleArc(origin, centre, split);
-    const int free_arc = geo::addCircleArc(split, centre, right);
-    const int cut = geo::addLine(right, centre);
-    const int symmetry = geo::addLine(centre, origin);
-    const int surface =
-        geo::addPlaneSurface({geo::addCurveLoop({contact_arc, free_arc, cut, symmetry})});
-    geo::synchronize();
-    gmsh::model::setPhysicalName(1, gmsh::model::addPhysicalGroup(1, {contact_arc}),
-                                 "contact");
-    gmsh::model::setPhysicalName(1, gmsh::model::addPhysicalGroup(1, {cut}), "load");
-    gmsh::model::setPhysicalName(1, gmsh::model::addPhysicalGroup(1, {symmetry}),
-                                 "fixed");
-    gmsh::model::setPhysicalName(2, gmsh::model::addPhysicalGroup(2, {surface}), "body");
-    namespace field = gmsh::model::mesh::field;
-    const int distance = field::add("Distance");
-    field::setNumbers(distance, "PointsList", {static_cast<double>(origin)});
-    const int threshold = field::add("Threshold");
-    field::setNumber(threshold, "InField", distance);
-    field::setNumber(threshold, "SizeMin", h_);
-    field::setNumber(threshold, "SizeMax", h_max);
-    field::setNumber(threshold, "DistMin", refined);
-    field::setNumber(threshold, "DistMax", refined + 4.0 * (h_max - h_));
-    field::setAsBackgroundMesh(threshold);
-    gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
-    gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
-    gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
-    gmsh::model::mesh::generate(2);
-    gmsh::write(path.string());
-    gmsh::finalize();
-    mesh_ = contact::ReadGmshMesh(path.string());
-    std::filesystem::remove(path);
+    contact::QuarterDiskMeshOptions disk;
+    disk.radius = data_.R;
+    disk.contact_size = h_;
+    disk.refined_radius = 1.5 * data_.a;
+    disk.contact_extent = 3.0 * data_.a;
+    disk.max_size = data_.R / 8.0;
+    mesh_ = contact::MakeQuarterDiskMesh(disk);
   }
+
 
   // K and f on the free dofs, contact frames against the floor (normal -e_y, gap = y).
   void assemble() {

@@ -4,8 +4,6 @@
 // (Fischer-Burmeister and min) with the Ipopt QP reference, Tresca and Coulomb friction,
 // and bad input. Every solution is checked with residuals recomputed here from K, f and
 // the contact frames, never from the solver's summary.
-#include <gmsh.h>
-#include <unistd.h>
 
 #include <Eigen/QR>
 #include <algorithm>
@@ -23,7 +21,6 @@
 #include "contact/contact_frames.hpp"
 #include "contact/dof_map.hpp"
 #include "contact/elastic_body.hpp"
-#include "contact/gmsh_reader.hpp"
 #include "contact/mesh_generation.hpp"
 #include "contact/obstacle.hpp"
 #include "contact/static_contact.hpp"
@@ -369,80 +366,14 @@ struct HertzData {
   }
 };
 
-// gmsh reports errors by throwing; 4.8 throws the message as a std::string.
-template <typename F>
-void CallGmsh(const char* what, F&& f) {
-  try {
-    f();
-  } catch (const std::string& message) {
-    FAIL(what << ": gmsh error: " << message);
-  } catch (const std::exception& e) {
-    FAIL(what << ": gmsh error: " << e.what());
-  } catch (...) {
-    FAIL(what << ": gmsh error");
-  }
-}
-
-// The quarter disk {x >= 0, y <= R, x^2 + (y - R)^2 <= R^2} meshed with 3-node triangles
-// by the gmsh API and read back with ReadGmshMesh. Groups: "fixed" = the symmetry line
-// x = 0, "load" = the cut y = R, "contact" = the arc from the origin to x =
-// contact_extent. Element size h_contact within refined_radius of the origin, growing
-// with slope 1/4 to R / 8 (gmsh Distance + Threshold size fields, gmsh tutorial t10).
-Mesh MakeQuarterDiskMesh(const HertzData& d, double h_contact, double refined_radius,
-                         double contact_extent) {
-  const double R = d.R, h_max = R / 8.0;
-  const std::filesystem::path path =
-      std::filesystem::temp_directory_path() /
-      ("hertz_quarter_disk_" + std::to_string(::getpid()) + "_" +
-       std::to_string(static_cast<long long>(std::llround(R / h_contact))) + ".msh");
-  CallGmsh("quarter disk", [&] {
-    gmsh::initialize(0, nullptr, /*readConfigFiles=*/false);
-    gmsh::option::setNumber("General.Terminal", 0);
-    gmsh::model::add("hertz");
-    namespace geo = gmsh::model::geo;
-    const double xs = contact_extent, ys = R - std::sqrt(R * R - xs * xs);
-    const int origin = geo::addPoint(0, 0, 0);
-    const int split = geo::addPoint(xs, ys, 0);
-    const int right = geo::addPoint(R, R, 0);
-    const int centre = geo::addPoint(0, R, 0);
-    // Counter-clockwise: arc up to (R, R), cut back to (0, R), symmetry line down.
-    const int contact_arc = geo::addCircleArc(origin, centre, split);
-    const int free_arc = geo::addCircleArc(split, centre, right);
-    const int cut = geo::addLine(right, centre);
-    const int symmetry = geo::addLine(centre, origin);
-    const int loop = geo::addCurveLoop({contact_arc, free_arc, cut, symmetry});
-    const int surface = geo::addPlaneSurface({loop});
-    geo::synchronize();
-    gmsh::model::setPhysicalName(1, gmsh::model::addPhysicalGroup(1, {contact_arc}),
-                                 "contact");
-    gmsh::model::setPhysicalName(1, gmsh::model::addPhysicalGroup(1, {cut}), "load");
-    gmsh::model::setPhysicalName(1, gmsh::model::addPhysicalGroup(1, {symmetry}),
-                                 "fixed");
-    gmsh::model::setPhysicalName(2, gmsh::model::addPhysicalGroup(2, {surface}), "body");
-    namespace field = gmsh::model::mesh::field;
-    const int distance = field::add("Distance");
-    field::setNumbers(distance, "PointsList", {static_cast<double>(origin)});
-    const int threshold = field::add("Threshold");
-    field::setNumber(threshold, "InField", distance);
-    field::setNumber(threshold, "SizeMin", h_contact);
-    field::setNumber(threshold, "SizeMax", h_max);
-    field::setNumber(threshold, "DistMin", refined_radius);
-    field::setNumber(threshold, "DistMax", refined_radius + 4.0 * (h_max - h_contact));
-    field::setAsBackgroundMesh(threshold);
-    gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
-    gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
-    gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
-    gmsh::model::mesh::generate(2);
-    gmsh::write(path.string());
-    gmsh::finalize();
-  });
-  Mesh mesh = ReadGmshMesh(path.string());
-  std::filesystem::remove(path);
-  return mesh;
-}
-
 StaticProblem MakeHertzProblem(const HertzData& d, double h_contact) {
-  Mesh mesh = MakeQuarterDiskMesh(d, h_contact, 1.5 * d.a, 3.0 * d.a);
+  QuarterDiskMeshOptions disk;
+  disk.radius = d.R;
+  disk.contact_size = h_contact;
+  disk.refined_radius = 1.5 * d.a;
+  disk.contact_extent = 3.0 * d.a;
+  disk.max_size = d.R / 8.0;
+  Mesh mesh = MakeQuarterDiskMesh(disk);
   DofMap dofs = MakeDofMap(mesh, {DirichletCondition{kFixedGroup, {0}, {}}});
   return StaticProblem(ElasticBody(std::move(mesh), kSteel), std::move(dofs),
                        HalfSpace::ObstacleBelow(2, 1, 0.0), Eigen::Vector2d(0.0, -d.q));

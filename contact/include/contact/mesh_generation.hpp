@@ -70,6 +70,20 @@ Mesh MakeRectangleMesh(const RectangleMeshOptions& options);
 /// Meshes a box with gmsh. Throws std::invalid_argument for invalid options, including
 /// unstructured hexahedra.
 Mesh MakeBoxMesh(const BoxMeshOptions& options);
+/// The quarter disk {x >= 0, y <= R, x^2 + (y - R)^2 <= R^2}: half of a cylinder section of
+/// radius R touching the plane y = 0 at the origin (Hertz contact), 3-node triangles.
+/// Groups: "fixed" = the symmetry line x = 0, "load" = the cut y = R, "contact" = the arc
+/// from the origin to x = contact_extent. Element size contact_size within refined_radius
+/// of the origin, growing with slope 1/4 up to max_size (gmsh Distance + Threshold fields).
+struct QuarterDiskMeshOptions {
+  double radius = 1.0;          ///< R [m]
+  double contact_size = 0.01;   ///< element size near the origin [m]
+  double refined_radius = 0.1;  ///< radius of the refined zone [m]
+  double contact_extent = 0.2;  ///< x where the "contact" arc ends [m], < R
+  double max_size = 0.125;      ///< largest element size [m]
+};
+Mesh MakeQuarterDiskMesh(const QuarterDiskMeshOptions& options);
+
 /// The structured hexahedral mesh of a box built directly (no gmsh; linear time and
 /// memory, for meshes of millions of dofs). Node (i, j, k) has index i + (nx+1)(j +
 /// (ny+1)k); element tags are 1-based indices. Requires element_type = kHexahedron8 and
