@@ -49,46 +49,41 @@ void CompleteContactFrame(int dim, ContactNode* node) {
   node->tangent2 = n.cross(node->tangent1);
 }
 
-ContactSystem::ContactSystem(int dim, const Eigen::SparseMatrix<double>& S,
-                             std::vector<ContactNode> nodes)
-    : dim_(dim), n_(static_cast<int>(S.rows())), nodes_(std::move(nodes)) {
-  const std::string who = "contact::ContactSystem: ";
+RestrictionMaps MakeRestrictionMaps(int dim, int num_free_dofs,
+                                    const std::vector<ContactNode>& nodes) {
+  const std::string who = "contact::MakeRestrictionMaps: ";
+  const int n = num_free_dofs;
   if (dim != 2 && dim != 3)
     throw std::invalid_argument(who + "dimension must be 2 or 3, got " + std::to_string(dim));
-  if (S.rows() != S.cols())
-    throw std::invalid_argument(who + "S must be square, got " + std::to_string(S.rows()) +
-                                " x " + std::to_string(S.cols()));
-
-  // Validate nodes and build the rotation R into the local frames (n, t1[, t2]) restricted
-  // to each node's free components: R[slot a, dof of free axis b] = frame_a(axis b).
-  std::vector<int> owner(static_cast<size_t>(n_), -1);
+  if (n < 0) throw std::invalid_argument(who + "num_free_dofs must be >= 0, got " + std::to_string(n));
+  // Validate the nodes and build R: R[slot a, dof of free axis b] = frame_a(axis b), where
+  // the slots of a node are the dofs of its free components, normal first.
+  std::vector<int> owner(static_cast<size_t>(n), -1);  // contact node of each dof
+  std::vector<int> local(static_cast<size_t>(n), -1);  // local component of each slot
   std::vector<Triplet> rotation;
-  rotation.reserve(static_cast<size_t>(n_) + 9 * nodes_.size());
-  layout_.resize(nodes_.size());
-  for (size_t c = 0; c < nodes_.size(); ++c) {
-    const ContactNode& node = nodes_[c];
-    Layout& L = layout_[c];
-    int free_axes[3];
+  rotation.reserve(static_cast<size_t>(n) + 9 * nodes.size());
+  for (size_t c = 0; c < nodes.size(); ++c) {
+    const ContactNode& node = nodes[c];
+    int free_axes[3], slots[3], num_free = 0;
     for (int a = 0; a < dim; ++a) {
       const int dof = node.dofs[a];
-      if (dof < -1 || dof >= n_)
+      if (dof < -1 || dof >= n)
         throw std::invalid_argument(who + NodeName(c, node) + ": dof " + std::to_string(dof) +
                                     " of component " + std::to_string(a) +
-                                    " is neither a free dof in [0, " + std::to_string(n_) +
+                                    " is neither a free dof in [0, " + std::to_string(n) +
                                     ") nor -1 (constrained)");
       if (dof < 0) continue;
       if (owner[static_cast<size_t>(dof)] >= 0)
         throw std::invalid_argument(who + NodeName(c, node) + ": dof " + std::to_string(dof) +
                                     " is shared with another contact node or component");
       owner[static_cast<size_t>(dof)] = static_cast<int>(c);
-      free_axes[L.num_free] = a;
-      L.slot[L.num_free++] = dof;
+      free_axes[num_free] = a;
+      slots[num_free++] = dof;
     }
-    if (L.num_free == 0)
+    if (num_free == 0)
       throw std::invalid_argument(who + NodeName(c, node) + ": all components are constrained");
-    L.tangent_dim = L.num_free - 1;
     const Eigen::Vector3d frame[3] = {node.normal, node.tangent1, node.tangent2};
-    for (int a = 0; a < L.num_free; ++a) {
+    for (int a = 0; a < num_free; ++a) {
       if (std::abs(frame[a].norm() - 1.0) > 1e-12)
         throw std::invalid_argument(who + NodeName(c, node) + ": frame vector " +
                                     std::to_string(a) + " is not a unit vector");
@@ -96,7 +91,7 @@ ContactSystem::ContactSystem(int dim, const Eigen::SparseMatrix<double>& S,
         if (std::abs(frame[a].dot(frame[b])) > 1e-12)
           throw std::invalid_argument(who + NodeName(c, node) + ": frame is not orthogonal");
       for (int axis = 0; axis < 3; ++axis) {
-        const bool is_free = std::find(free_axes, free_axes + L.num_free, axis) != free_axes + L.num_free;
+        const bool is_free = std::find(free_axes, free_axes + num_free, axis) != free_axes + num_free;
         if (!is_free && std::abs(frame[a](axis)) > 1e-12)
           throw std::invalid_argument(
               who + NodeName(c, node) + ": frame vector " + std::to_string(a) +
@@ -104,17 +99,51 @@ ContactSystem::ContactSystem(int dim, const Eigen::SparseMatrix<double>& S,
               (axis < dim ? ", which is constrained (the normal must lie in the free directions)"
                           : " in 2D"));
       }
-      for (int b = 0; b < L.num_free; ++b) rotation.emplace_back(L.slot[a], L.slot[b], frame[a](free_axes[b]));
+      local[static_cast<size_t>(slots[a])] = a;
+      for (int b = 0; b < num_free; ++b) rotation.emplace_back(slots[a], slots[b], frame[a](free_axes[b]));
     }
     if (!std::isfinite(node.gap))
       throw std::invalid_argument(who + NodeName(c, node) + ": gap is not finite");
   }
-  for (int i = 0; i < n_; ++i)
-    if (owner[static_cast<size_t>(i)] < 0) rotation.emplace_back(i, i, 1.0);
-  Eigen::SparseMatrix<double> R(n_, n_);
-  R.setFromTriplets(rotation.begin(), rotation.end());
-  rotation_ = R;
-  S_local_ = R * S * R.transpose();
+  RestrictionMaps maps;
+  std::vector<Triplet> x, y, z;
+  for (int i = 0; i < n; ++i) {
+    const int a = local[static_cast<size_t>(i)];
+    if (owner[static_cast<size_t>(i)] < 0) {
+      rotation.emplace_back(i, i, 1.0);
+      x.emplace_back(static_cast<int>(x.size()), i, 1.0);
+    } else if (a == 0) {
+      y.emplace_back(owner[static_cast<size_t>(i)], i, 1.0);
+    } else {
+      z.emplace_back(static_cast<int>(z.size()), i, 1.0);
+    }
+  }
+  maps.R.resize(n, n);
+  maps.R.setFromTriplets(rotation.begin(), rotation.end());
+  maps.X.resize(static_cast<Eigen::Index>(x.size()), n);
+  maps.X.setFromTriplets(x.begin(), x.end());
+  maps.Y.resize(static_cast<Eigen::Index>(nodes.size()), n);
+  maps.Y.setFromTriplets(y.begin(), y.end());
+  maps.Z.resize(static_cast<Eigen::Index>(z.size()), n);
+  maps.Z.setFromTriplets(z.begin(), z.end());
+  return maps;
+}
+
+ContactSystem::ContactSystem(int dim, const Eigen::SparseMatrix<double>& S,
+                             std::vector<ContactNode> nodes)
+    : dim_(dim), n_(static_cast<int>(S.rows())), nodes_(std::move(nodes)) {
+  if (S.rows() != S.cols())
+    throw std::invalid_argument("contact::ContactSystem: S must be square, got " +
+                                std::to_string(S.rows()) + " x " + std::to_string(S.cols()));
+  rotation_ = MakeRestrictionMaps(dim, n_, nodes_).R;  // validates the nodes
+  layout_.resize(nodes_.size());
+  for (size_t c = 0; c < nodes_.size(); ++c) {
+    Layout& L = layout_[c];
+    for (int a = 0; a < dim; ++a)
+      if (nodes_[c].dofs[a] >= 0) L.slot[L.num_free++] = nodes_[c].dofs[a];
+    L.tangent_dim = L.num_free - 1;
+  }
+  S_local_ = rotation_ * S * rotation_.transpose();
   y_.resize(n_);
   r_.resize(n_);
   Update(Eigen::VectorXd::Zero(n_), Eigen::VectorXd::Zero(n_), Eigen::VectorXd());

@@ -194,6 +194,34 @@ TEST_CASE("Nodes with constrained components: Jacobian and a hand solution", "[c
   CHECK_THAT(r.tangent_force.col(0).norm(), Catch::Matchers::WithinAbs(2.0, 1e-9));
 }
 
+TEST_CASE("Restriction maps X, Y, Z and the rotation R (eq. 55)", "[contact]") {
+  // 3D: node 0 all free, node 1 with z constrained, 9 free dofs of which 5 are contact dofs.
+  std::vector<ContactNode> nodes(2);
+  nodes[0].dofs[0] = 1, nodes[0].dofs[1] = 2, nodes[0].dofs[2] = 3;
+  nodes[0].normal = Eigen::Vector3d(0.3, -0.9, 0.2).normalized();
+  nodes[1].dofs[0] = 6, nodes[1].dofs[1] = 7, nodes[1].dofs[2] = -1;
+  nodes[1].normal = Eigen::Vector3d(0.6, -0.8, 0.0);
+  for (ContactNode& node : nodes) CompleteContactFrame(3, &node);
+  const contact::RestrictionMaps m = contact::MakeRestrictionMaps(3, 9, nodes);
+  CHECK(m.X.rows() == 4);
+  CHECK(m.Y.rows() == 2);
+  CHECK(m.Z.rows() == 3);
+  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(9, 9);
+  CHECK((Eigen::MatrixXd(m.R * Eigen::SparseMatrix<double>(m.R.transpose())) - I).cwiseAbs().maxCoeff() < 1e-14);
+  const Eigen::MatrixXd partition = Eigen::MatrixXd(Eigen::SparseMatrix<double>(m.X.transpose()) * m.X) +
+                                    Eigen::MatrixXd(Eigen::SparseMatrix<double>(m.Y.transpose()) * m.Y) +
+                                    Eigen::MatrixXd(Eigen::SparseMatrix<double>(m.Z.transpose()) * m.Z);
+  CHECK((partition - I).cwiseAbs().maxCoeff() == 0.0);
+  // Y R x is the normal displacement n . x_c of each node.
+  const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(9, 0.1, 0.9);
+  const Eigen::VectorXd normal_part = m.Y * (m.R * x);
+  CHECK_THAT(normal_part(0), Catch::Matchers::WithinAbs(nodes[0].normal.dot(Eigen::Vector3d(x(1), x(2), x(3))), 1e-15));
+  CHECK_THAT(normal_part(1), Catch::Matchers::WithinAbs(nodes[1].normal.dot(Eigen::Vector3d(x(6), x(7), 0.0)), 1e-15));
+  // The free tangent of node 1 avoids the constrained axis: Z picks t1 . x_c.
+  const Eigen::VectorXd tangential = m.Z * (m.R * x);
+  CHECK_THAT(tangential(2), Catch::Matchers::WithinAbs(nodes[1].tangent1.dot(Eigen::Vector3d(x(6), x(7), 0.0)), 1e-15));
+}
+
 TEST_CASE("ContactSystem rejects bad input with a message", "[contact][errors]") {
   Eigen::SparseMatrix<double> S(2, 2);
   S.insert(0, 0) = 1.0;

@@ -65,6 +65,20 @@ struct ContactNode {
   double area = 0.0;  ///< tributary length (2D, per unit thickness: times thickness) or area [m^2]
 };
 
+/// The rotation and the restriction maps of thesis eq. (55) on the free dofs. R rotates the
+/// free components of every contact node into its frame (normal first, then the free
+/// tangents), identity elsewhere; the local components y = R x split into
+///   Y y: the normal component of each contact node (one row per node, in node order),
+///   Z y: the tangential components (one row per free tangent),
+///   X y: all other dofs,
+/// so X'X + Y'Y + Z'Z = I and R is orthogonal. Throws std::invalid_argument naming the node
+/// for an invalid dof, a shared dof, a non-orthonormal frame, a normal along a constrained
+/// axis, or a non-finite gap.
+struct RestrictionMaps {
+  Eigen::SparseMatrix<double> R, X, Y, Z;
+};
+RestrictionMaps MakeRestrictionMaps(int dim, int num_free_dofs, const std::vector<ContactNode>& nodes);
+
 /// ncp::Options defaults for contact solves: min_tie_takes_b = true (the pair is
 /// (reaction, gap); at a tie the node is treated as closed).
 ncp::Options ContactNcpOptions();
