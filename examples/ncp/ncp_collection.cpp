@@ -1,5 +1,5 @@
 // ncp-collection: runs every problem of the standard collection from every standard
-// start point with the Fischer-Burmeister and the min function, and prints one line each.
+// start point with the Fischer-Burmeister, min and penalized FB functions, and prints one line each.
 // The last column is the natural residual ||x - mid(l, u, x - F(x))||_inf recomputed
 // here from the problem data, independently of the solver's own Summary.
 //
@@ -31,7 +31,8 @@ int main(int argc, char** argv) {
   }
   int runs = 0, converged = 0, false_claims = 0, expected = 0;
   for (ncp::collection::TestProblem& p : problems) {
-    for (NcpFunction function : {NcpFunction::kFischerBurmeister, NcpFunction::kMin}) {
+    for (NcpFunction function : {NcpFunction::kFischerBurmeister, NcpFunction::kMin,
+                                  NcpFunction::kPenalizedFischerBurmeister}) {
       for (const ncp::collection::StartPoint& start : p.starts) {
         ncp::Options options;
         options.ncp_function = function;
