@@ -177,7 +177,6 @@ void ContactSystem::Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
                                   ": Tresca bound must be finite and >= 0, got " + std::to_string(g));
     row_kind_[static_cast<size_t>(L.slot[0])] = 1;
     L.friction = L.extra = L.unit_row = -1;
-    L.bound = g;
     if (g > 0.0 && L.tangent_dim > 0) {
       L.friction = num_friction_++;
       L.extra = extra;
@@ -187,6 +186,12 @@ void ContactSystem::Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
     }
   }
   num_variables_ = extra;
+  // One force scale for the scaled direction unknowns w = kappa t of all nodes.
+  direction_scale_ = 0.0;
+  for (size_t c = 0; c < layout_.size(); ++c)
+    if (layout_[c].friction >= 0 && layout_[c].tangent_dim == 2)
+      direction_scale_ = std::max(direction_scale_, bound_(static_cast<Eigen::Index>(c)));
+  if (!(direction_scale_ > 0.0)) direction_scale_ = 1.0;
   equation_dofs_.clear();
   equation_row_.assign(static_cast<size_t>(n_), -1);
   for (int i = 0; i < n_; ++i) {
@@ -216,7 +221,7 @@ void ContactSystem::LocalDisplacement(const ncp::Vector& z, Eigen::VectorXd* y) 
       (*y)(L.slot[1]) = z(L.slot[1]) - z(L.extra);  // y_t = du+ - du-   (eq. 89)
     } else {
       // y_T = (du+ - du-) (t1, t2) (eq. 67), with the direction stored as w = g_c t.
-      const double slip_per_bound = (z(L.slot[1]) - z(L.slot[2])) / L.bound;
+      const double slip_per_bound = (z(L.slot[1]) - z(L.slot[2])) / direction_scale_;
       (*y)(L.slot[1]) = slip_per_bound * z(L.extra + 1);
       (*y)(L.slot[2]) = slip_per_bound * z(L.extra + 2);
     }
@@ -249,10 +254,11 @@ bool ContactSystem::Evaluate(const ncp::Vector& z, ncp::Vector* E, ncp::Vector* 
       (*A)(pair) = z(L.extra);              // (du-, g - tau)         (eq. 90, fifth row)
       (*B)(pair++) = g - tau;
     } else {
-      const double gt = z(L.extra), t1 = z(L.extra + 1) / g, t2 = z(L.extra + 2) / g;
+      const double gt = z(L.extra), t1 = z(L.extra + 1) / direction_scale_,
+                   t2 = z(L.extra + 2) / direction_scale_;
       (*E)(EquationRow(L.slot[1])) -= gt * t1;  // r_T = g (t1, t2)     (eq. 94, 66)
       (*E)(EquationRow(L.slot[2])) -= gt * t2;
-      (*E)(L.unit_row) = g * (t1 * t1 + t2 * t2 - 1.0);  // eq. (59), times g_c: force units
+      (*E)(L.unit_row) = direction_scale_ * (t1 * t1 + t2 * t2 - 1.0);  // eq. (59), force units
       (*A)(pair) = z(L.slot[1]);
       (*B)(pair++) = gt + g;
       (*A)(pair) = z(L.slot[2]);
@@ -274,7 +280,7 @@ bool ContactSystem::Jacobian(const ncp::Vector& z, ncp::SparseMatrix* JE, ncp::S
       td_.emplace_back(L.slot[1], L.slot[1], 1.0);
       td_.emplace_back(L.slot[1], L.extra, -1.0);
     } else {
-      const double g = L.bound;
+      const double g = direction_scale_;
       const double slip = z(L.slot[1]) - z(L.slot[2]);
       for (int a = 1; a <= 2; ++a) {
         const double t = z(L.extra + a) / g;
@@ -312,12 +318,12 @@ bool ContactSystem::Jacobian(const ncp::Vector& z, ncp::SparseMatrix* JE, ncp::S
       tb_.emplace_back(pair++, tau, -1.0);
     } else {
       const int gv = L.extra;
-      const double gt = z(gv), g = bound_(static_cast<Eigen::Index>(c));
+      const double gt = z(gv), g = direction_scale_;
       for (int a = 1; a <= 2; ++a) {
         const int row = static_cast<int>(EquationRow(L.slot[a]));
-        te_.emplace_back(row, gv, -z(gv + a) / g);  // d(-gt w_a / g_c) / d gt
-        te_.emplace_back(row, gv + a, -gt / g);     // d(-gt w_a / g_c) / d w_a
-        te_.emplace_back(L.unit_row, gv + a, 2.0 * z(gv + a) / g);  // d((w.w)/g_c - g_c)/dw_a
+        te_.emplace_back(row, gv, -z(gv + a) / g);  // d(-gt w_a / kappa) / d gt
+        te_.emplace_back(row, gv + a, -gt / g);     // d(-gt w_a / kappa) / d w_a
+        te_.emplace_back(L.unit_row, gv + a, 2.0 * z(gv + a) / g);  // d((w.w)/kappa - kappa)/dw_a
       }
       ta_.emplace_back(pair, L.slot[1], 1.0);
       tb_.emplace_back(pair++, gv, 1.0);
@@ -377,8 +383,8 @@ ncp::Vector ContactSystem::StartPoint(const Eigen::VectorXd& x_guess,
     z(L.slot[1]) = std::max(s, 0.0);
     z(L.slot[2]) = std::max(-s, 0.0);
     z(L.extra) = magnitude;
-    z(L.extra + 1) = g * t(0);
-    z(L.extra + 2) = g * t(1);
+    z(L.extra + 1) = direction_scale_ * t(0);
+    z(L.extra + 2) = direction_scale_ * t(1);
   }
   return z;
 }

@@ -1,11 +1,14 @@
 #include "contact/dynamics.hpp"
 
+#include <Eigen/Cholesky>
+#include <Eigen/CholmodSupport>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 
 #include "contact/convex_qp.hpp"
@@ -33,7 +36,89 @@ ncp::NcpFunction FunctionOf(StepSolver s) {
   }
 }
 
+// Exact elimination of the non-contact dofs from one step (StepMethod::kCondensed).
+// With H selecting the contact dofs (global components), the step equation
+//     S du + q = H' F          (F: contact force components at the contact dofs)
+// gives du = S^-1 (H' F - q) and, on the contact dofs, x_c = H du = W F - H S^-1 q with the
+// Delassus operator W = H S^-1 H'. Hence F = W^-1 x_c + W^-1 H S^-1 q: a ContactSystem over
+// the contact dofs with S_c = W^-1 and q_c = W^-1 H S^-1 q, whose solution is the same as
+// that of the full system. W is formed once from n_c solves with the Cholesky factor of S.
+class CondensedStep {
+ public:
+  CondensedStep(int dim, const Eigen::SparseMatrix<double>& S, const std::vector<ContactNode>& nodes)
+      : n_(S.rows()) {
+    factor_.compute(S);
+    if (factor_.info() != Eigen::Success)
+      throw std::invalid_argument("contact::RunDynamics: the mass matrix is not positive definite "
+                                  "(Cholesky failed), the condensed step needs it");
+    // Contact dofs, and the nodes renumbered onto them.
+    std::vector<ContactNode> condensed = nodes;
+    for (ContactNode& node : condensed)
+      for (int a = 0; a < dim; ++a) {
+        if (node.dofs[a] < 0) continue;
+        const int position = static_cast<int>(contact_dofs_.size());
+        contact_dofs_.push_back(node.dofs[a]);
+        node.dofs[a] = position;
+      }
+    const auto nc = static_cast<Eigen::Index>(contact_dofs_.size());
+    Eigen::MatrixXd W(nc, nc);
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(n_), column(n_);
+    for (Eigen::Index j = 0; j < nc; ++j) {
+      e(contact_dofs_[static_cast<size_t>(j)]) = 1.0;
+      column = factor_.solve(e);
+      e(contact_dofs_[static_cast<size_t>(j)]) = 0.0;
+      for (Eigen::Index i = 0; i < nc; ++i) W(i, j) = column(contact_dofs_[static_cast<size_t>(i)]);
+    }
+    W = 0.5 * (W + W.transpose());
+    const Eigen::LLT<Eigen::MatrixXd> llt(W);
+    if (llt.info() != Eigen::Success)
+      throw std::invalid_argument("contact::RunDynamics: the Delassus operator H M^-1 H' is not "
+                                  "positive definite; use the full step");
+    inverse_delassus_ = llt.solve(Eigen::MatrixXd::Identity(nc, nc));
+    system_ = std::make_unique<ContactSystem>(dim, inverse_delassus_.sparseView(0.0, 0.0), condensed);
+    w_.resize(n_);
+    rhs_.resize(n_);
+  }
+
+  ContactSystem& system() { return *system_; }
+
+  /// x_c = H x.
+  Eigen::VectorXd Restrict(const Eigen::VectorXd& x) const {
+    Eigen::VectorXd out(static_cast<Eigen::Index>(contact_dofs_.size()));
+    for (size_t i = 0; i < contact_dofs_.size(); ++i) out(static_cast<Eigen::Index>(i)) = x(contact_dofs_[i]);
+    return out;
+  }
+
+  /// Data of one step: q and u0 on all free dofs.
+  void Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0, const Eigen::VectorXd& bound) {
+    w_ = factor_.solve(q);  // S^-1 q
+    q_ = &q;
+    q_c_ = inverse_delassus_ * Restrict(w_);
+    system_->Update(q_c_, Restrict(u0), bound);
+  }
+
+  /// The full result from the condensed one: du = S^-1 (H' F - q), F = S_c x_c + q_c.
+  ContactSystem::Result Expand(ContactSystem::Result condensed) {
+    const Eigen::VectorXd F = inverse_delassus_ * condensed.x + q_c_;
+    rhs_ = -*q_;
+    for (size_t i = 0; i < contact_dofs_.size(); ++i) rhs_(contact_dofs_[i]) += F(static_cast<Eigen::Index>(i));
+    condensed.x = factor_.solve(rhs_);
+    return condensed;
+  }
+
+ private:
+  Eigen::Index n_;
+  Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>> factor_;
+  std::vector<int> contact_dofs_;
+  Eigen::MatrixXd inverse_delassus_;
+  std::unique_ptr<ContactSystem> system_;
+  Eigen::VectorXd w_, rhs_, q_c_;
+  const Eigen::VectorXd* q_ = nullptr;
+};
+
 }  // namespace
+
+const char* ToString(StepMethod m) { return m == StepMethod::kFull ? "full" : "condensed"; }
 
 const char* ToString(StepSolver s) {
   switch (s) {
@@ -173,6 +258,9 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
   const double force_scale = m_max / (dt * dt);  // system units -> newtons
   const Eigen::SparseMatrix<double> S = model.M / m_max;
   ContactSystem system(model.dim, S, model.contact_nodes);
+  std::unique_ptr<CondensedStep> condensed;
+  if (options.step_method == StepMethod::kCondensed && options.solver != StepSolver::kIpopt)
+    condensed = std::make_unique<CondensedStep>(model.dim, S, model.contact_nodes);
   ncp::Options ncp_options = options.ncp;
   ncp_options.ncp_function = FunctionOf(options.solver);
   ncp::Solver solver(ncp_options);
@@ -223,7 +311,8 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       bound = options.friction_coefficient * lambda_physical.cwiseMax(0.0) / force_scale;
     else
       bound.resize(0);
-    system.Update(q, u, bound);
+    if (condensed) condensed->Update(q, u, bound);
+    else system.Update(q, u, bound);
 
     StepRecord rec;
     rec.step = static_cast<int>(k + 1);
@@ -246,15 +335,16 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       contact = system.Extract(system.StartPoint(qp.x));
       contact.normal_force = qp.multipliers;
     } else {
-      ncp::Vector z = system.StartPoint(du, friction_previous);
+      ContactSystem& step_system = condensed ? condensed->system() : system;
+      ncp::Vector z = step_system.StartPoint(condensed ? condensed->Restrict(du) : du, friction_previous);
       ncp::Summary s;
-      solver.Solve(system, &z, &s);
+      solver.Solve(step_system, &z, &s);
       ok = s.IsSolutionUsable();
       rec.solver_status = ok ? "converged" : s.message;
       rec.newton_iterations = s.iterations;
       rec.jacobian_evaluations = s.jacobian_evaluations;
       rec.residual_evaluations = s.residual_evaluations;
-      contact = system.Extract(z);
+      contact = condensed ? condensed->Expand(step_system.Extract(z)) : step_system.Extract(z);
       if (ok && options.compare_with_ipopt) {
         const ConvexQpResult qp = solve_qp();
         rec.ipopt_relative_difference =

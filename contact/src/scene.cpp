@@ -358,6 +358,9 @@ Scene LoadScene(const std::string& path) {
                                  : ls == "sparse-lu" ? ncp::LinearSolverType::kSparseLU
                                  : ls == "umfpack" ? ncp::LinearSolverType::kUmfpack
                                  : ls == "klu" ? ncp::LinearSolverType::kKlu : ncp::LinearSolverType::kAuto;
+  s.dynamics.step_method = v.Choice("step", {"full", "condensed"}, "full") == "condensed"
+                               ? StepMethod::kCondensed
+                               : StepMethod::kFull;
   s.dynamics.compare_with_ipopt = v.Boolean("compare_with_ipopt", false);
   if (s.dynamics.compare_with_ipopt && s.friction_coefficient > 0)
     v.Fail("compare_with_ipopt", "needs a frictionless scene");

@@ -1,6 +1,6 @@
 // contact-sim: runs a dynamic contact scene file and reports what it did.
 //
-//   contact-sim SCENE.toml [--json] [--solver fb|min|penalized-fb|ipopt] [--dt S]
+//   contact-sim SCENE.toml [--json] [--solver fb|min|penalized-fb|ipopt] [--step full|condensed] [--dt S]
 //                          [--friction F] [--end-time S] [--output DIR] [--quiet]
 #include <cxxopts.hpp>
 #include <cstdio>
@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   cli.add_options()("scene", "scene file (TOML)", cxxopts::value<std::string>())(
       "json", "print one JSON summary object on stdout")(
       "solver", "override solver.method: fb, min, penalized-fb, ipopt", cxxopts::value<std::string>())(
+      "step", "override solver.step: full, condensed", cxxopts::value<std::string>())(
       "dt", "override time.dt [s]", cxxopts::value<double>())(
       "end-time", "override time.end_time [s]", cxxopts::value<double>())(
       "friction", "override friction.coefficient", cxxopts::value<double>())(
@@ -41,6 +42,12 @@ int main(int argc, char** argv) {
       else if (s == "penalized-fb") scene.dynamics.solver = contact::StepSolver::kPenalizedFischerBurmeister;
       else if (s == "ipopt") scene.dynamics.solver = contact::StepSolver::kIpopt;
       else throw contact::SceneError("--solver must be fb, min, penalized-fb or ipopt, got \"" + s + "\"");
+    }
+    if (args.count("step")) {
+      const std::string m = args["step"].as<std::string>();
+      if (m != "full" && m != "condensed")
+        throw contact::SceneError("--step must be full or condensed, got \"" + m + "\"");
+      scene.dynamics.step_method = m == "full" ? contact::StepMethod::kFull : contact::StepMethod::kCondensed;
     }
     if (args.count("dt")) scene.dynamics.dt = args["dt"].as<double>();
     if (args.count("end-time")) scene.dynamics.end_time = args["end-time"].as<double>();
@@ -88,6 +95,7 @@ int main(int argc, char** argv) {
     j["dt_crit"] = s.critical_time_step;
     j["friction_coefficient"] = scene.friction_coefficient;
     j["solver"] = contact::ToString(scene.dynamics.solver);
+    j["step_method"] = contact::ToString(scene.dynamics.step_method);
     j["tolerance"] = scene.dynamics.ncp.tolerance;
     j["dofs"] = r.num_dofs;
     j["free_dofs"] = r.num_free_dofs;

@@ -110,3 +110,44 @@ TEST_CASE("Friction coefficient 0 reproduces the frictionless run", "[scene][dyn
   for (const auto& [key, v] : frictionless) difference = std::max(difference, std::abs(with_friction.at(key)(0) - v(0)));
   CHECK(difference > 1e-7);
 }
+
+TEST_CASE("The condensed step follows the full thesis system on the thesis scenes",
+          "[scene][dynamics][condensed]") {
+  // Four variants: 2D and 3D, frictionless and with friction (thesis section 6 scenes,
+  // shortened). Both step methods solve the same complementarity problem, the condensed one
+  // after eliminating the non-contact dofs exactly; with a tight tolerance the trajectories
+  // agree to round-off.
+  struct Case {
+    const char* file;
+    double friction, end_time, tolerance;  // tolerance [m]: ~1e-11 of the displacements
+  };
+  const Case c = GENERATE(Case{"friction_2d_curved.toml", 0.0, 0.1, 1e-14},
+                          Case{"friction_2d_flat.toml", 0.5, 0.1, 1e-14},
+                          Case{"frictionless_3d.toml", 0.0, 0.01, 1e-14},
+                          Case{"friction_3d.toml", 0.5, 0.025, 1e-17});
+  CAPTURE(c.file, c.friction);
+  Scene scene = LoadScene(std::string(NCP_SOURCE_DIR) + "/examples/thesis/" + c.file);
+  scene.friction_coefficient = c.friction;
+  scene.dynamics.end_time = c.end_time;
+  scene.dynamics.dt = std::max(scene.dynamics.dt, c.end_time / 100);
+  scene.dynamics.ncp.tolerance = c.tolerance;
+  std::vector<Eigen::VectorXd> trajectory[2];
+  for (int method = 0; method < 2; ++method) {
+    scene.dynamics.step_method = method == 0 ? StepMethod::kFull : StepMethod::kCondensed;
+    SceneModel built = BuildSceneModel(scene);
+    built.options.on_step = [&](const StepRecord&, const Eigen::VectorXd& u, const ContactSystem::Result&,
+                                double) { trajectory[method].push_back(u); };
+    const DynamicSummary s = RunDynamics(built.model, built.options);
+    INFO(s.message);
+    REQUIRE(s.status == DynamicStatus::kCompleted);
+  }
+  REQUIRE(trajectory[0].size() == trajectory[1].size());
+  double scale = 0.0, difference = 0.0;
+  for (size_t k = 0; k < trajectory[0].size(); ++k) {
+    scale = std::max(scale, trajectory[0][k].lpNorm<Eigen::Infinity>());
+    difference = std::max(difference, (trajectory[0][k] - trajectory[1][k]).lpNorm<Eigen::Infinity>());
+  }
+  INFO("scale " << scale << " m, difference " << difference << " m");
+  CHECK(scale > 0.0);
+  CHECK(difference <= 1e-9 * scale);
+}

@@ -31,9 +31,10 @@
 ///       and two unknowns (du-, tau) are appended, with y_t = du+ - du- (eq. 89);
 ///   two free tangents (3D): the two tangential slots hold du+, du- and (g, w1, w2) are
 ///       appended, with y_T = (du+ - du-) (t1, t2), friction force tau = g (t1, t2),
-///       t1^2 + t2^2 = 1 (eq. 59, 66, 67). The direction is stored scaled, w = g_c t, and
-///       the unit row as g_c (t1^2 + t2^2 - 1), so that every unknown and row is in the
-///       force or displacement units of the system. Unscaled (t of order 1 beside
+///       t1^2 + t2^2 = 1 (eq. 59, 66, 67). The direction is stored scaled, w = kappa t with
+///       kappa = max_c g_c, and the unit row as kappa (t1^2 + t2^2 - 1), so that every
+///       unknown and row is in the force or displacement units of the system (a per-node
+///       g_c would blow up at nodes that barely touch). Unscaled (t of order 1 beside
 ///       increments of order 1e-6), DFK's descent test grad psi' d <= -rho |d|^p with
 ///       rho = 1e-8 rejects nearly every Newton direction that turns t, and the method
 ///       crawls along gradient steps - a likely cause of the thesis's Jacobian counts.
@@ -138,7 +139,6 @@ class ContactSystem final : public ncp::MixedProblem {
     int friction = -1;         ///< friction node index k, or -1 (g_c = 0 or no tangent)
     int extra = -1;            ///< first appended unknown (1 tangent: du-, tau; 2: g, t1, t2)
     int unit_row = -1;         ///< row of t1^2 + t2^2 - 1 (2 tangents)
-    double bound = 0.0;        ///< g_c, the Tresca bound of this solve
   };
 
   /// y = local components of x from the unknowns z.
@@ -152,6 +152,7 @@ class ContactSystem final : public ncp::MixedProblem {
   std::vector<ContactNode> nodes_;
   std::vector<Layout> layout_;
   Eigen::VectorXd bound_;  // g_c
+  double direction_scale_ = 1.0;  // kappa = max_c g_c: 3D directions are stored as w = kappa t
 
   // Bookkeeping.
   std::vector<int> row_kind_;        // per local dof: 0 plain, 1 normal, 2 friction tangential

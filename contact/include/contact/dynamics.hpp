@@ -59,6 +59,16 @@ struct DynamicModel {
   std::vector<ContactNode> contact_nodes;
 };
 
+/// How each step's complementarity system is posed.
+enum class StepMethod {
+  kFull,       ///< over all free dofs, as the thesis (eq. 82, 90, 94)
+  kCondensed,  ///< over the contact dofs only: the non-contact dofs are eliminated exactly
+               ///< with a Cholesky factor of M (CHOLMOD, once); the contact system uses the
+               ///< inverse of the Delassus operator W = H M~^-1 H' (dense, contact dofs), and
+               ///< u is recovered by one more solve per step. Same solution as kFull.
+};
+const char* ToString(StepMethod m);
+
 enum class InitialState {
   kStaticEquilibrium,  ///< u^0 = static frictionless contact equilibrium for f(t0), v = 0,
                        ///< u^{-1} = u^0 (thesis section 4.3)
@@ -93,6 +103,7 @@ struct DynamicOptions {
   double end_time = 0.0;    ///< run until t >= end_time (within dt/1000) [s]
   double friction_coefficient = 0.0;  ///< f_c (0 = frictionless)
   StepSolver solver = StepSolver::kFischerBurmeister;
+  StepMethod step_method = StepMethod::kFull;
   /// Semismooth Newton settings. The scaled equations are displacements, so `tolerance`
   /// is in metres. Default min tie: a touching node counts as closed (see ncp::Options).
   ncp::Options ncp = ContactNcpOptions();
