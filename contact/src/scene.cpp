@@ -358,7 +358,7 @@ Scene LoadScene(const std::string& path) {
                                  : ls == "sparse-lu" ? ncp::LinearSolverType::kSparseLU
                                  : ls == "umfpack" ? ncp::LinearSolverType::kUmfpack
                                  : ls == "klu" ? ncp::LinearSolverType::kKlu : ncp::LinearSolverType::kAuto;
-  s.dynamics.step_method = v.Choice("step", {"full", "condensed"}, "full") == "condensed"
+  s.dynamics.step_method = v.Choice("step", {"full", "condensed"}, "condensed") == "condensed"
                                ? StepMethod::kCondensed
                                : StepMethod::kFull;
   s.dynamics.compare_with_ipopt = v.Boolean("compare_with_ipopt", false);

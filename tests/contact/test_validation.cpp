@@ -176,8 +176,9 @@ TEST_CASE("A block slides to rest after v0/(mu g) and v0^2/(2 mu g)", "[validati
   CHECK_THAT(track.mean_u.back()(0), Catch::Matchers::WithinRel(v0 * v0 / (2 * mu * kG), 0.005));  // 0.13%
   // The kinetic energy went into friction (1% - the ringing keeps a little).
   CHECK_THAT(track.friction_dissipation.back(), Catch::Matchers::WithinRel(0.5 * track.mass * v0 * v0, 0.01));
-  // At rest at the end, on the floor.
-  CHECK(std::abs(track.mean_u.back()(1)) < 1e-6);
+  // At rest at the end, on the floor: no lift-off or sinking beyond the elastic compression
+  // under the block's weight (rho g h^2 / (2E) = 1.9e-6 m at the top) and its ringing.
+  CHECK(std::abs(track.mean_u.back()(1)) < 5e-6);
 }
 
 TEST_CASE("A block on an incline sticks for tan(theta) <= mu, else slides at g (sin - mu cos)",

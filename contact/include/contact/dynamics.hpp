@@ -103,7 +103,7 @@ struct DynamicOptions {
   double end_time = 0.0;    ///< run until t >= end_time (within dt/1000) [s]
   double friction_coefficient = 0.0;  ///< f_c (0 = frictionless)
   StepSolver solver = StepSolver::kFischerBurmeister;
-  StepMethod step_method = StepMethod::kFull;
+  StepMethod step_method = StepMethod::kCondensed;  ///< kFull for the thesis formulation
   /// Semismooth Newton settings. The scaled equations are displacements, so `tolerance`
   /// is in metres. Default min tie: a touching node counts as closed (see ncp::Options).
   ncp::Options ncp = ContactNcpOptions();
@@ -119,7 +119,7 @@ struct DynamicOptions {
   /// Refuse dt > dt_crit unless this is set.
   bool allow_unstable_time_step = false;
   /// Stop with kEnergyBlowUp when kinetic + strain energy exceeds this factor times
-  /// (their initial value + sum of |external work increments| + 1e-30). (The shadow
+  /// (their initial value + sum of |external work increments|), once that is > 0. (The shadow
   /// energy of the balance stays bounded even in an unstable run, so it is not used.)
   double energy_blowup_factor = 100.0;
   /// Called after every step with the record and the state (u^{k+1}, contact result).
