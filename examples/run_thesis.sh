@@ -23,6 +23,8 @@ mkdir -p "$FIG"
 
 demo=0
 [ "${1:-}" = "--demo" ] && demo=1
+# Step method: condensed (default) or full (the thesis formulation over all dofs).
+STEP=${STEP:-condensed}
 
 # variant  scene  contact-sim options
 all_variants=(
@@ -52,7 +54,7 @@ for v in "${variants[@]}"; do
   mkdir -p "$OUT/$name"
   # Exit code 1 (the run stopped: refused time step, solver failure) is a result too.
   # shellcheck disable=SC2086
-  "$SIM" "$S/$scene" --json --quiet --output "$OUT/$name" $options >"$OUT/$name/run.json" \
+  "$SIM" "$S/$scene" --json --quiet --step "$STEP" --output "$OUT/$name" $options >"$OUT/$name/run.json" \
     2>"$OUT/$name/summary.txt"
   echo "$name: exit code $?, $(head -1 "$OUT/$name/summary.txt")"
 done
