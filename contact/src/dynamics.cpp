@@ -116,9 +116,107 @@ class CondensedStep {
   const Eigen::VectorXd* q_ = nullptr;
 };
 
+// The step with a diagonal S (StepMethod::kExplicit). Node by node, in the local frame of
+// its free components (S restricted to a node is m I, so the rotation keeps it diagonal):
+//   m y + q = F,  F = (-lambda, tau):
+//   normal:  y_n = -q_n / m predicted; if it would close past the obstacle
+//            (s - u0_n - y_n < 0) then y_n = s - u0_n and lambda = -(m y_n + q_n) >= 0;
+//   tangent: stick (y_T = 0, tau = q_T) if |q_T| <= g, else slide with tau = g q_T / |q_T|
+//            and y_T = (tau - q_T) / m - the return map onto the friction disc.
+// Non-contact dofs: y = -q / m. The result is the exact solution of the step system.
+class ExplicitStep {
+ public:
+  ExplicitStep(int dim, const Eigen::SparseMatrix<double>& S, const std::vector<ContactNode>& nodes)
+      : dim_(dim), nodes_(nodes), diagonal_(S.rows()) {
+    for (Eigen::Index i = 0; i < S.rows(); ++i) diagonal_(i) = S.coeff(i, i);
+    if (std::abs(S.sum() - diagonal_.sum()) > 1e-12 * std::abs(diagonal_.sum()) ||
+        S.nonZeros() != S.rows())
+      throw std::invalid_argument("contact::RunDynamics: the explicit step needs a lumped "
+                                  "(diagonal) mass matrix; use mass = \"lumped\" or another step");
+    for (const ContactNode& node : nodes_) {
+      double m = -1.0;
+      for (int a = 0; a < dim_; ++a) {
+        if (node.dofs[a] < 0) continue;
+        if (m >= 0.0 && std::abs(diagonal_(node.dofs[a]) - m) > 1e-12 * m)
+          throw std::invalid_argument("contact::RunDynamics: the explicit step needs the same "
+                                      "lumped mass in every component of contact node " +
+                                      std::to_string(node.node));
+        m = diagonal_(node.dofs[a]);
+      }
+    }
+  }
+
+  /// du and the contact result, in system units, for S du + q = F with bounds g.
+  ContactSystem::Result Solve(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
+                              const Eigen::VectorXd& bound) const {
+    const auto N = static_cast<Eigen::Index>(nodes_.size());
+    ContactSystem::Result out;
+    out.x = -q.cwiseQuotient(diagonal_);
+    out.normal_force.setZero(N);
+    out.gap.setZero(N);
+    out.tangent_force.setZero(dim_ - 1, N);
+    out.slip.setZero(dim_ - 1, N);
+    for (Eigen::Index c = 0; c < N; ++c) {
+      const ContactNode& node = nodes_[static_cast<size_t>(c)];
+      const Eigen::Vector3d frame[3] = {node.normal, node.tangent1, node.tangent2};
+      int slots[3] = {0, 0, 0}, axes[3] = {0, 0, 0}, num_free = 0;
+      for (int a = 0; a < dim_; ++a)
+        if (node.dofs[a] >= 0) slots[num_free] = node.dofs[a], axes[num_free++] = a;
+      const double m = diagonal_(slots[0]);
+      auto local = [&](const Eigen::VectorXd& v, int a) {
+        double sum = 0.0;
+        for (int b = 0; b < num_free; ++b) sum += frame[a](axes[b]) * v(slots[b]);
+        return sum;
+      };
+      // Normal.
+      const double qn = local(q, 0), u0n = local(u0, 0);
+      double yn = -qn / m, lambda = 0.0;
+      if (node.gap - u0n - yn < 0.0) {
+        yn = node.gap - u0n;
+        lambda = -(m * yn + qn);
+      }
+      // Tangent: the return map onto |tau| <= g.
+      const double g = bound.size() ? bound(c) : 0.0;
+      Eigen::Vector2d qt = Eigen::Vector2d::Zero(), yt = Eigen::Vector2d::Zero(), tau = Eigen::Vector2d::Zero();
+      for (int a = 1; a < num_free; ++a) qt(a - 1) = local(q, a);
+      if (g > 0.0 && qt.norm() <= g) {
+        tau = qt;  // stick: y_T = 0
+      } else {
+        tau = g > 0.0 ? Eigen::Vector2d(g * qt / qt.norm()) : Eigen::Vector2d::Zero();
+        yt = (tau - qt) / m;
+      }
+      // Back to the global components of the node.
+      for (int b = 0; b < num_free; ++b) {
+        double v = frame[0](axes[b]) * yn;
+        for (int a = 1; a < num_free; ++a) v += frame[a](axes[b]) * yt(a - 1);
+        out.x(slots[b]) = v;
+      }
+      out.normal_force(c) = lambda;
+      out.gap(c) = node.gap - u0n - yn;
+      for (int a = 1; a < num_free; ++a) {
+        out.tangent_force(a - 1, c) = tau(a - 1);
+        out.slip(a - 1, c) = yt(a - 1);
+      }
+    }
+    return out;
+  }
+
+ private:
+  int dim_;
+  std::vector<ContactNode> nodes_;
+  Eigen::VectorXd diagonal_;
+};
+
 }  // namespace
 
-const char* ToString(StepMethod m) { return m == StepMethod::kFull ? "full" : "condensed"; }
+const char* ToString(StepMethod m) {
+  switch (m) {
+    case StepMethod::kFull: return "full";
+    case StepMethod::kCondensed: return "condensed";
+    case StepMethod::kExplicit: return "explicit";
+  }
+  return "unknown";
+}
 
 const char* ToString(StepSolver s) {
   switch (s) {
@@ -259,8 +357,13 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
   const Eigen::SparseMatrix<double> S = model.M / m_max;
   ContactSystem system(model.dim, S, model.contact_nodes);
   std::unique_ptr<CondensedStep> condensed;
-  if (options.step_method == StepMethod::kCondensed && options.solver != StepSolver::kIpopt)
-    condensed = std::make_unique<CondensedStep>(model.dim, S, model.contact_nodes);
+  std::unique_ptr<ExplicitStep> explicit_step;
+  if (options.solver != StepSolver::kIpopt) {
+    if (options.step_method == StepMethod::kCondensed)
+      condensed = std::make_unique<CondensedStep>(model.dim, S, model.contact_nodes);
+    if (options.step_method == StepMethod::kExplicit)
+      explicit_step = std::make_unique<ExplicitStep>(model.dim, S, model.contact_nodes);
+  }
   ncp::Options ncp_options = options.ncp;
   ncp_options.ncp_function = FunctionOf(options.solver);
   ncp::Solver solver(ncp_options);
@@ -312,7 +415,7 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
     else
       bound.resize(0);
     if (condensed) condensed->Update(q, u, bound);
-    else system.Update(q, u, bound);
+    else if (!explicit_step) system.Update(q, u, bound);
 
     StepRecord rec;
     rec.step = static_cast<int>(k + 1);
@@ -334,6 +437,10 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       rec.newton_iterations = qp.iterations;
       contact = system.Extract(system.StartPoint(qp.x));
       contact.normal_force = qp.multipliers;
+    } else if (explicit_step) {
+      contact = explicit_step->Solve(q, u, bound);
+      ok = contact.x.allFinite();
+      rec.solver_status = ok ? "converged" : "non-finite values in the explicit step";
     } else {
       ContactSystem& step_system = condensed ? condensed->system() : system;
       ncp::Vector z = step_system.StartPoint(condensed ? condensed->Restrict(du) : du, friction_previous);

@@ -358,9 +358,12 @@ Scene LoadScene(const std::string& path) {
                                  : ls == "sparse-lu" ? ncp::LinearSolverType::kSparseLU
                                  : ls == "umfpack" ? ncp::LinearSolverType::kUmfpack
                                  : ls == "klu" ? ncp::LinearSolverType::kKlu : ncp::LinearSolverType::kAuto;
-  s.dynamics.step_method = v.Choice("step", {"full", "condensed"}, "condensed") == "condensed"
-                               ? StepMethod::kCondensed
-                               : StepMethod::kFull;
+  const std::string step = v.Choice("step", {"condensed", "full", "explicit"}, "condensed");
+  s.dynamics.step_method = step == "full"       ? StepMethod::kFull
+                           : step == "explicit" ? StepMethod::kExplicit
+                                                : StepMethod::kCondensed;
+  if (s.dynamics.step_method == StepMethod::kExplicit && s.mass != MassKind::kLumped)
+    v.Fail("step", "= \"explicit\" needs material.mass = \"lumped\"");
   s.dynamics.compare_with_ipopt = v.Boolean("compare_with_ipopt", false);
   if (s.dynamics.compare_with_ipopt && s.friction_coefficient > 0)
     v.Fail("compare_with_ipopt", "needs a frictionless scene");

@@ -1,6 +1,6 @@
 // contact-sim: runs a dynamic contact scene file and reports what it did.
 //
-//   contact-sim SCENE.toml [--json] [--solver fb|min|penalized-fb|ipopt] [--step full|condensed] [--dt S]
+//   contact-sim SCENE.toml [--json] [--solver fb|min|penalized-fb|ipopt] [--step condensed|full|explicit] [--dt S]
 //                          [--friction F] [--end-time S] [--output DIR] [--quiet]
 #include <cxxopts.hpp>
 #include <cstdio>
@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
   cli.add_options()("scene", "scene file (TOML)", cxxopts::value<std::string>())(
       "json", "print one JSON summary object on stdout")(
       "solver", "override solver.method: fb, min, penalized-fb, ipopt", cxxopts::value<std::string>())(
-      "step", "override solver.step: full, condensed", cxxopts::value<std::string>())(
+      "step", "override solver.step: condensed, full, explicit", cxxopts::value<std::string>())(
       "dt", "override time.dt [s]", cxxopts::value<double>())(
       "end-time", "override time.end_time [s]", cxxopts::value<double>())(
       "friction", "override friction.coefficient", cxxopts::value<double>())(
@@ -45,9 +45,11 @@ int main(int argc, char** argv) {
     }
     if (args.count("step")) {
       const std::string m = args["step"].as<std::string>();
-      if (m != "full" && m != "condensed")
-        throw contact::SceneError("--step must be full or condensed, got \"" + m + "\"");
-      scene.dynamics.step_method = m == "full" ? contact::StepMethod::kFull : contact::StepMethod::kCondensed;
+      if (m != "full" && m != "condensed" && m != "explicit")
+        throw contact::SceneError("--step must be condensed, full or explicit, got \"" + m + "\"");
+      scene.dynamics.step_method = m == "full"       ? contact::StepMethod::kFull
+                                   : m == "explicit" ? contact::StepMethod::kExplicit
+                                                     : contact::StepMethod::kCondensed;
     }
     if (args.count("dt")) scene.dynamics.dt = args["dt"].as<double>();
     if (args.count("end-time")) scene.dynamics.end_time = args["end-time"].as<double>();

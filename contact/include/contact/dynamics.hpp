@@ -66,6 +66,11 @@ enum class StepMethod {
                ///< with a Cholesky factor of M (CHOLMOD, once); the contact system uses the
                ///< inverse of the Delassus operator W = H M~^-1 H' (dense, contact dofs), and
                ///< u is recovered by one more solve per step. Same solution as kFull.
+  kExplicit,   ///< lumped (diagonal) mass only: every contact node decouples and its step
+               ///< is solved in closed form - the normal force closes the predicted gap,
+               ///< friction sticks if the trial force is within g_c, else is projected onto
+               ///< it (forward-increment Lagrange multipliers, Carpenter, Taylor and Katona
+               ///< 1991). Same solution as kFull for a lumped mass; no Newton iteration.
 };
 const char* ToString(StepMethod m);
 
