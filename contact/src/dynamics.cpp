@@ -76,7 +76,6 @@ class CondensedStep {
                                   "positive definite; use the full step");
     inverse_delassus_ = llt.solve(Eigen::MatrixXd::Identity(nc, nc));
     system_ = std::make_unique<ContactSystem>(dim, inverse_delassus_.sparseView(0.0, 0.0), condensed);
-    w_.resize(n_);
     rhs_.resize(n_);
   }
 
@@ -91,16 +90,15 @@ class CondensedStep {
 
   /// Data of one step: q and u0 on all free dofs.
   void Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0, const Eigen::VectorXd& bound) {
-    w_ = factor_.solve(q);  // S^-1 q
-    q_ = &q;
-    q_c_ = inverse_delassus_ * Restrict(w_);
+    q_c_ = inverse_delassus_ * Restrict(factor_.solve(q));  // W^-1 H S^-1 q
     system_->Update(q_c_, Restrict(u0), bound);
   }
 
-  /// The full result from the condensed one: du = S^-1 (H' F - q), F = S_c x_c + q_c.
-  ContactSystem::Result Expand(ContactSystem::Result condensed) {
+  /// The full result from the condensed one: du = S^-1 (H' F - q), F = S_c x_c + q_c, with
+  /// the q of the last Update().
+  ContactSystem::Result Expand(ContactSystem::Result condensed, const Eigen::VectorXd& q) {
     const Eigen::VectorXd F = inverse_delassus_ * condensed.x + q_c_;
-    rhs_ = -*q_;
+    rhs_ = -q;
     for (size_t i = 0; i < contact_dofs_.size(); ++i) rhs_(contact_dofs_[i]) += F(static_cast<Eigen::Index>(i));
     condensed.x = factor_.solve(rhs_);
     return condensed;
@@ -112,8 +110,7 @@ class CondensedStep {
   std::vector<int> contact_dofs_;
   Eigen::MatrixXd inverse_delassus_;
   std::unique_ptr<ContactSystem> system_;
-  Eigen::VectorXd w_, rhs_, q_c_;
-  const Eigen::VectorXd* q_ = nullptr;
+  Eigen::VectorXd rhs_, q_c_;
 };
 
 // The step with a diagonal S (StepMethod::kExplicit). Node by node, in the local frame of
@@ -128,9 +125,12 @@ class ExplicitStep {
  public:
   ExplicitStep(int dim, const Eigen::SparseMatrix<double>& S, const std::vector<ContactNode>& nodes)
       : dim_(dim), nodes_(nodes), diagonal_(S.rows()) {
-    for (Eigen::Index i = 0; i < S.rows(); ++i) diagonal_(i) = S.coeff(i, i);
-    if (std::abs(S.sum() - diagonal_.sum()) > 1e-12 * std::abs(diagonal_.sum()) ||
-        S.nonZeros() != S.rows())
+    bool diagonal = true;
+    for (int col = 0; col < S.outerSize(); ++col)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(S, col); it; ++it)
+        diagonal &= it.row() == it.col() || it.value() == 0.0;
+    diagonal_ = S.diagonal();
+    if (!diagonal || !(diagonal_.minCoeff() > 0.0))
       throw std::invalid_argument("contact::RunDynamics: the explicit step needs a lumped "
                                   "(diagonal) mass matrix; use mass = \"lumped\" or another step");
     for (const ContactNode& node : nodes_) {
@@ -255,16 +255,18 @@ CriticalTimeStep EstimateCriticalTimeStep(const Eigen::SparseMatrix<double>& K,
   for (Eigen::Index i = 0; i < x.size(); ++i) x(i) = ((i / 2) % 2 == 0 ? 1.0 : -1.0) * (1.0 + 1e-3 * static_cast<double>(i % 7));
   double lambda = 0.0;
   int stable_count = 0;
+  Eigen::VectorXd Kx = K * x, y(x.size()), Ky(x.size());
   for (int it = 1; it <= max_iterations; ++it) {
-    Eigen::VectorXd y = mass.solve(K * x);
-    const double num = y.dot(K * y), den = y.dot(M * y);
+    y = mass.solve(Kx);
+    Ky.noalias() = K * y;  // reused as K x of the next iterate
+    const double num = y.dot(Ky), den = y.dot(M * y);
     if (!(den > 0.0)) {  // K x = 0: no elastic stiffness along the iterate (e.g. K = 0)
       lambda = 0.0;
       out.converged = true;
       break;
     }
     const double next = num / den;
-    x = y / std::sqrt(den);
+    Kx = Ky / std::sqrt(den);  // x = y / sqrt(y'My) is only needed through K x
     out.iterations = it;
     if (std::abs(next - lambda) <= relative_tolerance * next) {
       if (++stable_count >= 5) {
@@ -368,16 +370,11 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
   ncp_options.ncp_function = FunctionOf(options.solver);
   ncp::Solver solver(ncp_options);
 
-  // Ipopt reference: rows n_c . du_c <= s_c - n_c . u^k.
+  // Ipopt reference: rows n_c . du_c <= s_c - n_c . u^k, i.e. G = Y R.
   Eigen::SparseMatrix<double> G;
   if (options.solver == StepSolver::kIpopt || options.compare_with_ipopt) {
-    std::vector<Eigen::Triplet<double>> t;
-    for (size_t c = 0; c < model.contact_nodes.size(); ++c)
-      for (int a = 0; a < model.dim; ++a)  // constrained components (dofs[a] = -1) have n_a = 0
-        if (model.contact_nodes[c].dofs[a] >= 0)
-          t.emplace_back(static_cast<int>(c), model.contact_nodes[c].dofs[a], model.contact_nodes[c].normal(a));
-    G.resize(static_cast<Eigen::Index>(model.contact_nodes.size()), n);
-    G.setFromTriplets(t.begin(), t.end());
+    const RestrictionMaps maps = MakeRestrictionMaps(model.dim, static_cast<int>(n), model.contact_nodes);
+    G = maps.Y * maps.R;
   }
   Eigen::VectorXd gap0(static_cast<Eigen::Index>(model.contact_nodes.size()));
   for (size_t c = 0; c < model.contact_nodes.size(); ++c) gap0(static_cast<Eigen::Index>(c)) = model.contact_nodes[c].gap;
@@ -451,7 +448,7 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       rec.newton_iterations = s.iterations;
       rec.jacobian_evaluations = s.jacobian_evaluations;
       rec.residual_evaluations = s.residual_evaluations;
-      contact = condensed ? condensed->Expand(step_system.Extract(z)) : step_system.Extract(z);
+      contact = condensed ? condensed->Expand(step_system.Extract(z), q) : step_system.Extract(z);
       if (ok && options.compare_with_ipopt) {
         const ConvexQpResult qp = solve_qp();
         rec.ipopt_relative_difference =

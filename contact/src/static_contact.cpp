@@ -95,17 +95,11 @@ StaticContactResult SolveStaticContactIpopt(int dim, const Eigen::SparseMatrix<d
                                             const Eigen::VectorXd& f,
                                             const std::vector<ContactNode>& nodes,
                                             double tolerance) {
-  // Rows of G: n_c . u_c <= s_c (the linearized non-penetration condition).
-  std::vector<Eigen::Triplet<double>> triplets;
+  // Rows of G: n_c . u_c <= s_c (the linearized non-penetration condition); G = Y R.
+  const RestrictionMaps maps = MakeRestrictionMaps(dim, static_cast<int>(K.cols()), nodes);
+  const Eigen::SparseMatrix<double> G = maps.Y * maps.R;
   Eigen::VectorXd h(static_cast<Eigen::Index>(nodes.size()));
-  for (size_t c = 0; c < nodes.size(); ++c) {
-    for (int a = 0; a < dim; ++a)  // constrained components (dofs[a] = -1) have n_a = 0
-      if (nodes[c].dofs[a] >= 0)
-        triplets.emplace_back(static_cast<int>(c), nodes[c].dofs[a], nodes[c].normal(a));
-    h(static_cast<Eigen::Index>(c)) = nodes[c].gap;
-  }
-  Eigen::SparseMatrix<double> G(static_cast<Eigen::Index>(nodes.size()), K.cols());
-  G.setFromTriplets(triplets.begin(), triplets.end());
+  for (size_t c = 0; c < nodes.size(); ++c) h(static_cast<Eigen::Index>(c)) = nodes[c].gap;
   ConvexQpOptions qp_options;
   qp_options.tolerance = tolerance;
   const Eigen::VectorXd x0 = Eigen::VectorXd::Zero(K.cols());
