@@ -15,6 +15,36 @@ std::string NodeName(size_t c, const ContactNode& node) {
   return "contact node #" + std::to_string(c) + " (mesh node " + std::to_string(node.node) + ")";
 }
 
+// M (rows x cols) gets the pattern of `entries` (repeated (row, col) merged, explicit
+// zeros kept, compressed, sorted) and (*position)[k] = the index of entries[k] in M's
+// value array.
+template <typename Matrix>
+void BuildPattern(Eigen::Index rows, Eigen::Index cols,
+                  const std::vector<Triplet>& entries, Matrix* M,
+                  std::vector<int>* position) {
+  M->resize(rows, cols);
+  M->setFromTriplets(entries.begin(), entries.end());
+  M->makeCompressed();
+  position->resize(entries.size());
+  for (size_t k = 0; k < entries.size(); ++k) {
+    const int outer = Matrix::IsRowMajor ? entries[k].row() : entries[k].col();
+    const int inner = Matrix::IsRowMajor ? entries[k].col() : entries[k].row();
+    const int* begin = M->innerIndexPtr() + M->outerIndexPtr()[outer];
+    const int* end = M->innerIndexPtr() + M->outerIndexPtr()[outer + 1];
+    (*position)[k] =
+        static_cast<int>(std::lower_bound(begin, end, inner) - M->innerIndexPtr());
+  }
+}
+
+bool SamePattern(const ncp::SparseMatrix& a, const ncp::SparseMatrix& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() && a.isCompressed() &&
+         b.isCompressed() && a.nonZeros() == b.nonZeros() &&
+         std::equal(b.outerIndexPtr(), b.outerIndexPtr() + b.outerSize() + 1,
+                    a.outerIndexPtr()) &&
+         std::equal(b.innerIndexPtr(), b.innerIndexPtr() + b.nonZeros(),
+                    a.innerIndexPtr());
+}
+
 }  // namespace
 
 ncp::Options ContactNcpOptions() {
@@ -151,19 +181,23 @@ ContactSystem::ContactSystem(int dim, const Eigen::SparseMatrix<double>& S,
 
 void ContactSystem::Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
                            const Eigen::VectorXd& tresca_bound) {
-  const std::string who = "contact::ContactSystem::Update: ";
+  const char* who = "contact::ContactSystem::Update: ";
   if (q.size() != n_ || u0.size() != n_)
-    throw std::invalid_argument(who + "q and u0 must have size " + std::to_string(n_) +
-                                ", got " + std::to_string(q.size()) + " and " +
-                                std::to_string(u0.size()));
+    throw std::invalid_argument(std::string(who) + "q and u0 must have size " +
+                                std::to_string(n_) + ", got " + std::to_string(q.size()) +
+                                " and " + std::to_string(u0.size()));
   const auto num_nodes = static_cast<Eigen::Index>(nodes_.size());
   if (tresca_bound.size() != 0 && tresca_bound.size() != num_nodes)
-    throw std::invalid_argument(who + "tresca_bound must be empty or have one entry per contact node (" +
-                                std::to_string(num_nodes) + "), got " +
-                                std::to_string(tresca_bound.size()));
-  q_local_ = rotation_ * q;
-  u0_local_ = rotation_ * u0;
-  bound_ = tresca_bound.size() ? tresca_bound : Eigen::VectorXd::Zero(num_nodes);
+    throw std::invalid_argument(
+        std::string(who) +
+        "tresca_bound must be empty or have one entry per contact node (" +
+        std::to_string(num_nodes) + "), got " + std::to_string(tresca_bound.size()));
+  q_local_.noalias() = rotation_ * q;
+  u0_local_.noalias() = rotation_ * u0;
+  if (tresca_bound.size())
+    bound_ = tresca_bound;
+  else
+    bound_.setZero(num_nodes);
 
   // Friction unknowns at nodes with g_c > 0 and at least one free tangent.
   row_kind_.assign(static_cast<size_t>(n_), 0);
@@ -176,6 +210,7 @@ void ContactSystem::Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
       throw std::invalid_argument(who + NodeName(c, nodes_[c]) +
                                   ": Tresca bound must be finite and >= 0, got " + std::to_string(g));
     row_kind_[static_cast<size_t>(L.slot[0])] = 1;
+    const bool had_friction = L.friction >= 0;
     L.friction = L.extra = L.unit_row = -1;
     if (g > 0.0 && L.tangent_dim > 0) {
       L.friction = num_friction_++;
@@ -184,6 +219,8 @@ void ContactSystem::Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
       if (L.tangent_dim == 2) L.unit_row = num_unit_rows++;
       for (int a = 1; a < L.num_free; ++a) row_kind_[static_cast<size_t>(L.slot[a])] = 2;
     }
+    // The Jacobian patterns follow the set of friction nodes (all else is fixed by it).
+    if ((L.friction >= 0) != had_friction) patterns_valid_ = false;
   }
   num_variables_ = extra;
   // One force scale for the scaled direction unknowns w = kappa t of all nodes.
@@ -268,76 +305,119 @@ bool ContactSystem::Evaluate(const ncp::Vector& z, ncp::Vector* E, ncp::Vector* 
   return true;
 }
 
-bool ContactSystem::Jacobian(const ncp::Vector& z, ncp::SparseMatrix* JE, ncp::SparseMatrix* JA,
-                             ncp::SparseMatrix* JB) {
-  // D = dy/dz: identity on plain slots, the slip split / direction at friction nodes.
-  td_.clear();
+template <typename Emit>
+void ContactSystem::ForEachDisplacementDerivative(const ncp::Vector& z,
+                                                  Emit&& emit) const {
+  // D = dy/dz: identity on plain and normal slots, the slip split (eq. 89) or the slip
+  // times the scaled direction (eq. 67) at friction nodes.
   for (int i = 0; i < n_; ++i)
-    if (row_kind_[static_cast<size_t>(i)] != 2) td_.emplace_back(i, i, 1.0);
+    if (row_kind_[static_cast<size_t>(i)] != 2) emit(i, i, 1.0);
   for (const Layout& L : layout_) {
     if (L.friction < 0) continue;
     if (L.tangent_dim == 1) {
-      td_.emplace_back(L.slot[1], L.slot[1], 1.0);
-      td_.emplace_back(L.slot[1], L.extra, -1.0);
+      emit(L.slot[1], L.slot[1], 1.0);
+      emit(L.slot[1], L.extra, -1.0);
     } else {
       const double g = direction_scale_;
       const double slip = z(L.slot[1]) - z(L.slot[2]);
       for (int a = 1; a <= 2; ++a) {
         const double t = z(L.extra + a) / g;
-        td_.emplace_back(L.slot[a], L.slot[1], t);
-        td_.emplace_back(L.slot[a], L.slot[2], -t);
-        td_.emplace_back(L.slot[a], L.extra + a, slip / g);
+        emit(L.slot[a], L.slot[1], t);
+        emit(L.slot[a], L.slot[2], -t);
+        emit(L.slot[a], L.extra + a, slip / g);
       }
     }
   }
-  D_.resize(n_, num_variables_);
-  D_.setFromTriplets(td_.begin(), td_.end());
-  dr_ = S_local_ * D_;
+}
 
-  te_.clear();
-  ta_.clear();
-  tb_.clear();
-  auto copy_row = [&](std::vector<Triplet>& out, int out_row, int dof, double sign) {
+template <typename Emit>
+void ContactSystem::ForEachJacobianEntry(const ncp::Vector& z, Emit&& emit) const {
+  auto copy_row = [&](int block, int out_row, int dof, double sign) {
     for (decltype(dr_)::InnerIterator it(dr_, dof); it; ++it)
-      out.emplace_back(out_row, static_cast<int>(it.col()), sign * it.value());
+      emit(block, out_row, static_cast<int>(it.col()), sign * it.value());
   };
   for (size_t e = 0; e < equation_dofs_.size(); ++e)
-    copy_row(te_, static_cast<int>(e), equation_dofs_[e], 1.0);
+    copy_row(0, static_cast<int>(e), equation_dofs_[e], 1.0);
   int pair = static_cast<int>(nodes_.size());
   for (size_t c = 0; c < nodes_.size(); ++c) {
     const Layout& L = layout_[c];
-    copy_row(ta_, static_cast<int>(c), L.slot[0], -1.0);       // d lambda / dz = -d r_n / dz
-    tb_.emplace_back(static_cast<int>(c), L.slot[0], -1.0);    // d gap / dz = -d y_n / dz
+    copy_row(1, static_cast<int>(c), L.slot[0], -1.0);  // d lambda / dz = -d r_n / dz
+    emit(2, static_cast<int>(c), L.slot[0], -1.0);      // d gap / dz = -d y_n / dz
     if (L.friction < 0) continue;
     if (L.tangent_dim == 1) {
       const int tau = L.extra + 1;
-      te_.emplace_back(static_cast<int>(EquationRow(L.slot[1])), tau, -1.0);
-      ta_.emplace_back(pair, L.slot[1], 1.0);
-      tb_.emplace_back(pair++, tau, 1.0);
-      ta_.emplace_back(pair, L.extra, 1.0);
-      tb_.emplace_back(pair++, tau, -1.0);
+      emit(0, static_cast<int>(EquationRow(L.slot[1])), tau, -1.0);
+      emit(1, pair, L.slot[1], 1.0);
+      emit(2, pair++, tau, 1.0);
+      emit(1, pair, L.extra, 1.0);
+      emit(2, pair++, tau, -1.0);
     } else {
       const int gv = L.extra;
       const double gt = z(gv), g = direction_scale_;
       for (int a = 1; a <= 2; ++a) {
         const int row = static_cast<int>(EquationRow(L.slot[a]));
-        te_.emplace_back(row, gv, -z(gv + a) / g);  // d(-gt w_a / kappa) / d gt
-        te_.emplace_back(row, gv + a, -gt / g);     // d(-gt w_a / kappa) / d w_a
-        te_.emplace_back(L.unit_row, gv + a, 2.0 * z(gv + a) / g);  // d((w.w)/kappa - kappa)/dw_a
+        emit(0, row, gv, -z(gv + a) / g);                  // d(-gt w_a / kappa) / d gt
+        emit(0, row, gv + a, -gt / g);                     // d(-gt w_a / kappa) / d w_a
+        emit(0, L.unit_row, gv + a, 2.0 * z(gv + a) / g);  // d((w.w)/kappa - kappa)/dw_a
       }
-      ta_.emplace_back(pair, L.slot[1], 1.0);
-      tb_.emplace_back(pair++, gv, 1.0);
-      ta_.emplace_back(pair, L.slot[2], 1.0);
-      tb_.emplace_back(pair++, gv, -1.0);
+      emit(1, pair, L.slot[1], 1.0);
+      emit(2, pair++, gv, 1.0);
+      emit(1, pair, L.slot[2], 1.0);
+      emit(2, pair++, gv, -1.0);
     }
   }
+}
+
+void ContactSystem::BuildJacobianPatterns(const ncp::Vector& z) {
+  std::vector<Triplet> entries;
+  ForEachDisplacementDerivative(
+      z, [&](int row, int col, double value) { entries.emplace_back(row, col, value); });
+  BuildPattern(n_, num_variables_, entries, &D_, &d_position_);
+  dr_ = S_local_ * D_;  // the structural product: Eigen keeps entries whose value is 0
+  dr_row_.setZero(num_variables_);
+  std::vector<Triplet> block_entries[3];
+  ForEachJacobianEntry(z, [&](int block, int row, int col, double value) {
+    block_entries[block].emplace_back(row, col, value);
+  });
   const int p = num_variables_ - num_equations_;
-  JE->resize(num_equations_, num_variables_);
-  JA->resize(p, num_variables_);
-  JB->resize(p, num_variables_);
-  JE->setFromTriplets(te_.begin(), te_.end());
-  JA->setFromTriplets(ta_.begin(), ta_.end());
-  JB->setFromTriplets(tb_.begin(), tb_.end());
+  const Eigen::Index rows[3] = {num_equations_, p, p};
+  for (int b = 0; b < 3; ++b)
+    BuildPattern(rows[b], num_variables_, block_entries[b], &jacobian_pattern_[b],
+                 &jacobian_position_[b]);
+  patterns_valid_ = true;
+}
+
+bool ContactSystem::Jacobian(const ncp::Vector& z, ncp::SparseMatrix* JE,
+                             ncp::SparseMatrix* JA, ncp::SparseMatrix* JB) {
+  if (!patterns_valid_) BuildJacobianPatterns(z);
+  // Values of D in place.
+  double* d_values = D_.valuePtr();
+  size_t k = 0;
+  ForEachDisplacementDerivative(
+      z, [&](int, int, double value) { d_values[d_position_[k++]] = value; });
+  // dr = S_local D on its pattern: (S_local D)(i, :) = sum_j S_local(i, j) D(j, :),
+  // summed into the dense dr_row_ (D has at most 3 entries per row), then gathered.
+  for (Eigen::Index i = 0; i < n_; ++i) {
+    for (decltype(S_local_)::InnerIterator s(S_local_, i); s; ++s)
+      for (decltype(D_)::InnerIterator d(D_, s.col()); d; ++d)
+        dr_row_(d.col()) += s.value() * d.value();
+    for (decltype(dr_)::InnerIterator r(dr_, i); r; ++r) {
+      r.valueRef() = dr_row_(r.col());
+      dr_row_(r.col()) = 0.0;
+    }
+  }
+  // JE, JA, JB: the caller's matrices take the pattern once (a copy that allocates only
+  // if they do not have it yet), then the values are summed in place.
+  ncp::SparseMatrix* out[3] = {JE, JA, JB};
+  size_t next[3] = {0, 0, 0};
+  for (int b = 0; b < 3; ++b) {
+    if (!SamePattern(*out[b], jacobian_pattern_[b])) *out[b] = jacobian_pattern_[b];
+    std::fill(out[b]->valuePtr(), out[b]->valuePtr() + out[b]->nonZeros(), 0.0);
+  }
+  ForEachJacobianEntry(z, [&](int block, int, int, double value) {
+    const size_t b = static_cast<size_t>(block);
+    out[b]->valuePtr()[jacobian_position_[b][next[b]++]] += value;
+  });
   return true;
 }
 
@@ -372,7 +452,9 @@ ncp::Vector ContactSystem::StartPoint(const Eigen::VectorXd& x_guess,
                     : Eigen::Vector2d::Zero();
     Eigen::Vector2d t(1.0, 0.0);
     double magnitude = 0.5 * g;
-    if (force.norm() > 0.0) {
+    // A force guess that is round-off next to g (e.g. 1e-23 from a step without friction
+    // at this node) would start with a near-zero magnitude: as singular as zero.
+    if (force.norm() > 1e-3 * g) {
       t = force.normalized();
       magnitude = std::min(force.norm(), g);
     } else if (slip.norm() > 0.0) {

@@ -9,16 +9,22 @@
 namespace ncp::internal {
 namespace {
 
-/// Rank-revealing dense LU; singular when the numerical rank is below n.
+/// Rank-revealing dense LU; singular when the numerical rank is below n. Allocates only
+/// when n changes.
 class DenseLUSolver final : public LinearSolver {
  public:
   bool Factorize(const SparseMatrix& J, bool /*pattern_changed*/) override {
-    dense_ = DenseMatrix(J);
+    dense_ = J;
     lu_.compute(dense_);
     return lu_.isInvertible();
   }
+  /// P J Q = L U, so x = Q U^-1 L^-1 P rhs: the steps of FullPivLU::solve for an
+  /// invertible J, in the preallocated permuted_ instead of a temporary.
   bool Solve(const Vector& rhs, Vector* x) override {
-    *x = lu_.solve(rhs);
+    permuted_.noalias() = lu_.permutationP() * rhs;
+    lu_.matrixLU().triangularView<Eigen::UnitLower>().solveInPlace(permuted_);
+    lu_.matrixLU().triangularView<Eigen::Upper>().solveInPlace(permuted_);
+    x->noalias() = lu_.permutationQ() * permuted_;
     return true;
   }
   LinearSolverType type() const override { return LinearSolverType::kDenseLU; }
@@ -26,6 +32,7 @@ class DenseLUSolver final : public LinearSolver {
  private:
   DenseMatrix dense_;
   Eigen::FullPivLU<DenseMatrix> lu_;
+  Vector permuted_;
 };
 
 /// Any Eigen sparse LU with analyzePattern / factorize / solve / info.

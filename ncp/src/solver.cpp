@@ -128,7 +128,12 @@ std::string Summary::FullReport() const {
 }
 
 // ---------------------------------------------------------------------------------------
-// Workspace: the Jacobian of Phi with a cached pattern, and the linear solver.
+// Workspace: the Jacobian of Phi with a cached pattern, the linear solver, and every
+// vector of the iteration, sized by Solve() before the first iteration (reallocated only
+// when n, m or the Jacobian pattern change). The iterations then allocate only inside the
+// numeric factorization of a sparse backend (SuiteSparse for UMFPACK and KLU, and
+// Eigen::SparseLU) and for Summary::trace with keep_trace; the Summary's message is built
+// when the solve ends (tests/contact/test_no_allocation.cpp).
 
 struct Solver::Workspace {
   std::unique_ptr<internal::LinearSolver> linear_solver;
@@ -144,7 +149,9 @@ struct Solver::Workspace {
 
   SparseMatrix JE, JA, JB;
   Vector E, A, B, Et, At, Bt;  // current point and trial point
-  Vector phi, phi_trial, grad, d, x_trial, da, db, z, za, zb, newton_residual;
+  Vector phi, phi_trial, grad, d, x_trial, da, db, z, za, zb, newton_rhs, newton_residual;
+  // psi of the last stagnation_window + 1 iterates (ring buffer): the stagnation test.
+  std::vector<double> psi_ring;
 
   static bool SamePattern(const SparseMatrix& S, const std::vector<int>& outer,
                           const std::vector<int>& inner) {
@@ -285,8 +292,10 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
   s.linear_solver_used = resolved;
 
   for (Vector* v : {&w.E, &w.Et}) v->setZero(m);
-  for (Vector* v : {&w.A, &w.B, &w.At, &w.Bt, &w.da, &w.db}) v->setZero(p);
-  for (Vector* v : {&w.phi, &w.phi_trial, &w.grad, &w.d, &w.x_trial, &w.z}) v->setZero(n);
+  for (Vector* v : {&w.A, &w.B, &w.At, &w.Bt, &w.da, &w.db, &w.za, &w.zb}) v->setZero(p);
+  for (Vector* v : {&w.phi, &w.phi_trial, &w.grad, &w.d, &w.x_trial, &w.z, &w.newton_rhs,
+                    &w.newton_residual})
+    v->setZero(n);
   if (w.JE.rows() != m || w.JE.cols() != n) w.JE.resize(m, n);
   if (w.JA.rows() != p || w.JA.cols() != n) w.JA.resize(p, n);
   if (w.JB.rows() != p || w.JB.cols() != n) w.JB.resize(p, n);
@@ -327,9 +336,9 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
   }
 
   IterationRecord record;
-  // psi of the last stagnation_window + 1 iterates (ring buffer), for the stagnation test.
   const size_t window = static_cast<size_t>(o.stagnation_window);
-  std::vector<double> psi_ring(window + 1, 0.0);
+  std::vector<double>& psi_ring = w.psi_ring;
+  psi_ring.assign(window + 1, 0.0);
   if (o.log_to_stderr)
     std::fprintf(stderr, "%5s %12s %12s %12s %10s %4s %4s %5s\n", "iter", "|Phi|_inf", "psi",
                  "|grad|_inf", "step", "bt", "grad", "|gam|");
@@ -377,8 +386,8 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
           }
         }
         if (degenerate_count > 0) {
-          w.za = w.JA * w.z;
-          w.zb = w.JB * w.z;
+          w.za.noalias() = w.JA * w.z;
+          w.zb.noalias() = w.JB * w.z;
         }
       }
       for (int j = 0; j < p; ++j) {
@@ -456,8 +465,9 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
     bool use_gradient = false;
     {
       const auto t0 = Clock::now();
+      w.newton_rhs = -w.phi;
       bool solved = w.linear_solver->Factorize(w.J, pattern_changed) &&
-                    w.linear_solver->Solve(-w.phi, &w.d) && AllFinite(w.d);
+                    w.linear_solver->Solve(w.newton_rhs, &w.d) && AllFinite(w.d);
       if (solved) {
         // Guard against a numerically singular factorization that "succeeded": the
         // computed d must satisfy J d = -Phi to a small relative residual.

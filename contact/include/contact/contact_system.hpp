@@ -104,6 +104,9 @@ class ContactSystem final : public ncp::MixedProblem {
   int NumEquations() const override { return num_equations_; }
   int PairVariable(int j) const override { return pair_variable_[static_cast<size_t>(j)]; }
   bool Evaluate(const ncp::Vector& z, ncp::Vector* E, ncp::Vector* A, ncp::Vector* B) override;
+  /// The patterns of JE, JA, JB depend only on the set of friction nodes of the last
+  /// Update(); at a fixed set, calls on the same matrices write values in place and do
+  /// not allocate (tests/contact/test_no_allocation.cpp).
   bool Jacobian(const ncp::Vector& z, ncp::SparseMatrix* JE, ncp::SparseMatrix* JA,
                 ncp::SparseMatrix* JB) override;
 
@@ -111,7 +114,7 @@ class ContactSystem final : public ncp::MixedProblem {
   /// forces in the local tangent frame ((dim-1) x nodes, system units; e.g. the previous
   /// step's): local components, slip split into positive and negative parts. With two
   /// tangents (eq. 94) the direction t and magnitude g start from the force guess if it is
-  /// nonzero, else from the slip (g = -g_c, sliding), else t = t1 and g = g_c / 2: a zero
+  /// at least 1e-3 g_c, else from the slip (g = -g_c, sliding), else t = t1 and g = g_c / 2: a zero
   /// magnitude would leave t in the unit-norm row only, a singular Jacobian.
   ncp::Vector StartPoint(const Eigen::VectorXd& x_guess,
                          const Eigen::MatrixXd& friction_guess = Eigen::MatrixXd()) const;
@@ -144,6 +147,17 @@ class ContactSystem final : public ncp::MixedProblem {
   /// y = local components of x from the unknowns z.
   void LocalDisplacement(const ncp::Vector& z, Eigen::VectorXd* y) const;
 
+  /// Calls emit(row, col, value) for every entry of D = dy/dz at z, in a fixed order that
+  /// depends only on the layout, including entries whose value is 0 at this z.
+  template <typename Emit>
+  void ForEachDisplacementDerivative(const ncp::Vector& z, Emit&& emit) const;
+  /// Calls emit(block, row, col, value) for every entry of JE (block 0), JA (1), JB (2)
+  /// at z, given dr_ at z; fixed order as above; repeated (row, col) add up.
+  template <typename Emit>
+  void ForEachJacobianEntry(const ncp::Vector& z, Emit&& emit) const;
+  /// Builds the patterns of D, S_local D, JE, JA, JB for the current layout.
+  void BuildJacobianPatterns(const ncp::Vector& z);
+
   int dim_;
   int n_;  // free dofs
   Eigen::SparseMatrix<double> rotation_;                  // R
@@ -163,9 +177,20 @@ class ContactSystem final : public ncp::MixedProblem {
   int num_friction_ = 0, num_variables_ = 0, num_equations_ = 0;
 
   mutable Eigen::VectorXd y_, r_;
-  std::vector<Eigen::Triplet<double, int>> td_, te_, ta_, tb_;
-  Eigen::SparseMatrix<double> D_;                          // dy/dz
-  Eigen::SparseMatrix<double, Eigen::RowMajor> dr_;        // d(R(Sx+q))/dz = S_local D
+
+  // Jacobian storage. The patterns depend only on the layout (which nodes carry friction
+  // unknowns), so they are built on the first Jacobian() after Update() changed it, with
+  // every entry that can be nonzero for the layout structural (explicit zeros kept, e.g.
+  // t_a, slip and g in 3D); a Jacobian() call then only rewrites values in place:
+  // entry k of ForEachDisplacementDerivative lands in D_.valuePtr()[d_position_[k]], the
+  // k-th entry of block b of ForEachJacobianEntry adds into jacobian_position_[b][k].
+  bool patterns_valid_ = false;
+  Eigen::SparseMatrix<double, Eigen::RowMajor> D_;   // dy/dz, at most 3 entries per row
+  Eigen::SparseMatrix<double, Eigen::RowMajor> dr_;  // d(R(Sx+q))/dz = S_local D
+  Eigen::VectorXd dr_row_;  // one row of dr_, dense (zero between uses)
+  std::vector<int> d_position_;
+  ncp::SparseMatrix jacobian_pattern_[3];  // JE, JA, JB patterns (values unused)
+  std::vector<int> jacobian_position_[3];
 };
 
 }  // namespace contact

@@ -1,0 +1,341 @@
+// No heap allocation in the Newton loop of a contact step (ContactSystem::Update,
+// Evaluate and Jacobian at a fixed set of friction nodes; the iterations of
+// ncp::Solver::Solve), counted by replacing the process's allocation functions.
+//
+// Every heap allocation goes through operator new / new[] (std containers and strings,
+// the values of Eigen's SparseMatrix) or malloc / calloc / realloc (Eigen's dense storage
+// and sparse outer indices, SuiteSparse through SuiteSparse_malloc). The replacements
+// below forward to glibc and, while counting is on, log the return address of each call,
+// so an allocation is attributed afterwards (dladdr) to the shared object that asked for
+// it: SuiteSparse's numeric factorizations and solves allocate inside the SuiteSparse
+// libraries, which we cannot change; everything else - our code and the Eigen code
+// inlined into it - must allocate nothing. Aligned operator new (unused here) is not
+// counted. glibc only (__libc_malloc and friends).
+#include <dlfcn.h>
+
+#include <atomic>
+#include <catch2/catch.hpp>
+#include <cstdio>
+#include <cstdlib>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "contact/contact_boundary.hpp"
+#include "contact/contact_frames.hpp"
+#include "contact/contact_system.hpp"
+#include "contact/dof_map.hpp"
+#include "contact/elastic_body.hpp"
+#include "contact/mesh_generation.hpp"
+#include "contact/obstacle.hpp"
+#include "ncp/solver.hpp"
+
+// ---------------------------------------------------------------------------------------
+// Allocation log.
+// ---------------------------------------------------------------------------------------
+
+namespace {
+
+constexpr long kLogCapacity = 1 << 16;
+std::atomic<bool> g_counting{false};
+std::atomic<long> g_count{0};
+void* g_callers[kLogCapacity];  // return address of allocation k (k < kLogCapacity)
+
+void LogAllocation(void* caller) {
+  if (!g_counting.load(std::memory_order_relaxed)) return;
+  const long k = g_count.fetch_add(1, std::memory_order_relaxed);
+  if (k < kLogCapacity) g_callers[k] = caller;
+}
+
+void* CountedNew(std::size_t size, void* caller);
+
+}  // namespace
+
+extern "C" {
+void* __libc_malloc(std::size_t size) noexcept;
+void* __libc_calloc(std::size_t count, std::size_t size) noexcept;
+void* __libc_realloc(void* pointer, std::size_t size) noexcept;
+void __libc_free(void* pointer) noexcept;
+
+void* malloc(std::size_t size) noexcept {
+  LogAllocation(__builtin_return_address(0));
+  return __libc_malloc(size);
+}
+void* calloc(std::size_t count, std::size_t size) noexcept {
+  LogAllocation(__builtin_return_address(0));
+  return __libc_calloc(count, size);
+}
+void* realloc(void* pointer, std::size_t size) noexcept {
+  LogAllocation(__builtin_return_address(0));
+  return __libc_realloc(pointer, size);
+}
+}
+
+void* operator new(std::size_t size) {
+  return CountedNew(size, __builtin_return_address(0));
+}
+void* operator new[](std::size_t size) {
+  return CountedNew(size, __builtin_return_address(0));
+}
+void operator delete(void* pointer) noexcept { __libc_free(pointer); }
+void operator delete[](void* pointer) noexcept { __libc_free(pointer); }
+void operator delete(void* pointer, std::size_t) noexcept { __libc_free(pointer); }
+void operator delete[](void* pointer, std::size_t) noexcept { __libc_free(pointer); }
+
+namespace {
+
+void* CountedNew(std::size_t size, void* caller) {
+  LogAllocation(caller);
+  if (void* pointer = __libc_malloc(size == 0 ? 1 : size)) return pointer;
+  throw std::bad_alloc();
+}
+
+long AllocationCount() { return g_count.load(); }
+
+// True for an address inside one of the SuiteSparse libraries.
+bool InSuiteSparse(void* address) {
+  Dl_info info;
+  if (dladdr(address, &info) == 0 || info.dli_fname == nullptr) return false;
+  const std::string file = info.dli_fname;
+  for (const char* library :
+       {"libsuitesparseconfig", "libumfpack", "libklu", "libamd", "libcolamd", "libbtf",
+        "libcholmod", "libcamd", "libccolamd"})
+    if (file.find(library) != std::string::npos) return true;
+  return false;
+}
+
+// The allocations logged while an instance was counting (one at a time).
+class AllocationLog {
+ public:
+  AllocationLog() {
+    g_count = 0;
+    g_counting = true;
+  }
+  ~AllocationLog() { g_counting = false; }
+
+  // Stops counting and attributes the logged allocations.
+  void Stop() {
+    g_counting = false;
+    const long total = g_count.load();
+    REQUIRE(total <= kLogCapacity);
+    suitesparse_.assign(static_cast<size_t>(total), false);
+    for (long k = 0; k < total; ++k)
+      suitesparse_[static_cast<size_t>(k)] = InSuiteSparse(g_callers[k]);
+  }
+  long Total() const { return static_cast<long>(suitesparse_.size()); }
+  // Allocations k in [begin, end) not made by SuiteSparse.
+  long Ours(long begin, long end) const {
+    long count = 0;
+    for (long k = begin; k < end; ++k)
+      count += suitesparse_[static_cast<size_t>(k)] ? 0 : 1;
+    return count;
+  }
+  long Ours() const { return Ours(0, Total()); }
+  // "address (shared object: symbol)" of the first 10 of our allocations in [begin, end).
+  std::string DescribeOurs(long begin, long end) const {
+    std::string out;
+    int listed = 0;
+    for (long k = begin; k < end && listed < 10; ++k) {
+      if (suitesparse_[static_cast<size_t>(k)]) continue;
+      ++listed;
+      Dl_info info{};
+      dladdr(g_callers[k], &info);
+      char address[32];
+      std::snprintf(address, sizeof address, "%p", g_callers[k]);
+      out += std::string("\n  ") + address + " (" +
+             (info.dli_fname ? info.dli_fname : "?") + ": " +
+             (info.dli_sname ? info.dli_sname : "?") + ")";
+    }
+    return out;
+  }
+
+ private:
+  std::vector<bool> suitesparse_;
+};
+
+// ---------------------------------------------------------------------------------------
+// The contact problem: a steel block on a rigid floor with Tresca friction.
+// ---------------------------------------------------------------------------------------
+
+// Block [0, 2] x [0, 1] (x [0, 1]) m of steel, 8 x 4 Q4 in 2D (4 x 2 x 2 Hex8 in 3D),
+// roller u_x = 0 on x = 0, pressed onto the floor by p = 10 MPa and pulled along +x by
+// s = 2 MPa on the top; Tresca bound g_c = 0.1 p area_c, so that some floor nodes stick
+// and some slip. As in SolveStaticContact, S = K / k and q = -f / k, k = max_i K_ii.
+struct BlockOnFloor {
+  Eigen::SparseMatrix<double> S;
+  Eigen::VectorXd q, bound;
+  std::vector<contact::ContactNode> nodes;
+};
+
+BlockOnFloor MakeBlockOnFloor(int dim) {
+  using namespace contact;
+  const double pressure = 10e6, shear = 2e6;
+  Mesh mesh;
+  if (dim == 2) {
+    RectangleMeshOptions o;
+    o.size = {2.0, 1.0};
+    o.cells = {8, 4};
+    o.side_roles = {{Side::kXMin, BoundaryRole::kFixed},
+                    {Side::kYMin, BoundaryRole::kContact},
+                    {Side::kYMax, BoundaryRole::kLoad}};
+    mesh = MakeRectangleMesh(o);
+  } else {
+    BoxMeshOptions o;
+    o.size = {2.0, 1.0, 1.0};
+    o.cells = {4, 2, 2};
+    o.side_roles = {{Side::kXMin, BoundaryRole::kFixed},
+                    {Side::kZMin, BoundaryRole::kContact},
+                    {Side::kZMax, BoundaryRole::kLoad}};
+    mesh = MakeStructuredBoxMesh(o);
+  }
+  DofMap dofs = MakeDofMap(mesh, {DirichletCondition{kFixedGroup, {0}, {}}});
+  const ElasticBody body(std::move(mesh), IsotropicMaterial{210e9, 0.3, 7850.0});
+  const ContactBoundary boundary = MakeContactBoundary(body);
+  const ContactFrames frames = MakeContactFrames(
+      body.mesh(), boundary, dofs, HalfSpace::ObstacleBelow(dim, dim - 1, 0.0),
+      NormalSource::kObstacle);
+  Eigen::VectorXd traction = Eigen::VectorXd::Zero(dim);
+  traction(0) = shear;
+  traction(dim - 1) = -pressure;
+  const SparseMatrix K_full = body.StiffnessMatrix();
+  const SparseMatrix K = dofs.RestrictMatrix(K_full);
+  const Vector f = dofs.RestrictLoad(K_full, body.TractionLoad(traction));
+  const double k = K.diagonal().maxCoeff();
+  BlockOnFloor block;
+  block.S = K / k;
+  block.q = -f / k;
+  block.nodes = frames.nodes;
+  block.bound.resize(static_cast<Eigen::Index>(block.nodes.size()));
+  for (size_t c = 0; c < block.nodes.size(); ++c)
+    block.bound(static_cast<Eigen::Index>(c)) = 0.1 * pressure * block.nodes[c].area / k;
+  return block;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "ContactSystem: Update, Evaluate and Jacobian allocate nothing at a fixed layout",
+    "[contact][allocation]") {
+  const int dim = GENERATE(2, 3);
+  CAPTURE(dim);
+  const BlockOnFloor block = MakeBlockOnFloor(dim);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(block.q.size());
+  contact::ContactSystem system(dim, block.S, block.nodes);
+  system.Update(block.q, zero, block.bound);
+  REQUIRE(system.num_friction_nodes() > 0);
+  const int N = system.NumVariables(), m = system.NumEquations();
+  // The start point (zero slips; in 3D the direction t = (1, 0), so entries t_2 and the
+  // slips are exactly 0 there) and two pseudo-random points.
+  const ncp::Vector start = system.StartPoint(zero);
+  const ncp::Vector points[3] = {start, start + 1e-3 * ncp::Vector::Random(N),
+                                 start + ncp::Vector::Random(N)};
+  // Data of the next step: other loads and bounds, same friction nodes.
+  const Eigen::VectorXd q_next = 2.0 * block.q, bound_next = 0.5 * block.bound;
+
+  ncp::Vector E(m), A(N - m), B(N - m);
+  ncp::SparseMatrix JE, JA, JB;
+  {
+    // Warm-up: builds the patterns and sizes JE, JA, JB - with allocations the log sees.
+    AllocationLog warm_up;
+    REQUIRE(system.Evaluate(start, &E, &A, &B));
+    REQUIRE(system.Jacobian(start, &JE, &JA, &JB));
+    warm_up.Stop();
+    CHECK(warm_up.Ours() > 0);
+  }
+  const double* storage[3] = {JE.valuePtr(), JA.valuePtr(), JB.valuePtr()};
+
+  AllocationLog log;
+  for (const ncp::Vector& z : points) {
+    system.Evaluate(z, &E, &A, &B);
+    system.Jacobian(z, &JE, &JA, &JB);
+  }
+  system.Update(q_next, zero, bound_next);
+  system.Evaluate(points[2], &E, &A, &B);
+  system.Jacobian(points[2], &JE, &JA, &JB);
+  log.Stop();
+  INFO("allocations:" << log.DescribeOurs(0, log.Total()));
+  CHECK(log.Total() == 0);
+  CHECK(JE.valuePtr() == storage[0]);
+  CHECK(JA.valuePtr() == storage[1]);
+  CHECK(JB.valuePtr() == storage[2]);
+
+  // The values written in place equal a fresh assembly at that point.
+  contact::ContactSystem fresh(dim, block.S, block.nodes);
+  fresh.Update(q_next, zero, bound_next);
+  ncp::SparseMatrix fresh_JE, fresh_JA, fresh_JB;
+  REQUIRE(fresh.Jacobian(points[2], &fresh_JE, &fresh_JA, &fresh_JB));
+  CHECK(Eigen::MatrixXd(JE) == Eigen::MatrixXd(fresh_JE));
+  CHECK(Eigen::MatrixXd(JA) == Eigen::MatrixXd(fresh_JA));
+  CHECK(Eigen::MatrixXd(JB) == Eigen::MatrixXd(fresh_JB));
+}
+
+// Eigen::SparseLU is not run here: its factorize() allocates its supernodal storage on
+// every numeric factorization, in Eigen code inlined into ncp (not attributable, and not
+// avoidable without rewriting it).
+TEST_CASE("ncp::Solver on a frictional contact problem: no allocation in the iterations",
+          "[contact][allocation]") {
+  const ncp::LinearSolverType backend =
+      GENERATE(ncp::LinearSolverType::kDenseLU, ncp::LinearSolverType::kUmfpack,
+               ncp::LinearSolverType::kKlu);
+  CAPTURE(ncp::ToString(backend));
+  const BlockOnFloor block = MakeBlockOnFloor(2);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(block.q.size());
+  contact::ContactSystem system(2, block.S, block.nodes);
+  system.Update(block.q, zero, block.bound);
+
+  // Allocation count at every callback, i.e. at every iterate k after its Jacobian.
+  std::vector<long> marks;
+  marks.reserve(1000);
+  ncp::Options options = contact::ContactNcpOptions();
+  options.linear_solver = backend;
+  options.callback = [&marks](const ncp::IterationRecord&) {
+    marks.push_back(AllocationCount());
+    return true;
+  };
+  ncp::Solver solver(options);
+  ncp::Summary summary;
+  ncp::Vector z = system.StartPoint(zero);
+  solver.Solve(system, &z, &summary);  // warm-up: workspace, patterns, symbolic analysis
+  INFO(summary.message);
+  REQUIRE(summary.IsSolutionUsable());
+  // One symbolic analysis for the whole solve: ContactSystem's pattern stays fixed (the
+  // dense LU has no symbolic phase).
+  CHECK(summary.symbolic_factorizations ==
+        (backend == ncp::LinearSolverType::kDenseLU ? 0 : 1));
+  const Eigen::VectorXd solution = system.Extract(z).x;
+
+  // A new start: half the solution displacement.
+  z = system.StartPoint(0.5 * solution);
+  marks.clear();
+  AllocationLog log;
+  solver.Solve(system, &z, &summary);
+  log.Stop();
+  INFO(summary.message);
+  REQUIRE(summary.IsSolutionUsable());
+  CHECK(summary.symbolic_factorizations == 0);  // the warm-up's analysis is reused
+  REQUIRE(summary.iterations >= 3);
+  REQUIRE(marks.size() == static_cast<size_t>(summary.iterations) + 1);
+
+  // Before the first iterate is reported: Evaluate, Jacobian, the Jacobian of Phi.
+  INFO("start:" << log.DescribeOurs(0, marks.front()));
+  CHECK(log.Ours(0, marks.front()) == 0);
+  // Each iteration k -> k + 1: Newton solve, line search, Jacobian at the new iterate.
+  for (size_t k = 0; k + 1 < marks.size(); ++k) {
+    INFO("iteration " << k + 1 << ":" << log.DescribeOurs(marks[k], marks[k + 1]));
+    CHECK(log.Ours(marks[k], marks[k + 1]) == 0);
+  }
+  // After the last iterate: only the termination message of the Summary.
+  const long ours_at_end = log.Ours(marks.back(), log.Total());
+  CHECK(ours_at_end <= 8);
+  // Dense LU is Eigen only: nothing at all from SuiteSparse; UMFPACK and KLU allocate in
+  // every numeric factorization (and UMFPACK in every solve), which the log attributes.
+  if (backend == ncp::LinearSolverType::kDenseLU)
+    CHECK(log.Total() == log.Ours());
+  else
+    CHECK(log.Total() - log.Ours() >= summary.iterations);
+  std::printf(
+      "%s: %d iterations, allocations: %ld ours (%ld in the termination message), %ld in "
+      "SuiteSparse\n",
+      ncp::ToString(backend), summary.iterations, log.Ours(), ours_at_end,
+      log.Total() - log.Ours());
+}
