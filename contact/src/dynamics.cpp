@@ -1,7 +1,7 @@
 #include "contact/dynamics.hpp"
 
 #include <Eigen/Cholesky>
-#include <Eigen/CholmodSupport>
+#include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <chrono>
@@ -13,6 +13,8 @@
 
 #include "contact/convex_qp.hpp"
 #include "contact/static_contact.hpp"
+#include "cholmod_factor.hpp"
+#include "parallel.hpp"
 
 namespace contact {
 namespace {
@@ -20,6 +22,13 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double Seconds(Clock::time_point since) {
   return std::chrono::duration<double>(Clock::now() - since).count();
+}
+
+bool IsDiagonal(const Eigen::SparseMatrix<double>& A) {
+  for (int col = 0; col < A.outerSize(); ++col)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A, col); it; ++it)
+      if (it.row() != it.col() && it.value() != 0.0) return false;
+  return true;
 }
 
 double MaxAbsEntry(const Eigen::SparseMatrix<double>& A) {
@@ -37,80 +46,110 @@ ncp::NcpFunction FunctionOf(StepSolver s) {
 }
 
 // Exact elimination of the non-contact dofs from one step (StepMethod::kCondensed).
-// With H selecting the contact dofs (global components), the step equation
-//     S du + q = H' F          (F: contact force components at the contact dofs)
-// gives du = S^-1 (H' F - q) and, on the contact dofs, x_c = H du = W F - H S^-1 q with the
-// Delassus operator W = H S^-1 H'. Hence F = W^-1 x_c + W^-1 H S^-1 q: a ContactSystem over
-// the contact dofs with S_c = W^-1 and q_c = W^-1 H S^-1 q, whose solution is the same as
-// that of the full system. W is formed once from n_c solves with the Cholesky factor of S.
+// With H mapping the displacements to the contact unknowns x_c = H du, the step equation
+//     S du + q = H' F          (F: the contact forces conjugate to x_c)
+// gives du = S^-1 (H' F - q) and x_c = W F - H S^-1 q with the Delassus operator
+// W = H S^-1 H'. Hence F = W^-1 x_c + W^-1 H S^-1 q: a ContactSystem over the contact
+// unknowns with S_c = W^-1 and q_c = W^-1 H S^-1 q, whose solution is the same as that of
+// the full system. W is formed once from one solve with the Cholesky factor of S per row of H.
+//   With friction, H selects every free component of every contact node (the condensed
+//   nodes keep their frames). Frictionless, only the normal displacement n_c . du_c of each
+//   node enters the contact conditions, so H has one row per node (the condensed node has
+//   normal e_x and no tangent): W is dim^2 times smaller and its solves dim^3 times cheaper.
 class CondensedStep {
  public:
-  CondensedStep(int dim, const Eigen::SparseMatrix<double>& S, const std::vector<ContactNode>& nodes)
-      : n_(S.rows()) {
-    factor_.compute(S);
-    if (factor_.info() != Eigen::Success)
+  CondensedStep(int dim, const Eigen::SparseMatrix<double>& S, const std::vector<ContactNode>& nodes,
+                bool frictionless)
+      : dim_(dim), nodes_(nodes), factor_(S) {
+    if (!factor_.ok())
       throw std::invalid_argument("contact::RunDynamics: the mass matrix is not positive definite "
                                   "(Cholesky failed), the condensed step needs it");
-    // Contact dofs, and the nodes renumbered onto them.
+    // H, and the nodes renumbered onto the contact unknowns.
+    std::vector<Eigen::Triplet<double>> h;
     std::vector<ContactNode> condensed = nodes;
-    for (ContactNode& node : condensed)
+    int rows = 0;
+    for (ContactNode& node : condensed) {
+      if (frictionless) {
+        for (int a = 0; a < dim; ++a)
+          if (node.dofs[a] >= 0) h.emplace_back(rows, node.dofs[a], node.normal(a));
+        node.dofs[0] = rows++;
+        node.dofs[1] = node.dofs[2] = -1;
+        node.normal = Eigen::Vector3d::UnitX();
+        node.tangent1.setZero();
+        node.tangent2.setZero();
+        CompleteContactFrame(dim, &node);
+        continue;
+      }
       for (int a = 0; a < dim; ++a) {
         if (node.dofs[a] < 0) continue;
-        const int position = static_cast<int>(contact_dofs_.size());
-        contact_dofs_.push_back(node.dofs[a]);
-        node.dofs[a] = position;
+        h.emplace_back(rows, node.dofs[a], 1.0);
+        node.dofs[a] = rows++;
       }
-    const auto nc = static_cast<Eigen::Index>(contact_dofs_.size());
-    Eigen::MatrixXd W(nc, nc);
-    Eigen::VectorXd e = Eigen::VectorXd::Zero(n_), column(n_);
-    for (Eigen::Index j = 0; j < nc; ++j) {
-      e(contact_dofs_[static_cast<size_t>(j)]) = 1.0;
-      column = factor_.solve(e);
-      e(contact_dofs_[static_cast<size_t>(j)]) = 0.0;
-      for (Eigen::Index i = 0; i < nc; ++i) W(i, j) = column(contact_dofs_[static_cast<size_t>(i)]);
+    }
+    H_.resize(rows, S.rows());
+    H_.setFromTriplets(h.begin(), h.end());
+    const Eigen::SparseMatrix<double> Ht = H_.transpose();
+    Eigen::MatrixXd W(rows, rows);
+    Eigen::VectorXd column(S.rows());
+    for (int j = 0; j < rows; ++j) {
+      factor_.Solve(Eigen::VectorXd(Ht.col(j)), &column);
+      W.col(j) = H_ * column;
     }
     W = 0.5 * (W + W.transpose());
     const Eigen::LLT<Eigen::MatrixXd> llt(W);
     if (llt.info() != Eigen::Success)
       throw std::invalid_argument("contact::RunDynamics: the Delassus operator H M^-1 H' is not "
                                   "positive definite; use the full step");
-    inverse_delassus_ = llt.solve(Eigen::MatrixXd::Identity(nc, nc));
+    inverse_delassus_ = llt.solve(Eigen::MatrixXd::Identity(rows, rows));
     system_ = std::make_unique<ContactSystem>(dim, inverse_delassus_.sparseView(0.0, 0.0), condensed);
-    rhs_.resize(n_);
+    normal_only_ = frictionless;
   }
 
   ContactSystem& system() { return *system_; }
 
   /// x_c = H x.
-  Eigen::VectorXd Restrict(const Eigen::VectorXd& x) const {
-    Eigen::VectorXd out(static_cast<Eigen::Index>(contact_dofs_.size()));
-    for (size_t i = 0; i < contact_dofs_.size(); ++i) out(static_cast<Eigen::Index>(i)) = x(contact_dofs_[i]);
-    return out;
-  }
+  Eigen::VectorXd Restrict(const Eigen::VectorXd& x) const { return H_ * x; }
 
   /// Data of one step: q and u0 on all free dofs.
   void Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0, const Eigen::VectorXd& bound) {
-    q_c_ = inverse_delassus_ * Restrict(factor_.solve(q));  // W^-1 H S^-1 q
-    system_->Update(q_c_, Restrict(u0), bound);
+    factor_.Solve(q, &full_);
+    contact_.noalias() = H_ * full_;
+    q_c_.noalias() = inverse_delassus_ * contact_;  // W^-1 H S^-1 q
+    contact_.noalias() = H_ * u0;
+    system_->Update(q_c_, contact_, bound);
   }
 
   /// The full result from the condensed one: du = S^-1 (H' F - q), F = S_c x_c + q_c, with
-  /// the q of the last Update().
+  /// the q of the last Update(). Normal-only: the slip t_a . du_c from the full du.
   ContactSystem::Result Expand(ContactSystem::Result condensed, const Eigen::VectorXd& q) {
-    const Eigen::VectorXd F = inverse_delassus_ * condensed.x + q_c_;
-    rhs_ = -q;
-    for (size_t i = 0; i < contact_dofs_.size(); ++i) rhs_(contact_dofs_[i]) += F(static_cast<Eigen::Index>(i));
-    condensed.x = factor_.solve(rhs_);
+    contact_.noalias() = inverse_delassus_ * condensed.x;
+    contact_ += q_c_;  // F
+    full_.noalias() = H_.transpose() * contact_;
+    full_ -= q;
+    factor_.Solve(full_, &condensed.x);
+    if (normal_only_)
+      for (size_t c = 0; c < nodes_.size(); ++c) {
+        const ContactNode& node = nodes_[c];
+        for (int a = 1; a < dim_; ++a) {
+          const Eigen::Vector3d& t = a == 1 ? node.tangent1 : node.tangent2;
+          double slip = 0.0;
+          for (int b = 0; b < dim_; ++b)
+            if (node.dofs[b] >= 0) slip += t(b) * condensed.x(node.dofs[b]);
+          condensed.slip(a - 1, static_cast<Eigen::Index>(c)) = slip;
+        }
+      }
     return condensed;
   }
 
  private:
-  Eigen::Index n_;
-  Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>> factor_;
-  std::vector<int> contact_dofs_;
+  int dim_;
+  std::vector<ContactNode> nodes_;
+  bool normal_only_ = false;
+  internal::CholmodFactor factor_;
+  Eigen::SparseMatrix<double> H_;
   Eigen::MatrixXd inverse_delassus_;
   std::unique_ptr<ContactSystem> system_;
-  Eigen::VectorXd rhs_, q_c_;
+  Eigen::VectorXd q_c_, full_, contact_;  // (buffers: no allocation per step)
 };
 
 // The step with a diagonal S (StepMethod::kExplicit). Node by node, in the local frame of
@@ -125,12 +164,8 @@ class ExplicitStep {
  public:
   ExplicitStep(int dim, const Eigen::SparseMatrix<double>& S, const std::vector<ContactNode>& nodes)
       : dim_(dim), nodes_(nodes), diagonal_(S.rows()) {
-    bool diagonal = true;
-    for (int col = 0; col < S.outerSize(); ++col)
-      for (Eigen::SparseMatrix<double>::InnerIterator it(S, col); it; ++it)
-        diagonal &= it.row() == it.col() || it.value() == 0.0;
     diagonal_ = S.diagonal();
-    if (!diagonal || !(diagonal_.minCoeff() > 0.0))
+    if (!IsDiagonal(S) || !(diagonal_.minCoeff() > 0.0))
       throw std::invalid_argument("contact::RunDynamics: the explicit step needs a lumped "
                                   "(diagonal) mass matrix; use mass = \"lumped\" or another step");
     for (const ContactNode& node : nodes_) {
@@ -147,10 +182,11 @@ class ExplicitStep {
   }
 
   /// du and the contact result, in system units, for S du + q = F with bounds g.
-  ContactSystem::Result Solve(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
-                              const Eigen::VectorXd& bound) const {
+  /// (*out is reused: no allocation once it has the sizes.)
+  void Solve(const Eigen::VectorXd& q, const Eigen::VectorXd& u0, const Eigen::VectorXd& bound,
+             ContactSystem::Result* result) const {
     const auto N = static_cast<Eigen::Index>(nodes_.size());
-    ContactSystem::Result out;
+    ContactSystem::Result& out = *result;
     out.x = -q.cwiseQuotient(diagonal_);
     out.normal_force.setZero(N);
     out.gap.setZero(N);
@@ -198,7 +234,6 @@ class ExplicitStep {
         out.slip(a - 1, c) = yt(a - 1);
       }
     }
-    return out;
   }
 
  private:
@@ -208,6 +243,13 @@ class ExplicitStep {
 };
 
 }  // namespace
+
+void SymmetricMultiply(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& x,
+                       Eigen::VectorXd* y) {
+  if (A.rows() != A.cols() || x.size() != A.cols())
+    throw std::invalid_argument("SymmetricMultiply: A must be square with as many columns as x has entries");
+  internal::SymmetricMultiply(A, x, y);
+}
 
 const char* ToString(StepMethod m) {
   switch (m) {
@@ -245,42 +287,77 @@ CriticalTimeStep EstimateCriticalTimeStep(const Eigen::SparseMatrix<double>& K,
   if (K.rows() != M.rows() || K.cols() != M.cols() || K.rows() != K.cols())
     throw std::invalid_argument("EstimateCriticalTimeStep: K and M must be square of equal size");
   CriticalTimeStep out;
-  if (K.rows() == 0) return out;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> mass(M);
-  if (mass.info() != Eigen::Success)
+  const Eigen::Index n = K.rows();
+  if (n == 0) return out;
+  // M^-1: elementwise for a diagonal (lumped) mass, else a sparse Cholesky factor.
+  const bool diagonal = IsDiagonal(M);
+  const Eigen::VectorXd mass_diagonal = M.diagonal();
+  if (diagonal && !(mass_diagonal.minCoeff() > 0.0))
     throw std::invalid_argument("EstimateCriticalTimeStep: the mass matrix is not positive definite");
-  // Power iteration on M^-1 K with Rayleigh quotient lambda = x'Kx / x'Mx. The start vector
+  std::unique_ptr<internal::CholmodFactor> factor;
+  if (!diagonal) {
+    factor = std::make_unique<internal::CholmodFactor>(M);
+    if (!factor->ok())
+      throw std::invalid_argument("EstimateCriticalTimeStep: the mass matrix is not positive definite");
+  }
+  // Lanczos on the pencil (K, M), i.e. on M^-1 K, which is self-adjoint in the M inner
+  // product: with M-orthonormal v_1, v_2, ...
+  //   w = M^-1 K v_j - alpha_j v_j - beta_{j-1} v_{j-1},  alpha_j = v_j' K v_j,
+  //   beta_j = sqrt(w' M w),  v_{j+1} = w / beta_j,
+  // the largest eigenvalue theta of the tridiagonal T_j = tridiag(beta, alpha, beta) rises
+  // to lambda_max = omega_max^2 from below (in far fewer steps than power iteration). M v is
+  // carried along (M w = K v_j - alpha_j M v_j - beta_{j-1} M v_{j-1}), so one step costs one
+  // product with K and one solve with M. No reorthogonalization: the loss of orthogonality
+  // only adds copies of converged Ritz values, not wrong extreme ones. The start vector
   // alternates in sign node by node so it is rich in high-frequency modes.
-  Eigen::VectorXd x(K.rows());
-  for (Eigen::Index i = 0; i < x.size(); ++i) x(i) = ((i / 2) % 2 == 0 ? 1.0 : -1.0) * (1.0 + 1e-3 * static_cast<double>(i % 7));
-  double lambda = 0.0;
+  Eigen::VectorXd v(n), Mv(n), v_old = Eigen::VectorXd::Zero(n), Mv_old = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd Kv(n), w(n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    v(i) = ((i / 2) % 2 == 0 ? 1.0 : -1.0) * (1.0 + 1e-3 * static_cast<double>(i % 7));
+  Mv.noalias() = M * v;
+  const double norm = std::sqrt(v.dot(Mv));
+  v /= norm;
+  Mv /= norm;
+  std::vector<double> alpha, beta;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> tridiagonal;
+  double theta = 0.0, beta_old = 0.0;
   int stable_count = 0;
-  Eigen::VectorXd Kx = K * x, y(x.size()), Ky(x.size());
-  for (int it = 1; it <= max_iterations; ++it) {
-    y = mass.solve(Kx);
-    Ky.noalias() = K * y;  // reused as K x of the next iterate
-    const double num = y.dot(Ky), den = y.dot(M * y);
-    if (!(den > 0.0)) {  // K x = 0: no elastic stiffness along the iterate (e.g. K = 0)
-      lambda = 0.0;
-      out.converged = true;
-      break;
-    }
-    const double next = num / den;
-    Kx = Ky / std::sqrt(den);  // x = y / sqrt(y'My) is only needed through K x
-    out.iterations = it;
-    if (std::abs(next - lambda) <= relative_tolerance * next) {
-      if (++stable_count >= 5) {
-        lambda = next;
+  const int limit = static_cast<int>(std::min<Eigen::Index>(max_iterations, n));
+  for (int j = 1; j <= limit; ++j) {
+    Kv.noalias() = K * v;
+    const double a = v.dot(Kv);
+    // M w = K v - a M v - beta_old M v_old, then w = M^-1 (M w).
+    Kv -= a * Mv + beta_old * Mv_old;
+    if (diagonal) w = Kv.cwiseQuotient(mass_diagonal);
+    else factor->Solve(Kv, &w);
+    const double b = std::sqrt(std::max(w.dot(Kv), 0.0));
+    alpha.push_back(a);
+    Eigen::VectorXd d = Eigen::Map<const Eigen::VectorXd>(alpha.data(), j);
+    Eigen::VectorXd e = Eigen::Map<const Eigen::VectorXd>(beta.data(), j - 1);
+    tridiagonal.computeFromTridiagonal(d, e, Eigen::EigenvaluesOnly);
+    const double next = std::max(tridiagonal.eigenvalues().maxCoeff(), 0.0);
+    out.iterations = j;
+    // Invariant subspace (b ~ 0): T_j holds exact eigenvalues of the pencil.
+    const bool exhausted = !(b > 1e-14 * std::max(std::abs(a), 1e-300)) || j == n;
+    if (exhausted || std::abs(next - theta) <= relative_tolerance * next) {
+      if (exhausted || ++stable_count >= 3) {
+        theta = next;
         out.converged = true;
         break;
       }
     } else {
       stable_count = 0;
     }
-    lambda = next;
+    theta = next;
+    beta.push_back(b);
+    beta_old = b;
+    v_old.swap(v);
+    Mv_old.swap(Mv);
+    v = w / b;
+    Mv = Kv / b;
   }
-  out.omega_max = std::sqrt(lambda);
-  out.dt_crit = lambda > 0.0 ? 2.0 / out.omega_max : std::numeric_limits<double>::infinity();
+  out.omega_max = std::sqrt(theta);
+  out.dt_crit = theta > 0.0 ? 2.0 / out.omega_max : std::numeric_limits<double>::infinity();
   return out;
 }
 
@@ -306,6 +383,8 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
     throw std::invalid_argument(who + "the Ipopt step solver handles frictionless contact only "
                                       "(friction_coefficient = " +
                                 std::to_string(options.friction_coefficient) + ")");
+  if (!internal::IsSymmetric(model.K, 1e-12) || !internal::IsSymmetric(model.M, 1e-12))
+    throw std::invalid_argument(who + "K and M must be symmetric (to 1e-12 of their largest entry)");
   if (options.initial_state == InitialState::kPrescribed &&
       (options.u0.size() != n || options.v0.size() != n))
     throw std::invalid_argument(who + "prescribed u0 and v0 must have size " + std::to_string(n));
@@ -362,7 +441,8 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
   std::unique_ptr<ExplicitStep> explicit_step;
   if (options.solver != StepSolver::kIpopt) {
     if (options.step_method == StepMethod::kCondensed)
-      condensed = std::make_unique<CondensedStep>(model.dim, S, model.contact_nodes);
+      condensed = std::make_unique<CondensedStep>(model.dim, S, model.contact_nodes,
+                                                  options.friction_coefficient == 0.0);
     if (options.step_method == StepMethod::kExplicit)
       explicit_step = std::make_unique<ExplicitStep>(model.dim, S, model.contact_nodes);
   }
@@ -379,23 +459,27 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
   Eigen::VectorXd gap0(static_cast<Eigen::Index>(model.contact_nodes.size()));
   for (size_t c = 0; c < model.contact_nodes.size(); ++c) gap0(static_cast<Eigen::Index>(c)) = model.contact_nodes[c].gap;
 
-  // Shadow energy of central differences at k = -1/2 (conserved exactly without forces):
-  // E = 1/2 v' M v + 1/2 (u^k)' K u^{k+1}. It cannot reveal an instability (the cross term
-  // turns negative), so the blow-up guard uses the positive 1/2 v' M v + 1/2 u' K u.
-  auto shadow_energy = [&](const Eigen::VectorXd& u_k, const Eigen::VectorXd& u_next,
-                           double* kinetic) {
-    const Eigen::VectorXd v = (u_next - u_k) / dt;
-    *kinetic = 0.5 * v.dot(model.M * v);
-    return *kinetic + 0.5 * u_k.dot(model.K * u_next);
-  };
-  double kinetic0;
-  const double energy0 = shadow_energy(u_previous, u, &kinetic0);
-  const double strain0 = 0.5 * u.dot(model.K * u);
+  // Every step needs one product with K and one with M, carried between steps so that no
+  // product is formed twice (and nothing is allocated in the loop):
+  //   Ku = K u^k,  Mdu_previous = M (u^k - u^{k-1}),  Mdu = M (u^{k+1} - u^k).
+  // Shadow energy of central differences at k + 1/2 (conserved exactly without forces):
+  //   E = 1/2 v' M v + 1/2 (u^k)' K u^{k+1},  v = (u^{k+1} - u^k) / dt.
+  // It cannot reveal an instability (the cross term turns negative), so the blow-up guard
+  // uses the positive 1/2 v' M v + 1/2 u' K u.
+  Eigen::VectorXd Ku(n), Ku_next(n), Mdu_previous(n), Mdu(n);
+  // (Products by internal::SymmetricMultiply: parallel, same result for any thread count.)
+  internal::SymmetricMultiply(model.K, u, &Ku);
+  Mdu = u - u_previous;  // (as a temporary for the product)
+  internal::SymmetricMultiply(model.M, Mdu, &Mdu_previous);
+  const double kinetic0 = 0.5 * (u - u_previous).dot(Mdu_previous) / (dt * dt);
+  const double energy0 = kinetic0 + 0.5 * u_previous.dot(Ku);
+  const double strain0 = 0.5 * u.dot(Ku);
   double external_work = 0.0, normal_work = 0.0, friction_dissipation = 0.0, work_scale = 0.0;
 
   Eigen::VectorXd du = u - u_previous;  // start guess of the first step
   Eigen::MatrixXd friction_previous;     // local friction forces of the previous step
-  Eigen::VectorXd Q(n), q(n), r(n), u_next(n), bound;
+  Eigen::VectorXd Q(n), q(n), r(n), u_next(n), bound, lambda_now;
+  ContactSystem::Result contact;
   const long num_steps = std::lround(std::ceil((options.end_time - options.start_time) / dt - 1e-3));
   double last_progress = 0.0;
   summary.records.reserve(static_cast<size_t>(std::max(0L, num_steps)));
@@ -405,10 +489,10 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
     const double t_k = options.start_time + static_cast<double>(k) * dt;
     model.load(t_k, &f);
     // Q^k = M (u^{k-1} - u^k) / dt^2 + K u^k - f^k   (eq. 73), scaled by dt^2 / Mmax (eq. 81).
-    Q = model.M * (u_previous - u) / (dt * dt) + model.K * u - f;
+    Q = Ku - f - Mdu_previous / (dt * dt);
     q = Q / force_scale;
     if (options.friction_coefficient > 0.0)
-      bound = options.friction_coefficient * lambda_physical.cwiseMax(0.0) / force_scale;
+      bound = (options.friction_coefficient / force_scale) * lambda_physical.cwiseMax(0.0);
     else
       bound.resize(0);
     if (condensed) condensed->Update(q, u, bound);
@@ -425,7 +509,6 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       qp_options.tolerance = options.ipopt_tolerance;
       return SolveConvexQpIpopt(S, q, G, gap0 - G * u, du, qp_options);
     };
-    ContactSystem::Result contact;
     bool ok;
     if (options.solver == StepSolver::kIpopt) {
       const ConvexQpResult qp = solve_qp();
@@ -435,7 +518,7 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       contact = system.Extract(system.StartPoint(qp.x));
       contact.normal_force = qp.multipliers;
     } else if (explicit_step) {
-      contact = explicit_step->Solve(q, u, bound);
+      explicit_step->Solve(q, u, bound, &contact);
       ok = contact.x.allFinite();
       rec.solver_status = ok ? "converged" : "non-finite values in the explicit step";
     } else {
@@ -470,14 +553,15 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       break;
     }
     du = contact.x;
-    friction_previous = contact.tangent_force;
+    if (options.friction_coefficient > 0.0) friction_previous = contact.tangent_force;
     u_next = u + du;
+    internal::SymmetricMultiply(model.M, du, &Mdu);
+    internal::SymmetricMultiply(model.K, u_next, &Ku_next);
 
     // Contact forces r^{k+1} = M (u^{k+1} - 2u^k + u^{k-1}) / dt^2 + K u^k - f^k, in newtons,
-    // and the work increments over (u^{k+1} - u^{k-1}) / 2.
-    r = model.M * du / (dt * dt) + Q;
-    const Eigen::VectorXd half_span = 0.5 * (u_next - u_previous);
-    const double dw_ext = f.dot(half_span);
+    // and the work increments over the half span (u^{k+1} - u^{k-1}) / 2.
+    r = Mdu / (dt * dt) + Q;
+    const double dw_ext = 0.5 * (f.dot(u_next) - f.dot(u_previous));
     external_work += dw_ext;
     work_scale += std::abs(dw_ext);
     double dw_normal = 0.0;
@@ -487,7 +571,7 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       for (int a = 0; a < model.dim; ++a) {
         if (node.dofs[a] < 0) continue;  // constrained component: no motion, no work
         rc(a) = r(node.dofs[a]);
-        sc(a) = half_span(node.dofs[a]);
+        sc(a) = 0.5 * (u_next(node.dofs[a]) - u_previous(node.dofs[a]));
       }
       const double rn = rc.dot(node.normal), sn = sc.dot(node.normal);
       dw_normal += rn * sn;
@@ -496,14 +580,15 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
     normal_work += dw_normal;
 
     // Bookkeeping of the record.
-    const double shadow = shadow_energy(u, u_next, &rec.kinetic);
-    rec.strain = 0.5 * u_next.dot(model.K * u_next);
+    rec.kinetic = 0.5 * du.dot(Mdu) / (dt * dt);
+    const double shadow = rec.kinetic + 0.5 * u.dot(Ku_next);
+    rec.strain = 0.5 * u_next.dot(Ku_next);
     rec.external_work = external_work;
     rec.normal_contact_work = normal_work;
     rec.friction_dissipation = friction_dissipation;
     rec.energy_balance_error =
         shadow - energy0 - external_work - normal_work + friction_dissipation;
-    const Eigen::VectorXd lambda_now = force_scale * contact.normal_force;
+    lambda_now = force_scale * contact.normal_force;
     rec.normal_force_sum = lambda_now.sum();
     for (Eigen::Index c = 0; c < contact.tangent_force.cols(); ++c)
       rec.tangent_force_sum += force_scale * contact.tangent_force.col(c).norm();
@@ -516,9 +601,12 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
     summary.records.push_back(rec);
     if (options.on_step) options.on_step(rec, u_next, contact, force_scale);
 
-    lambda_physical = lambda_now;
-    u_previous = u;
-    u = u_next;
+    // Advance: u^{k-1} <- u^k <- u^{k+1}, with the products that go along.
+    lambda_physical.swap(lambda_now);
+    u_previous.swap(u);
+    u.swap(u_next);
+    Ku.swap(Ku_next);
+    Mdu_previous.swap(Mdu);
 
     const double energy = rec.kinetic + rec.strain;
     // The reference is zero until energy enters (a body at rest under a step load): no

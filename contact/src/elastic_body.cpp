@@ -1,9 +1,12 @@
 #include "contact/elastic_body.hpp"
 
+#include <Eigen/StdVector>
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
 #include "boundary_geometry.hpp"
+#include "parallel.hpp"
 #include "reference_element.hpp"
 #include "sparsity_pattern.hpp"
 
@@ -38,21 +41,20 @@ struct PhysicalGradient {
 // diag(w) V with V_q,(a,k) = dN_a/dx_k at point q is one small matrix product per
 // element; A is made exactly symmetric so that K is.
 template <ElementType T>
-void AssembleStiffness(const Mesh& mesh, const internal::SparsityPattern& pattern,
-                       double lambda, double mu, double factor, SparseMatrix* K) {
-  constexpr int kDim = ElementTraits<T>::kDim;
-  constexpr int kNodes = ElementTraits<T>::kNodes;
-  constexpr int kDofs = kDim * kNodes;
-  constexpr int kPoints = ElementTraits<T>::kStiffnessPoints;
-  const auto& shape = ShapeData<T>(RulePurpose::kStiffness);
-  const int num_points = shape.NumPoints();
-  if (num_points != kPoints) throw std::logic_error("stiffness rule size mismatch");
-  Eigen::Matrix<double, kPoints, kDofs, Eigen::RowMajor> V, WV;
-  Eigen::Matrix<double, kDofs, kDofs> A;
-  Eigen::Matrix<double, kDofs, kDofs> Ke;
-  for (int e = 0; e < mesh.NumElements(); ++e) {
+struct ElementStiffness {
+  static constexpr int kDim = ElementTraits<T>::kDim;
+  static constexpr int kNodes = ElementTraits<T>::kNodes;
+  static constexpr int kDofs = kDim * kNodes;
+  using Matrix = Eigen::Matrix<double, kDofs, kDofs>;
+
+  static void Compute(const Mesh& mesh, int e, double lambda, double mu, double factor,
+                      Matrix* Ke) {
+    constexpr int kPoints = ElementTraits<T>::kStiffnessPoints;
+    const auto& shape = ShapeData<T>(RulePurpose::kStiffness);
+    Eigen::Matrix<double, kPoints, kDofs, Eigen::RowMajor> V, WV;
+    Matrix A;
     const auto X = internal::ElementCoordinates<T>(mesh, e);
-    for (int q = 0; q < num_points; ++q) {
+    for (int q = 0; q < kPoints; ++q) {
       const PhysicalGradient<T> map(X, shape.dN_dxi[q]);
       const double w = factor * shape.weights[q] * map.det;
       for (int a = 0; a < kNodes; ++a)
@@ -69,32 +71,74 @@ void AssembleStiffness(const Mesh& mesh, const internal::SparsityPattern& patter
         for (int k = 0; k < kDim; ++k) trace += A(kDim * a + k, kDim * b + k);
         for (int j = 0; j < kDim; ++j)
           for (int i = 0; i < kDim; ++i)
-            Ke(kDim * a + i, kDim * b + j) = lambda * A(kDim * a + i, kDim * b + j) +
-                                             mu * A(kDim * a + j, kDim * b + i) +
-                                             (i == j ? mu * trace : 0.0);
+            (*Ke)(kDim * a + i, kDim * b + j) = lambda * A(kDim * a + i, kDim * b + j) +
+                                                mu * A(kDim * a + j, kDim * b + i) +
+                                                (i == j ? mu * trace : 0.0);
       }
-    internal::ScatterElementMatrix(pattern, mesh.elements.col(e).data(), kNodes, Ke, K);
   }
+};
+
+// Scalar element mass rho h int N_a N_b (the same on every component).
+template <ElementType T>
+struct ElementMass {
+  static constexpr int kNodes = ElementTraits<T>::kNodes;
+  using Matrix = Eigen::Matrix<double, kNodes, kNodes>;
+
+  static void Compute(const Mesh& mesh, int e, double rho, double factor, Matrix* Me) {
+    const auto& shape = ShapeData<T>(RulePurpose::kMass);
+    const auto X = internal::ElementCoordinates<T>(mesh, e);
+    Me->setZero();
+    for (int q = 0; q < shape.NumPoints(); ++q) {
+      const double det = (X * shape.dN_dxi[q]).determinant();
+      Me->noalias() +=
+          (factor * rho * shape.weights[q] * det) * shape.N[q] * shape.N[q].transpose();
+    }
+  }
+};
+
+// Assembly in batches: the element matrices of a batch are computed in parallel (each
+// thread its own elements), then added in element order by one thread, so the assembled
+// matrix is bit-for-bit that of a serial loop for any number of threads.
+template <class ElementMatrix, class Compute, class Scatter>
+void AssembleInBatches(int num_elements, const Compute& compute, const Scatter& scatter) {
+  constexpr int kBatch = 2048;
+  std::vector<ElementMatrix, Eigen::aligned_allocator<ElementMatrix>> batch(
+      static_cast<size_t>(std::min(kBatch, num_elements)));
+  for (int first = 0; first < num_elements; first += kBatch) {
+    const int count = std::min(kBatch, num_elements - first);
+    internal::ParallelFor(0, count, 256, [&](long b) {
+      compute(first + static_cast<int>(b), &batch[static_cast<size_t>(b)]);
+    });
+    for (int b = 0; b < count; ++b) scatter(first + b, batch[static_cast<size_t>(b)]);
+  }
+}
+
+template <ElementType T>
+void AssembleStiffness(const Mesh& mesh, const internal::SparsityPattern& pattern,
+                       double lambda, double mu, double factor, SparseMatrix* K) {
+  using Element = ElementStiffness<T>;
+  if (ShapeData<T>(RulePurpose::kStiffness).NumPoints() != ElementTraits<T>::kStiffnessPoints)
+    throw std::logic_error("stiffness rule size mismatch");
+  AssembleInBatches<typename Element::Matrix>(
+      mesh.NumElements(),
+      [&](int e, typename Element::Matrix* Ke) { Element::Compute(mesh, e, lambda, mu, factor, Ke); },
+      [&](int e, const typename Element::Matrix& Ke) {
+        internal::ScatterElementMatrix(pattern, mesh.elements.col(e).data(), Element::kNodes, Ke, K);
+      });
 }
 
 template <ElementType T>
 void AssembleMass(const Mesh& mesh, const internal::SparsityPattern& pattern, double rho,
                   double factor, SparseMatrix* M) {
-  constexpr int kNodes = ElementTraits<T>::kNodes;
-  const auto& shape = ShapeData<T>(RulePurpose::kMass);
-  Eigen::Matrix<double, kNodes, kNodes>
-      Me;  // scalar: rho h int N_a N_b, same per component
-  for (int e = 0; e < mesh.NumElements(); ++e) {
-    const auto X = internal::ElementCoordinates<T>(mesh, e);
-    Me.setZero();
-    for (int q = 0; q < shape.NumPoints(); ++q) {
-      const double det = (X * shape.dN_dxi[q]).determinant();
-      Me.noalias() +=
-          (factor * rho * shape.weights[q] * det) * shape.N[q] * shape.N[q].transpose();
-    }
-    internal::ScatterBlockDiagonalElementMatrix(pattern, mesh.elements.col(e).data(),
-                                                kNodes, Me, M);
-  }
+  using Element = ElementMass<T>;
+  ShapeData<T>(RulePurpose::kMass);  // (built here, before the threads start)
+  AssembleInBatches<typename Element::Matrix>(
+      mesh.NumElements(),
+      [&](int e, typename Element::Matrix* Me) { Element::Compute(mesh, e, rho, factor, Me); },
+      [&](int e, const typename Element::Matrix& Me) {
+        internal::ScatterBlockDiagonalElementMatrix(pattern, mesh.elements.col(e).data(),
+                                                    Element::kNodes, Me, M);
+      });
 }
 
 // f_(a,i) += factor int N_a value_i(x) dV over all elements, with value = weight(x) *

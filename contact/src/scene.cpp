@@ -387,10 +387,13 @@ Scene LoadScene(const std::string& path) {
 // ---------------------------------------------------------------------------------------
 
 SceneModel BuildSceneModel(const Scene& scene) {
+  return BuildSceneModel(scene, !scene.msh_file.empty() ? ReadGmshMesh(scene.msh_file)
+                                : scene.rectangle       ? MakeRectangleMesh(*scene.rectangle)
+                                                        : MakeBoxMesh(*scene.box));
+}
+
+SceneModel BuildSceneModel(const Scene& scene, Mesh mesh) {
   SceneModel out;
-  Mesh mesh = !scene.msh_file.empty() ? ReadGmshMesh(scene.msh_file)
-              : scene.rectangle       ? MakeRectangleMesh(*scene.rectangle)
-                                      : MakeBoxMesh(*scene.box);
   if (mesh.dim != scene.dim)
     throw SceneError(scene.source + ": the mesh is " + std::to_string(mesh.dim) +
                      "D but the scene is " + std::to_string(scene.dim) + "D");
@@ -414,8 +417,9 @@ SceneModel BuildSceneModel(const Scene& scene) {
 
   DynamicModel& model = out.model;
   model.dim = dim;
-  const SparseMatrix K_full = body.StiffnessMatrix();
-  model.K = out.dofs.RestrictMatrix(K_full);
+  // Without constrained dofs A_FF = A: no copies (K is the largest object of the model).
+  const bool all_free = out.dofs.NumConstrainedDofs() == 0;
+  SparseMatrix K_full = body.StiffnessMatrix();
   if (scene.mass == MassKind::kLumped) {
     const Vector lumped = body.LumpedMass();
     SparseMatrix L(lumped.size(), lumped.size());
@@ -424,11 +428,15 @@ SceneModel BuildSceneModel(const Scene& scene) {
     L.setFromTriplets(t.begin(), t.end());
     model.M = out.dofs.RestrictMatrix(L);
   } else {
-    model.M = out.dofs.RestrictMatrix(body.ConsistentMassMatrix());
+    SparseMatrix M_full = body.ConsistentMassMatrix();
+    if (all_free) model.M.swap(M_full);
+    else model.M = out.dofs.RestrictMatrix(M_full);
   }
   Vector f_full = body.BodyForceLoad(scene.body_force);
   if (scene.traction.size()) f_full += body.TractionLoad(scene.traction);
   const Vector f_free = out.dofs.RestrictLoad(K_full, f_full);
+  if (all_free) model.K.swap(K_full);  // (swap: Eigen 3.4's SparseMatrix has no move constructor)
+  else model.K = out.dofs.RestrictMatrix(K_full);
   const double t0 = scene.dynamics.start_time;
   const LoadHistory history = scene.load_history;
   const double ramp = scene.ramp_time;

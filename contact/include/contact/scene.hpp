@@ -81,6 +81,9 @@ struct SceneModel {
   DynamicOptions options;  ///< scene.dynamics with friction and initial velocity filled in
 };
 SceneModel BuildSceneModel(const Scene& scene);
+/// The same on a given mesh (the scene's geometry section is ignored), e.g. one from
+/// MakeStructuredBoxMesh for millions of dofs.
+SceneModel BuildSceneModel(const Scene& scene, Mesh mesh);
 
 /// What a run produced.
 struct SceneResult {

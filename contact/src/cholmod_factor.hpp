@@ -1,0 +1,78 @@
+// A CHOLMOD Cholesky factor of a symmetric positive definite sparse matrix with solves that
+// reuse their workspace (cholmod_solve2): after the first solve of a given size, Solve()
+// allocates nothing - what the time loop of RunDynamics needs. (Eigen's
+// CholmodDecomposition allocates the solution and workspace at every solve.)
+#pragma once
+
+#include <cholmod.h>
+
+#include <Eigen/SparseCore>
+#include <cstring>
+#include <stdexcept>
+
+namespace contact::internal {
+
+class CholmodFactor {
+ public:
+  /// Analyzes and factors A = L L' (simplicial below 10^4 rows, else as CHOLMOD chooses).
+  /// Only the lower triangle of A is read. ok() tells whether A was positive definite.
+  explicit CholmodFactor(const Eigen::SparseMatrix<double>& A) : n_(A.rows()) {
+    cholmod_start(&common_);
+    // Small matrices: the simplicial factor, whose solves are plain loops; the supernodal
+    // one calls BLAS per supernode, which costs more than it saves below ~10^4 rows.
+    if (A.rows() < 10000) common_.supernodal = CHOLMOD_SIMPLICIAL;
+    if (A.rows() != A.cols()) throw std::invalid_argument("CholmodFactor: matrix is not square");
+    cholmod_sparse view{};
+    view.nrow = view.ncol = static_cast<size_t>(A.rows());
+    view.nzmax = static_cast<size_t>(A.nonZeros());
+    view.p = const_cast<int*>(A.outerIndexPtr());
+    view.i = const_cast<int*>(A.innerIndexPtr());
+    view.nz = const_cast<int*>(A.innerNonZeroPtr());
+    view.x = const_cast<double*>(A.valuePtr());
+    view.stype = -1;  // symmetric, lower triangle used
+    view.itype = CHOLMOD_INT;
+    view.xtype = CHOLMOD_REAL;
+    view.dtype = CHOLMOD_DOUBLE;
+    view.sorted = 1;
+    view.packed = A.isCompressed() ? 1 : 0;
+    factor_ = cholmod_analyze(&view, &common_);
+    if (factor_) cholmod_factorize(&view, factor_, &common_);
+    ok_ = factor_ && common_.status == CHOLMOD_OK && factor_->minor == factor_->n;
+  }
+  ~CholmodFactor() {
+    cholmod_free_dense(&x_, &common_);
+    cholmod_free_dense(&y_, &common_);
+    cholmod_free_dense(&e_, &common_);
+    cholmod_free_factor(&factor_, &common_);
+    cholmod_finish(&common_);
+  }
+  CholmodFactor(const CholmodFactor&) = delete;
+  CholmodFactor& operator=(const CholmodFactor&) = delete;
+
+  bool ok() const { return ok_; }
+
+  /// x = A^-1 b; x may not alias b. No allocation once x has size n (after the first call).
+  void Solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) {
+    if (!ok_) throw std::logic_error("CholmodFactor::Solve: the factorization failed");
+    cholmod_dense rhs{};
+    rhs.nrow = rhs.d = static_cast<size_t>(n_);
+    rhs.ncol = 1;
+    rhs.nzmax = static_cast<size_t>(n_);
+    rhs.x = const_cast<double*>(b.data());
+    rhs.xtype = CHOLMOD_REAL;
+    rhs.dtype = CHOLMOD_DOUBLE;
+    if (!cholmod_solve2(CHOLMOD_A, factor_, &rhs, nullptr, &x_, nullptr, &y_, &e_, &common_))
+      throw std::runtime_error("CholmodFactor::Solve: cholmod_solve2 failed");
+    x->resize(n_);
+    std::memcpy(x->data(), x_->x, sizeof(double) * static_cast<size_t>(n_));
+  }
+
+ private:
+  Eigen::Index n_;
+  cholmod_common common_{};
+  cholmod_factor* factor_ = nullptr;
+  cholmod_dense *x_ = nullptr, *y_ = nullptr, *e_ = nullptr;
+  bool ok_ = false;
+};
+
+}  // namespace contact::internal
