@@ -1,0 +1,381 @@
+// contact-scaling-bench: the cost of one time step against the size of the body, for the
+// three step methods of RunDynamics (full thesis system, condensed on the contact unknowns,
+// explicit per node with lumped mass).
+//
+// Scene: a steel box (E = 210 GPa, nu = 0.3, rho = 7850 kg/m^3) of cubic Hex8 cells of side
+// h = 1 / n m, resting on the flat rigid floor z >= 0 (its bottom face z = 0 is the contact
+// boundary, gap 0) and thrown at it with the uniform velocity (1, 0, -1) m/s: from the first
+// step on, the bottom face is pressed onto the floor (and slides on it with f_c = 0.5). No
+// Dirichlet condition. dt = 0.3 h / c_p (c_p = sqrt((lambda + 2 mu) / rho)), below dt_crit
+// of both masses (RunDynamics checks it).
+// Two series:
+//   cube:   n x n x n cells, n = 6 ... 69 (10^3 ... 1.03 x 10^6 dofs);
+//   column: a fixed contact face of 14 x 14 cells and 7 ... 448 cells in height: the
+//           interior grows, the contact set does not (the condensed step's target).
+// Methods: full and condensed with the consistent mass, explicit with the lumped mass; each
+// frictionless and with f_c = 0.5. Every case runs in its own child process (fork), so its
+// peak resident memory (ru_maxrss) is its own, and a case over --time-limit is killed.
+//
+// Per case: dofs, contact nodes, model build time (mesh, K, M, contact frames), RunDynamics
+// set-up (dt_crit, factorization, Delassus operator), mean time per step over steps 2..N
+// (the first step includes one-off symbolic work and is reported apart), Newton iterations
+// per step, the time of one product y = K x (SymmetricMultiply, the product RunDynamics
+// uses), their ratio, and the peak memory. The summary fits time per step = c dofs^p per
+// series, method and friction (least squares in log-log).
+//
+// Usage: contact-scaling-bench [--csv FILE] [--max-dofs N] [--steps N] [--quick] ...
+//        (--help lists all options)
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <contact/dynamics.hpp>
+#include <contact/mesh_generation.hpp>
+#include <contact/obstacle.hpp>
+#include <contact/scene.hpp>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <cxxopts.hpp>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+struct Case {
+  std::string series;  // "cube" or "column"
+  int n = 0, nz = 0;   // cells n x n x nz
+  std::string method;  // full, condensed, explicit
+  double friction = 0.0;
+  long long Dofs() const { return 3LL * (n + 1) * (n + 1) * (nz + 1); }
+};
+
+struct Row {
+  Case c;
+  std::string status = "not-run", message;
+  long long dofs = 0;
+  int contact_nodes = 0, steps = 0;
+  double build_s = 0, setup_s = 0, first_step_s = 0, step_s = 0, newton_per_step = 0;
+  double matvec_s = 0, ratio = 0, peak_mb = 0, dt = 0;
+};
+
+contact::StepMethod MethodOf(const std::string& m) {
+  if (m == "full") return contact::StepMethod::kFull;
+  if (m == "explicit") return contact::StepMethod::kExplicit;
+  return contact::StepMethod::kCondensed;
+}
+
+// Runs one case in this process and returns its row (without the peak memory).
+Row RunCase(const Case& c, int steps, double tolerance) {
+  Row row;
+  row.c = c;
+  const auto build_start = Clock::now();
+  contact::Scene scene;
+  scene.name = "scaling-" + c.series;
+  scene.source = "contact-scaling-bench";
+  scene.dim = 3;
+  contact::BoxMeshOptions box;
+  const double h = 1.0 / c.n;
+  box.size = {1.0, 1.0, h * c.nz};
+  box.cells = {c.n, c.n, c.nz};
+  box.side_roles[contact::Side::kZMin] = contact::BoundaryRole::kContact;
+  scene.box = box;
+  scene.material = contact::IsotropicMaterial{210e9, 0.3, 7850};
+  scene.mass = c.method == "explicit" ? contact::MassKind::kLumped : contact::MassKind::kConsistent;
+  scene.body_force = Eigen::VectorXd::Zero(3);
+  scene.obstacle = std::make_shared<contact::HalfSpace>(contact::HalfSpace::ObstacleBelow(3, 2, 0.0));
+  scene.friction_coefficient = c.friction;
+  const double E = scene.material.youngs_modulus, nu = scene.material.poisson_ratio;
+  const double c_p = std::sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / scene.material.density);
+  scene.dynamics.dt = 0.3 * h / c_p;
+  scene.dynamics.end_time = steps * scene.dynamics.dt;
+  scene.dynamics.step_method = MethodOf(c.method);
+  scene.dynamics.initial_state = contact::InitialState::kPrescribed;
+  scene.dynamics.ncp.tolerance = tolerance;
+  scene.initial_velocity = Eigen::Vector3d(1.0, 0.0, -1.0);
+  contact::SceneModel built = contact::BuildSceneModel(scene, contact::MakeStructuredBoxMesh(box));
+  row.build_s = SecondsSince(build_start);
+  row.dofs = built.model.K.rows();
+  row.contact_nodes = static_cast<int>(built.model.contact_nodes.size());
+  row.dt = scene.dynamics.dt;
+
+  // One K x: the median of 7 products (after a warm-up product).
+  Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(row.dofs, -1.0, 1.0), y;
+  contact::SymmetricMultiply(built.model.K, x, &y);
+  std::vector<double> times;
+  for (int i = 0; i < 7; ++i) {
+    const auto t = Clock::now();
+    contact::SymmetricMultiply(built.model.K, x, &y);
+    times.push_back(SecondsSince(t));
+  }
+  std::nth_element(times.begin(), times.begin() + 3, times.end());
+  row.matvec_s = times[3];
+
+  const contact::DynamicSummary s = contact::RunDynamics(built.model, built.options);
+  row.status = contact::ToString(s.status);
+  row.message = s.message;
+  row.steps = s.steps;
+  double loop = 0.0, later = 0.0;
+  long newton = 0;
+  for (const contact::StepRecord& r : s.records) {
+    loop += r.seconds;
+    newton += r.newton_iterations;
+    if (r.step > 1) later += r.seconds;
+  }
+  row.setup_s = s.seconds - loop;
+  if (!s.records.empty()) row.first_step_s = s.records.front().seconds;
+  row.step_s = s.steps > 1 ? later / (s.steps - 1) : row.first_step_s;
+  row.newton_per_step = s.steps > 0 ? static_cast<double>(newton) / s.steps : 0.0;
+  row.ratio = row.step_s / row.matvec_s;
+  return row;
+}
+
+std::string Csv(const std::string& text) {
+  std::string out = text;
+  std::replace(out.begin(), out.end(), ',', ';');
+  std::replace(out.begin(), out.end(), '\n', ' ');
+  return out;
+}
+
+const char* kHeader =
+    "series,n,nz,method,friction,dofs,contact_nodes,dt,status,steps,build_s,setup_s,"
+    "first_step_s,step_s,newton_per_step,matvec_s,step_over_matvec,peak_mb,message";
+
+std::string ToCsv(const Row& r) {
+  std::ostringstream o;
+  o.precision(6);
+  o << r.c.series << ',' << r.c.n << ',' << r.c.nz << ',' << r.c.method << ',' << r.c.friction << ','
+    << r.dofs << ',' << r.contact_nodes << ',' << r.dt << ',' << r.status << ',' << r.steps << ','
+    << r.build_s << ',' << r.setup_s << ',' << r.first_step_s << ',' << r.step_s << ','
+    << r.newton_per_step << ',' << r.matvec_s << ',' << r.ratio << ',' << r.peak_mb << ','
+    << Csv(r.message);
+  return o.str();
+}
+
+// Forks, runs the case in the child (which writes its CSV row into a pipe) and returns the
+// row with the child's peak memory; a crash or the time limit gives a row saying so.
+Row RunIsolated(const Case& c, int steps, double tolerance, int time_limit) {
+  Row row;
+  row.c = c;
+  row.dofs = c.Dofs();
+  int fds[2];
+  if (pipe(fds) != 0) {
+    row.status = "error";
+    row.message = "pipe failed";
+    return row;
+  }
+  std::fflush(stdout);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fds[0]);
+    alarm(static_cast<unsigned>(time_limit));
+    std::string line;
+    try {
+      line = ToCsv(RunCase(c, steps, tolerance));
+    } catch (const std::exception& e) {
+      Row failed;
+      failed.c = c;
+      failed.status = "error";
+      failed.message = e.what();
+      line = ToCsv(failed);
+    }
+    line += "\n";
+    if (write(fds[1], line.data(), line.size()) < 0) _exit(3);
+    close(fds[1]);
+    _exit(0);
+  }
+  close(fds[1]);
+  std::string text;
+  char buffer[4096];
+  ssize_t got;
+  while ((got = read(fds[0], buffer, sizeof buffer)) > 0) text.append(buffer, static_cast<size_t>(got));
+  close(fds[0]);
+  int wstatus = 0;
+  struct rusage usage {};
+  wait4(pid, &wstatus, 0, &usage);
+  const double peak_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss in KB
+  if (text.empty()) {
+    row.status = WIFSIGNALED(wstatus) && WTERMSIG(wstatus) == SIGALRM ? "time-limit" : "crashed";
+    row.message = row.status == "time-limit"
+                      ? "stopped after " + std::to_string(time_limit) + " s"
+                      : "child ended with status " + std::to_string(wstatus);
+    row.peak_mb = peak_mb;
+    return row;
+  }
+  // Parse the child's row back (the fields we need to print and fit).
+  std::vector<std::string> f;
+  std::stringstream ss(text.substr(0, text.find('\n')));
+  for (std::string item; std::getline(ss, item, ',');) f.push_back(item);
+  if (f.size() < 19) {
+    row.status = "error";
+    row.message = "malformed row from the child: " + text;
+    return row;
+  }
+  row.dofs = std::stoll(f[5]);
+  row.contact_nodes = std::stoi(f[6]);
+  row.dt = std::stod(f[7]);
+  row.status = f[8];
+  row.steps = std::stoi(f[9]);
+  row.build_s = std::stod(f[10]);
+  row.setup_s = std::stod(f[11]);
+  row.first_step_s = std::stod(f[12]);
+  row.step_s = std::stod(f[13]);
+  row.newton_per_step = std::stod(f[14]);
+  row.matvec_s = std::stod(f[15]);
+  row.ratio = std::stod(f[16]);
+  row.message = f[18];
+  row.peak_mb = peak_mb;
+  return row;
+}
+
+// Least-squares slope of log(y) against log(x).
+double LogLogSlope(const std::vector<double>& x, const std::vector<double>& y) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double n = static_cast<double>(x.size());
+  for (size_t i = 0; i < x.size(); ++i) {
+    const double lx = std::log(x[i]), ly = std::log(y[i]);
+    sx += lx;
+    sy += ly;
+    sxx += lx * lx;
+    sxy += lx * ly;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  cxxopts::Options cli("contact-scaling-bench",
+                       "Time per contact step against the number of dofs (see the file header)");
+  cli.add_options()
+      ("csv", "write the rows to this CSV file", cxxopts::value<std::string>())
+      ("max-dofs", "largest body [dofs]", cxxopts::value<double>()->default_value("1.1e6"))
+      ("full-max-dofs", "largest body for the full step", cxxopts::value<double>()->default_value("4e4"))
+      ("condensed-max-contact", "most contact nodes for the condensed step",
+       cxxopts::value<int>()->default_value("1100"))
+      ("steps", "time steps per case", cxxopts::value<int>()->default_value("20"))
+      ("tolerance", "Newton tolerance [m]", cxxopts::value<double>()->default_value("1e-12"))
+      ("time-limit", "seconds per case (the child is killed after)", cxxopts::value<int>()->default_value("900"))
+      ("series", "cube, column or both", cxxopts::value<std::string>()->default_value("both"))
+      ("methods", "step methods to run", cxxopts::value<std::vector<std::string>>()->default_value("full,condensed,explicit"))
+      ("frictions", "friction coefficients to run", cxxopts::value<std::vector<double>>()->default_value("0,0.5"))
+      ("quick", "small sizes and 3 steps (smoke test)")
+      ("h,help", "show this help");
+  cxxopts::ParseResult args;
+  try {
+    args = cli.parse(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "contact-scaling-bench: " << e.what() << "\n" << cli.help() << "\n";
+    return 2;
+  }
+  if (args.count("help")) {
+    std::cout << cli.help() << "\n";
+    return 0;
+  }
+  const bool quick = args.count("quick") > 0;
+  const double max_dofs = quick ? 2000 : args["max-dofs"].as<double>();
+  const double full_max = args["full-max-dofs"].as<double>();
+  const int condensed_max_contact = args["condensed-max-contact"].as<int>();
+  const int steps = quick ? 3 : args["steps"].as<int>();
+  const double tolerance = args["tolerance"].as<double>();
+  const int time_limit = args["time-limit"].as<int>();
+  const std::string series = args["series"].as<std::string>();
+  const auto methods = args["methods"].as<std::vector<std::string>>();
+  const auto frictions = args["frictions"].as<std::vector<double>>();
+  for (const std::string& m : methods)
+    if (m != "full" && m != "condensed" && m != "explicit") {
+      std::cerr << "contact-scaling-bench: unknown method '" << m << "' (full, condensed, explicit)\n";
+      return 2;
+    }
+  for (double f : frictions)
+    if (!(f >= 0.0)) {
+      std::cerr << "contact-scaling-bench: friction coefficients must be >= 0\n";
+      return 2;
+    }
+  if (series != "cube" && series != "column" && series != "both") {
+    std::cerr << "contact-scaling-bench: --series must be cube, column or both\n";
+    return 2;
+  }
+  if (!(max_dofs > 0) || steps < 2 || time_limit < 1) {
+    std::cerr << "contact-scaling-bench: --max-dofs > 0, --steps >= 2 and --time-limit >= 1 needed\n";
+    return 2;
+  }
+
+  std::vector<Case> cases;
+  auto add = [&](const std::string& name, int n, int nz) {
+    for (const std::string& method : methods)
+      for (double friction : frictions) {
+        Case c{name, n, nz, method, friction};
+        if (c.Dofs() > max_dofs) continue;
+        if (c.method == "full" && c.Dofs() > full_max) continue;
+        if (c.method == "condensed" && (n + 1) * (n + 1) > condensed_max_contact) continue;
+        cases.push_back(c);
+      }
+  };
+  if (series != "column")
+    for (int n : quick ? std::vector<int>{3, 5} : std::vector<int>{6, 9, 14, 21, 31, 46, 69}) add("cube", n, n);
+  if (series != "cube")
+    for (int nz : quick ? std::vector<int>{2, 4} : std::vector<int>{7, 14, 28, 56, 112, 224, 448})
+      add("column", quick ? 3 : 14, nz);
+
+  std::ofstream csv;
+  if (args.count("csv")) {
+    csv.open(args["csv"].as<std::string>());
+    if (!csv) {
+      std::cerr << "contact-scaling-bench: cannot write " << args["csv"].as<std::string>() << "\n";
+      return 2;
+    }
+    csv << kHeader << "\n";
+  }
+  std::printf("# %zu cases, %d steps each; times in seconds, memory in MB\n", cases.size(), steps);
+  std::printf("%-6s %4s %4s %-9s %4s %9s %6s %-10s %8s %8s %10s %7s %10s %8s %8s\n", "series", "n",
+              "nz", "method", "f_c", "dofs", "nodes", "status", "build", "setup", "step", "newton",
+              "K x", "step/Kx", "peak_MB");
+  std::vector<Row> rows;
+  for (const Case& c : cases) {
+    const Row r = RunIsolated(c, steps, tolerance, time_limit);
+    rows.push_back(r);
+    std::printf("%-6s %4d %4d %-9s %4.1f %9lld %6d %-10s %8.3f %8.3f %10.3e %7.2f %10.3e %8.2f %8.0f\n",
+                c.series.c_str(), c.n, c.nz, c.method.c_str(), c.friction, r.dofs, r.contact_nodes,
+                r.status.substr(0, 10).c_str(), r.build_s, r.setup_s, r.step_s, r.newton_per_step,
+                r.matvec_s, r.ratio, r.peak_mb);
+    if (r.status != "completed") std::printf("       %s\n", r.message.c_str());
+    std::fflush(stdout);
+    if (csv) csv << ToCsv(r) << "\n" << std::flush;
+  }
+
+  // Fitted exponents of the time per step (completed cases with >= 3 sizes).
+  std::printf("# fitted exponent p of time per step = c dofs^p (steps 2..N), and of K x\n");
+  std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> fits, matvec;
+  for (const Row& r : rows) {
+    if (r.status != "completed") continue;
+    char key[96];
+    std::snprintf(key, sizeof key, "%s %s f_c=%g", r.c.series.c_str(), r.c.method.c_str(), r.c.friction);
+    fits[key].first.push_back(static_cast<double>(r.dofs));
+    fits[key].second.push_back(r.step_s);
+    matvec[r.c.series].first.push_back(static_cast<double>(r.dofs));
+    matvec[r.c.series].second.push_back(r.matvec_s);
+  }
+  for (const auto& [key, xy] : fits)
+    if (xy.first.size() >= 3)
+      std::printf("#   %-28s p = %.3f over %zu sizes (%.3g .. %.3g dofs)\n", key.c_str(),
+                  LogLogSlope(xy.first, xy.second), xy.first.size(), xy.first.front(), xy.first.back());
+  for (const auto& [key, xy] : matvec)
+    if (xy.first.size() >= 3)
+      std::printf("#   %-28s p = %.3f\n", (key + " K x").c_str(), LogLogSlope(xy.first, xy.second));
+  int failures = 0;
+  for (const Row& r : rows) failures += r.status != "completed";
+  return failures == 0 ? 0 : 1;
+}
