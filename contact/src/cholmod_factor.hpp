@@ -14,13 +14,14 @@ namespace contact::internal {
 
 class CholmodFactor {
  public:
-  /// Analyzes and factors A = L L' (simplicial below 10^4 rows, else as CHOLMOD chooses).
+  /// Analyzes and factors A = L L' (simplicial below 2000 rows, else as CHOLMOD chooses).
   /// Only the lower triangle of A is read. ok() tells whether A was positive definite.
   explicit CholmodFactor(const Eigen::SparseMatrix<double>& A) : n_(A.rows()) {
     cholmod_start(&common_);
     // Small matrices: the simplicial factor, whose solves are plain loops; the supernodal
-    // one calls BLAS per supernode, which costs more than it saves below ~10^4 rows.
-    if (A.rows() < 10000) common_.supernodal = CHOLMOD_SIMPLICIAL;
+    // one calls BLAS per supernode, which costs more than it saves on small 3D meshes
+    // (measured: 480 dofs 2x faster simplicial, 5400 dofs 4x faster supernodal).
+    if (A.rows() < 2000) common_.supernodal = CHOLMOD_SIMPLICIAL;
     if (A.rows() != A.cols()) throw std::invalid_argument("CholmodFactor: matrix is not square");
     cholmod_sparse view{};
     view.nrow = view.ncol = static_cast<size_t>(A.rows());
@@ -53,21 +54,31 @@ class CholmodFactor {
 
   /// x = A^-1 b; x may not alias b. No allocation once x has size n (after the first call).
   void Solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) {
+    x->resize(n_);
+    SolveColumns(b.data(), 1, x->data());
+  }
+  /// X = A^-1 B for k right-hand sides at once (BLAS-3 in the supernodal solves).
+  void Solve(const Eigen::MatrixXd& B, Eigen::MatrixXd* X) {
+    X->resize(n_, B.cols());
+    SolveColumns(B.data(), B.cols(), X->data());
+  }
+
+ private:
+  // The n x k column-major b into the n x k column-major x.
+  void SolveColumns(const double* b, Eigen::Index k, double* x) {
     if (!ok_) throw std::logic_error("CholmodFactor::Solve: the factorization failed");
     cholmod_dense rhs{};
     rhs.nrow = rhs.d = static_cast<size_t>(n_);
-    rhs.ncol = 1;
-    rhs.nzmax = static_cast<size_t>(n_);
-    rhs.x = const_cast<double*>(b.data());
+    rhs.ncol = static_cast<size_t>(k);
+    rhs.nzmax = static_cast<size_t>(n_ * k);
+    rhs.x = const_cast<double*>(b);
     rhs.xtype = CHOLMOD_REAL;
     rhs.dtype = CHOLMOD_DOUBLE;
     if (!cholmod_solve2(CHOLMOD_A, factor_, &rhs, nullptr, &x_, nullptr, &y_, &e_, &common_))
       throw std::runtime_error("CholmodFactor::Solve: cholmod_solve2 failed");
-    x->resize(n_);
-    std::memcpy(x->data(), x_->x, sizeof(double) * static_cast<size_t>(n_));
+    std::memcpy(x, x_->x, sizeof(double) * static_cast<size_t>(n_ * k));
   }
 
- private:
   Eigen::Index n_;
   cholmod_common common_{};
   cholmod_factor* factor_ = nullptr;

@@ -2,7 +2,6 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -88,12 +87,15 @@ class CondensedStep {
     }
     H_.resize(rows, S.rows());
     H_.setFromTriplets(h.begin(), h.end());
+    // W = H (S^-1 H'), in blocks of columns of H' (at most ~256 MB of right-hand sides).
     const Eigen::SparseMatrix<double> Ht = H_.transpose();
-    Eigen::MatrixXd W(rows, rows);
-    Eigen::VectorXd column(S.rows());
-    for (int j = 0; j < rows; ++j) {
-      factor_.Solve(Eigen::VectorXd(Ht.col(j)), &column);
-      W.col(j) = H_ * column;
+    Eigen::MatrixXd W(rows, rows), block, solved;
+    const int width = static_cast<int>(std::clamp<Eigen::Index>((1 << 25) / std::max<Eigen::Index>(S.rows(), 1), 1, 256));
+    for (int first = 0; first < rows; first += width) {
+      const int count = std::min(width, rows - first);
+      block = Eigen::MatrixXd(Ht.middleCols(first, count));
+      factor_.Solve(block, &solved);
+      W.middleCols(first, count) = H_ * solved;
     }
     W = 0.5 * (W + W.transpose());
     const Eigen::LLT<Eigen::MatrixXd> llt(W);
@@ -427,8 +429,14 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
     lambda_physical = s.normal_force;
   } else {
     u = options.u0;
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> mass(model.M);
-    const Eigen::VectorXd a0 = mass.solve(f - model.K * u);
+    Eigen::VectorXd a0(n);  // M a0 = f - K u0
+    if (IsDiagonal(model.M)) {
+      a0 = (f - model.K * u).cwiseQuotient(model.M.diagonal());
+    } else {
+      internal::CholmodFactor mass(model.M);
+      if (!mass.ok()) throw std::invalid_argument(who + "the mass matrix is not positive definite");
+      mass.Solve(f - model.K * u, &a0);
+    }
     u_previous = u - dt * options.v0 + 0.5 * dt * dt * a0;
   }
 
@@ -448,6 +456,9 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
   }
   ncp::Options ncp_options = options.ncp;
   ncp_options.ncp_function = FunctionOf(options.solver);
+  // The condensed system's matrix W^-1 is dense: a dense LU beats a sparse one at any size.
+  if (condensed && ncp_options.linear_solver == ncp::LinearSolverType::kAuto)
+    ncp_options.linear_solver = ncp::LinearSolverType::kDenseLU;
   ncp::Solver solver(ncp_options);
 
   // Ipopt reference: rows n_c . du_c <= s_c - n_c . u^k, i.e. G = Y R.

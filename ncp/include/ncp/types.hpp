@@ -27,7 +27,8 @@ enum class NcpFunction {
 /// Linear solver used for the Newton system J d = -Phi.
 enum class LinearSolverType {
   kAuto,      ///< dense LU below Options::dense_threshold unknowns, else UMFPACK
-  kDenseLU,   ///< Eigen::FullPivLU on the densified Jacobian (rank-revealing)
+  kDenseLU,   ///< dense LU of the densified Jacobian: Eigen::FullPivLU (rank-revealing) up
+              ///< to 100 unknowns, Eigen::PartialPivLU above (singular: a pivot below n eps the largest)
   kSparseLU,  ///< Eigen::SparseLU (supernodal, COLAMD ordering)
   kUmfpack,   ///< SuiteSparse UMFPACK through Eigen::UmfPackLU
   kKlu,       ///< SuiteSparse KLU through Eigen::KLU
