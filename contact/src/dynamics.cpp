@@ -521,8 +521,10 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       return SolveConvexQpIpopt(S, q, G, gap0 - G * u, du, qp_options);
     };
     bool ok;
+    const auto solve_start = Clock::now();
     if (options.solver == StepSolver::kIpopt) {
       const ConvexQpResult qp = solve_qp();
+      rec.solve_seconds = Seconds(solve_start);
       ok = qp.status == ConvexQpStatus::kSolved;
       rec.solver_status = ok ? "converged" : qp.message;
       rec.newton_iterations = qp.iterations;
@@ -530,6 +532,7 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       contact.normal_force = qp.multipliers;
     } else if (explicit_step) {
       explicit_step->Solve(q, u, bound, &contact);
+      rec.solve_seconds = Seconds(solve_start);
       ok = contact.x.allFinite();
       rec.solver_status = ok ? "converged" : "non-finite values in the explicit step";
     } else {
@@ -537,6 +540,7 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       ncp::Vector z = step_system.StartPoint(condensed ? condensed->Restrict(du) : du, friction_previous);
       ncp::Summary s;
       solver.Solve(step_system, &z, &s);
+      rec.solve_seconds = Seconds(solve_start);
       ok = s.IsSolutionUsable();
       rec.solver_status = ok ? "converged" : s.message;
       rec.newton_iterations = s.iterations;
