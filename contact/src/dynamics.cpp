@@ -44,6 +44,102 @@ ncp::NcpFunction FunctionOf(StepSolver s) {
   }
 }
 
+// M^-1: elementwise for a diagonal (lumped) mass, else one CHOLMOD factor - computed once
+// per run and shared by the critical step, the prescribed start and the condensed step.
+class MassInverse {
+ public:
+  /// Throws std::invalid_argument starting with `who` if M is not positive definite.
+  MassInverse(const Eigen::SparseMatrix<double>& M, const std::string& who) : diagonal_(M.diagonal()) {
+    if (IsDiagonal(M)) {
+      if (!(diagonal_.size() == 0 || diagonal_.minCoeff() > 0.0))
+        throw std::invalid_argument(who + "the mass matrix is not positive definite");
+      return;
+    }
+    factor_ = std::make_unique<internal::CholmodFactor>(M);
+    if (!factor_->ok())
+      throw std::invalid_argument(who + "the mass matrix is not positive definite (Cholesky failed)");
+  }
+  /// x = M^-1 b (no allocation once x is sized).
+  void Solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) {
+    if (factor_) factor_->Solve(b, x);
+    else *x = b.cwiseQuotient(diagonal_);
+  }
+  /// X = M^-1 B.
+  void Solve(const Eigen::MatrixXd& B, Eigen::MatrixXd* X) {
+    if (factor_) factor_->Solve(B, X);
+    else *X = diagonal_.cwiseInverse().asDiagonal() * B;
+  }
+
+ private:
+  Eigen::VectorXd diagonal_;
+  std::unique_ptr<internal::CholmodFactor> factor_;
+};
+
+// Lanczos on the pencil (K, M), i.e. on M^-1 K, which is self-adjoint in the M inner
+// product: with M-orthonormal v_1, v_2, ...
+//   w = M^-1 K v_j - alpha_j v_j - beta_{j-1} v_{j-1},  alpha_j = v_j' K v_j,
+//   beta_j = sqrt(w' M w),  v_{j+1} = w / beta_j,
+// the largest eigenvalue theta of the tridiagonal T_j = tridiag(beta, alpha, beta) rises
+// to lambda_max = omega_max^2 from below (in far fewer steps than power iteration). M v is
+// carried along (M w = K v_j - alpha_j M v_j - beta_{j-1} M v_{j-1}), so one step costs one
+// product with K and one solve with M. No reorthogonalization: the loss of orthogonality
+// only adds copies of converged Ritz values, not wrong extreme ones. The start vector
+// alternates in sign node by node so it is rich in high-frequency modes.
+CriticalTimeStep Lanczos(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M,
+                         MassInverse* mass, double relative_tolerance, int max_iterations) {
+  CriticalTimeStep out;
+  const Eigen::Index n = K.rows();
+  if (n == 0) return out;
+  Eigen::VectorXd v(n), Mv(n), v_old = Eigen::VectorXd::Zero(n), Mv_old = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd Kv(n), w(n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    v(i) = ((i / 2) % 2 == 0 ? 1.0 : -1.0) * (1.0 + 1e-3 * static_cast<double>(i % 7));
+  Mv.noalias() = M * v;
+  const double norm = std::sqrt(v.dot(Mv));
+  v /= norm;
+  Mv /= norm;
+  std::vector<double> alpha, beta;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> tridiagonal;
+  double theta = 0.0, beta_old = 0.0;
+  int stable_count = 0;
+  const int limit = static_cast<int>(std::min<Eigen::Index>(max_iterations, n));
+  for (int j = 1; j <= limit; ++j) {
+    internal::SymmetricMultiply(K, v, &Kv);
+    const double a = v.dot(Kv);
+    // M w = K v - a M v - beta_old M v_old, then w = M^-1 (M w).
+    Kv -= a * Mv + beta_old * Mv_old;
+    mass->Solve(Kv, &w);
+    const double b = std::sqrt(std::max(w.dot(Kv), 0.0));
+    alpha.push_back(a);
+    Eigen::VectorXd d = Eigen::Map<const Eigen::VectorXd>(alpha.data(), j);
+    Eigen::VectorXd e = Eigen::Map<const Eigen::VectorXd>(beta.data(), j - 1);
+    tridiagonal.computeFromTridiagonal(d, e, Eigen::EigenvaluesOnly);
+    const double next = std::max(tridiagonal.eigenvalues().maxCoeff(), 0.0);
+    out.iterations = j;
+    // Invariant subspace (b ~ 0): T_j holds exact eigenvalues of the pencil.
+    const bool exhausted = !(b > 1e-14 * std::max(std::abs(a), 1e-300)) || j == n;
+    if (exhausted || std::abs(next - theta) <= relative_tolerance * next) {
+      if (exhausted || ++stable_count >= 3) {
+        theta = next;
+        out.converged = true;
+        break;
+      }
+    } else {
+      stable_count = 0;
+    }
+    theta = next;
+    beta.push_back(b);
+    beta_old = b;
+    v_old.swap(v);
+    Mv_old.swap(Mv);
+    v = w / b;
+    Mv = Kv / b;
+  }
+  out.omega_max = std::sqrt(theta);
+  out.dt_crit = theta > 0.0 ? 2.0 / out.omega_max : std::numeric_limits<double>::infinity();
+  return out;
+}
+
 // Exact elimination of the non-contact dofs from one step (StepMethod::kCondensed).
 // With H mapping the displacements to the contact unknowns x_c = H du, the step equation
 //     S du + q = H' F          (F: the contact forces conjugate to x_c)
@@ -57,12 +153,10 @@ ncp::NcpFunction FunctionOf(StepSolver s) {
 //   normal e_x and no tangent): W is dim^2 times smaller and its solves dim^3 times cheaper.
 class CondensedStep {
  public:
-  CondensedStep(int dim, const Eigen::SparseMatrix<double>& S, const std::vector<ContactNode>& nodes,
-                bool frictionless)
-      : dim_(dim), nodes_(nodes), factor_(S) {
-    if (!factor_.ok())
-      throw std::invalid_argument("contact::RunDynamics: the mass matrix is not positive definite "
-                                  "(Cholesky failed), the condensed step needs it");
+  /// n free dofs, S = M / m_max: S^-1 = m_max M^-1 through `mass` (which must outlive this).
+  CondensedStep(int dim, Eigen::Index n, MassInverse* mass, double m_max,
+                const std::vector<ContactNode>& nodes, bool frictionless)
+      : dim_(dim), nodes_(nodes), mass_(mass), m_max_(m_max) {
     // H, and the nodes renumbered onto the contact unknowns.
     std::vector<Eigen::Triplet<double>> h;
     std::vector<ContactNode> condensed = nodes;
@@ -85,16 +179,17 @@ class CondensedStep {
         node.dofs[a] = rows++;
       }
     }
-    H_.resize(rows, S.rows());
+    H_.resize(rows, n);
     H_.setFromTriplets(h.begin(), h.end());
     // W = H (S^-1 H'), in blocks of columns of H' (at most ~256 MB of right-hand sides).
     const Eigen::SparseMatrix<double> Ht = H_.transpose();
     Eigen::MatrixXd W(rows, rows), block, solved;
-    const int width = static_cast<int>(std::clamp<Eigen::Index>((1 << 25) / std::max<Eigen::Index>(S.rows(), 1), 1, 256));
+    const int width = static_cast<int>(std::clamp<Eigen::Index>((1 << 25) / std::max<Eigen::Index>(n, 1), 1, 256));
     for (int first = 0; first < rows; first += width) {
       const int count = std::min(width, rows - first);
       block = Eigen::MatrixXd(Ht.middleCols(first, count));
-      factor_.Solve(block, &solved);
+      mass_->Solve(block, &solved);
+      solved *= m_max_;  // S^-1 = m_max M^-1
       W.middleCols(first, count) = H_ * solved;
     }
     W = 0.5 * (W + W.transpose());
@@ -114,7 +209,7 @@ class CondensedStep {
 
   /// Data of one step: q and u0 on all free dofs.
   void Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0, const Eigen::VectorXd& bound) {
-    factor_.Solve(q, &full_);
+    SolveS(q, &full_);
     contact_.noalias() = H_ * full_;
     q_c_.noalias() = inverse_delassus_ * contact_;  // W^-1 H S^-1 q
     contact_.noalias() = H_ * u0;
@@ -128,7 +223,7 @@ class CondensedStep {
     contact_ += q_c_;  // F
     full_.noalias() = H_.transpose() * contact_;
     full_ -= q;
-    factor_.Solve(full_, &condensed.x);
+    SolveS(full_, &condensed.x);
     if (normal_only_)
       for (size_t c = 0; c < nodes_.size(); ++c) {
         const ContactNode& node = nodes_[c];
@@ -147,7 +242,12 @@ class CondensedStep {
   int dim_;
   std::vector<ContactNode> nodes_;
   bool normal_only_ = false;
-  internal::CholmodFactor factor_;
+  MassInverse* mass_;
+  double m_max_;
+  void SolveS(const Eigen::VectorXd& b, Eigen::VectorXd* x) {  // x = S^-1 b
+    mass_->Solve(b, x);
+    *x *= m_max_;
+  }
   Eigen::SparseMatrix<double> H_;
   Eigen::MatrixXd inverse_delassus_;
   std::unique_ptr<ContactSystem> system_;
@@ -288,79 +388,8 @@ CriticalTimeStep EstimateCriticalTimeStep(const Eigen::SparseMatrix<double>& K,
                                           double relative_tolerance, int max_iterations) {
   if (K.rows() != M.rows() || K.cols() != M.cols() || K.rows() != K.cols())
     throw std::invalid_argument("EstimateCriticalTimeStep: K and M must be square of equal size");
-  CriticalTimeStep out;
-  const Eigen::Index n = K.rows();
-  if (n == 0) return out;
-  // M^-1: elementwise for a diagonal (lumped) mass, else a sparse Cholesky factor.
-  const bool diagonal = IsDiagonal(M);
-  const Eigen::VectorXd mass_diagonal = M.diagonal();
-  if (diagonal && !(mass_diagonal.minCoeff() > 0.0))
-    throw std::invalid_argument("EstimateCriticalTimeStep: the mass matrix is not positive definite");
-  std::unique_ptr<internal::CholmodFactor> factor;
-  if (!diagonal) {
-    factor = std::make_unique<internal::CholmodFactor>(M);
-    if (!factor->ok())
-      throw std::invalid_argument("EstimateCriticalTimeStep: the mass matrix is not positive definite");
-  }
-  // Lanczos on the pencil (K, M), i.e. on M^-1 K, which is self-adjoint in the M inner
-  // product: with M-orthonormal v_1, v_2, ...
-  //   w = M^-1 K v_j - alpha_j v_j - beta_{j-1} v_{j-1},  alpha_j = v_j' K v_j,
-  //   beta_j = sqrt(w' M w),  v_{j+1} = w / beta_j,
-  // the largest eigenvalue theta of the tridiagonal T_j = tridiag(beta, alpha, beta) rises
-  // to lambda_max = omega_max^2 from below (in far fewer steps than power iteration). M v is
-  // carried along (M w = K v_j - alpha_j M v_j - beta_{j-1} M v_{j-1}), so one step costs one
-  // product with K and one solve with M. No reorthogonalization: the loss of orthogonality
-  // only adds copies of converged Ritz values, not wrong extreme ones. The start vector
-  // alternates in sign node by node so it is rich in high-frequency modes.
-  Eigen::VectorXd v(n), Mv(n), v_old = Eigen::VectorXd::Zero(n), Mv_old = Eigen::VectorXd::Zero(n);
-  Eigen::VectorXd Kv(n), w(n);
-  for (Eigen::Index i = 0; i < n; ++i)
-    v(i) = ((i / 2) % 2 == 0 ? 1.0 : -1.0) * (1.0 + 1e-3 * static_cast<double>(i % 7));
-  Mv.noalias() = M * v;
-  const double norm = std::sqrt(v.dot(Mv));
-  v /= norm;
-  Mv /= norm;
-  std::vector<double> alpha, beta;
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> tridiagonal;
-  double theta = 0.0, beta_old = 0.0;
-  int stable_count = 0;
-  const int limit = static_cast<int>(std::min<Eigen::Index>(max_iterations, n));
-  for (int j = 1; j <= limit; ++j) {
-    Kv.noalias() = K * v;
-    const double a = v.dot(Kv);
-    // M w = K v - a M v - beta_old M v_old, then w = M^-1 (M w).
-    Kv -= a * Mv + beta_old * Mv_old;
-    if (diagonal) w = Kv.cwiseQuotient(mass_diagonal);
-    else factor->Solve(Kv, &w);
-    const double b = std::sqrt(std::max(w.dot(Kv), 0.0));
-    alpha.push_back(a);
-    Eigen::VectorXd d = Eigen::Map<const Eigen::VectorXd>(alpha.data(), j);
-    Eigen::VectorXd e = Eigen::Map<const Eigen::VectorXd>(beta.data(), j - 1);
-    tridiagonal.computeFromTridiagonal(d, e, Eigen::EigenvaluesOnly);
-    const double next = std::max(tridiagonal.eigenvalues().maxCoeff(), 0.0);
-    out.iterations = j;
-    // Invariant subspace (b ~ 0): T_j holds exact eigenvalues of the pencil.
-    const bool exhausted = !(b > 1e-14 * std::max(std::abs(a), 1e-300)) || j == n;
-    if (exhausted || std::abs(next - theta) <= relative_tolerance * next) {
-      if (exhausted || ++stable_count >= 3) {
-        theta = next;
-        out.converged = true;
-        break;
-      }
-    } else {
-      stable_count = 0;
-    }
-    theta = next;
-    beta.push_back(b);
-    beta_old = b;
-    v_old.swap(v);
-    Mv_old.swap(Mv);
-    v = w / b;
-    Mv = Kv / b;
-  }
-  out.omega_max = std::sqrt(theta);
-  out.dt_crit = theta > 0.0 ? 2.0 / out.omega_max : std::numeric_limits<double>::infinity();
-  return out;
+  MassInverse mass(M, "EstimateCriticalTimeStep: ");
+  return Lanczos(K, M, &mass, relative_tolerance, max_iterations);
 }
 
 DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& options) {
@@ -395,7 +424,8 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
   const double dt = options.dt;
 
   // Stability: central differences need dt <= 2 / omega_max.
-  const CriticalTimeStep crit = EstimateCriticalTimeStep(model.K, model.M);
+  MassInverse mass(model.M, who);
+  const CriticalTimeStep crit = Lanczos(model.K, model.M, &mass, 1e-9, 20000);
   summary.critical_time_step = crit.dt_crit;
   if (dt > crit.dt_crit && !options.allow_unstable_time_step) {
     summary.status = DynamicStatus::kRefusedUnstable;
@@ -430,13 +460,7 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
   } else {
     u = options.u0;
     Eigen::VectorXd a0(n);  // M a0 = f - K u0
-    if (IsDiagonal(model.M)) {
-      a0 = (f - model.K * u).cwiseQuotient(model.M.diagonal());
-    } else {
-      internal::CholmodFactor mass(model.M);
-      if (!mass.ok()) throw std::invalid_argument(who + "the mass matrix is not positive definite");
-      mass.Solve(f - model.K * u, &a0);
-    }
+    mass.Solve(f - model.K * u, &a0);
     u_previous = u - dt * options.v0 + 0.5 * dt * dt * a0;
   }
 
@@ -449,7 +473,7 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
   std::unique_ptr<ExplicitStep> explicit_step;
   if (options.solver != StepSolver::kIpopt) {
     if (options.step_method == StepMethod::kCondensed)
-      condensed = std::make_unique<CondensedStep>(model.dim, S, model.contact_nodes,
+      condensed = std::make_unique<CondensedStep>(model.dim, n, &mass, m_max, model.contact_nodes,
                                                   options.friction_coefficient == 0.0);
     if (options.step_method == StepMethod::kExplicit)
       explicit_step = std::make_unique<ExplicitStep>(model.dim, S, model.contact_nodes);
