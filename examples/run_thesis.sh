@@ -25,6 +25,8 @@ demo=0
 [ "${1:-}" = "--demo" ] && demo=1
 # Step method: condensed (default) or full (the thesis formulation over all dofs).
 STEP=${STEP:-condensed}
+# Runs per variant for the timing (the first one writes the outputs).
+REPEAT=${REPEAT:-5}
 
 # variant  scene  contact-sim options
 all_variants=(
@@ -57,6 +59,12 @@ for v in "${variants[@]}"; do
   "$SIM" "$S/$scene" --json --quiet --step "$STEP" --output "$OUT/$name" $options >"$OUT/$name/run.json" \
     2>"$OUT/$name/summary.txt"
   echo "$name: exit code $?, $(head -1 "$OUT/$name/summary.txt")"
+  # Timing on a shared machine: REPEAT - 1 more runs without output files; the table shows
+  # the fastest and the median t_comp of all runs.
+  for i in $(seq 2 "$REPEAT"); do
+    # shellcheck disable=SC2086
+    "$SIM" "$S/$scene" --json --quiet --no-output --step "$STEP" $options >"$OUT/$name/timing_$i.json" 2>/dev/null
+  done
 done
 echo
 $PY examples/plot/thesis_table.py "$OUT" "${names[@]}"

@@ -468,16 +468,17 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
   const double m_max = MaxAbsEntry(model.M);
   const double force_scale = m_max / (dt * dt);  // system units -> newtons
   const Eigen::SparseMatrix<double> S = model.M / m_max;
-  ContactSystem system(model.dim, S, model.contact_nodes);
+  // One of: the full system (kFull, and Ipopt's results), the condensed one, the explicit one.
+  std::unique_ptr<ContactSystem> full;
   std::unique_ptr<CondensedStep> condensed;
   std::unique_ptr<ExplicitStep> explicit_step;
-  if (options.solver != StepSolver::kIpopt) {
-    if (options.step_method == StepMethod::kCondensed)
-      condensed = std::make_unique<CondensedStep>(model.dim, n, &mass, m_max, model.contact_nodes,
-                                                  options.friction_coefficient == 0.0);
-    if (options.step_method == StepMethod::kExplicit)
-      explicit_step = std::make_unique<ExplicitStep>(model.dim, S, model.contact_nodes);
-  }
+  if (options.solver != StepSolver::kIpopt && options.step_method == StepMethod::kCondensed)
+    condensed = std::make_unique<CondensedStep>(model.dim, n, &mass, m_max, model.contact_nodes,
+                                                options.friction_coefficient == 0.0);
+  else if (options.solver != StepSolver::kIpopt && options.step_method == StepMethod::kExplicit)
+    explicit_step = std::make_unique<ExplicitStep>(model.dim, S, model.contact_nodes);
+  else
+    full = std::make_unique<ContactSystem>(model.dim, S, model.contact_nodes);
   ncp::Options ncp_options = options.ncp;
   ncp_options.ncp_function = FunctionOf(options.solver);
   // The condensed system's matrix W^-1 is dense: a dense LU beats a sparse one at any size.
@@ -531,7 +532,7 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
     else
       bound.resize(0);
     if (condensed) condensed->Update(q, u, bound);
-    else if (!explicit_step) system.Update(q, u, bound);
+    else if (full) full->Update(q, u, bound);
 
     StepRecord rec;
     rec.step = static_cast<int>(k + 1);
@@ -552,7 +553,7 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       ok = qp.status == ConvexQpStatus::kSolved;
       rec.solver_status = ok ? "converged" : qp.message;
       rec.newton_iterations = qp.iterations;
-      contact = system.Extract(system.StartPoint(qp.x));
+      contact = full->Extract(full->StartPoint(qp.x));
       contact.normal_force = qp.multipliers;
     } else if (explicit_step) {
       explicit_step->Solve(q, u, bound, &contact);
@@ -560,16 +561,29 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       ok = contact.x.allFinite();
       rec.solver_status = ok ? "converged" : "non-finite values in the explicit step";
     } else {
-      ContactSystem& step_system = condensed ? condensed->system() : system;
-      ncp::Vector z = step_system.StartPoint(condensed ? condensed->Restrict(du) : du, friction_previous);
+      ContactSystem& step_system = condensed ? condensed->system() : *full;
+      const Eigen::VectorXd guess = condensed ? condensed->Restrict(du) : du;
+      ncp::Vector z = step_system.StartPoint(guess, friction_previous);
       ncp::Summary s;
       solver.Solve(step_system, &z, &s);
-      rec.solve_seconds = Seconds(solve_start);
-      ok = s.IsSolutionUsable();
-      rec.solver_status = ok ? "converged" : s.message;
       rec.newton_iterations = s.iterations;
       rec.jacobian_evaluations = s.jacobian_evaluations;
       rec.residual_evaluations = s.residual_evaluations;
+      // With friction, the start from the previous friction forces can sit next to the
+      // degenerate point of eq. (94) (a friction force much smaller than its bound leaves
+      // the direction t nearly undetermined; seen in Table 3 at step 29). Retry once from
+      // the start without the force guess (direction from the slip, or t1 with g_c / 2).
+      if (!s.IsSolutionUsable() && step_system.num_friction_nodes() > 0 && friction_previous.size()) {
+        z = step_system.StartPoint(guess);
+        solver.Solve(step_system, &z, &s);
+        rec.newton_iterations += s.iterations;
+        rec.jacobian_evaluations += s.jacobian_evaluations;
+        rec.residual_evaluations += s.residual_evaluations;
+        ++summary.friction_restarts;
+      }
+      rec.solve_seconds = Seconds(solve_start);
+      ok = s.IsSolutionUsable();
+      rec.solver_status = ok ? "converged" : s.message;
       contact = condensed ? condensed->Expand(step_system.Extract(z), q) : step_system.Extract(z);
       if (ok && options.compare_with_ipopt) {
         const ConvexQpResult qp = solve_qp();

@@ -90,6 +90,7 @@ int main(int argc, char** argv) {
     j["newton_iterations"] = s.newton_iterations;
     j["jacobian_evals"] = s.jacobian_evaluations;
     j["residual_evals"] = s.residual_evaluations;
+    j["friction_restarts"] = s.friction_restarts;
     j["seconds"] = s.seconds;
     j["max_penetration"] = s.max_penetration;
     j["energy_balance_error"] = s.energy_balance_error;

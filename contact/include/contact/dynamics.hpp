@@ -159,6 +159,9 @@ struct DynamicSummary {
   std::string message = "not run yet";
   int steps = 0;
   long newton_iterations = 0, jacobian_evaluations = 0, residual_evaluations = 0;
+  /// Steps whose Newton solve from the previous friction forces failed and that were solved
+  /// again from the neutral friction start (see ContactSystem::StartPoint).
+  int friction_restarts = 0;
   double seconds = 0.0;
   double max_penetration = 0.0;        ///< over all steps [m]
   double energy_balance_error = 0.0;   ///< max over steps of |balance error| [J]
