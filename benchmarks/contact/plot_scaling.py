@@ -32,6 +32,21 @@ def slope(xs, ys):
     return sum((a - mx) * (b - my) for a, b in zip(lx, ly)) / sxx if sxx > 0 else math.nan
 
 
+def finish(ax, xlabel, ylabel, title=None):
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if title:
+        ax.set_title(title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+
+
+def save(fig, out, name):
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, name), dpi=130)
+    plt.close(fig)
+
+
 def load(path):
     with open(path, newline="") as f:
         return [r for r in csv.DictReader(f) if r["status"] == "completed"]
@@ -68,22 +83,12 @@ def plot_cube(rows, out):
             matvec.setdefault(int(r["dofs"]), float(r["matvec_s"]))
     xs = sorted(matvec)
     ax.loglog(xs, [matvec[x] for x in xs], "k:", label=f"one K x (p = {slope(xs, [matvec[x] for x in xs]):.2f})")
-    ax.set_xlabel("dofs")
-    ax.set_ylabel("time per step [s]")
-    ax.set_title("Hex8 cube on a flat floor: time per step")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
+    finish(ax, "dofs", "time per step [s]", "Hex8 cube on a flat floor: time per step")
     ax2.set_yscale("log")
     ax2.axhline(3.0, color="k", lw=0.8, ls=":")
     ax2.text(xs[0], 3.3, "target for explicit: 3 K x", fontsize=7)
-    ax2.set_xlabel("dofs")
-    ax2.set_ylabel("time per step / time of one K x")
-    ax2.set_title("step cost in units of one sparse K x")
-    ax2.grid(True, which="both", alpha=0.3)
-    ax2.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "scaling_cube.png"), dpi=130)
-    plt.close(fig)
+    finish(ax2, "dofs", "time per step / time of one K x", "step cost in units of one sparse K x")
+    save(fig, out, "scaling_cube.png")
 
 
 def plot_column(rows, out):
@@ -100,18 +105,10 @@ def plot_column(rows, out):
         ax.loglog(x, [float(r["step_s"]) for r in rs], ls, color=color, marker=marker, mfc=fill, label=label)
         ax2.semilogx(x, [float(r["newton_per_step"]) for r in rs], ls, color=color, marker=marker,
                      mfc=fill, label=label)
-    ax.set_xlabel("dofs (contact face fixed: 15 x 15 nodes)")
-    ax.set_ylabel("time per step [s]")
-    ax.set_title("growing interior, fixed contact surface")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
-    ax2.set_xlabel("dofs")
-    ax2.set_ylabel("Newton iterations per step")
-    ax2.grid(True, which="both", alpha=0.3)
-    ax2.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "scaling_column.png"), dpi=130)
-    plt.close(fig)
+    finish(ax, "dofs (contact face fixed: 15 x 15 nodes)", "time per step [s]",
+           "growing interior, fixed contact surface")
+    finish(ax2, "dofs", "Newton iterations per step")
+    save(fig, out, "scaling_column.png")
 
 
 def main():

@@ -49,6 +49,8 @@
 #include <string>
 #include <vector>
 
+#include "log_log_slope.hpp"
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -243,19 +245,6 @@ Row RunIsolated(const Case& c, int steps, double tolerance, int time_limit) {
   return row;
 }
 
-// Least-squares slope of log(y) against log(x).
-double LogLogSlope(const std::vector<double>& x, const std::vector<double>& y) {
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  const double n = static_cast<double>(x.size());
-  for (size_t i = 0; i < x.size(); ++i) {
-    const double lx = std::log(x[i]), ly = std::log(y[i]);
-    sx += lx;
-    sy += ly;
-    sxx += lx * lx;
-    sxy += lx * ly;
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
 
 }  // namespace
 
