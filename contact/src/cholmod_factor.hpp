@@ -20,7 +20,8 @@ class CholmodFactor {
     cholmod_start(&common_);
     // Small matrices: the simplicial factor, whose solves are plain loops; the supernodal
     // one calls BLAS per supernode, which costs more than it saves on small 3D meshes
-    // (measured: 480 dofs 2x faster simplicial, 5400 dofs 4x faster supernodal).
+    // (measured: the Table 1 run, 480 dofs, 42-47 ms supernodal vs 32-33 ms simplicial;
+    // dt_crit at 5400 dofs 0.89 s simplicial vs 0.23 s supernodal).
     if (A.rows() < 2000) common_.supernodal = CHOLMOD_SIMPLICIAL;
     if (A.rows() != A.cols()) throw std::invalid_argument("CholmodFactor: matrix is not square");
     cholmod_sparse view{};
