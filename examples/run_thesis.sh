@@ -5,6 +5,9 @@
 #   examples/run_thesis.sh          all 11 variants
 #   examples/run_thesis.sh --demo   the 2D curved obstacle with f_c = 0.5 and the 3D
 #                                   frictionless box at dt = 2e-4 (a few seconds)
+#   STEP=full examples/run_thesis.sh   the thesis' formulation (default: condensed)
+#   REPEAT=1 examples/run_thesis.sh    one run per variant (default 5: the table shows the
+#                                      fastest and the median t_comp)
 #
 # Outputs: build/output/thesis/<variant>/ (contact-sim's CSV and VTK files and run.json),
 # build/output/thesis/table.md and table.csv, build/output/thesis/figures/*.png.
