@@ -23,6 +23,10 @@ class CholmodFactor {
     // (measured: the Table 1 run, 480 dofs, 42-47 ms supernodal vs 32-33 ms simplicial;
     // dt_crit at 5400 dofs 0.89 s simplicial vs 0.23 s supernodal).
     if (A.rows() < 2000) common_.supernodal = CHOLMOD_SIMPLICIAL;
+    // LL', not CHOLMOD's default simplicial LDL': LDL' also factors symmetric indefinite
+    // matrices, and ok() must tell that A is not positive definite.
+    common_.final_ll = 1;
+    common_.print = 0;  // failures are reported through ok(), not printed by CHOLMOD
     if (A.rows() != A.cols()) throw std::invalid_argument("CholmodFactor: matrix is not square");
     cholmod_sparse view{};
     view.nrow = view.ncol = static_cast<size_t>(A.rows());

@@ -429,7 +429,8 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
 
   // Stability: central differences need dt <= 2 / omega_max.
   MassInverse mass(model.M, who);
-  const CriticalTimeStep crit = Lanczos(model.K, model.M, &mass, 1e-9, 20000);
+  const CriticalTimeStep crit =
+      Lanczos(model.K, model.M, &mass, kCriticalStepTolerance, kCriticalStepMaxIterations);
   summary.critical_time_step = crit.dt_crit;
   if (dt > crit.dt_crit && !options.allow_unstable_time_step) {
     summary.status = DynamicStatus::kRefusedUnstable;
@@ -471,12 +472,17 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
   // The step system: S = M / Mmax is the same every step.
   const double m_max = MaxAbsEntry(model.M);
   const double force_scale = m_max / (dt * dt);  // system units -> newtons
-  const Eigen::SparseMatrix<double> S = model.M / m_max;
+  const bool use_condensed =
+      options.solver != StepSolver::kIpopt && options.step_method == StepMethod::kCondensed;
+  // S itself only where it is used (the condensed step works with the factor of M): a copy
+  // of a consistent M is as large as M.
+  Eigen::SparseMatrix<double> S;
+  if (!use_condensed || options.compare_with_ipopt) S = model.M / m_max;
   // One of: the full system (kFull, and Ipopt's results), the condensed one, the explicit one.
   std::unique_ptr<ContactSystem> full;
   std::unique_ptr<CondensedStep> condensed;
   std::unique_ptr<ExplicitStep> explicit_step;
-  if (options.solver != StepSolver::kIpopt && options.step_method == StepMethod::kCondensed)
+  if (use_condensed)
     condensed = std::make_unique<CondensedStep>(model.dim, n, &mass, m_max, model.contact_nodes,
                                                 options.friction_coefficient == 0.0);
   else if (options.solver != StepSolver::kIpopt && options.step_method == StepMethod::kExplicit)

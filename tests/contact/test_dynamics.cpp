@@ -186,4 +186,16 @@ TEST_CASE("RunDynamics rejects inconsistent input", "[dynamics][errors]") {
   o.solver = StepSolver::kFischerBurmeister;
   o.v0 = Eigen::VectorXd::Zero(3);
   CHECK_THROWS_WITH(RunDynamics(model, o), Catch::Contains("must have size"));
+  o.v0 = Eigen::VectorXd::Zero(model.K.rows());
+  DynamicModel skewed = model;
+  skewed.K.coeffRef(0, 2) += 0.5;  // K_02 != K_20
+  CHECK_THROWS_WITH(RunDynamics(skewed, o), Catch::Contains("K and M must be symmetric"));
+  DynamicModel massless = model;
+  massless.M.coeffRef(2, 2) = 0.0;  // a zero lumped mass
+  CHECK_THROWS_WITH(RunDynamics(massless, o), Catch::Contains("mass matrix is not positive definite"));
+  DynamicModel indefinite = Bar(4, false);
+  indefinite.M.coeffRef(0, 2) = indefinite.M.coeffRef(2, 0) = 1.0;  // off-diagonal > diagonal
+  CHECK_THROWS_WITH(RunDynamics(indefinite, o), Catch::Contains("not positive definite (Cholesky failed)"));
+  CHECK_THROWS_WITH(EstimateCriticalTimeStep(indefinite.K, indefinite.M),
+                    Catch::Contains("EstimateCriticalTimeStep: the mass matrix is not positive definite"));
 }

@@ -194,20 +194,33 @@ TEST_CASE("The explicit step refuses a consistent mass", "[scene][errors]") {
   CHECK_THROWS_WITH(RunDynamics(built.model, built.options), Catch::Contains("lumped (diagonal) mass"));
 }
 
-TEST_CASE("Table 3 with f_c = 0.5 completes with both step methods (friction restart)",
+TEST_CASE("Table 3 with f_c = 0.5 completes with both step methods; a failed frictional "
+          "solve is retried once from the neutral start",
           "[scene][dynamics][friction]") {
-  // With the scene's tolerance 1e-8 the condensed solve of step 29 stalls next to the
-  // degenerate point of eq. (94) when started from the previous friction forces (a force of
-  // 0.7% of its bound at one node); the deterministic restart from the neutral start solves it.
+  // With a mass factor computed as LDL' (an earlier version) the condensed solve of step 29
+  // stalled next to the degenerate point of eq. (94) when started from the previous friction
+  // forces (a force of 0.7% of its bound at one node); the restart from the neutral start
+  // solved it. Round-off decides whether that happens, so the run is checked to complete
+  // with at most that one restart, and the restart itself is forced below.
   const StepMethod method = GENERATE(StepMethod::kCondensed, StepMethod::kFull);
   CAPTURE(ToString(method));
   Scene scene = LoadScene(std::string(NCP_SOURCE_DIR) + "/examples/thesis/friction_3d.toml");
   scene.friction_coefficient = 0.5;
   scene.dynamics.step_method = method;
   SceneModel built = BuildSceneModel(scene);
-  const DynamicSummary s = RunDynamics(built.model, built.options);
+  DynamicSummary s = RunDynamics(built.model, built.options);
   INFO(s.message);
   CHECK(s.status == DynamicStatus::kCompleted);
   CHECK(s.steps == 50);
   CHECK(s.friction_restarts <= 1);
+
+  // One Newton iteration is too few once the block slides: the first frictional step fails,
+  // is tried once more (counted, iterations of both attempts summed), and the run stops
+  // there with the solver's message.
+  built.options.ncp.max_iterations = 1;
+  s = RunDynamics(built.model, built.options);
+  CHECK(s.status == DynamicStatus::kSolverFailure);
+  CHECK(s.friction_restarts == 1);
+  CHECK_THAT(s.message, Catch::Contains("max_iterations = 1"));
+  CHECK(s.newton_iterations >= 2);
 }

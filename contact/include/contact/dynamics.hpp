@@ -39,10 +39,13 @@ struct CriticalTimeStep {
   int iterations = 0;
   bool converged = false;
 };
+/// The defaults, which RunDynamics uses too.
+inline constexpr double kCriticalStepTolerance = 1e-9;
+inline constexpr int kCriticalStepMaxIterations = 20000;
 CriticalTimeStep EstimateCriticalTimeStep(const Eigen::SparseMatrix<double>& K,
                                           const Eigen::SparseMatrix<double>& M,
-                                          double relative_tolerance = 1e-9,
-                                          int max_iterations = 20000);
+                                          double relative_tolerance = kCriticalStepTolerance,
+                                          int max_iterations = kCriticalStepMaxIterations);
 
 /// y = A x for a symmetric sparse A (column storage): y_i is the dot product of column i
 /// with x, and the rows are split over the OpenMP threads, so the result is bit-for-bit the
