@@ -57,7 +57,10 @@ void ScaleRows(const Vector& weight, SparseMatrix* J) {
   for (Eigen::Index k = 0; k < J->nonZeros(); ++k) values[k] *= weight(rows[k]);
 }
 
-// weight = 1 / (floor + tolerance * scale), checked; `what` names the vector in errors.
+// weight = 1 / (scale + floor / tolerance), checked; `what` names the vector in errors.
+// (|row| weight <= tolerance  <=>  |row| <= floor + tolerance * scale; the weighted rows are
+// relative residuals of order 1 at a typical point, which keeps the penalized FB function,
+// not positively homogeneous, on data of order 1.)
 void Weights(const Vector& scale, const Vector& floor, Eigen::Index size, double tolerance,
              const char* what, Vector* weight) {
   if (scale.size() != size || (floor.size() != 0 && floor.size() != size))
@@ -67,13 +70,12 @@ void Weights(const Vector& scale, const Vector& floor, Eigen::Index size, double
   weight->resize(size);
   for (Eigen::Index i = 0; i < size; ++i) {
     const double f = floor.size() ? floor(i) : 0.0;
-    const double accuracy = f + tolerance * scale(i);
-    if (!(scale(i) > 0.0) || !(f >= 0.0) || !std::isfinite(accuracy) || !(accuracy > 0.0))
+    const double accuracy = tolerance > 0.0 ? scale(i) + f / tolerance : scale(i);
+    if (!(scale(i) > 0.0) || !(f >= 0.0) || !std::isfinite(accuracy))
       throw std::invalid_argument(std::string("ncp::Solver: MixedProblem::Scales gave ") + what +
                                   "[" + std::to_string(i) + "] = " + Fmt("%.3e", scale(i)) +
                                   " with floor " + Fmt("%.3e", f) +
-                                  ": scales must be finite and > 0, floors >= 0, and "
-                                  "floor + tolerance * scale > 0");
+                                  ": scales must be finite and > 0, floors finite and >= 0");
     (*weight)(i) = 1.0 / accuracy;
   }
 }
@@ -188,7 +190,7 @@ struct Solver::Workspace {
   std::vector<int> map[3];
 
   SparseMatrix JE, JA, JB;
-  // Row weights 1 / (floor + tolerance * scale) of MixedProblem::Scales (when `weighted`).
+  // Row weights 1 / (scale + floor / tolerance) of MixedProblem::Scales (when `weighted`).
   bool weighted = false;
   ResidualScales scales;
   Vector we, wa, wb;
@@ -347,7 +349,7 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
   // Row weights from the problem's own scales (MixedProblem::Scales), once per solve.
   w.weighted = SetWeights(problem, x, m, p, o.tolerance, &w.scales, &w.we, &w.wa, &w.wb);
   s.weighted_residual = w.weighted;
-  const double threshold = w.weighted ? 1.0 : o.tolerance;  // on ||Phi||_inf
+  const double threshold = o.tolerance;  // on ||Phi||_inf (weighted or not)
 
   // Phi(x) from E, A, B (weighted when the problem gave scales): equations first, then
   // phi(A_j, B_j).
@@ -487,7 +489,7 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
     if (converged) {
       finish(TerminationType::kConverged,
              (w.weighted ? "every row within floor + " + Fmt("%.1e", o.tolerance) +
-                               " scale of its own units (weighted ||Phi||_inf = " +
+                               " x scale in its own units (relative ||Phi||_inf = " +
                                Fmt("%.3e", phi_inf) + ")"
                          : "||Phi||_inf = " + Fmt("%.3e", phi_inf) + " <= " + Fmt("%.3e", o.tolerance)) +
                  " after " + std::to_string(k) + " iterations");

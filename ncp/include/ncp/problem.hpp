@@ -62,9 +62,10 @@ class MixedProblem {
   /// Optional: the accuracy each row is to be solved to (see ResidualScales), evaluated once
   /// per solve at the start point x0. Return false (the default) to use the plain test
   /// ||Phi||_inf <= Options::tolerance in the units of the rows. When it returns true the
-  /// solver works on the weighted system E_i / t_i, phi(A_j / ta_j, B_j / tb_j) with
-  /// t = floor + tolerance * scale, stops when its infinity norm is <= 1, and reports that
-  /// norm in Summary::final_phi_inf (Summary::weighted_residual is true).
+  /// solver works on the relative system E_i / t_i, phi(A_j / ta_j, B_j / tb_j) with
+  /// t = scale + floor / tolerance, stops when its infinity norm is <= tolerance (i.e. every
+  /// row within floor + tolerance * scale), and reports that norm in Summary::final_phi_inf
+  /// (Summary::weighted_residual is true).
   virtual bool Scales(const Vector& x0, ResidualScales* scales) {
     (void)x0;
     (void)scales;

@@ -117,7 +117,8 @@ struct Summary {
   int symbolic_factorizations = -1;  ///< sparse analyses (1 if the pattern never changed)
 
   /// true when the problem gave its scales (MixedProblem::Scales): the residuals below are
-  /// then of the weighted system (rows divided by floor + tolerance * scale; converged <= 1).
+  /// then of the relative system (rows divided by scale + floor / tolerance; converged when
+  /// <= tolerance).
   bool weighted_residual = false;
   double initial_phi_inf = -1.0;  ///< ||Phi(x^0)||_inf
   double final_phi_inf = -1.0;    ///< ||Phi(x)||_inf at the returned x
