@@ -97,6 +97,7 @@ std::string Status(const contact::DynamicSummary& s) {
     case DynamicStatus::kSolverFailure: return "failed";
     case DynamicStatus::kEnergyBlowUp: return "unstable";
     case DynamicStatus::kRefusedUnstable: return "refused";
+    case DynamicStatus::kAccuracyNotReached: return "inaccurate";
     default: return "not-run";
   }
 }
@@ -186,10 +187,7 @@ Row RunOne(const Built& b, const RunSettings& rs, Track* track) {
   options.friction_coefficient = rs.friction;
   options.allow_unstable_time_step = rs.dt > b.dt_crit;
   options.progress = false;
-  if (rs.solver == StepSolver::kIpopt)
-    options.ipopt_tolerance = rs.tolerance;
-  else
-    options.ncp.tolerance = rs.tolerance;
+  options.ncp.tolerance = rs.tolerance;
 
   *track = Track();
   const int dim = model.dim;

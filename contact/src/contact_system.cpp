@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -174,6 +175,12 @@ ContactSystem::ContactSystem(int dim, const Eigen::SparseMatrix<double>& S,
     L.tangent_dim = L.num_free - 1;
   }
   S_local_ = rotation_ * S * rotation_.transpose();
+  for (Eigen::Index i = 0; i < S_local_.outerSize(); ++i) {
+    double sum = 0.0;
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(S_local_, i); it; ++it)
+      sum += std::abs(it.value());
+    s_row_sum_ = std::max(s_row_sum_, sum);
+  }
   y_.resize(n_);
   r_.resize(n_);
   Update(Eigen::VectorXd::Zero(n_), Eigen::VectorXd::Zero(n_), Eigen::VectorXd());
@@ -194,6 +201,9 @@ void ContactSystem::Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
         std::to_string(num_nodes) + "), got " + std::to_string(tresca_bound.size()));
   q_local_.noalias() = rotation_ * q;
   u0_local_.noalias() = rotation_ * u0;
+  gap0_.resize(num_nodes);
+  for (Eigen::Index c = 0; c < num_nodes; ++c)
+    gap0_(c) = nodes_[static_cast<size_t>(c)].gap - u0_local_(layout_[static_cast<size_t>(c)].slot[0]);
   if (tresca_bound.size())
     bound_ = tresca_bound;
   else
@@ -250,6 +260,51 @@ void ContactSystem::Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
     throw std::logic_error("ContactSystem: rows and unknowns do not match");
 }
 
+void ContactSystem::SetResidualScales(double force, double displacement) {
+  if (!(force > 0.0) || !std::isfinite(force) || !(displacement > 0.0) || !std::isfinite(displacement))
+    throw std::invalid_argument("contact::ContactSystem::SetResidualScales: the force and "
+                                "displacement scales must be finite and > 0, got " +
+                                std::to_string(force) + " and " + std::to_string(displacement));
+  force_scale_ = force;
+  displacement_scale_ = displacement;
+}
+
+bool ContactSystem::Scales(const ncp::Vector& z0, ncp::ResidualScales* scales) {
+  if (!(force_scale_ > 0.0)) return false;
+  // Round-off of the rows at the start point: |R(Sx + q)| is formed from terms of size
+  // |q| + |S| |x|; a gap from gap0_c and x_n; a friction row from g_c and tau.
+  LocalDisplacement(z0, &y_);
+  const double eps = std::numeric_limits<double>::epsilon();
+  const double y_max = y_.lpNorm<Eigen::Infinity>();
+  const double bound_max = bound_.size() ? bound_.lpNorm<Eigen::Infinity>() : 0.0;
+  const double force_floor =
+      kRoundoffUlps * eps * (q_local_.lpNorm<Eigen::Infinity>() + s_row_sum_ * y_max + bound_max);
+  const double slip_floor = kRoundoffUlps * eps * y_max;
+  const Eigen::Index m = num_equations_, p = num_variables_ - num_equations_;
+  const auto N = static_cast<Eigen::Index>(nodes_.size());
+  scales->equation.setConstant(m, force_scale_);
+  scales->equation_floor.setConstant(m, force_floor);
+  // Pairs: (lambda_c, gap_c) for the nodes, then (slip part, friction force row) per friction pair.
+  scales->a.setConstant(p, displacement_scale_);
+  scales->a_floor.setConstant(p, slip_floor);
+  scales->b.setConstant(p, force_scale_);
+  scales->b_floor.setConstant(p, force_floor);
+  scales->a.head(N).setConstant(force_scale_);
+  scales->a_floor.head(N).setConstant(force_floor);
+  scales->b.head(N).setConstant(displacement_scale_);
+  for (Eigen::Index c = 0; c < N; ++c)
+    scales->b_floor(c) = kRoundoffUlps * eps *
+                         (std::abs(gap0_(c)) + std::abs(y_(layout_[static_cast<size_t>(c)].slot[0])));
+  // The friction law of a node against its own bound g_c (tau + g_c >= 0, g_c - tau >= 0).
+  Eigen::Index pair = N;
+  for (size_t c = 0; c < layout_.size(); ++c) {
+    if (layout_[c].friction < 0) continue;
+    scales->b(pair++) = bound_(static_cast<Eigen::Index>(c));
+    scales->b(pair++) = bound_(static_cast<Eigen::Index>(c));
+  }
+  return true;
+}
+
 void ContactSystem::LocalDisplacement(const ncp::Vector& z, Eigen::VectorXd* y) const {
   *y = z.head(n_);
   for (const Layout& L : layout_) {
@@ -280,7 +335,7 @@ bool ContactSystem::Evaluate(const ncp::Vector& z, ncp::Vector* E, ncp::Vector* 
     // Normal pair (thesis eq. 82, second row): reaction lambda = -(R(Sx+q))_n >= 0 and
     // gap = s - n.(u0 + x) >= 0.
     (*A)(static_cast<Eigen::Index>(c)) = -r_(n_dof);
-    (*B)(static_cast<Eigen::Index>(c)) = nodes_[c].gap - u0_local_(n_dof) - y_(n_dof);
+    (*B)(static_cast<Eigen::Index>(c)) = gap0_(static_cast<Eigen::Index>(c)) - y_(n_dof);
     if (L.friction < 0) continue;
     const double g = bound_(static_cast<Eigen::Index>(c));
     if (L.tangent_dim == 1) {
@@ -484,7 +539,7 @@ ContactSystem::Result ContactSystem::Extract(const ncp::Vector& z) const {
   for (Eigen::Index c = 0; c < num_nodes; ++c) {
     const Layout& L = layout_[static_cast<size_t>(c)];
     out.normal_force(c) = -r_(L.slot[0]);
-    out.gap(c) = nodes_[static_cast<size_t>(c)].gap - u0_local_(L.slot[0]) - y_(L.slot[0]);
+    out.gap(c) = gap0_(c) - y_(L.slot[0]);
     for (int a = 1; a < L.num_free; ++a) {
       out.tangent_force(a - 1, c) = r_(L.slot[a]);  // = tau at a solution (equation row)
       out.slip(a - 1, c) = y_(L.slot[a]);

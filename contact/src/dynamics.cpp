@@ -348,6 +348,84 @@ class ExplicitStep {
   Eigen::VectorXd diagonal_;
 };
 
+// The scales a step is solved against, in newtons and metres (dynamics.hpp, kAccuracySlack).
+struct StepScales {
+  double force = 0.0;         // F [N]
+  double displacement = 0.0;  // D [m]
+};
+StepScales ComputeStepScales(const Eigen::VectorXd& f, const Eigen::VectorXd& Ku,
+                             double contact_force_max, const Eigen::VectorXd& du_previous,
+                             const std::vector<ContactNode>& nodes, const Eigen::VectorXd& u,
+                             double m_max, double dt) {
+  StepScales out;
+  out.force = std::max({f.lpNorm<Eigen::Infinity>(), Ku.lpNorm<Eigen::Infinity>(), contact_force_max});
+  double penetration = 0.0;
+  for (const ContactNode& node : nodes) {
+    double un = 0.0;
+    for (int a = 0; a < 3; ++a)
+      if (node.dofs[a] >= 0) un += node.normal(a) * u(node.dofs[a]);
+    penetration = std::max(penetration, un - node.gap);
+  }
+  const double step_of_force = out.force * dt * dt / m_max;
+  out.displacement = std::max({du_previous.lpNorm<Eigen::Infinity>(), step_of_force, penetration});
+  if (out.force == 0.0) out.force = out.displacement * m_max / (dt * dt);
+  if (out.force == 0.0) out.force = out.displacement = 1.0;  // nothing moves, loads or touches
+  return out;
+}
+
+// Accuracy of a completed step, recomputed from the state in newtons and metres:
+//   equilibrium: r = M (u^{k+1} - 2u^k + u^{k-1}) / dt^2 + K u^k - f^k (given) must equal the
+//     contact forces -lambda_c n_c + tau_c at the contact nodes and 0 elsewhere;
+//   penetration: max(0, -(s_c - n_c . u^{k+1}_c));
+//   complementarity: lambda_c >= 0, and lambda_c = 0 where the gap is open by more than
+//     kAccuracySlack displacement accuracies;
+//   friction: |tau_c| <= g_c, and tau_c = -g_c slip_c / |slip_c| where the node slips by more
+//     than kAccuracySlack displacement accuracies (g_c [N] the step's Tresca bound).
+void MeasureStepAccuracy(int dim, const std::vector<ContactNode>& nodes, const Eigen::VectorXd& r,
+                         const ContactSystem::Result& contact, double force_scale,
+                         const Eigen::VectorXd& u_next, const Eigen::VectorXd& bound,
+                         Eigen::VectorXd* residual, StepRecord* rec) {
+  // (bound and the contact result in system units: times force_scale for newtons.)
+  *residual = r;  // minus the contact forces below
+  double penetration = 0.0, complementarity = 0.0, friction = 0.0;
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const ContactNode& node = nodes[i];
+    const auto c = static_cast<Eigen::Index>(i);
+    const double lambda = force_scale * contact.normal_force(c);
+    Eigen::Vector3d force = -lambda * node.normal;
+    Eigen::Vector2d tau = Eigen::Vector2d::Zero(), slip = Eigen::Vector2d::Zero();
+    for (int a = 1; a < dim; ++a) {
+      const Eigen::Vector3d& t = a == 1 ? node.tangent1 : node.tangent2;
+      tau(a - 1) = force_scale * contact.tangent_force(a - 1, c);
+      slip(a - 1) = contact.slip(a - 1, c);
+      force += tau(a - 1) * t;
+    }
+    double un = 0.0;
+    for (int a = 0; a < dim; ++a) {
+      if (node.dofs[a] < 0) continue;
+      (*residual)(node.dofs[a]) -= force(a);
+      un += node.normal(a) * u_next(node.dofs[a]);
+    }
+    const double gap = node.gap - un;
+    penetration = std::max(penetration, -gap);
+    complementarity = std::max(complementarity, -lambda);
+    if (gap > kAccuracySlack * rec->displacement_accuracy)  // open: no force
+      complementarity = std::max(complementarity, lambda);
+    const double g = bound.size() ? force_scale * bound(c) : 0.0;
+    friction = std::max(friction, tau.norm() - g);
+    if (slip.norm() > kAccuracySlack * rec->displacement_accuracy)  // slipping: tau opposes it
+      friction = std::max(friction, (tau + g * slip / slip.norm()).norm());
+  }
+  rec->equilibrium_residual = residual->lpNorm<Eigen::Infinity>();
+  rec->max_penetration = std::max(0.0, penetration);
+  rec->complementarity_residual = complementarity;
+  rec->friction_residual = friction;
+  rec->accurate = rec->equilibrium_residual <= kAccuracySlack * rec->force_accuracy &&
+                  rec->complementarity_residual <= kAccuracySlack * rec->force_accuracy &&
+                  rec->friction_residual <= kAccuracySlack * rec->force_accuracy &&
+                  rec->max_penetration <= kAccuracySlack * rec->displacement_accuracy;
+}
+
 }  // namespace
 
 void SymmetricMultiply(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& x,
@@ -383,6 +461,7 @@ const char* ToString(DynamicStatus s) {
     case DynamicStatus::kSolverFailure: return "solver-failure";
     case DynamicStatus::kEnergyBlowUp: return "energy-blow-up";
     case DynamicStatus::kRefusedUnstable: return "refused-unstable-time-step";
+    case DynamicStatus::kAccuracyNotReached: return "accuracy-not-reached";
   }
   return "unknown";
 }
@@ -524,7 +603,9 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
 
   Eigen::VectorXd du = u - u_previous;  // start guess of the first step
   Eigen::MatrixXd friction_previous;     // local friction forces of the previous step
-  Eigen::VectorXd Q(n), q(n), r(n), u_next(n), bound, lambda_now;
+  Eigen::VectorXd Q(n), q(n), r(n), residual(n), u_next(n), bound, lambda_now;
+  double contact_force_max = 0.0;  // |r^k|_inf of the previous step [N]
+  StepRecord first_inaccurate;
   ContactSystem::Result contact;
   const long num_steps = std::lround(std::ceil((options.end_time - options.start_time) / dt - 1e-3));
   double last_progress = 0.0;
@@ -541,8 +622,16 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       bound = (options.friction_coefficient / force_scale) * lambda_physical.cwiseMax(0.0);
     else
       bound.resize(0);
-    if (condensed) condensed->Update(q, u, bound);
-    else if (full) full->Update(q, u, bound);
+    // The step's scales (dynamics.hpp): the accuracy every step method is held to.
+    Mdu = u - u_previous;  // (du of the previous step, as a temporary)
+    const StepScales scales = ComputeStepScales(f, Ku, contact_force_max, Mdu, model.contact_nodes,
+                                                u, m_max, dt);
+    ContactSystem* step_system = condensed ? &condensed->system() : full.get();
+    if (step_system) {
+      if (condensed) condensed->Update(q, u, bound);
+      else full->Update(q, u, bound);
+      step_system->SetResidualScales(scales.force / force_scale, scales.displacement);
+    }
 
     StepRecord rec;
     rec.step = static_cast<int>(k + 1);
@@ -551,9 +640,20 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
     //   min 1/2 du' S du + q' du  s.t.  n_c . du_c <= s_c - n_c . u^k_c,
     // whose multipliers are the normal reactions (system units).
     auto solve_qp = [&]() {
+      // Posed in the step's own scales (du = D xi, forces = F z), so that Ipopt's tests at
+      // tol = ncp.tolerance - stationarity, constraint violation and lambda_c gap_c - mean
+      // tolerance F, tolerance D and tolerance F D in the units of the step:
+      //   min 1/2 xi' (S D / F) xi + (q / F)' xi   s.t.  G xi <= (s - G u^k) / D.
+      const double F = scales.force / force_scale, D = scales.displacement;
       ConvexQpOptions qp_options;
-      qp_options.tolerance = options.ipopt_tolerance;
-      return SolveConvexQpIpopt(S, q, G, gap0 - G * u, du, qp_options);
+      qp_options.tolerance = options.ncp.tolerance;
+      qp_options.dual_infeasibility_tolerance = options.ncp.tolerance;
+      qp_options.constraint_violation_tolerance = options.ncp.tolerance;
+      qp_options.complementarity_tolerance = options.ncp.tolerance;
+      ConvexQpResult qp = SolveConvexQpIpopt((D / F) * S, q / F, G, (gap0 - G * u) / D, du / D, qp_options);
+      qp.x *= D;
+      qp.multipliers *= F;
+      return qp;
     };
     bool ok;
     const auto solve_start = Clock::now();
@@ -571,11 +671,10 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       ok = contact.x.allFinite();
       rec.solver_status = ok ? "converged" : "non-finite values in the explicit step";
     } else {
-      ContactSystem& step_system = condensed ? condensed->system() : *full;
       const Eigen::VectorXd guess = condensed ? condensed->Restrict(du) : du;
-      ncp::Vector z = step_system.StartPoint(guess, friction_previous);
+      ncp::Vector z = step_system->StartPoint(guess, friction_previous);
       ncp::Summary s;
-      solver.Solve(step_system, &z, &s);
+      solver.Solve(*step_system, &z, &s);
       rec.newton_iterations = s.iterations;
       rec.jacobian_evaluations = s.jacobian_evaluations;
       rec.residual_evaluations = s.residual_evaluations;
@@ -583,9 +682,9 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       // degenerate point of eq. (94) (a friction force much smaller than its bound leaves
       // the direction t nearly undetermined; seen in Table 3 at step 29). Retry once from
       // the start without the force guess (direction from the slip, or t1 with g_c / 2).
-      if (!s.IsSolutionUsable() && step_system.num_friction_nodes() > 0 && friction_previous.size()) {
-        z = step_system.StartPoint(guess);
-        solver.Solve(step_system, &z, &s);
+      if (!s.IsSolutionUsable() && step_system->num_friction_nodes() > 0 && friction_previous.size()) {
+        z = step_system->StartPoint(guess);
+        solver.Solve(*step_system, &z, &s);
         rec.newton_iterations += s.iterations;
         rec.jacobian_evaluations += s.jacobian_evaluations;
         rec.residual_evaluations += s.residual_evaluations;
@@ -594,7 +693,7 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       rec.solve_seconds = Seconds(solve_start);
       ok = s.IsSolutionUsable();
       rec.solver_status = ok ? "converged" : s.message;
-      contact = condensed ? condensed->Expand(step_system.Extract(z), q) : step_system.Extract(z);
+      contact = condensed ? condensed->Expand(step_system->Extract(z), q) : step_system->Extract(z);
       if (ok && options.compare_with_ipopt) {
         const ConvexQpResult qp = solve_qp();
         rec.ipopt_relative_difference =
@@ -624,6 +723,18 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
     // Contact forces r^{k+1} = M (u^{k+1} - 2u^k + u^{k-1}) / dt^2 + K u^k - f^k, in newtons,
     // and the work increments over the half span (u^{k+1} - u^{k-1}) / 2.
     r = Mdu / (dt * dt) + Q;
+    // Accuracy asked for (tolerance times the scales, plus the round-off of the terms of r and
+    // of the positions) and reached, measured from the state.
+    const double eps = std::numeric_limits<double>::epsilon();
+    rec.force_accuracy = options.ncp.tolerance * scales.force +
+                         ContactSystem::kRoundoffUlps * eps *
+                             (Q.lpNorm<Eigen::Infinity>() + Mdu.lpNorm<Eigen::Infinity>() / (dt * dt));
+    rec.displacement_accuracy = options.ncp.tolerance * scales.displacement +
+                                ContactSystem::kRoundoffUlps * eps *
+                                    (u_next.lpNorm<Eigen::Infinity>() + gap0.lpNorm<Eigen::Infinity>());
+    MeasureStepAccuracy(model.dim, model.contact_nodes, r, contact, force_scale, u_next,
+                        bound, &residual, &rec);
+    contact_force_max = (r - residual).lpNorm<Eigen::Infinity>();
     const double dw_ext = 0.5 * (f.dot(u_next) - f.dot(u_previous));
     external_work += dw_ext;
     work_scale += std::abs(dw_ext);
@@ -655,10 +766,14 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
     rec.normal_force_sum = lambda_now.sum();
     for (Eigen::Index c = 0; c < contact.tangent_force.cols(); ++c)
       rec.tangent_force_sum += force_scale * contact.tangent_force.col(c).norm();
-    rec.max_penetration = contact.gap.size() ? std::max(0.0, -contact.gap.minCoeff()) : 0.0;
     rec.active_nodes = static_cast<int>((lambda_now.array() > 0.0).count());
     rec.seconds = Seconds(step_start);
     summary.max_penetration = std::max(summary.max_penetration, rec.max_penetration);
+    summary.max_equilibrium_residual = std::max(summary.max_equilibrium_residual, rec.equilibrium_residual);
+    summary.max_complementarity_residual =
+        std::max(summary.max_complementarity_residual, rec.complementarity_residual);
+    summary.max_friction_residual = std::max(summary.max_friction_residual, rec.friction_residual);
+    if (!rec.accurate && summary.inaccurate_steps++ == 0) first_inaccurate = rec;
     summary.energy_balance_error = std::max(summary.energy_balance_error, std::abs(rec.energy_balance_error));
     summary.steps = rec.step;
     summary.records.push_back(rec);
@@ -691,6 +806,20 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
       std::fprintf(stderr, "  step %d / %ld, t = %.6g s, %d Newton iterations, %.1f s\n", rec.step,
                    num_steps, rec.time, rec.newton_iterations, last_progress);
     }
+  }
+  if (summary.status == DynamicStatus::kNotRun && summary.inaccurate_steps > 0) {
+    summary.status = DynamicStatus::kAccuracyNotReached;
+    char buffer[400];
+    std::snprintf(buffer, sizeof buffer,
+                  "%d of %d steps missed their accuracy; the first, step %d (t = %.6g s): "
+                  "equilibrium %.3e N, contact %.3e N, friction %.3e N against %.3e N, "
+                  "penetration %.3e m against %.3e m (x %g allowed)",
+                  summary.inaccurate_steps, summary.steps, first_inaccurate.step,
+                  first_inaccurate.time, first_inaccurate.equilibrium_residual,
+                  first_inaccurate.complementarity_residual, first_inaccurate.friction_residual,
+                  first_inaccurate.force_accuracy, first_inaccurate.max_penetration,
+                  first_inaccurate.displacement_accuracy, kAccuracySlack);
+    summary.message = buffer;
   }
   if (summary.status == DynamicStatus::kNotRun) {
     summary.status = DynamicStatus::kCompleted;

@@ -364,6 +364,7 @@ Scene LoadScene(const std::string& path) {
                                                 : StepMethod::kCondensed;
   if (s.dynamics.step_method == StepMethod::kExplicit && s.mass != MassKind::kLumped)
     v.Fail("step", "= \"explicit\" needs material.mass = \"lumped\"");
+  s.dynamics.ncp.log_to_stderr = v.Boolean("log_iterations", false);
   s.dynamics.compare_with_ipopt = v.Boolean("compare_with_ipopt", false);
   if (s.dynamics.compare_with_ipopt && s.friction_coefficient > 0)
     v.Fail("compare_with_ipopt", "needs a frictionless scene");
@@ -503,7 +504,8 @@ SceneResult RunScene(const Scene& scene, bool progress) {
     open(steps_csv, "steps.csv",
          "step,time,newton_iterations,jacobian_evaluations,residual_evaluations,seconds,kinetic_energy,"
          "strain_energy,external_work,normal_contact_work,friction_dissipation,energy_balance_error,"
-         "normal_force_sum,friction_force_sum,max_penetration,active_nodes");
+         "normal_force_sum,friction_force_sum,max_penetration,active_nodes,equilibrium_residual,"
+         "complementarity_residual,friction_residual,force_accuracy,displacement_accuracy");
     open(stress_csv, "contact_stress.csv",
          "time,node," + coords + ",normal_stress," + tangents + ",gap,normal_force");
     if (marked >= 0) open(history_csv, "node_history.csv", "time,normal_stress,friction_stress");
@@ -556,7 +558,9 @@ SceneResult RunScene(const Scene& scene, bool progress) {
               << r.residual_evaluations << ',' << r.seconds << ',' << r.kinetic << ',' << r.strain << ','
               << r.external_work << ',' << r.normal_contact_work << ',' << r.friction_dissipation << ','
               << r.energy_balance_error << ',' << r.normal_force_sum << ',' << r.tangent_force_sum << ','
-              << r.max_penetration << ',' << r.active_nodes << '\n';
+              << r.max_penetration << ',' << r.active_nodes << ',' << r.equilibrium_residual << ','
+              << r.complementarity_residual << ',' << r.friction_residual << ',' << r.force_accuracy << ','
+              << r.displacement_accuracy << '\n';
     auto stress_of = [&](size_t k) {
       const double area = frames.nodes[k].area;
       return std::pair<double, Eigen::VectorXd>(force_scale * c.normal_force(static_cast<Eigen::Index>(k)) / area,

@@ -50,9 +50,18 @@ StaticContactResult SolveStaticContact(int dim, const Eigen::SparseMatrix<double
   Eigen::VectorXd lambda_previous = Eigen::VectorXd::Zero(num_nodes);
   const int rounds = options.friction == FrictionLaw::kCoulomb ? options.max_fixed_point_iterations : 1;
   ContactSystem system(dim, S, nodes);
+  // Scales in system units (forces / k, displacements): the largest nodal load or Tresca
+  // bound, and at least the displacement it causes at the stiffest dof or the largest initial
+  // penetration - every row is solved to ncp.tolerance of them (plus round-off).
+  double force = std::max(f.lpNorm<Eigen::Infinity>(), bound.size() ? k * bound.lpNorm<Eigen::Infinity>() : 0.0) / k;
+  double displacement = force;
+  for (const ContactNode& node : nodes) displacement = std::max(displacement, -node.gap);
+  if (force == 0.0) force = displacement;
+  if (force == 0.0) force = displacement = 1.0;  // no load, no penetration: u = 0
   for (int round = 0; round < rounds; ++round) {
     system.Update(q, zero,
                   options.friction == FrictionLaw::kFrictionless ? Eigen::VectorXd() : bound);
+    system.SetResidualScales(force, displacement);
     ncp::Vector z = system.StartPoint(guess);
     solver.Solve(system, &z, &result.last_summary);
     result.newton_iterations += result.last_summary.iterations;

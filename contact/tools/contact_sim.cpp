@@ -77,8 +77,12 @@ int main(int argc, char** argv) {
   std::fprintf(table, "  %-10s %-6s %-7s %-8s %-8s %-10s\n", "dt", "f_c", "k_sim", "N_Jac", "N_func", "t_comp[s]");
   std::fprintf(table, "  %-10g %-6g %-7d %-8ld %-8ld %-10.4f\n", scene.dynamics.dt, scene.friction_coefficient,
                s.steps, s.jacobian_evaluations, s.residual_evaluations, s.seconds);
-  std::fprintf(table, "  max penetration %.3e m, energy balance error %.3e J\n", s.max_penetration,
-               s.energy_balance_error);
+  std::fprintf(table,
+               "  accuracy over all steps: equilibrium residual %.3e N, penetration %.3e m, contact "
+               "residual %.3e N, friction-law violation %.3e N (%d steps outside %g x their accuracy)\n",
+               s.max_equilibrium_residual, s.max_penetration, s.max_complementarity_residual,
+               s.max_friction_residual, s.inaccurate_steps, contact::kAccuracySlack);
+  std::fprintf(table, "  energy balance error %.3e J\n", s.energy_balance_error);
   if (!r.files_written.empty() && !quiet)
     std::fprintf(stderr, "  wrote %zu files into %s\n", r.files_written.size(), scene.output_directory.c_str());
   if (json) {
@@ -93,6 +97,10 @@ int main(int argc, char** argv) {
     j["friction_restarts"] = s.friction_restarts;
     j["seconds"] = s.seconds;
     j["max_penetration"] = s.max_penetration;
+    j["max_equilibrium_residual"] = s.max_equilibrium_residual;
+    j["max_complementarity_residual"] = s.max_complementarity_residual;
+    j["max_friction_residual"] = s.max_friction_residual;
+    j["inaccurate_steps"] = s.inaccurate_steps;
     j["energy_balance_error"] = s.energy_balance_error;
     j["dt"] = scene.dynamics.dt;
     j["dt_crit"] = s.critical_time_step;

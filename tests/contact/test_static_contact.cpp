@@ -131,12 +131,11 @@ ContactResiduals Recompute(const StaticProblem& problem, const StaticContactResu
 // k = max K_ii, whose rows are in metres (S u + q = (K u - f) / k, gaps in m): it must be
 // set relative to the expected displacement, e.g. 1e-10 m would be only ~1e-5 relative
 // for steel under 10 MPa (u ~ 1e-5 m).
-StaticContactOptions SolverOptions(
-    double displacement_scale,
-    ncp::NcpFunction function = ncp::NcpFunction::kFischerBurmeister) {
+// The default tolerance: relative to the problem's own force and displacement scales, so no
+// test picks one by the size of its displacements.
+StaticContactOptions SolverOptions(ncp::NcpFunction function = ncp::NcpFunction::kFischerBurmeister) {
   StaticContactOptions options;
   options.ncp.ncp_function = function;
-  options.ncp.tolerance = 1e-13 * displacement_scale;
   return options;
 }
 
@@ -301,14 +300,13 @@ TEST_CASE("Contact patch test: uniform pressure on a flat frictionless obstacle"
   CHECK(areas.maxCoeff() > 1.2 * areas.minCoeff());
   CHECK_THAT(areas.sum(), WithinRel(s.contact_area, 1e-12));
 
-  const double u_scale = s.p / kSteel.youngs_modulus;
   const ncp::NcpFunction function =
       GENERATE(ncp::NcpFunction::kFischerBurmeister, ncp::NcpFunction::kMin);
   const ncp::LinearSolverType linear_solver =
       GENERATE(ncp::LinearSolverType::kSparseLU, ncp::LinearSolverType::kUmfpack,
                ncp::LinearSolverType::kKlu);
   CAPTURE(ncp::ToString(function), ncp::ToString(linear_solver));
-  StaticContactOptions options = SolverOptions(u_scale, function);
+  StaticContactOptions options = SolverOptions(function);
   options.ncp.linear_solver = linear_solver;
   const StaticContactResult newton =
       SolveStaticContact(dim, s.problem.K, s.problem.f, s.problem.nodes(), options);
@@ -479,7 +477,7 @@ TEST_CASE("Hertz: cylinder on a rigid plane, half-width, peak and profile conver
     const double h = d.a / elements_per_a;
     const StaticProblem problem = MakeHertzProblem(d, h);
     const StaticContactResult r =
-        SolveStaticContact(2, problem.K, problem.f, problem.nodes(), SolverOptions(d.a));
+        SolveStaticContact(2, problem.K, problem.f, problem.nodes(), SolverOptions());
     INFO(r.message);
     REQUIRE(r.converged);
     const ContactResiduals res = Recompute(problem, r);
@@ -527,10 +525,10 @@ TEST_CASE("Semismooth Newton (FB and min) and Ipopt agree on the Hertz problem",
   const StaticProblem problem = MakeHertzProblem(d, d.a / 10);
   StaticContactResult fb =
       SolveStaticContact(2, problem.K, problem.f, problem.nodes(),
-                         SolverOptions(d.a, ncp::NcpFunction::kFischerBurmeister));
+                         SolverOptions(ncp::NcpFunction::kFischerBurmeister));
   StaticContactResult min =
       SolveStaticContact(2, problem.K, problem.f, problem.nodes(),
-                         SolverOptions(d.a, ncp::NcpFunction::kMin));
+                         SolverOptions(ncp::NcpFunction::kMin));
   StaticContactResult ipopt =
       SolveStaticContactIpopt(2, problem.K, problem.f, problem.nodes(), 1e-14);
   INFO(fb.message << " | " << min.message << " | " << ipopt.message);
@@ -653,7 +651,7 @@ StuckReference SolveStuck(const StaticProblem& frictional,
   const StaticProblem stuck = BlockProblem(conditions);
   REQUIRE(stuck.nodes().size() == frictional.nodes().size());
   const StaticContactResult r = SolveStaticContact(2, stuck.K, stuck.f, stuck.nodes(),
-                                                   SolverOptions(kBlockDisplacement));
+                                                   SolverOptions());
   INFO(r.message);
   REQUIRE(r.converged);
   const ContactResiduals res = Recompute(stuck, r);
@@ -680,7 +678,7 @@ TEST_CASE("Tresca, bound above every stuck nodal force: the block sticks",
   // Friction balances the pull: sum_c tau_c = -s L.
   CHECK_THAT(stuck.tangent_reaction.sum(), WithinRel(-kBlockShear * kBlockLength, 1e-10));
 
-  StaticContactOptions options = SolverOptions(kBlockDisplacement);
+  StaticContactOptions options = SolverOptions();
   options.friction = FrictionLaw::kTresca;
   options.tresca_bound = Vector::Constant(
       static_cast<Eigen::Index>(problem.nodes().size()), 1.5 * max_reaction);
@@ -711,8 +709,8 @@ TEST_CASE("Tresca with a zero bound is frictionless", "[static][friction]") {
   // Roller u_x = 0 on x = 0 takes the pull.
   const StaticProblem problem = BlockProblem({DirichletCondition{kFixedGroup, {0}, {}}});
   const StaticContactResult frictionless = SolveStaticContact(
-      2, problem.K, problem.f, problem.nodes(), SolverOptions(kBlockDisplacement));
-  StaticContactOptions options = SolverOptions(kBlockDisplacement);
+      2, problem.K, problem.f, problem.nodes(), SolverOptions());
+  StaticContactOptions options = SolverOptions();
   options.friction = FrictionLaw::kTresca;
   options.tresca_bound = Vector::Zero(static_cast<Eigen::Index>(problem.nodes().size()));
   const StaticContactResult tresca =
@@ -741,7 +739,7 @@ TEST_CASE("Tresca below the stuck forces: stick and slip zones obey the law",
   const std::vector<DirichletCondition> roller{DirichletCondition{kFixedGroup, {0}, {}}};
   const StaticProblem problem = BlockProblem(roller);
   const StuckReference stuck = SolveStuck(problem, roller);
-  StaticContactOptions options = SolverOptions(kBlockDisplacement);
+  StaticContactOptions options = SolverOptions();
   options.friction = FrictionLaw::kTresca;
   options.tresca_bound =
       Vector::Constant(static_cast<Eigen::Index>(problem.nodes().size()),
@@ -773,7 +771,7 @@ TEST_CASE("Coulomb by fixed point: converges and |tau| <= f lambda, = where slip
           "[static][friction][coulomb]") {
   const double friction_coefficient = 0.2;
   const StaticProblem problem = BlockProblem({DirichletCondition{kFixedGroup, {0}, {}}});
-  StaticContactOptions options = SolverOptions(kBlockDisplacement);
+  StaticContactOptions options = SolverOptions();
   options.friction = FrictionLaw::kCoulomb;
   options.friction_coefficient = friction_coefficient;
   const StaticContactResult r =
@@ -798,7 +796,7 @@ TEST_CASE("Coulomb by fixed point: converges and |tau| <= f lambda, = where slip
   CHECK(fc.sticking > 0);
   CHECK(fc.slipping > 0);
   // A fixed point: the Tresca problem with g = f lambda gives the same solution back.
-  StaticContactOptions tresca = SolverOptions(kBlockDisplacement);
+  StaticContactOptions tresca = SolverOptions();
   tresca.friction = FrictionLaw::kTresca;
   tresca.tresca_bound = g;
   const StaticContactResult again =
@@ -853,7 +851,7 @@ TEST_CASE("min function on the Hex8 patch from the tied start point", "[static][
   const PatchSetup s = MakePatch(
       {"Hex8 structured", ElementType::kHexahedron8, MeshTopology::kStructured});
   const double u_scale = s.p / kSteel.youngs_modulus;
-  const StaticContactOptions options = SolverOptions(u_scale, ncp::NcpFunction::kMin);
+  const StaticContactOptions options = SolverOptions(ncp::NcpFunction::kMin);
 
   // The same system started from a point pressing every node 1e-3 u_scale into the floor
   // (gap_c < 0 = lambda_c: the gap branch) converges in a few Newton steps.

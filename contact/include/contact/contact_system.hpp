@@ -100,6 +100,20 @@ class ContactSystem final : public ncp::MixedProblem {
   void Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
               const Eigen::VectorXd& tresca_bound);
 
+  /// The accuracy the solve is asked for, in system units (forces: the units of S x + q;
+  /// displacements: those of x). With tol = ncp::Options::tolerance, every force row
+  /// (equilibrium, normal reaction, the unit-direction row) is solved
+  /// to force_floor + tol * force and every displacement row (gap, slip) to
+  /// displacement_floor + tol * displacement - except the friction law of node c, solved to
+  /// force_floor + tol * g_c against its own bound -, where the floors are the round-off of each
+  /// row's computation (kRoundoffUlps units in the last place of the magnitudes of its terms)
+  /// so that no test asks for more than double precision holds. force, displacement > 0.
+  /// Until this is called, Scales() declines and ncp uses its plain absolute test.
+  void SetResidualScales(double force, double displacement);
+  /// Units in the last place of a row's terms that its round-off is taken to be.
+  static constexpr double kRoundoffUlps = 16.0;
+  bool Scales(const ncp::Vector& z0, ncp::ResidualScales* scales) override;
+
   int NumVariables() const override { return num_variables_; }
   int NumEquations() const override { return num_equations_; }
   int PairVariable(int j) const override { return pair_variable_[static_cast<size_t>(j)]; }
@@ -163,6 +177,9 @@ class ContactSystem final : public ncp::MixedProblem {
   Eigen::SparseMatrix<double> rotation_;                  // R
   Eigen::SparseMatrix<double, Eigen::RowMajor> S_local_;  // R S R'
   Eigen::VectorXd q_local_, u0_local_;
+  Eigen::VectorXd gap0_;  // s_c - n_c . u0_c per node: the gap before the increment
+  double force_scale_ = 0.0, displacement_scale_ = 0.0;  // SetResidualScales (0: not set)
+  double s_row_sum_ = 0.0;  // max_i sum_j |S_local_ij|: round-off of S x
   std::vector<ContactNode> nodes_;
   std::vector<Layout> layout_;
   Eigen::VectorXd bound_;  // g_c

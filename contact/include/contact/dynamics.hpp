@@ -114,12 +114,38 @@ struct StepRecord {
   double energy_balance_error = 0.0;   ///< E - E0 - W_ext - W_contact [J]
   double normal_force_sum = 0.0;       ///< sum_c lambda_c [N]
   double tangent_force_sum = 0.0;      ///< sum_c |tau_c| [N]
-  double max_penetration = 0.0;        ///< max_c max(0, -gap_c) [m]
+  double max_penetration = 0.0;        ///< max_c max(0, -gap_c), gap_c = s_c - n_c . u^{k+1}_c [m]
   int active_nodes = 0;                ///< nodes with lambda_c > 0
+  /// Accuracy of the step, recomputed from u^{k+1}, u^k, u^{k-1} and the contact result (see
+  /// StepAccuracy): largest nodal equilibrium residual [N], contact-force residual [N] and
+  /// friction-law violation [N], and what the step was asked for (force_accuracy [N],
+  /// displacement_accuracy [m]).
+  double equilibrium_residual = 0.0, complementarity_residual = 0.0, friction_residual = 0.0;
+  double force_accuracy = 0.0, displacement_accuracy = 0.0;
+  bool accurate = true;  ///< every measure within kAccuracySlack times its accuracy
   /// With DynamicOptions::compare_with_ipopt: ||du - du_ipopt||_inf / max(||du||_inf, 1e-300)
   /// for the same step data (-1 when not compared).
   double ipopt_relative_difference = -1.0;
 };
+
+/// The scales each step is solved against (the stopping rule of every step method):
+///   force scale F [N] = max(|f(t_k)|_inf, |K u^k|_inf, |r^k|_inf): the largest applied,
+///       elastic or contact nodal force of the step (r^k: the previous step's contact forces);
+///   displacement scale D [m] = max(|u^k - u^{k-1}|_inf, F dt^2 / m_max, max_c -gap_c):
+///       the motion of a step, and at least the displacement the force scale produces in one
+///       step of the heaviest node (the same number in the step's own units, M / m_max);
+///   if F = 0 it is taken as D m_max / dt^2 (a body in free flight: the force that would stop
+///   the heaviest node in one step), and if both are 0 (nothing moves, loads or touches) as 1.
+/// Every force row is then solved to tolerance F (+ its round-off) and every gap or slip row
+/// to tolerance D (+ its round-off): contact forces in flight below tolerance F, penetration
+/// below tolerance D, with tolerance = ncp.tolerance (relative, default 1e-10).
+/// After the step the accuracy is measured independently (StepRecord) and a step whose
+/// equilibrium residual, contact or friction residual exceeds kAccuracySlack times
+/// force_accuracy = tolerance F + round-off, or whose penetration exceeds kAccuracySlack times
+/// displacement_accuracy = tolerance D + round-off, makes the run end as kAccuracyNotReached.
+/// (The slack covers the change from the contact frames to the global components and the
+/// NCP function: |phi_FB(a, b)| <= 1 bounds min(a, b) by 1 / (2 - sqrt 2) = 1.71.)
+inline constexpr double kAccuracySlack = 10.0;
 
 struct DynamicOptions {
   double dt = 0.0;          ///< time step [s]
@@ -128,18 +154,16 @@ struct DynamicOptions {
   double friction_coefficient = 0.0;  ///< f_c (0 = frictionless)
   StepSolver solver = StepSolver::kFischerBurmeister;
   StepMethod step_method = StepMethod::kCondensed;  ///< kFull for the thesis formulation
-  /// Semismooth Newton settings. The scaled equations are displacements, so `tolerance`
-  /// is in metres. Default min tie: a touching node counts as closed (see ncp::Options).
+  /// Semismooth Newton settings. `tolerance` is relative to the step's force and displacement
+  /// scales (see kAccuracySlack above). Default min tie: a touching node counts as closed.
   ncp::Options ncp = ContactNcpOptions();
   InitialState initial_state = InitialState::kStaticEquilibrium;
   Eigen::VectorXd u0, v0;   ///< for kPrescribed (free dofs) [m], [m/s]
   /// Frictionless runs: also solve every step's QP with Ipopt and record the relative
-  /// difference of the increments (a reference check; slow).
+  /// difference of the increments (a reference check; slow). Ipopt stops at its scaled test
+  /// tol = ncp.tolerance and its unscaled tests set from the step's scales: stationarity to
+  /// tolerance F, constraint violation to tolerance D, lambda_c gap_c to tolerance F D.
   bool compare_with_ipopt = false;
-  /// Ipopt's `tol` for the QP steps. An interior point method ends with lambda_c gap_c of
-  /// the order of tol, so the gap of an active node is only resolved to ~tol / lambda_c;
-  /// 1e-14 resolves it to ~1e-9 relative on the validation problems (1e-10 gave 1e-4).
-  double ipopt_tolerance = 1e-14;
   /// Refuse dt > dt_crit unless this is set.
   bool allow_unstable_time_step = false;
   /// Stop with kEnergyBlowUp when kinetic + strain energy exceeds this factor times
@@ -154,7 +178,14 @@ struct DynamicOptions {
   bool progress = false;
 };
 
-enum class DynamicStatus { kNotRun, kCompleted, kSolverFailure, kEnergyBlowUp, kRefusedUnstable };
+enum class DynamicStatus {
+  kNotRun,
+  kCompleted,            ///< every step solved and within its accuracy
+  kSolverFailure,        ///< a step's solver failed (the run stopped there)
+  kEnergyBlowUp,         ///< the energy guard tripped (the run stopped there)
+  kRefusedUnstable,      ///< dt > dt_crit without allow_unstable_time_step (nothing run)
+  kAccuracyNotReached,   ///< the run went to the end, but some step missed its accuracy
+};
 const char* ToString(DynamicStatus s);
 
 struct DynamicSummary {
@@ -167,6 +198,10 @@ struct DynamicSummary {
   int friction_restarts = 0;
   double seconds = 0.0;
   double max_penetration = 0.0;        ///< over all steps [m]
+  /// Largest per-step measures over the run (see StepRecord) [N].
+  double max_equilibrium_residual = 0.0, max_complementarity_residual = 0.0,
+         max_friction_residual = 0.0;
+  int inaccurate_steps = 0;            ///< steps with StepRecord::accurate false
   double energy_balance_error = 0.0;   ///< max over steps of |balance error| [J]
   double critical_time_step = -1.0;    ///< [s]
   double max_ipopt_relative_difference = -1.0;  ///< with compare_with_ipopt
