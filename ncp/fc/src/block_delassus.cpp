@@ -25,6 +25,16 @@ BlockDelassus::BlockDelassus(const FrictionProblem& problem)
   }
 }
 
+Eigen::Vector3d BlockDelassus::RowTimes(int a, const Vector& r) const {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int k = row_ptr_[a]; k < row_ptr_[a + 1]; ++k) {
+    Eigen::Vector3d rb = Eigen::Vector3d::Zero();
+    rb.head(d_) = r.segment(d_ * block_col_[k], d_);
+    sum += blocks_[k] * rb;
+  }
+  return sum;
+}
+
 void BlockDelassus::AssembleJacobian(const std::vector<Block>& A, const std::vector<Block>& B,
                                      SparseMatrix* J) const {
   std::vector<Eigen::Triplet<double>> entries;

@@ -15,6 +15,8 @@ class BlockDelassus {
 
   /// Diagonal block of contact a.
   const Block& Diagonal(int a) const { return blocks_[diagonal_[a]]; }
+  /// sum_b W_ab r_b over the blocks of row a (d entries, padded to 3 with zeros).
+  Eigen::Vector3d RowTimes(int a, const Vector& r) const;
   /// J = A + B W with A, B block diagonal (one Block per contact); every entry of every
   /// block is stored, zeros included, so J's sparsity pattern never changes.
   void AssembleJacobian(const std::vector<Block>& A, const std::vector<Block>& B,

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "block_delassus.hpp"
+#include "gauss_seidel.hpp"
 #include "linear_solver.hpp"
 #include "local_laws.hpp"
 #include "ncp/fc/error.hpp"
@@ -57,9 +58,12 @@ bool Options::IsValid(std::string* error) const {
   if (!(rho_scale > 0.0) || !std::isfinite(rho_scale)) return fail("rho_scale must be > 0");
   if (!(armijo_beta > 0.0 && armijo_beta < 0.5)) return fail("armijo_beta must be in (0, 1/2)");
   if (nonmonotone_window < 1) return fail("nonmonotone_window must be >= 1");
+  if (gauss_seidel_sweeps < 0) return fail("gauss_seidel_sweeps must be >= 0");
   if (max_backtracks < 0) return fail("max_backtracks must be >= 0");
   if (stall_window < 1) return fail("stall_window must be >= 1");
-  if (!(regularization >= 0.0)) return fail("regularization must be >= 0");
+  if (!(regularization > 0.0)) return fail("regularization must be > 0");
+  if (!(newton_residual > 0.0 && newton_residual < 1.0))
+    return fail("newton_residual must be in (0, 1)");
   if (dense_threshold < 0) return fail("dense_threshold must be >= 0");
   return true;
 }
@@ -67,7 +71,8 @@ bool Options::IsValid(std::string* error) const {
 std::string Summary::BriefReport() const {
   std::ostringstream out;
   out << "fc: " << ToString(termination) << " (" << message << "), "
-      << ToString(formulation_final) << ", iterations " << iterations << ", attempts "
+      << ToString(formulation_final) << ", Gauss-Seidel sweeps " << gauss_seidel_sweeps
+      << ", iterations " << iterations << ", attempts "
       << attempts << ", error " << initial_error << " -> " << final_error << ", time "
       << total_time_s << " s";
   return out.str();
@@ -100,6 +105,7 @@ class NewtonSolver {
     summary_->initial_error = best_error_;
     Termination status = Termination::kConverged;
     if (!std::isfinite(best_error_)) status = Termination::kNonFiniteValues;
+    else WarmStart();
     const std::vector<std::pair<Formulation, double>> attempts = AttemptSequence();
     for (const auto& [formulation, rho_factor] : attempts) {
       if (status == Termination::kNonFiniteValues || best_error_ <= options_.tolerance) break;
@@ -144,6 +150,21 @@ class NewtonSolver {
     }
   }
 
+  /// Options::gauss_seidel_sweeps sweeps from best_r_, keeping the result if it is better.
+  void WarmStart() {
+    Vector r = best_r_;
+    for (int k = 0; k < options_.gauss_seidel_sweeps && best_error_ > options_.tolerance; ++k) {
+      internal::GaussSeidelSweep(problem_, W_, rho_n_, rho_t_, &r);
+      ++summary_->gauss_seidel_sweeps;
+      const double error = NaturalMapError(problem_, r);
+      if (!std::isfinite(error)) return;
+      if (error < best_error_) {
+        best_error_ = error;
+        best_r_ = r;
+      }
+    }
+  }
+
   std::vector<std::pair<Formulation, double>> AttemptSequence() const {
     if (options_.formulation != Formulation::kHybrid) return {{options_.formulation, 1.0}};
     return {{Formulation::kAlartCurnier, 1.0}, {Formulation::kNaturalMap, 1.0},
@@ -169,20 +190,41 @@ class NewtonSolver {
     return 0.5 * phi->squaredNorm();
   }
 
-  /// Newton direction J d = -phi; J + delta I when J is singular. false: both failed.
+  /// The first of three directions that passes the inexact-Newton test
+  /// ||J d + phi|| <= eta ||phi|| (eta = Options::newton_residual < 1), which makes d a
+  /// descent direction of psi: grad psi' d = phi' (J d + phi) - ||phi||^2 < 0.
+  ///  1. Newton: J d = -phi;
+  ///  2. J + delta I, delta = regularization_small max |J_ii| (J singular, e.g. rank-deficient
+  ///     W under sticking contacts, where a tiny shift keeps the Newton step);
+  ///  3. Levenberg-Marquardt (J'J + m I) d = -J' phi, m = max(||phi||, regularization_small)
+  ///     (Yamashita & Fukushima 2001), a descent direction for any m > 0, taken as is.
+  /// false: all three failed.
   bool Direction(const Vector& phi, Vector* direction) {
     W_.AssembleJacobian(A_, B_, &J_);
     const bool first = !factorized_once_;
     factorized_once_ = true;
-    if (linear_solver_->Factorize(J_, first) && linear_solver_->Solve(-phi, direction) &&
-        direction->allFinite())
+    auto accurate = [&]() {
+      return direction->allFinite() &&
+             (J_ * *direction + phi).norm() <= options_.newton_residual * phi.norm();
+    };
+    if (linear_solver_->Factorize(J_, first) && linear_solver_->Solve(-phi, direction) && accurate())
       return true;
     ++summary_->linear_solver_failures;
-    const double delta =
-        options_.regularization * std::max(1.0, J_.diagonal().cwiseAbs().maxCoeff());
-    for (int i = 0; i < J_.rows(); ++i) J_.coeffRef(i, i) += delta;
-    return linear_solver_->Factorize(J_, false) && linear_solver_->Solve(-phi, direction) &&
-           direction->allFinite();
+    SparseMatrix shifted = J_;
+    const double delta = options_.regularization * std::max(1.0, J_.diagonal().cwiseAbs().maxCoeff());
+    for (int i = 0; i < shifted.rows(); ++i) shifted.coeffRef(i, i) += delta;
+    if (linear_solver_->Factorize(shifted, false) && linear_solver_->Solve(-phi, direction) && accurate())
+      return true;
+    ++summary_->levenberg_marquardt_steps;
+    normal_matrix_ = SparseMatrix(J_.transpose()) * J_;
+    const double m = std::max(phi.norm(), options_.regularization);
+    for (int i = 0; i < normal_matrix_.rows(); ++i) normal_matrix_.coeffRef(i, i) += m;
+    if (!normal_solver_) normal_solver_ = ncp::internal::MakeLinearSolver(summary_->linear_solver_used);
+    const bool first_normal = !normal_factorized_once_;
+    normal_factorized_once_ = true;
+    const Vector gradient = J_.transpose() * phi;
+    return normal_solver_->Factorize(normal_matrix_, first_normal) &&
+           normal_solver_->Solve(-gradient, direction) && direction->allFinite();
   }
 
   Termination RunAttempt(Formulation formulation, double rho_factor) {
@@ -265,7 +307,9 @@ class NewtonSolver {
   int d_, nc_;
   std::vector<Block> A_, B_;
   std::vector<double> rho_n_, rho_t_, rho_nm_;
-  SparseMatrix J_;
+  SparseMatrix J_, normal_matrix_;
+  std::unique_ptr<ncp::internal::LinearSolver> normal_solver_;
+  bool normal_factorized_once_ = false;
   std::unique_ptr<ncp::internal::LinearSolver> linear_solver_;
   bool factorized_once_ = false;
   Vector best_r_;
@@ -290,9 +334,11 @@ void Solve(const Options& options, const FrictionProblem& problem, Vector* r, Su
   summary->formulation_requested = options.formulation;
   summary->num_contacts = problem.num_contacts;
   summary->iterations = 0;
+  summary->gauss_seidel_sweeps = 0;
   summary->attempts = 0;
   summary->backtracks = 0;
   summary->linear_solver_failures = 0;
+  summary->levenberg_marquardt_steps = 0;
   const auto start = Clock::now();
   NewtonSolver solver(options, problem, summary);
   solver.Run(r);

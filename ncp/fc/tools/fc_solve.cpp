@@ -1,5 +1,5 @@
 // fc-solve FILE [--solver hybrid|ac|nm] [--tolerance T] [--max-iterations N] [--time-limit S]
-//          [--json] [--reactions OUT.txt] [--verbose]
+//          [--gauss-seidel N] [--rho-scale S] [--json] [--reactions OUT.txt] [--verbose]
 // Reads a frictional contact problem (Siconos .dat or FCLIB .hdf5), solves it, prints the
 // status and Siconos' natural-map error recomputed at the returned r (or one JSON object),
 // and writes r one value per line in the file's contact order. Exit code: 0 converged,
@@ -37,8 +37,11 @@ nlohmann::json ToJson(const ncp::fc::FrictionProblem& p, const ncp::fc::Options&
           {"converged", s.IsSolutionUsable()},
           {"message", s.message},
           {"iterations", s.iterations},
+          {"gauss_seidel_sweeps", s.gauss_seidel_sweeps},
           {"attempts", s.attempts},
           {"backtracks", s.backtracks},
+          {"linear_solver_failures", s.linear_solver_failures},
+          {"levenberg_marquardt_steps", s.levenberg_marquardt_steps},
           {"linear_solver", ncp::ToString(s.linear_solver_used)},
           {"initial_error", s.initial_error},
           {"error", error},
@@ -57,6 +60,10 @@ int main(int argc, char** argv) {
       "max-iterations", "Newton steps in total", cxxopts::value<int>()->default_value("500"))(
       "time-limit", "wall-clock limit in seconds (0: none)",
       cxxopts::value<double>()->default_value("0"))(
+      "gauss-seidel", "projected Gauss-Seidel sweeps before Newton",
+      cxxopts::value<int>()->default_value("0"))(
+      "rho-scale", "multiplies the per-contact rho of the formulations",
+      cxxopts::value<double>()->default_value("1"))(
       "json", "print one JSON object instead of the text report")(
       "reactions", "write r, one value per line, to this file", cxxopts::value<std::string>())(
       "verbose", "one line per Newton step on stderr")("h,help", "this help");
@@ -75,6 +82,8 @@ int main(int argc, char** argv) {
     options.tolerance = args["tolerance"].as<double>();
     options.max_iterations = args["max-iterations"].as<int>();
     options.max_time_s = args["time-limit"].as<double>();
+    options.gauss_seidel_sweeps = args["gauss-seidel"].as<int>();
+    options.rho_scale = args["rho-scale"].as<double>();
     options.log_to_stderr = args.count("verbose") > 0;
     ncp::Vector r;
     ncp::fc::Summary summary;
