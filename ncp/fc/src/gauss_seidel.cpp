@@ -20,7 +20,9 @@ double LocalResidual(int d, double mu, const Block& Waa, const Eigen::Vector3d& 
   Eigen::Vector3d z = r - u;
   z[0] -= mu * ut;
   ProjectOnCone(mu, d, z.data());
-  return (r - z).head(d).norm();
+  double sum = 0.0;
+  for (int i = 0; i < d; ++i) sum += (r[i] - z[i]) * (r[i] - z[i]);
+  return std::sqrt(sum);
 }
 
 }  // namespace
@@ -33,9 +35,8 @@ void GaussSeidelSweep(const FrictionProblem& problem, const BlockDelassus& W,
     const Block& Waa = W.Diagonal(a);
     Eigen::Vector3d ra = Eigen::Vector3d::Zero();
     ra.head(d) = r->segment(d * a, d);
-    const Eigen::Vector3d v =
-        W.RowTimes(a, *r) - Waa * ra + (Eigen::Vector3d() << problem.q.segment(d * a, d),
-                                        Eigen::VectorXd::Zero(3 - d)).finished();
+    Eigen::Vector3d v = W.RowTimes(a, *r) - Waa * ra;  // sum_{b != a} W_ab r_b + q_a
+    for (int i = 0; i < d; ++i) v[i] += problem.q[d * a + i];
     const double mu = problem.mu[a];
     const double before = LocalResidual(d, mu, Waa, v, ra);
     Eigen::Vector3d x = ra, phi = Eigen::Vector3d::Zero();

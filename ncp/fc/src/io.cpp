@@ -9,6 +9,7 @@
 #include "ncp_fc_config.hpp"
 
 #if NCP_FC_HAVE_FCLIB
+#include <hdf5.h>
 extern "C" {  // fclib.h has no C++ guards
 #include <fclib.h>
 }
@@ -197,11 +198,22 @@ FrictionProblem ReduceGlobal(const fclib_global& g, const std::string& path) {
   return p;
 }
 
+/// Whether the HDF5 file has the top-level group (FCLIB writes "fclib_local" or "fclib_global").
+bool HasGroup(const std::string& path, const char* group) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // a failure is reported by the caller
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file < 0) throw std::runtime_error("'" + path + "': not a readable HDF5 file");
+  const bool found = H5Lexists(file, group, H5P_DEFAULT) > 0;
+  H5Fclose(file);
+  return found;
+}
+
 }  // namespace
 
 FrictionProblem ReadFclib(const std::string& path) {
   FrictionProblem p;
-  if (fclib_local* local = fclib_read_local(path.c_str())) {
+  const bool is_local = HasGroup(path, "fclib_local");
+  if (fclib_local* local = is_local ? fclib_read_local(path.c_str()) : nullptr) {
     p.dimension = local->spacedim;
     p.W = ToSparse(*local->W);
     p.num_contacts = static_cast<int>(p.W.rows()) / local->spacedim;
@@ -211,7 +223,8 @@ FrictionProblem ReadFclib(const std::string& path) {
     fclib_delete_local(local);
     if (has_constraints)
       throw std::runtime_error("'" + path + "': local problem with constraints R not supported");
-  } else if (fclib_global* global = fclib_read_global(path.c_str())) {
+  } else if (fclib_global* global = HasGroup(path, "fclib_global")
+                                         ? fclib_read_global(path.c_str()) : nullptr) {
     try {
       p = ReduceGlobal(*global, path);
     } catch (...) {
@@ -228,6 +241,7 @@ FrictionProblem ReadFclib(const std::string& path) {
 }
 
 std::optional<Vector> ReadFclibSolution(const std::string& path) {
+  if (!HasGroup(path, "fclib_local")) return std::nullopt;
   fclib_local* local = fclib_read_local(path.c_str());
   if (!local) return std::nullopt;
   const int m = local->W->m;
