@@ -7,16 +7,16 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
-#include <cstring>
 
 #include "fc_bench_config.hpp"
+#include "ncp/fc/io.hpp"
 
 #if FC_BENCH_HAVE_SICONOS
 #include "FrictionContactProblem.h"
 #include "Friction_cst.h"
 #include "NonSmoothDrivers.h"
-#include "NumericsMatrix.h"
 #include "NumericsVerbose.h"
 #include "SolverOptions.h"
 #endif
@@ -56,18 +56,18 @@ int SolverId(const std::string& name) {
   return -1;
 }
 
-/// Siconos' problem: its own reader for .dat, else a dense copy of ours.
+/// Siconos' problem through its own reader: the .dat file itself, else ours written as a
+/// sparse-block .dat (the storage Siconos' reader gives the .dat files too).
 FrictionContactProblem* MakeProblem(const std::string& path, const ncp::fc::FrictionProblem& p) {
   if (path.size() > 4 && path.compare(path.size() - 4, 4, ".dat") == 0)
     return frictionContact_new_from_filename(path.c_str());
-  const int n = p.size();
-  NumericsMatrix* W = NM_create(NM_DENSE, n, n);
-  Eigen::Map<Eigen::MatrixXd>(W->matrix0, n, n) = Eigen::MatrixXd(p.W);
-  double* q = static_cast<double*>(std::malloc(sizeof(double) * n));
-  double* mu = static_cast<double*>(std::malloc(sizeof(double) * p.num_contacts));
-  std::memcpy(q, p.q.data(), sizeof(double) * n);
-  std::memcpy(mu, p.mu.data(), sizeof(double) * p.num_contacts);
-  return frictionContactProblem_new_with_data(p.dimension, p.num_contacts, W, q, mu);
+  const char* tmp = std::getenv("TMPDIR");
+  const std::string copy = std::string(tmp ? tmp : "/tmp") + "/fc_bench_" +
+                           std::to_string(getpid()) + ".dat";
+  ncp::fc::WriteSiconosDat(p, copy);
+  FrictionContactProblem* problem = frictionContact_new_from_filename(copy.c_str());
+  std::remove(copy.c_str());
+  return problem;
 }
 
 /// The child: repeated solves from r = 0 until min_timing_s has passed, best time kept.

@@ -24,8 +24,8 @@ std::string PeerDescription();
 /// NSN_AC, NSN_FB, NSN_NM, NSGS, ADMM (as fc-bench names them: siconos-nsn-ac, ...).
 std::vector<std::string> PeerSolvers();
 
-/// Solves with Siconos: a .dat file through Siconos' own reader, anything else from the
-/// problem as ncp::fc read it (dense W). max_iterations: Siconos' iparam MAX_ITER.
+/// Solves with Siconos: a .dat file through Siconos' own reader, anything else (HDF5) from the
+/// problem as ncp::fc read it, written to a temporary sparse-block .dat. max_iterations: Siconos' iparam MAX_ITER.
 PeerRun RunPeer(const std::string& solver, const std::string& path,
                 const ncp::fc::FrictionProblem& problem, double tolerance, int max_iterations,
                 double time_limit_s, double min_timing_s);

@@ -89,3 +89,18 @@ TEST_CASE("FCLIB global problem reduced to W = H' M^-1 H", "[fc][io][fclib]") {
   const Eigen::VectorXd eig = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(W).eigenvalues();
   CHECK(eig.minCoeff() >= -1e-10 * eig.maxCoeff());
 }
+
+TEST_CASE("WriteSiconosDat round trip (sparse-block storage)", "[fc][io]") {
+  const std::string name = GENERATE(std::string("Capsules-i101-404.dat"),
+                                    std::string("FrictionContactProblem00071.dat"),
+                                    std::string("BoxesStack-local_problem_test.hdf5"));
+  const FrictionProblem p = ReadProblem(kData + "/" + name);
+  const std::string path = WriteTemp("roundtrip.dat", "");
+  WriteSiconosDat(p, path);
+  const FrictionProblem back = ReadSiconosDat(path);
+  CHECK(back.dimension == p.dimension);
+  CHECK(back.num_contacts == p.num_contacts);
+  CHECK((Eigen::MatrixXd(back.W) - Eigen::MatrixXd(p.W)).cwiseAbs().maxCoeff() == 0.0);
+  CHECK(back.q == p.q);
+  CHECK(back.mu == p.mu);
+}

@@ -2,6 +2,8 @@
 
 #include <Eigen/SparseCholesky>
 #include <fstream>
+#include <iomanip>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -129,6 +131,46 @@ FrictionProblem ReadSiconosDat(const std::string& path) {
   for (int a = 0; a < p.num_contacts; ++a) p.mu[a] = in.Next("mu");
   p.Validate();
   return p;
+}
+
+void WriteSiconosDat(const FrictionProblem& p, const std::string& path) {
+  p.Validate();
+  const int d = p.dimension, nc = p.num_contacts, n = p.size();
+  // block (row, col) -> d x d entries, column by column; block rows in order
+  std::vector<std::map<int, std::vector<double>>> rows(nc);
+  for (int k = 0; k < p.W.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(p.W, k); it; ++it) {
+      auto& block = rows[it.row() / d][static_cast<int>(it.col()) / d];
+      block.resize(d * d, 0.0);
+      block[(it.col() % d) * d + it.row() % d] = it.value();
+    }
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+  out << std::setprecision(17) << d << '\n' << nc << "\n1\n" << n << ' ' << n << '\n';
+  std::vector<int> row_ptr{0}, block_col;
+  for (const auto& row : rows) {
+    for (const auto& entry : row) block_col.push_back(entry.first);
+    row_ptr.push_back(static_cast<int>(block_col.size()));
+  }
+  out << block_col.size() << '\n' << nc << ' ' << nc << '\n';
+  for (int side = 0; side < 2; ++side) {  // cumulative block sizes, rows then columns
+    for (int a = 1; a <= nc; ++a) out << a * d << ' ';
+    out << '\n';
+  }
+  out << nc + 1 << ' ' << block_col.size() << '\n';
+  for (int v : row_ptr) out << v << ' ';
+  out << '\n';
+  for (int v : block_col) out << v << ' ';
+  out << '\n';
+  int number = 0;
+  for (const auto& row : rows)
+    for (const auto& entry : row) {
+      out << number++ << '\n';
+      for (double w : entry.second) out << w << '\n';
+    }
+  for (int i = 0; i < n; ++i) out << p.q[i] << '\n';
+  for (int a = 0; a < nc; ++a) out << p.mu[a] << '\n';
+  if (!out) throw std::runtime_error("writing '" + path + "' failed");
 }
 
 FrictionProblem ReadProblem(const std::string& path) {

@@ -19,6 +19,11 @@ namespace ncp::fc {
 /// Throws std::runtime_error (with the file name and what was expected) on a malformed file.
 FrictionProblem ReadSiconosDat(const std::string& path);
 
+/// Writes the problem in Siconos' text format with sparse-block storage (the blocks of W
+/// that hold a nonzero, 17 significant digits), so that ReadSiconosDat and Siconos'
+/// frictionContact_new_from_filename read it back. Throws std::runtime_error on I/O failure.
+void WriteSiconosDat(const FrictionProblem& problem, const std::string& path);
+
 /// True when the FCLIB reader was compiled in (Debian libfclib-dev found).
 bool HaveFclib();
 
