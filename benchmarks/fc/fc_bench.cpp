@@ -1,9 +1,10 @@
 // fc-bench [DIR|FILE ...] --csv OUT.csv [--tolerance 1e-8] [--time-limit 10] [--quick]
 // Every frictional contact problem (.dat, .hdf5) of the directories, with each ncp::fc
 // formulation and each Siconos fc3d_driver solver, from r = 0. One CSV row per (problem,
-// solver): the solver's own claim, iterations, best-of-repetitions time per solve, and the
-// natural-map error recomputed by ncp::fc::NaturalMapError at the returned r. A row counts
-// as solved only if the solver claims convergence AND the recomputed error <= tolerance.
+// solver): the solver's own claim, iterations, best-of-repetitions time per solve, and
+// the natural-map error recomputed by ncp::fc::NaturalMapError at the returned r. A row
+// counts as solved only if the solver claims convergence AND the recomputed error <=
+// tolerance.
 #include <chrono>
 #include <cxxopts.hpp>
 #include <filesystem>
@@ -42,7 +43,8 @@ std::vector<std::string> ProblemFiles(const std::vector<std::string>& inputs) {
   return files;
 }
 
-/// ncp::fc from r = 0, repeated until min_timing_s has passed (at most 20 times), best time.
+/// ncp::fc from r = 0, repeated until min_timing_s has passed (at most 20 times), best
+/// time.
 Row RunOurs(ncp::fc::Formulation f, const ncp::fc::FrictionProblem& p, double tolerance,
             double time_limit, double min_timing_s) {
   ncp::fc::Options options;
@@ -51,8 +53,10 @@ Row RunOurs(ncp::fc::Formulation f, const ncp::fc::FrictionProblem& p, double to
   options.max_time_s = time_limit;
   options.max_iterations = 1000;
   Row row;
-  row.solver = std::string("ncp-") + (f == ncp::fc::Formulation::kAlartCurnier ? "ac"
-                                      : f == ncp::fc::Formulation::kNaturalMap ? "nm" : "hybrid");
+  row.solver =
+      std::string("ncp-") + (f == ncp::fc::Formulation::kAlartCurnier ? "ac"
+                             : f == ncp::fc::Formulation::kNaturalMap ? "nm"
+                                                                      : "hybrid");
   ncp::Vector r;
   ncp::fc::Summary summary;
   double best = 1e300, total = 0.0;
@@ -60,7 +64,8 @@ Row RunOurs(ncp::fc::Formulation f, const ncp::fc::FrictionProblem& p, double to
     r.resize(0);
     const auto start = std::chrono::steady_clock::now();
     ncp::fc::Solve(options, p, &r, &summary);
-    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double t =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     best = std::min(best, t);
     total += t;
     if (summary.termination == ncp::fc::Termination::kTimeLimit) break;
@@ -77,9 +82,10 @@ Row RunOurs(ncp::fc::Formulation f, const ncp::fc::FrictionProblem& p, double to
 Row RunSiconos(const std::string& solver, const std::string& path,
                const ncp::fc::FrictionProblem& p, double tolerance, double time_limit,
                double min_timing_s) {
-  const int max_iterations = solver == "siconos-nsgs" || solver == "siconos-admm" ? 10000 : 1000;
-  const fc_bench::PeerRun run =
-      fc_bench::RunPeer(solver, path, p, tolerance, max_iterations, time_limit, min_timing_s);
+  const int max_iterations =
+      solver == "siconos-nsgs" || solver == "siconos-admm" ? 10000 : 1000;
+  const fc_bench::PeerRun run = fc_bench::RunPeer(
+      solver, path, p, tolerance, max_iterations, time_limit, min_timing_s);
   Row row;
   row.solver = solver;
   row.status = run.status;
@@ -94,15 +100,20 @@ Row RunSiconos(const std::string& solver, const std::string& path,
 }  // namespace
 
 int main(int argc, char** argv) {
-  cxxopts::Options cli("fc-bench", "ncp::fc vs Siconos fc3d solvers on frictional contact problems");
-  cli.add_options()("inputs", "directories or files", cxxopts::value<std::vector<std::string>>())(
+  cxxopts::Options cli("fc-bench",
+                       "ncp::fc vs Siconos fc3d solvers on frictional contact problems");
+  cli.add_options()("inputs", "directories or files",
+                    cxxopts::value<std::vector<std::string>>())(
       "csv", "output CSV", cxxopts::value<std::string>())(
-      "tolerance", "natural-map error tolerance", cxxopts::value<double>()->default_value("1e-8"))(
+      "tolerance", "natural-map error tolerance",
+      cxxopts::value<double>()->default_value("1e-8"))(
       "time-limit", "seconds per solve; slower or failed rows are charged this",
       cxxopts::value<double>()->default_value("10"))(
-      "min-timing", "repeat each solve until this many seconds have passed (best time kept)",
+      "min-timing",
+      "repeat each solve until this many seconds have passed (best time kept)",
       cxxopts::value<double>()->default_value("0.05"))(
-      "quick", "only problems with at most 10 contacts (smoke test)")("h,help", "this help");
+      "quick", "only problems with at most 10 contacts (smoke test)")("h,help",
+                                                                      "this help");
   cli.parse_positional({"inputs"});
   try {
     const auto args = cli.parse(argc, argv);
@@ -112,7 +123,8 @@ int main(int argc, char** argv) {
     }
     std::vector<std::string> inputs{FC_BENCH_DATA_DIR};
     if (args.count("inputs")) inputs = args["inputs"].as<std::vector<std::string>>();
-    const double tol = args["tolerance"].as<double>(), limit = args["time-limit"].as<double>();
+    const double tol = args["tolerance"].as<double>(),
+                 limit = args["time-limit"].as<double>();
     const double min_timing = args["min-timing"].as<double>();
     std::ofstream csv(args["csv"].as<std::string>());
     if (!csv) throw std::runtime_error("cannot write " + args["csv"].as<std::string>());
@@ -142,13 +154,14 @@ int main(int argc, char** argv) {
         row.contacts = p.num_contacts;
         row.dimension = p.dimension;
         const bool solved = row.claimed && row.error >= 0.0 && row.error <= tol;
-        csv << row.problem << ',' << row.contacts << ',' << row.dimension << ',' << row.solver
-            << ',' << row.status << ',' << row.claimed << ',' << row.iterations << ','
-            << row.time_s << ',' << row.error << ',' << row.reported_error << ',' << solved << '\n';
+        csv << row.problem << ',' << row.contacts << ',' << row.dimension << ','
+            << row.solver << ',' << row.status << ',' << row.claimed << ','
+            << row.iterations << ',' << row.time_s << ',' << row.error << ','
+            << row.reported_error << ',' << solved << '\n';
         std::cerr << std::left << std::setw(36) << p.name << std::setw(16) << row.solver
-                  << std::setw(22) << row.status << " it " << std::setw(6) << row.iterations
-                  << " t " << std::setw(11) << row.time_s << " error " << row.error
-                  << (solved ? "" : "  (not solved)") << '\n';
+                  << std::setw(22) << row.status << " it " << std::setw(6)
+                  << row.iterations << " t " << std::setw(11) << row.time_s << " error "
+                  << row.error << (solved ? "" : "  (not solved)") << '\n';
       }
     }
     return 0;

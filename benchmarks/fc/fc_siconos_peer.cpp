@@ -26,18 +26,20 @@ namespace fc_bench {
 bool PeerAvailable() { return FC_BENCH_HAVE_SICONOS != 0; }
 
 std::string PeerDescription() {
-  return PeerAvailable() ? std::string("Siconos Numerics ") + FC_BENCH_SICONOS_VERSION : "none";
+  return PeerAvailable() ? std::string("Siconos Numerics ") + FC_BENCH_SICONOS_VERSION
+                         : "none";
 }
 
 std::vector<std::string> PeerSolvers() {
   if (!PeerAvailable()) return {};
-  return {"siconos-nsn-ac", "siconos-nsn-fb", "siconos-nsn-nm", "siconos-nsgs", "siconos-admm"};
+  return {"siconos-nsn-ac", "siconos-nsn-fb", "siconos-nsn-nm", "siconos-nsgs",
+          "siconos-admm"};
 }
 
 #if !FC_BENCH_HAVE_SICONOS
 
-PeerRun RunPeer(const std::string&, const std::string&, const ncp::fc::FrictionProblem&, double,
-                int, double, double) {
+PeerRun RunPeer(const std::string&, const std::string&, const ncp::fc::FrictionProblem&,
+                double, int, double, double) {
   PeerRun run;
   run.status = "unavailable";
   return run;
@@ -58,12 +60,13 @@ int SolverId(const std::string& name) {
 
 /// Siconos' problem through its own reader: the .dat file itself, else ours written as a
 /// sparse-block .dat (the storage Siconos' reader gives the .dat files too).
-FrictionContactProblem* MakeProblem(const std::string& path, const ncp::fc::FrictionProblem& p) {
+FrictionContactProblem* MakeProblem(const std::string& path,
+                                    const ncp::fc::FrictionProblem& p) {
   if (path.size() > 4 && path.compare(path.size() - 4, 4, ".dat") == 0)
     return frictionContact_new_from_filename(path.c_str());
   const char* tmp = std::getenv("TMPDIR");
-  const std::string copy = std::string(tmp ? tmp : "/tmp") + "/fc_bench_" +
-                           std::to_string(getpid()) + ".dat";
+  const std::string copy =
+      std::string(tmp ? tmp : "/tmp") + "/fc_bench_" + std::to_string(getpid()) + ".dat";
   ncp::fc::WriteSiconosDat(p, copy);
   FrictionContactProblem* problem = frictionContact_new_from_filename(copy.c_str());
   std::remove(copy.c_str());
@@ -72,8 +75,9 @@ FrictionContactProblem* MakeProblem(const std::string& path, const ncp::fc::Fric
 
 /// The child: repeated solves from r = 0 until min_timing_s has passed, best time kept.
 /// Writes status, iterations, time, Siconos' error and r to the pipe.
-void ChildSolve(int fd, int solver_id, const std::string& path, const ncp::fc::FrictionProblem& p,
-                double tolerance, int max_iterations, double min_timing_s) {
+void ChildSolve(int fd, int solver_id, const std::string& path,
+                const ncp::fc::FrictionProblem& p, double tolerance, int max_iterations,
+                double min_timing_s) {
   numerics_set_verbose(0);
   FrictionContactProblem* problem = MakeProblem(path, p);
   const int n = p.size();
@@ -88,14 +92,16 @@ void ChildSolve(int fd, int solver_id, const std::string& path, const ncp::fc::F
     std::fill(u.begin(), u.end(), 0.0);
     const auto start = std::chrono::steady_clock::now();
     info = fc3d_driver(problem, r.data(), u.data(), options);
-    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double t =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     best = std::min(best, t);
     total += t;
     iterations = options->iparam[SICONOS_IPARAM_ITER_DONE];
     error = options->dparam[SICONOS_DPARAM_RESIDU];
     solver_options_delete(options);
   }
-  const double header[4] = {static_cast<double>(info), static_cast<double>(iterations), best, error};
+  const double header[4] = {static_cast<double>(info), static_cast<double>(iterations),
+                            best, error};
   ssize_t ignored = write(fd, header, sizeof(header));
   ignored = write(fd, r.data(), sizeof(double) * n);
   (void)ignored;
@@ -103,11 +109,13 @@ void ChildSolve(int fd, int solver_id, const std::string& path, const ncp::fc::F
 }
 
 /// Reads exactly size bytes before the deadline; false on timeout or EOF.
-bool ReadAll(int fd, char* data, size_t size, std::chrono::steady_clock::time_point deadline) {
+bool ReadAll(int fd, char* data, size_t size,
+             std::chrono::steady_clock::time_point deadline) {
   size_t got = 0;
   while (got < size) {
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-                          deadline - std::chrono::steady_clock::now()).count();
+                          deadline - std::chrono::steady_clock::now())
+                          .count();
     if (left <= 0) return false;
     pollfd pfd{fd, POLLIN, 0};
     if (poll(&pfd, 1, static_cast<int>(left)) <= 0) return false;
@@ -121,8 +129,8 @@ bool ReadAll(int fd, char* data, size_t size, std::chrono::steady_clock::time_po
 }  // namespace
 
 PeerRun RunPeer(const std::string& solver, const std::string& path,
-                const ncp::fc::FrictionProblem& problem, double tolerance, int max_iterations,
-                double time_limit_s, double min_timing_s) {
+                const ncp::fc::FrictionProblem& problem, double tolerance,
+                int max_iterations, double time_limit_s, double min_timing_s) {
   PeerRun run;
   const int id = SolverId(solver);
   if (id < 0) {
@@ -137,7 +145,8 @@ PeerRun RunPeer(const std::string& solver, const std::string& path,
   const pid_t child = fork();
   if (child == 0) {
     close(fds[0]);
-    // Siconos prints its own diagnostics (e.g. every failed LU); the row records the outcome.
+    // Siconos prints its own diagnostics (e.g. every failed LU); the row records the
+    // outcome.
     const int null_fd = open("/dev/null", O_WRONLY);
     if (null_fd >= 0) {
       dup2(null_fd, STDOUT_FILENO);
@@ -147,20 +156,24 @@ PeerRun RunPeer(const std::string& solver, const std::string& path,
   }
   close(fds[1]);
   // The repetitions may take up to min_timing_s beyond one solve.
-  const auto deadline = std::chrono::steady_clock::now() +
-                        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                            std::chrono::duration<double>(time_limit_s + min_timing_s + 1.0));
+  const auto deadline =
+      std::chrono::steady_clock::now() +
+      std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+          std::chrono::duration<double>(time_limit_s + min_timing_s + 1.0));
   double header[4];
   const int n = problem.size();
   run.r.resize(n);
-  const bool ok = ReadAll(fds[0], reinterpret_cast<char*>(header), sizeof(header), deadline) &&
-                  ReadAll(fds[0], reinterpret_cast<char*>(run.r.data()), sizeof(double) * n, deadline);
+  const bool ok =
+      ReadAll(fds[0], reinterpret_cast<char*>(header), sizeof(header), deadline) &&
+      ReadAll(fds[0], reinterpret_cast<char*>(run.r.data()), sizeof(double) * n,
+              deadline);
   close(fds[0]);
   if (!ok) kill(child, SIGKILL);
   int wstatus = 0;
   waitpid(child, &wstatus, 0);
   if (!ok) {
-    run.status = WIFSIGNALED(wstatus) && WTERMSIG(wstatus) == SIGKILL ? "time_limit" : "crashed";
+    run.status =
+        WIFSIGNALED(wstatus) && WTERMSIG(wstatus) == SIGKILL ? "time_limit" : "crashed";
     run.r.resize(0);
     return run;
   }

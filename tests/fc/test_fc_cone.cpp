@@ -1,5 +1,5 @@
-// The Coulomb-cone projection (Moreau's characterization), Siconos' natural-map error at a
-// published solution, and the generalized Jacobian blocks of both formulations against
+// The Coulomb-cone projection (Moreau's characterization), Siconos' natural-map error at
+// a published solution, and the generalized Jacobian blocks of both formulations against
 // central finite differences at random points.
 #include <catch2/catch.hpp>
 #include <random>
@@ -23,9 +23,10 @@ TEST_CASE("ProjectOnCone satisfies Moreau's decomposition", "[fc][cone]") {
     const double pt = std::hypot(p[1], d == 3 ? p[2] : 0.0);
     double w[3] = {z[0] - p[0], z[1] - p[1], z[2] - p[2]};  // must lie in the polar cone
     const double wt = std::hypot(w[1], d == 3 ? w[2] : 0.0);
-    CHECK(pt <= mu * p[0] + 1e-12);          // P(z) in C_mu
-    CHECK(mu * wt <= -w[0] + 1e-12);         // z - P(z) in -C*_mu
-    CHECK_THAT(p[0] * w[0] + p[1] * w[1] + p[2] * w[2], WithinAbs(0.0, 1e-12));  // orthogonal
+    CHECK(pt <= mu * p[0] + 1e-12);   // P(z) in C_mu
+    CHECK(mu * wt <= -w[0] + 1e-12);  // z - P(z) in -C*_mu
+    CHECK_THAT(p[0] * w[0] + p[1] * w[1] + p[2] * w[2],
+               WithinAbs(0.0, 1e-12));  // orthogonal
   }
 }
 
@@ -45,10 +46,12 @@ TEST_CASE("NaturalMapError vanishes at the published solution only", "[fc][error
 namespace {
 
 using internal::Block;
-using Law = std::function<void(const double* r, const double* u, double* phi, Block* A, Block* B)>;
+using Law = std::function<void(const double* r, const double* u, double* phi, Block* A,
+                               Block* B)>;
 
 /// Central differences of the law in r (which = 0) or u (which = 1).
-Block FiniteDifference(const Law& law, int d, const double* r, const double* u, int which) {
+Block FiniteDifference(const Law& law, int d, const double* r, const double* u,
+                       int which) {
   const double h = 1e-7;
   Block D = Block::Zero();
   Block A, B;
@@ -67,26 +70,34 @@ Block FiniteDifference(const Law& law, int d, const double* r, const double* u, 
 
 }  // namespace
 
-TEST_CASE("Jacobian blocks of both formulations match finite differences", "[fc][jacobian]") {
+TEST_CASE("Jacobian blocks of both formulations match finite differences",
+          "[fc][jacobian]") {
   const int d = GENERATE(2, 3);
   const bool alart_curnier = GENERATE(true, false);
   std::mt19937 rng(11);
-  std::uniform_real_distribution<double> value(-1.0, 1.0), friction(0.05, 1.2), rho(0.2, 3.0);
+  std::uniform_real_distribution<double> value(-1.0, 1.0), friction(0.05, 1.2),
+      rho(0.2, 3.0);
   int checked = 0;
   for (int k = 0; k < 500; ++k) {
     const double mu = friction(rng), rho_n = rho(rng), rho_t = rho(rng);
     const double r[3] = {value(rng), value(rng), d == 3 ? value(rng) : 0.0};
     const double u[3] = {value(rng), value(rng), d == 3 ? value(rng) : 0.0};
     Law law = [&](const double* rr, const double* uu, double* phi, Block* A, Block* B) {
-      if (alart_curnier) internal::AlartCurnierLaw(d, mu, rho_n, rho_t, rr, uu, phi, A, B);
-      else internal::NaturalMapLaw(d, mu, rho_n, rr, uu, phi, A, B);
+      if (alart_curnier)
+        internal::AlartCurnierLaw(d, mu, rho_n, rho_t, rr, uu, phi, A, B);
+      else
+        internal::NaturalMapLaw(d, mu, rho_n, rr, uu, phi, A, B);
     };
     double phi[3];
     Block A, B;
     law(r, u, phi, &A, &B);
-    const Block Ar = FiniteDifference(law, d, r, u, 0), Bu = FiniteDifference(law, d, r, u, 1);
-    INFO("d " << d << " AC " << alart_curnier << " mu " << mu << "\nA\n" << A << "\nFD\n" << Ar
-              << "\nB\n" << B << "\nFD\n" << Bu);
+    const Block Ar = FiniteDifference(law, d, r, u, 0),
+                Bu = FiniteDifference(law, d, r, u, 1);
+    INFO("d " << d << " AC " << alart_curnier << " mu " << mu << "\nA\n"
+              << A << "\nFD\n"
+              << Ar << "\nB\n"
+              << B << "\nFD\n"
+              << Bu);
     CHECK((A - Ar).cwiseAbs().maxCoeff() < 1e-5);
     CHECK((B - Bu).cwiseAbs().maxCoeff() < 1e-5);
     ++checked;

@@ -1,6 +1,6 @@
 // ncp::fc::Solve on the published problem and on every problem of the data directory with
-// each formulation; each claimed solution is checked with CoulombViolation (no projection,
-// no ncp::fc code) and a failure must be reported as such.
+// each formulation; each claimed solution is checked with CoulombViolation (no
+// projection, no ncp::fc code) and a failure must be reported as such.
 #include <catch2/catch.hpp>
 #include <filesystem>
 
@@ -15,9 +15,9 @@ using Catch::Matchers::WithinAbs;
 TEST_CASE("the published solution of FrictionContact3D_1c", "[fc][solver]") {
   const Formulation f = GENERATE(Formulation::kAlartCurnier, Formulation::kNaturalMap,
                                  Formulation::kHybrid);
-  const ncp::LinearSolverType ls = GENERATE(ncp::LinearSolverType::kDenseLU,
-                                            ncp::LinearSolverType::kUmfpack,
-                                            ncp::LinearSolverType::kKlu);
+  const ncp::LinearSolverType ls =
+      GENERATE(ncp::LinearSolverType::kDenseLU, ncp::LinearSolverType::kUmfpack,
+               ncp::LinearSolverType::kKlu);
   Options options;
   options.formulation = f;
   options.linear_solver = ls;
@@ -60,12 +60,15 @@ TEST_CASE("every data problem, every formulation", "[fc][solver][data]") {
   }
   REQUIRE(files >= 15);
   // the hybrid default solves all of them (README's table); each single formulation most
-  if (f == Formulation::kHybrid) CHECK(solved == files);
-  else CHECK(solved >= files - 3);
+  if (f == Formulation::kHybrid)
+    CHECK(solved == files);
+  else
+    CHECK(solved >= files - 3);
 }
 
 TEST_CASE("an unfinished solve says so", "[fc][solver]") {
-  const FrictionProblem p = ReadProblem(std::string(NCP_FC_DATA_DIR) + "/Capsules-i101-404.dat");
+  const FrictionProblem p =
+      ReadProblem(std::string(NCP_FC_DATA_DIR) + "/Capsules-i101-404.dat");
   Options options;
   options.max_iterations = 2;
   Eigen::VectorXd r;
@@ -76,6 +79,21 @@ TEST_CASE("an unfinished solve says so", "[fc][solver]") {
   CHECK(summary.iterations == 2);
   CHECK(summary.final_error > options.tolerance);
   CHECK(summary.final_error == NaturalMapError(p, r));
+}
+
+TEST_CASE("a time limit ends the solve with its own status", "[fc][solver]") {
+  const FrictionProblem p =
+      ReadProblem(std::string(NCP_FC_DATA_DIR) + "/Capsules-i101-404.dat");
+  Options options;
+  options.max_time_s = 1e-9;  // passed before the first Newton step
+  Eigen::VectorXd r;
+  Summary summary;
+  Solve(options, p, &r, &summary);
+  CHECK(summary.termination == Termination::kTimeLimit);
+  CHECK(summary.iterations == 0);
+  CHECK_FALSE(summary.IsSolutionUsable());
+  CHECK(summary.final_error == NaturalMapError(p, r));
+  CHECK(summary.final_error > options.tolerance);
 }
 
 TEST_CASE("misuse throws std::invalid_argument", "[fc][solver]") {
@@ -91,7 +109,8 @@ TEST_CASE("misuse throws std::invalid_argument", "[fc][solver]") {
   CHECK_THROWS_WITH(Solve(bad, p, &r, &summary), Catch::Contains("tolerance"));
   FrictionProblem wrong = p;
   wrong.mu.resize(2);
-  CHECK_THROWS_WITH(Solve(Options(), wrong, &r, &summary), Catch::Contains("mu must have 1"));
+  CHECK_THROWS_WITH(Solve(Options(), wrong, &r, &summary),
+                    Catch::Contains("mu must have 1"));
 }
 
 TEST_CASE("projected Gauss-Seidel warm start", "[fc][solver]") {
@@ -106,7 +125,8 @@ TEST_CASE("projected Gauss-Seidel warm start", "[fc][solver]") {
   CHECK(summary.gauss_seidel_sweeps == 1);
   CHECK(test::CoulombViolation(test::OneContactProblem(), r) < 1e-12);
   // 225 contacts: ten sweeps reduce the error from 5.6e-3 (r = 0) to about 1e-4
-  const FrictionProblem p = ReadProblem(std::string(NCP_FC_DATA_DIR) + "/Capsules-i101-404.dat");
+  const FrictionProblem p =
+      ReadProblem(std::string(NCP_FC_DATA_DIR) + "/Capsules-i101-404.dat");
   r.resize(0);
   Solve(options, p, &r, &summary);
   CHECK(summary.termination == Termination::kMaxIterations);

@@ -10,7 +10,8 @@ BlockDelassus::BlockDelassus(const FrictionProblem& problem)
   for (int a = 0; a < num_contacts_; ++a) rows[a][a] = Block::Zero();
   for (int k = 0; k < problem.W.outerSize(); ++k)
     for (SparseMatrix::InnerIterator it(problem.W, k); it; ++it) {
-      auto found = rows[it.row() / d_].try_emplace(static_cast<int>(it.col()) / d_, Block::Zero());
+      auto found =
+          rows[it.row() / d_].try_emplace(static_cast<int>(it.col()) / d_, Block::Zero());
       found.first->second(it.row() % d_, it.col() % d_) = it.value();
     }
   row_ptr_.assign(1, 0);
@@ -35,8 +36,8 @@ Eigen::Vector3d BlockDelassus::RowTimes(int a, const Vector& r) const {
   return sum;
 }
 
-void BlockDelassus::AssembleJacobian(const std::vector<Block>& A, const std::vector<Block>& B,
-                                     SparseMatrix* J) const {
+void BlockDelassus::AssembleJacobian(const std::vector<Block>& A,
+                                     const std::vector<Block>& B, SparseMatrix* J) const {
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(blocks_.size() * d_ * d_);
   for (int a = 0; a < num_contacts_; ++a)
@@ -45,7 +46,8 @@ void BlockDelassus::AssembleJacobian(const std::vector<Block>& A, const std::vec
       Block Jab = B[a] * blocks_[k];
       if (b == a) Jab += A[a];
       for (int j = 0; j < d_; ++j)
-        for (int i = 0; i < d_; ++i) entries.emplace_back(d_ * a + i, d_ * b + j, Jab(i, j));
+        for (int i = 0; i < d_; ++i)
+          entries.emplace_back(d_ * a + i, d_ * b + j, Jab(i, j));
     }
   const int n = d_ * num_contacts_;
   J->resize(n, n);

@@ -12,7 +12,8 @@ namespace {
 
 constexpr int kLocalNewtonSteps = 20;
 
-/// |r - P_C(r - u_hat)| of one contact, u = W_aa r + v (the contact's part of NaturalMapError).
+/// |r - P_C(r - u_hat)| of one contact, u = W_aa r + v (the contact's part of
+/// NaturalMapError).
 double LocalResidual(int d, double mu, const Block& Waa, const Eigen::Vector3d& v,
                      const Eigen::Vector3d& r) {
   const Eigen::Vector3d u = Waa * r + v;
@@ -52,7 +53,8 @@ void GaussSeidelSweep(const FrictionProblem& problem, const BlockDelassus& W,
       x.head(d) += step;
       if (step.norm() <= 1e-14 * (1.0 + x.norm())) break;
     }
-    if (x.allFinite() && LocalResidual(d, mu, Waa, v, x) < before) r->segment(d * a, d) = x.head(d);
+    if (x.allFinite() && LocalResidual(d, mu, Waa, v, x) < before)
+      r->segment(d * a, d) = x.head(d);
   }
 }
 

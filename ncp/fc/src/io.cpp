@@ -21,7 +21,8 @@ namespace ncp::fc {
 
 namespace {
 
-/// Whitespace-separated numbers of a text file, read one at a time with context in errors.
+/// Whitespace-separated numbers of a text file, read one at a time with context in
+/// errors.
 class NumberStream {
  public:
   explicit NumberStream(const std::string& path) : path_(path), in_(path) {
@@ -30,8 +31,9 @@ class NumberStream {
   double Next(const char* what) {
     double value;
     if (!(in_ >> value))
-      throw std::runtime_error("'" + path_ + "': expected a number for " + what + " (number " +
-                               std::to_string(count_ + 1) + " in the file)");
+      throw std::runtime_error("'" + path_ + "': expected a number for " + what +
+                               " (number " + std::to_string(count_ + 1) +
+                               " in the file)");
     ++count_;
     return value;
   }
@@ -52,8 +54,9 @@ class NumberStream {
 void ReadDense(NumberStream& in, int n, std::vector<Eigen::Triplet<double>>* entries) {
   const int m = in.NextInt("dense rows", 0), cols = in.NextInt("dense columns", 0);
   if (m != n || cols != n)
-    throw std::runtime_error("dense W must be " + std::to_string(n) + " x " + std::to_string(n) +
-                             ", the file says " + std::to_string(m) + " x " + std::to_string(cols));
+    throw std::runtime_error("dense W must be " + std::to_string(n) + " x " +
+                             std::to_string(n) + ", the file says " + std::to_string(m) +
+                             " x " + std::to_string(cols));
   for (int j = 0; j < n; ++j)  // column by column
     for (int i = 0; i < n; ++i) {
       const double w = in.Next("a dense entry of W");
@@ -61,22 +64,26 @@ void ReadDense(NumberStream& in, int n, std::vector<Eigen::Triplet<double>>* ent
     }
 }
 
-void ReadSparseBlock(NumberStream& in, int n, std::vector<Eigen::Triplet<double>>* entries) {
+void ReadSparseBlock(NumberStream& in, int n,
+                     std::vector<Eigen::Triplet<double>>* entries) {
   const int num_blocks = in.NextInt("nbblocks", 0);
   if (num_blocks == 0) return;
-  const int block_rows = in.NextInt("blocknumber0", 1), block_cols = in.NextInt("blocknumber1", 1);
+  const int block_rows = in.NextInt("blocknumber0", 1),
+            block_cols = in.NextInt("blocknumber1", 1);
   std::vector<int> row_end(block_rows), col_end(block_cols);  // cumulative sizes
   for (int& v : row_end) v = in.NextInt("blocksize0", 1);
   for (int& v : col_end) v = in.NextInt("blocksize1", 1);
   if (row_end.back() != n || col_end.back() != n)
     throw std::runtime_error("sparse-block W must be " + std::to_string(n) + " x " +
                              std::to_string(n) + ", its blocks cover " +
-                             std::to_string(row_end.back()) + " x " + std::to_string(col_end.back()));
+                             std::to_string(row_end.back()) + " x " +
+                             std::to_string(col_end.back()));
   const int filled1 = in.NextInt("filled1", 1), filled2 = in.NextInt("filled2", 0);
   if (filled1 != block_rows + 1 || filled2 != num_blocks)
     throw std::runtime_error("sparse-block W: filled1 = " + std::to_string(filled1) +
-                             " (expected " + std::to_string(block_rows + 1) + "), filled2 = " +
-                             std::to_string(filled2) + " (expected " + std::to_string(num_blocks) + ")");
+                             " (expected " + std::to_string(block_rows + 1) +
+                             "), filled2 = " + std::to_string(filled2) + " (expected " +
+                             std::to_string(num_blocks) + ")");
   std::vector<int> row_ptr(filled1), block_col(filled2);
   for (int& v : row_ptr) v = in.NextInt("index1_data", 0);
   for (int& v : block_col) v = in.NextInt("index2_data", 0);
@@ -86,7 +93,8 @@ void ReadSparseBlock(NumberStream& in, int n, std::vector<Eigen::Triplet<double>
       if (b >= num_blocks || block_col[b] >= block_cols)
         throw std::runtime_error("sparse-block W: block index out of range");
       if (in.NextInt("block number", 0) != b)
-        throw std::runtime_error("sparse-block W: blocks out of order at block " + std::to_string(b));
+        throw std::runtime_error("sparse-block W: blocks out of order at block " +
+                                 std::to_string(b));
       const int bc = block_col[b];
       const int c0 = bc == 0 ? 0 : col_end[bc - 1], nc = col_end[bc] - c0;
       for (int j = 0; j < nc; ++j)
@@ -105,15 +113,17 @@ FrictionProblem ReadSiconosDat(const std::string& path) {
   FrictionProblem p;
   p.name = path.substr(path.find_last_of('/') + 1);
   p.dimension = in.NextInt("the dimension", 2);
-  if (p.dimension > 3) throw std::runtime_error("'" + path + "': dimension must be 2 or 3");
+  if (p.dimension > 3)
+    throw std::runtime_error("'" + path + "': dimension must be 2 or 3");
   p.num_contacts = in.NextInt("the number of contacts", 0);
   const int n = p.size();
   const int storage = in.NextInt("the storage type", 0);
-  const int size0 = in.NextInt("the matrix rows", 0), size1 = in.NextInt("the matrix columns", 0);
+  const int size0 = in.NextInt("the matrix rows", 0),
+            size1 = in.NextInt("the matrix columns", 0);
   if (size0 != n || size1 != n)
     throw std::runtime_error("'" + path + "': W must be " + std::to_string(n) + " x " +
-                             std::to_string(n) + ", the file says " + std::to_string(size0) +
-                             " x " + std::to_string(size1));
+                             std::to_string(n) + ", the file says " +
+                             std::to_string(size0) + " x " + std::to_string(size1));
   std::vector<Eigen::Triplet<double>> entries;
   if (storage == 0) {
     ReadDense(in, n, &entries);
@@ -178,8 +188,8 @@ FrictionProblem ReadProblem(const std::string& path) {
   if (!in) throw std::runtime_error("cannot open '" + path + "'");
   char signature[4] = {0, 0, 0, 0};
   in.read(signature, 4);
-  if (in.gcount() == 4 && signature[0] == '\x89' && signature[1] == 'H' && signature[2] == 'D' &&
-      signature[3] == 'F')
+  if (in.gcount() == 4 && signature[0] == '\x89' && signature[1] == 'H' &&
+      signature[2] == 'D' && signature[3] == 'F')
     return ReadFclib(path);
   return ReadSiconosDat(path);
 }
@@ -222,12 +232,14 @@ Vector ToVector(const double* x, int n) {
 /// Global to local: M v = H r + f, u = H' v + w  =>  u = H' M^-1 H r + (H' M^-1 f + w).
 FrictionProblem ReduceGlobal(const fclib_global& g, const std::string& path) {
   if (g.G && g.G->n > 0)
-    throw std::runtime_error("'" + path + "': global problem with equality constraints G " +
+    throw std::runtime_error("'" + path +
+                             "': global problem with equality constraints G " +
                              "is not supported");
   const SparseMatrix M = ToSparse(*g.M), H = ToSparse(*g.H);
   Eigen::SimplicialLDLT<SparseMatrix> ldlt(M);
   if (ldlt.info() != Eigen::Success)
-    throw std::runtime_error("'" + path + "': the mass matrix M is not positive definite");
+    throw std::runtime_error("'" + path +
+                             "': the mass matrix M is not positive definite");
   const Eigen::MatrixXd MinvH = ldlt.solve(Eigen::MatrixXd(H));
   const Vector Minvf = ldlt.solve(ToVector(g.f, M.rows()));
   FrictionProblem p;
@@ -240,7 +252,8 @@ FrictionProblem ReduceGlobal(const fclib_global& g, const std::string& path) {
   return p;
 }
 
-/// Whether the HDF5 file has the top-level group (FCLIB writes "fclib_local" or "fclib_global").
+/// Whether the HDF5 file has the top-level group (FCLIB writes "fclib_local" or
+/// "fclib_global").
 bool HasGroup(const std::string& path, const char* group) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // a failure is reported by the caller
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
@@ -264,9 +277,11 @@ FrictionProblem ReadFclib(const std::string& path) {
     const bool has_constraints = local->R && local->R->m > 0;
     fclib_delete_local(local);
     if (has_constraints)
-      throw std::runtime_error("'" + path + "': local problem with constraints R not supported");
+      throw std::runtime_error("'" + path +
+                               "': local problem with constraints R not supported");
   } else if (fclib_global* global = HasGroup(path, "fclib_global")
-                                         ? fclib_read_global(path.c_str()) : nullptr) {
+                                        ? fclib_read_global(path.c_str())
+                                        : nullptr) {
     try {
       p = ReduceGlobal(*global, path);
     } catch (...) {

@@ -26,7 +26,8 @@ Block TangentSelector(int d) {
 Block ConeProjectionJacobian(int d, double mu, const Eigen::Vector3d& s) {
   const Eigen::Vector3d sT = Tangent(d, s.data());
   const double t = sT.norm();
-  if (t <= mu * s[0]) return d == 3 ? Block::Identity() : Block(Eigen::Vector3d(1, 1, 0).asDiagonal());
+  if (t <= mu * s[0])
+    return d == 3 ? Block::Identity() : Block(Eigen::Vector3d(1, 1, 0).asDiagonal());
   if (mu * t <= -s[0]) return Block::Zero();
   const Eigen::Vector3d n = sT / t;
   const double a = (s[0] + mu * t) / (1.0 + mu * mu);
@@ -61,7 +62,8 @@ void AlartCurnierLaw(int d, double mu, double rho_n, double rho_t, const double*
     return;
   }
   // sliding: Phi_T = r_T - R n, n = s_T / t;
-  // dP = (R / t)(E_T - n n') ds_T + n dR, ds_T = E_T (dr - rho_t du), dR = mu [s_N > 0] ds_N.
+  // dP = (R / t)(E_T - n n') ds_T + n dR, ds_T = E_T (dr - rho_t du), dR = mu [s_N > 0]
+  // ds_N.
   const Eigen::Vector3d n = sT / t;
   for (int i = 1; i < d; ++i) phi[i] = r[i] - radius * n[i];
   const Block Pt = (radius / t) * (ET - n * n.transpose());
@@ -73,8 +75,8 @@ void AlartCurnierLaw(int d, double mu, double rho_n, double rho_t, const double*
   }
 }
 
-void NaturalMapLaw(int d, double mu, double rho, const double* r, const double* u, double* phi,
-                   Block* A, Block* B) {
+void NaturalMapLaw(int d, double mu, double rho, const double* r, const double* u,
+                   double* phi, Block* A, Block* B) {
   const Eigen::Vector3d uT = Tangent(d, u);
   const double ut = uT.norm();
   Eigen::Vector3d s = Eigen::Vector3d::Zero(), P;

@@ -14,7 +14,8 @@ void Require(bool ok, const std::string& what) {
 void FrictionProblem::Validate() const {
   Require(dimension == 2 || dimension == 3,
           "dimension must be 2 or 3, got " + std::to_string(dimension));
-  Require(num_contacts >= 0, "num_contacts must be >= 0, got " + std::to_string(num_contacts));
+  Require(num_contacts >= 0,
+          "num_contacts must be >= 0, got " + std::to_string(num_contacts));
   const long n = size();
   Require(W.rows() == n && W.cols() == n,
           "W must be " + std::to_string(n) + " x " + std::to_string(n) + ", got " +
@@ -30,9 +31,9 @@ void FrictionProblem::Validate() const {
                                              std::to_string(it.row()) + ", " +
                                              std::to_string(it.col()) + ")");
   for (int a = 0; a < num_contacts; ++a)
-    Require(std::isfinite(mu[a]) && mu[a] >= 0.0,
-            "mu[" + std::to_string(a) + "] must be finite and >= 0, got " +
-                std::to_string(mu[a]));
+    Require(std::isfinite(mu[a]) && mu[a] >= 0.0, "mu[" + std::to_string(a) +
+                                                      "] must be finite and >= 0, got " +
+                                                      std::to_string(mu[a]));
 }
 
 }  // namespace ncp::fc

@@ -19,23 +19,34 @@ namespace ncp::fc {
 
 const char* ToString(Formulation f) {
   switch (f) {
-    case Formulation::kAlartCurnier: return "alart-curnier";
-    case Formulation::kNaturalMap: return "natural-map";
-    case Formulation::kHybrid: return "hybrid";
+    case Formulation::kAlartCurnier:
+      return "alart-curnier";
+    case Formulation::kNaturalMap:
+      return "natural-map";
+    case Formulation::kHybrid:
+      return "hybrid";
   }
   return "unknown";
 }
 
 const char* ToString(Termination t) {
   switch (t) {
-    case Termination::kNotSolved: return "not_solved";
-    case Termination::kConverged: return "converged";
-    case Termination::kMaxIterations: return "max_iterations";
-    case Termination::kTimeLimit: return "time_limit";
-    case Termination::kLineSearchFailure: return "line_search_failure";
-    case Termination::kLinearSolverFailure: return "linear_solver_failure";
-    case Termination::kStalled: return "stalled";
-    case Termination::kNonFiniteValues: return "non_finite_values";
+    case Termination::kNotSolved:
+      return "not_solved";
+    case Termination::kConverged:
+      return "converged";
+    case Termination::kMaxIterations:
+      return "max_iterations";
+    case Termination::kTimeLimit:
+      return "time_limit";
+    case Termination::kLineSearchFailure:
+      return "line_search_failure";
+    case Termination::kLinearSolverFailure:
+      return "linear_solver_failure";
+    case Termination::kStalled:
+      return "stalled";
+    case Termination::kNonFiniteValues:
+      return "non_finite_values";
   }
   return "unknown";
 }
@@ -44,7 +55,8 @@ Formulation ParseFormulation(const std::string& name) {
   if (name == "ac" || name == "alart-curnier") return Formulation::kAlartCurnier;
   if (name == "nm" || name == "natural-map") return Formulation::kNaturalMap;
   if (name == "hybrid") return Formulation::kHybrid;
-  throw std::invalid_argument("unknown formulation '" + name + "' (expected ac, nm or hybrid)");
+  throw std::invalid_argument("unknown formulation '" + name +
+                              "' (expected ac, nm or hybrid)");
 }
 
 bool Options::IsValid(std::string* error) const {
@@ -55,8 +67,10 @@ bool Options::IsValid(std::string* error) const {
   if (!(tolerance > 0.0)) return fail("tolerance must be > 0");
   if (max_iterations < 0) return fail("max_iterations must be >= 0");
   if (!(max_time_s >= 0.0)) return fail("max_time_s must be >= 0");
-  if (!(rho_scale > 0.0) || !std::isfinite(rho_scale)) return fail("rho_scale must be > 0");
-  if (!(armijo_beta > 0.0 && armijo_beta < 0.5)) return fail("armijo_beta must be in (0, 1/2)");
+  if (!(rho_scale > 0.0) || !std::isfinite(rho_scale))
+    return fail("rho_scale must be > 0");
+  if (!(armijo_beta > 0.0 && armijo_beta < 0.5))
+    return fail("armijo_beta must be in (0, 1/2)");
   if (nonmonotone_window < 1) return fail("nonmonotone_window must be >= 1");
   if (gauss_seidel_sweeps < 0) return fail("gauss_seidel_sweeps must be >= 0");
   if (max_backtracks < 0) return fail("max_backtracks must be >= 0");
@@ -72,9 +86,8 @@ std::string Summary::BriefReport() const {
   std::ostringstream out;
   out << "fc: " << ToString(termination) << " (" << message << "), "
       << ToString(formulation_final) << ", Gauss-Seidel sweeps " << gauss_seidel_sweeps
-      << ", iterations " << iterations << ", attempts "
-      << attempts << ", error " << initial_error << " -> " << final_error << ", time "
-      << total_time_s << " s";
+      << ", iterations " << iterations << ", attempts " << attempts << ", error "
+      << initial_error << " -> " << final_error << ", time " << total_time_s << " s";
   return out.str();
 }
 
@@ -87,12 +100,19 @@ using Clock = std::chrono::steady_clock;
 class NewtonSolver {
  public:
   NewtonSolver(const Options& options, const FrictionProblem& problem, Summary* summary)
-      : options_(options), problem_(problem), W_(problem), summary_(summary),
-        d_(problem.dimension), nc_(problem.num_contacts), A_(nc_), B_(nc_),
+      : options_(options),
+        problem_(problem),
+        W_(problem),
+        summary_(summary),
+        d_(problem.dimension),
+        nc_(problem.num_contacts),
+        A_(nc_),
+        B_(nc_),
         start_(Clock::now()) {
     LinearSolverType type = options.linear_solver;
     if (type == LinearSolverType::kAuto)
-      type = nc_ <= options.dense_threshold ? LinearSolverType::kDenseLU : LinearSolverType::kUmfpack;
+      type = nc_ <= options.dense_threshold ? LinearSolverType::kDenseLU
+                                            : LinearSolverType::kUmfpack;
     linear_solver_ = ncp::internal::MakeLinearSolver(type);
     summary_->linear_solver_used = type;
     ComputeBaseRho();
@@ -104,11 +124,14 @@ class NewtonSolver {
     best_error_ = NaturalMapError(problem_, best_r_);
     summary_->initial_error = best_error_;
     Termination status = Termination::kConverged;
-    if (!std::isfinite(best_error_)) status = Termination::kNonFiniteValues;
-    else WarmStart();
+    if (!std::isfinite(best_error_))
+      status = Termination::kNonFiniteValues;
+    else
+      WarmStart();
     const std::vector<std::pair<Formulation, double>> attempts = AttemptSequence();
     for (const auto& [formulation, rho_factor] : attempts) {
-      if (status == Termination::kNonFiniteValues || best_error_ <= options_.tolerance) break;
+      if (status == Termination::kNonFiniteValues || best_error_ <= options_.tolerance)
+        break;
       ++summary_->attempts;
       summary_->formulation_final = formulation;
       status = RunAttempt(formulation, rho_factor);
@@ -129,12 +152,14 @@ class NewtonSolver {
     return std::chrono::duration<double>(Clock::now() - start_).count();
   }
 
-  /// Per-contact rho from the diagonal block of W: rho_N = 1 / W_NN, rho_T = 1 / mean(W_TT),
-  /// rho_NM = 1 / mean(diag); a zero diagonal (contact W does not see) falls back to
-  /// 1 / max diag W, or 1 when W = 0. Units: velocity per force inverted, so rho u is a force.
+  /// Per-contact rho from the diagonal block of W: rho_N = 1 / W_NN, rho_T = 1 /
+  /// mean(W_TT), rho_NM = 1 / mean(diag); a zero diagonal (contact W does not see) falls
+  /// back to 1 / max diag W, or 1 when W = 0. Units: velocity per force inverted, so rho
+  /// u is a force.
   void ComputeBaseRho() {
     double largest = 0.0;
-    for (int a = 0; a < nc_; ++a) largest = std::max(largest, W_.Diagonal(a).diagonal().maxCoeff());
+    for (int a = 0; a < nc_; ++a)
+      largest = std::max(largest, W_.Diagonal(a).diagonal().maxCoeff());
     const double fallback = largest > 0.0 ? 1.0 / largest : 1.0;
     auto inverse = [fallback](double w) { return w > 0.0 ? 1.0 / w : fallback; };
     rho_n_.resize(nc_);
@@ -150,10 +175,12 @@ class NewtonSolver {
     }
   }
 
-  /// Options::gauss_seidel_sweeps sweeps from best_r_, keeping the result if it is better.
+  /// Options::gauss_seidel_sweeps sweeps from best_r_, keeping the result if it is
+  /// better.
   void WarmStart() {
     Vector r = best_r_;
-    for (int k = 0; k < options_.gauss_seidel_sweeps && best_error_ > options_.tolerance; ++k) {
+    for (int k = 0; k < options_.gauss_seidel_sweeps && best_error_ > options_.tolerance;
+         ++k) {
       internal::GaussSeidelSweep(problem_, W_, rho_n_, rho_t_, &r);
       ++summary_->gauss_seidel_sweeps;
       const double error = NaturalMapError(problem_, r);
@@ -166,14 +193,16 @@ class NewtonSolver {
   }
 
   std::vector<std::pair<Formulation, double>> AttemptSequence() const {
-    if (options_.formulation != Formulation::kHybrid) return {{options_.formulation, 1.0}};
-    return {{Formulation::kAlartCurnier, 1.0}, {Formulation::kNaturalMap, 1.0},
+    if (options_.formulation != Formulation::kHybrid)
+      return {{options_.formulation, 1.0}};
+    return {{Formulation::kAlartCurnier, 1.0},  {Formulation::kNaturalMap, 1.0},
             {Formulation::kAlartCurnier, 10.0}, {Formulation::kNaturalMap, 0.1},
             {Formulation::kAlartCurnier, 0.1},  {Formulation::kNaturalMap, 10.0}};
   }
 
   /// Phi(r) of the formulation into *phi, with the Jacobian blocks A_, B_; returns psi.
-  double Evaluate(Formulation formulation, double rho_factor, const Vector& r, Vector* phi) {
+  double Evaluate(Formulation formulation, double rho_factor, const Vector& r,
+                  Vector* phi) {
     const Vector u = problem_.W * r + problem_.q;
     phi->resize(r.size());
     const double s = options_.rho_scale * rho_factor;
@@ -182,10 +211,11 @@ class NewtonSolver {
       const double* ua = u.data() + d_ * a;
       double* pa = phi->data() + d_ * a;
       if (formulation == Formulation::kAlartCurnier)
-        internal::AlartCurnierLaw(d_, problem_.mu[a], s * rho_n_[a], s * rho_t_[a], ra, ua, pa,
-                                  &A_[a], &B_[a]);
+        internal::AlartCurnierLaw(d_, problem_.mu[a], s * rho_n_[a], s * rho_t_[a], ra,
+                                  ua, pa, &A_[a], &B_[a]);
       else
-        internal::NaturalMapLaw(d_, problem_.mu[a], s * rho_nm_[a], ra, ua, pa, &A_[a], &B_[a]);
+        internal::NaturalMapLaw(d_, problem_.mu[a], s * rho_nm_[a], ra, ua, pa, &A_[a],
+                                &B_[a]);
     }
     return 0.5 * phi->squaredNorm();
   }
@@ -194,9 +224,11 @@ class NewtonSolver {
   /// ||J d + phi|| <= eta ||phi|| (eta = Options::newton_residual < 1), which makes d a
   /// descent direction of psi: grad psi' d = phi' (J d + phi) - ||phi||^2 < 0.
   ///  1. Newton: J d = -phi;
-  ///  2. J + delta I, delta = regularization_small max |J_ii| (J singular, e.g. rank-deficient
+  ///  2. J + delta I, delta = regularization_small max |J_ii| (J singular, e.g.
+  ///  rank-deficient
   ///     W under sticking contacts, where a tiny shift keeps the Newton step);
-  ///  3. Levenberg-Marquardt (J'J + m I) d = -J' phi, m = max(||phi||, regularization_small)
+  ///  3. Levenberg-Marquardt (J'J + m I) d = -J' phi, m = max(||phi||,
+  ///  regularization_small)
   ///     (Yamashita & Fukushima 2001), a descent direction for any m > 0, taken as is.
   /// false: all three failed.
   bool Direction(const Vector& phi, Vector* direction) {
@@ -207,19 +239,23 @@ class NewtonSolver {
       return direction->allFinite() &&
              (J_ * *direction + phi).norm() <= options_.newton_residual * phi.norm();
     };
-    if (linear_solver_->Factorize(J_, first) && linear_solver_->Solve(-phi, direction) && accurate())
+    if (linear_solver_->Factorize(J_, first) && linear_solver_->Solve(-phi, direction) &&
+        accurate())
       return true;
     ++summary_->linear_solver_failures;
     SparseMatrix shifted = J_;
-    const double delta = options_.regularization * std::max(1.0, J_.diagonal().cwiseAbs().maxCoeff());
+    const double delta =
+        options_.regularization * std::max(1.0, J_.diagonal().cwiseAbs().maxCoeff());
     for (int i = 0; i < shifted.rows(); ++i) shifted.coeffRef(i, i) += delta;
-    if (linear_solver_->Factorize(shifted, false) && linear_solver_->Solve(-phi, direction) && accurate())
+    if (linear_solver_->Factorize(shifted, false) &&
+        linear_solver_->Solve(-phi, direction) && accurate())
       return true;
     ++summary_->levenberg_marquardt_steps;
     normal_matrix_ = SparseMatrix(J_.transpose()) * J_;
     const double m = std::max(phi.norm(), options_.regularization);
     for (int i = 0; i < normal_matrix_.rows(); ++i) normal_matrix_.coeffRef(i, i) += m;
-    if (!normal_solver_) normal_solver_ = ncp::internal::MakeLinearSolver(summary_->linear_solver_used);
+    if (!normal_solver_)
+      normal_solver_ = ncp::internal::MakeLinearSolver(summary_->linear_solver_used);
     const bool first_normal = !normal_factorized_once_;
     normal_factorized_once_ = true;
     const Vector gradient = J_.transpose() * phi;
@@ -235,7 +271,8 @@ class NewtonSolver {
     double stall_reference = best_error_;
     int since_progress = 0;
     while (true) {
-      if (summary_->iterations >= options_.max_iterations) return Termination::kMaxIterations;
+      if (summary_->iterations >= options_.max_iterations)
+        return Termination::kMaxIterations;
       if (options_.max_time_s > 0.0 && Elapsed() > options_.max_time_s)
         return Termination::kTimeLimit;
       if (!Direction(phi, &direction)) return Termination::kLinearSolverFailure;
@@ -246,7 +283,8 @@ class NewtonSolver {
       for (int i = 0; i <= options_.max_backtracks; ++i, t *= 0.5) {
         trial = r + t * direction;
         trial_psi = Evaluate(formulation, rho_factor, trial, &trial_phi);
-        if (std::isfinite(trial_psi) && trial_psi <= reference - 2.0 * options_.armijo_beta * t * psi) {
+        if (std::isfinite(trial_psi) &&
+            trial_psi <= reference - 2.0 * options_.armijo_beta * t * psi) {
           accepted = true;
           break;
         }
@@ -258,7 +296,8 @@ class NewtonSolver {
       phi.swap(trial_phi);
       psi = trial_psi;
       recent_psi.push_back(psi);
-      if (static_cast<int>(recent_psi.size()) > options_.nonmonotone_window) recent_psi.pop_front();
+      if (static_cast<int>(recent_psi.size()) > options_.nonmonotone_window)
+        recent_psi.pop_front();
       ++summary_->iterations;
       const double error = NaturalMapError(problem_, r);
       if (!std::isfinite(error)) return Termination::kNonFiniteValues;
@@ -287,8 +326,8 @@ class NewtonSolver {
     record.time_s = Elapsed();
     summary_->trace.push_back(record);
     if (options_.log_to_stderr)
-      std::fprintf(stderr, "fc %4d %-13s error %.3e psi %.3e step %.3g\n", record.iteration,
-                   ToString(formulation), error, psi, t);
+      std::fprintf(stderr, "fc %4d %-13s error %.3e psi %.3e step %.3g\n",
+                   record.iteration, ToString(formulation), error, psi, t);
   }
 
   std::string Message(Termination status) const {
@@ -296,7 +335,8 @@ class NewtonSolver {
     out << "natural-map error " << summary_->final_error
         << (status == Termination::kConverged ? " <= " : " > ") << "tolerance "
         << options_.tolerance << " after " << summary_->iterations << " Newton steps";
-    if (status != Termination::kConverged) out << "; last attempt ended: " << ToString(status);
+    if (status != Termination::kConverged)
+      out << "; last attempt ended: " << ToString(status);
     return out.str();
   }
 
@@ -319,17 +359,20 @@ class NewtonSolver {
 
 }  // namespace
 
-void Solve(const Options& options, const FrictionProblem& problem, Vector* r, Summary* summary) {
+void Solve(const Options& options, const FrictionProblem& problem, Vector* r,
+           Summary* summary) {
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("ncp::fc::Options: " + why);
   problem.Validate();
-  if (!r || !summary) throw std::invalid_argument("ncp::fc::Solve: r and summary must not be null");
+  if (!r || !summary)
+    throw std::invalid_argument("ncp::fc::Solve: r and summary must not be null");
   if (r->size() == 0) r->setZero(problem.size());
   if (r->size() != problem.size())
     throw std::invalid_argument("ncp::fc::Solve: start point must have " +
                                 std::to_string(problem.size()) + " entries, got " +
                                 std::to_string(r->size()));
-  if (!r->allFinite()) throw std::invalid_argument("ncp::fc::Solve: start point not finite");
+  if (!r->allFinite())
+    throw std::invalid_argument("ncp::fc::Solve: start point not finite");
   *summary = Summary();
   summary->formulation_requested = options.formulation;
   summary->num_contacts = problem.num_contacts;

@@ -1,9 +1,10 @@
-// fc-solve FILE [--solver hybrid|ac|nm] [--tolerance T] [--max-iterations N] [--time-limit S]
+// fc-solve FILE [--solver hybrid|ac|nm] [--tolerance T] [--max-iterations N]
+// [--time-limit S]
 //          [--gauss-seidel N] [--rho-scale S] [--json] [--reactions OUT.txt] [--verbose]
 // Reads a frictional contact problem (Siconos .dat or FCLIB .hdf5), solves it, prints the
-// status and Siconos' natural-map error recomputed at the returned r (or one JSON object),
-// and writes r one value per line in the file's contact order. Exit code: 0 converged,
-// 1 not converged (the error reached is reported), 2 bad input or usage.
+// status and Siconos' natural-map error recomputed at the returned r (or one JSON
+// object), and writes r one value per line in the file's contact order. Exit code: 0
+// converged, 1 not converged (the error reached is reported), 2 bad input or usage.
 #include <cxxopts.hpp>
 #include <fstream>
 #include <iomanip>
@@ -51,13 +52,15 @@ nlohmann::json ToJson(const ncp::fc::FrictionProblem& p, const ncp::fc::Options&
 }  // namespace
 
 int main(int argc, char** argv) {
-  cxxopts::Options cli("fc-solve", "Solve a frictional contact problem (Siconos .dat or FCLIB .hdf5)");
+  cxxopts::Options cli(
+      "fc-solve", "Solve a frictional contact problem (Siconos .dat or FCLIB .hdf5)");
   cli.add_options()("file", "problem file", cxxopts::value<std::string>())(
       "solver", "hybrid (default), ac (Alart-Curnier) or nm (natural map)",
       cxxopts::value<std::string>()->default_value("hybrid"))(
       "tolerance", "converged when Siconos' natural-map error <= this",
       cxxopts::value<double>()->default_value("1e-8"))(
-      "max-iterations", "Newton steps in total", cxxopts::value<int>()->default_value("500"))(
+      "max-iterations", "Newton steps in total",
+      cxxopts::value<int>()->default_value("500"))(
       "time-limit", "wall-clock limit in seconds (0: none)",
       cxxopts::value<double>()->default_value("0"))(
       "gauss-seidel", "projected Gauss-Seidel sweeps before Newton",
@@ -65,8 +68,9 @@ int main(int argc, char** argv) {
       "rho-scale", "multiplies the per-contact rho of the formulations",
       cxxopts::value<double>()->default_value("1"))(
       "json", "print one JSON object instead of the text report")(
-      "reactions", "write r, one value per line, to this file", cxxopts::value<std::string>())(
-      "verbose", "one line per Newton step on stderr")("h,help", "this help");
+      "reactions", "write r, one value per line, to this file",
+      cxxopts::value<std::string>())("verbose", "one line per Newton step on stderr")(
+      "h,help", "this help");
   cli.parse_positional({"file"});
   cli.positional_help("FILE");
   try {
@@ -76,7 +80,8 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (!args.count("file")) throw std::invalid_argument("no problem file given");
-    const ncp::fc::FrictionProblem problem = ncp::fc::ReadProblem(args["file"].as<std::string>());
+    const ncp::fc::FrictionProblem problem =
+        ncp::fc::ReadProblem(args["file"].as<std::string>());
     ncp::fc::Options options;
     options.formulation = ncp::fc::ParseFormulation(args["solver"].as<std::string>());
     options.tolerance = args["tolerance"].as<double>();

@@ -6,8 +6,8 @@
 
 namespace ncp::fc {
 
-/// Orthogonal projection of z = (z_N, z_T) onto C_mu = {|z_T| <= mu z_N} (dimension 2 or 3):
-/// z if inside; 0 if in the polar cone (mu |z_T| <= -z_N); otherwise
+/// Orthogonal projection of z = (z_N, z_T) onto C_mu = {|z_T| <= mu z_N} (dimension 2 or
+/// 3): z if inside; 0 if in the polar cone (mu |z_T| <= -z_N); otherwise
 /// ((z_N + mu |z_T|) / (1 + mu^2)) (1, mu z_T / |z_T|).
 void ProjectOnCone(double mu, int dimension, double* z);
 

@@ -5,8 +5,8 @@
 /// and for every contact alpha (components ordered normal, tangent 1[, tangent 2])
 ///     u_hat = u + (mu |u_T|, 0[, 0]),   C*_mu  ∋  u_hat  ⟂  r  ∈  C_mu,
 ///     C_mu = { r : |r_T| <= mu r_N }  (the Coulomb cone; C*_mu its dual).
-/// W is symmetric positive semidefinite (often singular). Units are whatever the file uses:
-/// r is an impulse or a force and u a velocity, W = H' M^-1 H their compliance.
+/// W is symmetric positive semidefinite (often singular). Units are whatever the file
+/// uses: r is an impulse or a force and u a velocity, W = H' M^-1 H their compliance.
 #pragma once
 
 #include <string>
@@ -24,8 +24,8 @@ struct FrictionProblem {
   std::string name;      ///< where it came from (file name), for reports
 
   int size() const { return dimension * num_contacts; }
-  /// Throws std::invalid_argument (expected vs actual) unless the sizes agree, every entry
-  /// is finite and every mu >= 0.
+  /// Throws std::invalid_argument (expected vs actual) unless the sizes agree, every
+  /// entry is finite and every mu >= 0.
   void Validate() const;
 };
 

@@ -1,14 +1,14 @@
 /// \file solver.hpp
 /// Semismooth Newton solvers of the local frictional contact problem (problem.hpp).
 ///
-/// Each formulation writes the Coulomb law of contact alpha as Phi_alpha(r_alpha, u_alpha) = 0
-/// with u = W r + q, so the generalized Jacobian is J = A + B W with A = dPhi/dr and
-/// B = dPhi/du block diagonal (one d x d block per contact); J keeps the block pattern of
-/// W (plus the diagonal blocks), so the sparse symbolic analysis is done once per solve.
-/// The Newton loop is this module's own (ncp's Solver is an MCP solver): J d = -Phi by ncp's
-/// internal linear solvers (dense LU or UMFPACK), then a nonmonotone Armijo line search on
-/// psi = 1/2 ||Phi||^2 (Grippo, Lampariello, Lucidi 1986) along d, which is a descent
-/// direction of psi since grad psi' d = Phi' J d = -||Phi||^2.
+/// Each formulation writes the Coulomb law of contact alpha as Phi_alpha(r_alpha,
+/// u_alpha) = 0 with u = W r + q, so the generalized Jacobian is J = A + B W with A =
+/// dPhi/dr and B = dPhi/du block diagonal (one d x d block per contact); J keeps the
+/// block pattern of W (plus the diagonal blocks), so the sparse symbolic analysis is done
+/// once per solve. The Newton loop is this module's own (ncp's Solver is an MCP solver):
+/// J d = -Phi by ncp's internal linear solvers (dense LU or UMFPACK), then a nonmonotone
+/// Armijo line search on psi = 1/2 ||Phi||^2 (Grippo, Lampariello, Lucidi 1986) along d,
+/// which is a descent direction of psi since grad psi' d = Phi' J d = -||Phi||^2.
 /// Convergence is tested on Siconos' natural-map error (error.hpp), not on ||Phi||.
 #pragma once
 
@@ -29,7 +29,8 @@ enum class Formulation {
   /// Natural map of the De Saxce form, rho = rho_scale / mean(diag W_alpha,alpha):
   ///   Phi = r - P_{C_mu}(r - rho u_hat),  u_hat = u + (mu |u_T|, 0, 0).
   kNaturalMap,
-  /// Alart-Curnier first; when an attempt stalls (line-search or linear-solver failure, or
+  /// Alart-Curnier first; when an attempt stalls (line-search or linear-solver failure,
+  /// or
   /// no halving of the error in Options::stall_window iterations) the next attempt of
   /// (natural map, AC with rho/10, natural map with rho*10, ...) restarts from the best
   /// iterate so far.
@@ -37,14 +38,15 @@ enum class Formulation {
 };
 
 enum class Termination {
-  kNotSolved,           ///< Solve() has not run (Summary default)
-  kConverged,           ///< NaturalMapError(r) <= Options::tolerance
-  kMaxIterations,       ///< Options::max_iterations Newton steps in total
-  kTimeLimit,           ///< Options::max_time_s elapsed
-  kLineSearchFailure,   ///< no step 2^-i, i <= max_backtracks, met the Armijo test (last attempt)
-  kLinearSolverFailure, ///< J, J + delta I and J'J + m I all failed (last attempt)
-  kStalled,             ///< the error did not halve within stall_window steps (last attempt)
-  kNonFiniteValues,     ///< NaN/Inf in Phi or the error
+  kNotSolved,            ///< Solve() has not run (Summary default)
+  kConverged,            ///< NaturalMapError(r) <= Options::tolerance
+  kMaxIterations,        ///< Options::max_iterations Newton steps in total
+  kTimeLimit,            ///< Options::max_time_s elapsed
+  kLineSearchFailure,    ///< no step 2^-i, i <= max_backtracks, met the Armijo test (last
+                         ///< attempt)
+  kLinearSolverFailure,  ///< J, J + delta I and J'J + m I all failed (last attempt)
+  kStalled,          ///< the error did not halve within stall_window steps (last attempt)
+  kNonFiniteValues,  ///< NaN/Inf in Phi or the error
 };
 
 const char* ToString(Formulation f);
@@ -54,7 +56,8 @@ Formulation ParseFormulation(const std::string& name);
 
 struct Options {
   Formulation formulation = Formulation::kHybrid;
-  /// Converged when NaturalMapError(r) = ||r - P_C(r - u_hat)||_2 / (1 + ||q||_2) <= tolerance.
+  /// Converged when NaturalMapError(r) = ||r - P_C(r - u_hat)||_2 / (1 + ||q||_2) <=
+  /// tolerance.
   double tolerance = 1e-8;
   /// Newton steps in total, over all attempts of the hybrid.
   int max_iterations = 500;
@@ -62,12 +65,13 @@ struct Options {
   double max_time_s = 0.0;
   /// Projected Gauss-Seidel sweeps (local Alart-Curnier Newton per contact, Jean-Moreau
   /// NSGS) from the start point before the first Newton step; stops early at tolerance.
-  /// Off by default: on ../shared/data/fc3d, 10 sweeps cut BoxesStack1 from 18 to 4 Newton
-  /// steps but left the hybrid unable to finish Capsules-i101-404 (error 5.9e-6).
+  /// Off by default: on ../shared/data/fc3d, 10 sweeps cut BoxesStack1 from 18 to 4
+  /// Newton steps but left the hybrid unable to finish Capsules-i101-404 (error 5.9e-6).
   int gauss_seidel_sweeps = 0;
   /// Multiplies the per-contact rho of the formulations (see Formulation).
   double rho_scale = 1.0;
-  /// Armijo constant beta in (0, 1/2): accept psi(r + t d) <= max(recent psi) - 2 beta t psi(r).
+  /// Armijo constant beta in (0, 1/2): accept psi(r + t d) <= max(recent psi) - 2 beta t
+  /// psi(r).
   double armijo_beta = 1e-4;
   /// The max is taken over the last nonmonotone_window values of psi (1 = monotone).
   int nonmonotone_window = 5;
@@ -75,8 +79,8 @@ struct Options {
   int max_backtracks = 40;
   /// An attempt stalls when its best error has not halved over this many steps.
   int stall_window = 30;
-  /// A direction d is kept when ||J d + Phi|| <= newton_residual ||Phi|| (< 1: d is then a
-  /// descent direction of psi). Tried in turn: J d = -Phi; (J + delta I) d = -Phi with
+  /// A direction d is kept when ||J d + Phi|| <= newton_residual ||Phi|| (< 1: d is then
+  /// a descent direction of psi). Tried in turn: J d = -Phi; (J + delta I) d = -Phi with
   /// delta = regularization max |J_ii|; else the Levenberg-Marquardt direction
   /// (J'J + m I) d = -J' Phi, m = max(||Phi||, regularization).
   double newton_residual = 0.1;
@@ -92,7 +96,7 @@ struct Options {
 };
 
 struct IterationRecord {
-  int iteration = 0;         ///< k over all attempts (0 = start point)
+  int iteration = 0;  ///< k over all attempts (0 = start point)
   Formulation formulation = Formulation::kAlartCurnier;
   double error = 0.0;        ///< NaturalMapError(r^k)
   double psi = 0.0;          ///< 1/2 ||Phi(r^k)||^2 of the current formulation
@@ -108,11 +112,11 @@ struct Summary {
   LinearSolverType linear_solver_used = LinearSolverType::kAuto;
 
   int num_contacts = -1;
-  int iterations = -1;               ///< Newton steps, all attempts
-  int gauss_seidel_sweeps = -1;      ///< sweeps done before the Newton steps
-  int attempts = -1;                 ///< 1 + formulation switches of the hybrid
-  int backtracks = -1;               ///< halvings in the line searches
-  int linear_solver_failures = -1;   ///< Newton solves failing the residual test
+  int iterations = -1;                 ///< Newton steps, all attempts
+  int gauss_seidel_sweeps = -1;        ///< sweeps done before the Newton steps
+  int attempts = -1;                   ///< 1 + formulation switches of the hybrid
+  int backtracks = -1;                 ///< halvings in the line searches
+  int linear_solver_failures = -1;     ///< Newton solves failing the residual test
   int levenberg_marquardt_steps = -1;  ///< directions from (J'J + m I) d = -J' Phi
   int symbolic_factorizations = -1;
 
@@ -128,9 +132,10 @@ struct Summary {
 };
 
 /// Solves the problem from *r (resized to problem.size() and zeroed if empty) and returns
-/// in *r the iterate with the smallest error met. Throws std::invalid_argument for invalid
-/// options, an invalid problem or a start point of the wrong size or not finite; numerical
-/// trouble ends with a Termination instead.
-void Solve(const Options& options, const FrictionProblem& problem, Vector* r, Summary* summary);
+/// in *r the iterate with the smallest error met. Throws std::invalid_argument for
+/// invalid options, an invalid problem or a start point of the wrong size or not finite;
+/// numerical trouble ends with a Termination instead.
+void Solve(const Options& options, const FrictionProblem& problem, Vector* r,
+           Summary* summary);
 
 }  // namespace ncp::fc
