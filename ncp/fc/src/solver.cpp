@@ -220,36 +220,30 @@ class NewtonSolver {
     return 0.5 * phi->squaredNorm();
   }
 
-  /// The first of three directions that passes the inexact-Newton test
-  /// ||J d + phi|| <= eta ||phi|| (eta = Options::newton_residual < 1), which makes d a
-  /// descent direction of psi: grad psi' d = phi' (J d + phi) - ||phi||^2 < 0.
-  ///  1. Newton: J d = -phi;
-  ///  2. J + delta I, delta = regularization_small max |J_ii| (J singular, e.g.
-  ///  rank-deficient
-  ///     W under sticking contacts, where a tiny shift keeps the Newton step);
-  ///  3. Levenberg-Marquardt (J'J + m I) d = -J' phi, m = max(||phi||,
-  ///  regularization_small)
-  ///     (Yamashita & Fukushima 2001), a descent direction for any m > 0, taken as is.
-  /// false: all three failed.
+  /// The Newton direction of the shifted matrix, (J + delta I) d = -phi with
+  /// delta = regularization max |J_ii| (1e-10: the step changes by O(1e-10) relative where J
+  /// is regular, and stays defined where J is singular, as when sticking contacts make
+  /// J = rho W with W rank-deficient), kept when it passes the inexact-Newton test
+  /// ||J d + phi|| <= eta ||phi||, eta = Options::newton_residual < 1, which makes d a
+  /// descent direction of psi: grad psi' d = phi' (J d + phi) - ||phi||^2 < 0. Otherwise
+  /// the Levenberg-Marquardt direction (J'J + m I) d = -J' phi, m = max(||phi||,
+  /// regularization) (Yamashita & Fukushima 2001), a descent direction for any m > 0.
+  /// Measured on ../shared/data/fc3d: one shifted factorization per step instead of J
+  /// first and J + delta I after a failure took Capsules-i101-404 from 111 steps, 0.45 s to
+  /// 104 steps, 0.27 s, with the same steps on the other 14 problems. false: both failed.
   bool Direction(const Vector& phi, Vector* direction) {
     W_.AssembleJacobian(A_, B_, &J_);
-    const bool first = !factorized_once_;
-    factorized_once_ = true;
-    auto accurate = [&]() {
-      return direction->allFinite() &&
-             (J_ * *direction + phi).norm() <= options_.newton_residual * phi.norm();
-    };
-    if (linear_solver_->Factorize(J_, first) && linear_solver_->Solve(-phi, direction) &&
-        accurate())
-      return true;
-    ++summary_->linear_solver_failures;
     SparseMatrix shifted = J_;
     const double delta =
         options_.regularization * std::max(1.0, J_.diagonal().cwiseAbs().maxCoeff());
     for (int i = 0; i < shifted.rows(); ++i) shifted.coeffRef(i, i) += delta;
-    if (linear_solver_->Factorize(shifted, false) &&
-        linear_solver_->Solve(-phi, direction) && accurate())
+    const bool first = !factorized_once_;
+    factorized_once_ = true;
+    if (linear_solver_->Factorize(shifted, first) && linear_solver_->Solve(-phi, direction) &&
+        direction->allFinite() &&
+        (J_ * *direction + phi).norm() <= options_.newton_residual * phi.norm())
       return true;
+    ++summary_->linear_solver_failures;
     ++summary_->levenberg_marquardt_steps;
     normal_matrix_ = SparseMatrix(J_.transpose()) * J_;
     const double m = std::max(phi.norm(), options_.regularization);

@@ -44,7 +44,7 @@ enum class Termination {
   kTimeLimit,            ///< Options::max_time_s elapsed
   kLineSearchFailure,    ///< no step 2^-i, i <= max_backtracks, met the Armijo test (last
                          ///< attempt)
-  kLinearSolverFailure,  ///< J, J + delta I and J'J + m I all failed (last attempt)
+  kLinearSolverFailure,  ///< J + delta I and J'J + m I both failed (last attempt)
   kStalled,          ///< the error did not halve within stall_window steps (last attempt)
   kNonFiniteValues,  ///< NaN/Inf in Phi or the error
 };
@@ -79,10 +79,10 @@ struct Options {
   int max_backtracks = 40;
   /// An attempt stalls when its best error has not halved over this many steps.
   int stall_window = 30;
-  /// A direction d is kept when ||J d + Phi|| <= newton_residual ||Phi|| (< 1: d is then
-  /// a descent direction of psi). Tried in turn: J d = -Phi; (J + delta I) d = -Phi with
-  /// delta = regularization max |J_ii|; else the Levenberg-Marquardt direction
-  /// (J'J + m I) d = -J' Phi, m = max(||Phi||, regularization).
+  /// Newton step from (J + delta I) d = -Phi, delta = regularization max |J_ii|, kept when
+  /// ||J d + Phi|| <= newton_residual ||Phi|| (< 1: then a descent direction of psi);
+  /// otherwise the Levenberg-Marquardt direction (J'J + m I) d = -J' Phi,
+  /// m = max(||Phi||, regularization).
   double newton_residual = 0.1;
   double regularization = 1e-10;
   LinearSolverType linear_solver = LinearSolverType::kAuto;
@@ -116,7 +116,7 @@ struct Summary {
   int gauss_seidel_sweeps = -1;        ///< sweeps done before the Newton steps
   int attempts = -1;                   ///< 1 + formulation switches of the hybrid
   int backtracks = -1;                 ///< halvings in the line searches
-  int linear_solver_failures = -1;     ///< Newton solves failing the residual test
+  int linear_solver_failures = -1;     ///< Newton solves failed or failing the residual test
   int levenberg_marquardt_steps = -1;  ///< directions from (J'J + m I) d = -J' Phi
   int symbolic_factorizations = -1;
 
