@@ -1,6 +1,6 @@
 // fc-bench [DIR|FILE ...] --csv OUT.csv [--tolerance 1e-8] [--time-limit 10] [--quick]
 // Every frictional contact problem (.dat, .hdf5) of the directories, with each ncp::fc
-// formulation and each Siconos fc3d_driver solver, from r = 0. One CSV row per (problem,
+// formulation and each Siconos solver (fc3d_driver, fc2d_driver in 2D), from r = 0. One CSV row per (problem,
 // solver): the solver's own claim, iterations, best-of-repetitions time per solve, and
 // the natural-map error recomputed by ncp::fc::NaturalMapError at the returned r. A row
 // counts as solved only if the solver claims convergence AND the recomputed error <=
@@ -146,8 +146,7 @@ int main(int argc, char** argv) {
       for (auto f : {ncp::fc::Formulation::kHybrid, ncp::fc::Formulation::kAlartCurnier,
                      ncp::fc::Formulation::kNaturalMap})
         rows.push_back(RunOurs(f, p, tol, limit, min_timing));
-      if (p.dimension == 3)  // fc3d_driver is for 3D problems
-        for (const std::string& s : fc_bench::PeerSolvers())
+      for (const std::string& s : fc_bench::PeerSolvers(p.dimension))
           rows.push_back(RunSiconos(s, path, p, tol, limit, min_timing));
       for (Row& row : rows) {
         row.problem = p.name;

@@ -30,8 +30,9 @@ std::string PeerDescription() {
                          : "none";
 }
 
-std::vector<std::string> PeerSolvers() {
+std::vector<std::string> PeerSolvers(int dimension) {
   if (!PeerAvailable()) return {};
+  if (dimension == 2) return {"siconos-nsgs", "siconos-lemke"};
   return {"siconos-nsn-ac", "siconos-nsn-fb", "siconos-nsn-nm", "siconos-nsgs",
           "siconos-admm"};
 }
@@ -49,7 +50,12 @@ PeerRun RunPeer(const std::string&, const std::string&, const ncp::fc::FrictionP
 
 namespace {
 
-int SolverId(const std::string& name) {
+int SolverId(const std::string& name, int dimension) {
+  if (dimension == 2) {
+    if (name == "siconos-nsgs") return SICONOS_FRICTION_2D_NSGS;
+    if (name == "siconos-lemke") return SICONOS_FRICTION_2D_LEMKE;
+    return -1;
+  }
   if (name == "siconos-nsn-ac") return SICONOS_FRICTION_3D_NSN_AC;
   if (name == "siconos-nsn-fb") return SICONOS_FRICTION_3D_NSN_FB;
   if (name == "siconos-nsn-nm") return SICONOS_FRICTION_3D_NSN_NM;
@@ -91,7 +97,8 @@ void ChildSolve(int fd, int solver_id, const std::string& path,
     std::fill(r.begin(), r.end(), 0.0);
     std::fill(u.begin(), u.end(), 0.0);
     const auto start = std::chrono::steady_clock::now();
-    info = fc3d_driver(problem, r.data(), u.data(), options);
+    info = p.dimension == 2 ? fc2d_driver(problem, r.data(), u.data(), options)
+                            : fc3d_driver(problem, r.data(), u.data(), options);
     const double t =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     best = std::min(best, t);
@@ -132,7 +139,7 @@ PeerRun RunPeer(const std::string& solver, const std::string& path,
                 const ncp::fc::FrictionProblem& problem, double tolerance,
                 int max_iterations, double time_limit_s, double min_timing_s) {
   PeerRun run;
-  const int id = SolverId(solver);
+  const int id = SolverId(solver, problem.dimension);
   if (id < 0) {
     run.status = "unavailable";
     return run;

@@ -42,14 +42,20 @@ def main():
     dims = {r["problem"]: r["dimension"] for r in rows}
     p3 = [p for p in problems if dims[p] == "3"]  # Siconos' fc3d_driver runs on these
 
-    lines = ["| solver | solved (3D, %d) | solved (all, %d) | shifted geo. mean time, 3D [s] |"
-             % (len(p3), len(problems)), "|---|---|---|---|"]
+    p2 = [p for p in problems if dims[p] == "2"]  # fc2d_driver: NSGS and Lemke only
+
+    def cells(s, subset):
+        """solved count and shifted geometric mean over subset, '-' if s did not run it all."""
+        if not subset or not all(p in solved[s] for p in subset):
+            return "-", "-"
+        n = sum(solved[s][p] for p in subset)
+        return str(n), "%.3g" % shifted_geometric_mean([charged[s][p] for p in subset], a.shift)
+
+    lines = ["| solver | solved 3D (of %d) | solved 2D (of %d) | shifted geo. mean 3D [s] "
+             "| shifted geo. mean 2D [s] |" % (len(p3), len(p2)), "|---|---|---|---|---|"]
     for s in solvers:
-        n3 = sum(solved[s].get(p, False) for p in p3)
-        n_all = sum(solved[s].get(p, False) for p in problems)
-        ran_all = all(p in solved[s] for p in problems)
-        sgm = shifted_geometric_mean([charged[s].get(p, a.time_limit) for p in p3], a.shift)
-        lines.append("| %s | %d | %s | %.3g |" % (s, n3, str(n_all) if ran_all else "-", sgm))
+        (n3, g3), (n2, g2) = cells(s, p3), cells(s, p2)
+        lines.append("| %s | %s | %s | %s | %s |" % (s, n3, n2, g3, g2))
 
     ref = "siconos-nsn-ac"
     cmp_lines = []
