@@ -86,11 +86,16 @@ def main():
 
     # Dolan-More performance profile on the 3D problems: rho_s(tau) = fraction of problems
     # solved within tau times the best time.
+    if not p3:
+        print(open(os.path.join(a.out_dir, "summary.md")).read())
+        return
     best = {p: min(charged[s][p] for s in solvers if p in charged[s] and solved[s][p])
             for p in p3 if any(solved[s].get(p) for s in solvers)}
     taus = [10 ** (k / 20.0) for k in range(0, 81)]
     plt.figure(figsize=(6, 4))
     for s in solvers:
+        if not any(p in solved[s] for p in p3):
+            continue  # a 2D-only solver
         ratios = [charged[s][p] / best[p] if solved[s].get(p) else math.inf for p in best]
         plt.step(taus, [sum(r <= t for r in ratios) / len(p3) for t in taus], where="post", label=s)
     plt.xscale("log")
