@@ -1,10 +1,10 @@
 // fc-bench [DIR|FILE ...] --csv OUT.csv [--tolerance 1e-8] [--time-limit 10] [--quick]
 // Every frictional contact problem (.dat, .hdf5) of the directories, with each ncp::fc
-// formulation and each Siconos solver (fc3d_driver, fc2d_driver in 2D), from r = 0. One CSV row per (problem,
-// solver): the solver's own claim, iterations, best-of-repetitions time per solve, and
-// the natural-map error recomputed by ncp::fc::NaturalMapError at the returned r. A row
-// counts as solved only if the solver claims convergence AND the recomputed error <=
-// tolerance.
+// formulation and each Siconos solver (fc3d_driver, fc2d_driver in 2D), from r = 0. One
+// CSV row per (problem, solver): the solver's own claim, iterations, best-of-repetitions
+// time per solve, and the natural-map error recomputed by ncp::fc::NaturalMapError at the
+// returned r. A row counts as solved only if the solver claims convergence AND the
+// recomputed error <= tolerance.
 #include <chrono>
 #include <cxxopts.hpp>
 #include <filesystem>
@@ -53,10 +53,8 @@ Row RunOurs(ncp::fc::Formulation f, const ncp::fc::FrictionProblem& p, double to
   options.max_time_s = time_limit;
   options.max_iterations = 1000;
   Row row;
-  row.solver =
-      std::string("ncp-") + (f == ncp::fc::Formulation::kAlartCurnier ? "ac"
-                             : f == ncp::fc::Formulation::kNaturalMap ? "nm"
-                                                                      : "hybrid");
+  const char* short_name[] = {"ac", "nm", "fb", "hybrid"};  // in Formulation's order
+  row.solver = std::string("ncp-") + short_name[static_cast<int>(f)];
   ncp::Vector r;
   ncp::fc::Summary summary;
   double best = 1e300, total = 0.0;
@@ -143,11 +141,12 @@ int main(int argc, char** argv) {
       }
       if (args.count("quick") && p.num_contacts > 10) continue;
       std::vector<Row> rows;
-      for (auto f : {ncp::fc::Formulation::kHybrid, ncp::fc::Formulation::kAlartCurnier,
-                     ncp::fc::Formulation::kNaturalMap})
+      for (auto f :
+           {ncp::fc::Formulation::kHybrid, ncp::fc::Formulation::kAlartCurnier,
+            ncp::fc::Formulation::kNaturalMap, ncp::fc::Formulation::kFischerBurmeister})
         rows.push_back(RunOurs(f, p, tol, limit, min_timing));
       for (const std::string& s : fc_bench::PeerSolvers(p.dimension))
-          rows.push_back(RunSiconos(s, path, p, tol, limit, min_timing));
+        rows.push_back(RunSiconos(s, path, p, tol, limit, min_timing));
       for (Row& row : rows) {
         row.problem = p.name;
         row.contacts = p.num_contacts;

@@ -73,27 +73,30 @@ Block FiniteDifference(const Law& law, int d, const double* r, const double* u,
 TEST_CASE("Jacobian blocks of both formulations match finite differences",
           "[fc][jacobian]") {
   const int d = GENERATE(2, 3);
-  const bool alart_curnier = GENERATE(true, false);
+  const int law_index = GENERATE(0, 1, 2);  // Alart-Curnier, natural map, FB
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> value(-1.0, 1.0), friction(0.05, 1.2),
       rho(0.2, 3.0);
   int checked = 0;
   for (int k = 0; k < 500; ++k) {
-    const double mu = friction(rng), rho_n = rho(rng), rho_t = rho(rng);
+    const double mu = k % 10 == 0 ? 0.0 : friction(rng), rho_n = rho(rng),
+                 rho_t = rho(rng);
     const double r[3] = {value(rng), value(rng), d == 3 ? value(rng) : 0.0};
     const double u[3] = {value(rng), value(rng), d == 3 ? value(rng) : 0.0};
     Law law = [&](const double* rr, const double* uu, double* phi, Block* A, Block* B) {
-      if (alart_curnier)
+      if (law_index == 0)
         internal::AlartCurnierLaw(d, mu, rho_n, rho_t, rr, uu, phi, A, B);
-      else
+      else if (law_index == 1)
         internal::NaturalMapLaw(d, mu, rho_n, rr, uu, phi, A, B);
+      else
+        internal::FischerBurmeisterLaw(d, mu, rr, uu, phi, A, B);
     };
     double phi[3];
     Block A, B;
     law(r, u, phi, &A, &B);
     const Block Ar = FiniteDifference(law, d, r, u, 0),
                 Bu = FiniteDifference(law, d, r, u, 1);
-    INFO("d " << d << " AC " << alart_curnier << " mu " << mu << "\nA\n"
+    INFO("d " << d << " law " << law_index << " mu " << mu << "\nA\n"
               << A << "\nFD\n"
               << Ar << "\nB\n"
               << B << "\nFD\n"
@@ -115,4 +118,6 @@ TEST_CASE("Both formulations vanish at the published solution", "[fc][jacobian]"
   CHECK(Eigen::Map<Eigen::Vector3d>(phi).norm() < 1e-9);
   internal::NaturalMapLaw(3, 0.1, 1.0 / 15, r.data(), u.data(), phi, &A, &B);
   CHECK(Eigen::Map<Eigen::Vector3d>(phi).norm() < 1e-9);
+  internal::FischerBurmeisterLaw(3, 0.1, r.data(), u.data(), phi, &A, &B);
+  CHECK(Eigen::Map<Eigen::Vector3d>(phi).norm() < 1e-8);
 }

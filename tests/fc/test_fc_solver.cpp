@@ -14,7 +14,7 @@ using Catch::Matchers::WithinAbs;
 
 TEST_CASE("the published solution of FrictionContact3D_1c", "[fc][solver]") {
   const Formulation f = GENERATE(Formulation::kAlartCurnier, Formulation::kNaturalMap,
-                                 Formulation::kHybrid);
+                                 Formulation::kFischerBurmeister, Formulation::kHybrid);
   const ncp::LinearSolverType ls =
       GENERATE(ncp::LinearSolverType::kDenseLU, ncp::LinearSolverType::kUmfpack,
                ncp::LinearSolverType::kKlu);
@@ -34,7 +34,7 @@ TEST_CASE("the published solution of FrictionContact3D_1c", "[fc][solver]") {
 
 TEST_CASE("every data problem, every formulation", "[fc][solver][data]") {
   const Formulation f = GENERATE(Formulation::kAlartCurnier, Formulation::kNaturalMap,
-                                 Formulation::kHybrid);
+                                 Formulation::kFischerBurmeister, Formulation::kHybrid);
   int solved = 0, files = 0;
   for (const auto& entry : std::filesystem::directory_iterator(NCP_FC_DATA_DIR)) {
     const std::string ext = entry.path().extension().string();

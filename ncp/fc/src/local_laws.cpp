@@ -1,5 +1,6 @@
 #include "local_laws.hpp"
 
+#include <Eigen/LU>
 #include <cmath>
 
 #include "ncp/fc/error.hpp"
@@ -92,6 +93,67 @@ void NaturalMapLaw(int d, double mu, double rho, const double* r, const double* 
   if (ut > 0.0) D.row(0) += mu * (uT / ut).transpose();
   *A = I - JP;
   *B = rho * JP * D;
+}
+
+namespace {
+
+/// Arrow matrix L_v = [v0, v_bar'; v_bar, v0 I] of the Jordan product: L_v w = v o w.
+Block Arrow(const Eigen::Vector3d& v) {
+  Block L = v[0] * Block::Identity();
+  L.block<1, 2>(0, 1) = v.tail<2>().transpose();
+  L.block<2, 1>(1, 0) = v.tail<2>();
+  return L;
+}
+
+}  // namespace
+
+void FischerBurmeisterLaw(int d, double mu, const double* r, const double* u, double* phi,
+                          Block* A, Block* B) {
+  A->setZero();
+  B->setZero();
+  if (mu == 0.0) {  // scalar FB on (r_N, u_N), and r_T = 0
+    const double norm = std::hypot(r[0], u[0]);
+    phi[0] = r[0] + u[0] - norm;
+    (*A)(0, 0) = norm > 0.0 ? 1.0 - r[0] / norm : 1.0 - 1.0 / std::sqrt(2.0);
+    (*B)(0, 0) = norm > 0.0 ? 1.0 - u[0] / norm : 1.0 - 1.0 / std::sqrt(2.0);
+    for (int i = 1; i < d; ++i) {
+      phi[i] = r[i];
+      (*A)(i, i) = 1.0;
+    }
+    return;
+  }
+  const Eigen::Vector3d uT = Tangent(d, u);
+  const double ut = uT.norm();
+  const Eigen::Vector3d x(mu * r[0], r[1], d == 3 ? r[2] : 0.0);
+  const Eigen::Vector3d y(u[0] + mu * ut, mu * u[1], d == 3 ? mu * u[2] : 0.0);
+  // w = x o x + y o y = (|x|^2 + |y|^2, 2 (x0 x_bar + y0 y_bar)), spectral values w0 -+
+  // |w_bar|
+  const double w0 = x.squaredNorm() + y.squaredNorm();
+  const Eigen::Vector2d wbar = 2.0 * (x[0] * x.tail<2>() + y[0] * y.tail<2>());
+  const double wn = wbar.norm();
+  const Eigen::Vector2d e =
+      wn > 0.0 ? Eigen::Vector2d(wbar / wn) : Eigen::Vector2d(1.0, 0.0);
+  const double s1 = std::sqrt(std::max(0.0, w0 - wn)), s2 = std::sqrt(w0 + wn);
+  Eigen::Vector3d z;
+  z[0] = 0.5 * (s1 + s2);
+  z.tail<2>() = 0.5 * (s2 - s1) * e;
+  const Eigen::Vector3d f = x + y - z;
+  for (int i = 0; i < d; ++i) phi[i] = f[i];
+  // L_z is singular on the boundary of K (s1 = 0); shift it there.
+  Block Lz = Arrow(z);
+  const double eps = 1e-12 * std::max(1.0, z[0]);
+  if (s1 <= eps) Lz += eps * Block::Identity();
+  const Eigen::PartialPivLU<Block> lu(Lz);
+  const Block I = Block::Identity();
+  Block Dx = Block::Zero();  // dx/dr
+  Dx(0, 0) = mu;
+  for (int i = 1; i < d; ++i) Dx(i, i) = 1.0;
+  Block Dy = Block::Zero();  // dy/du
+  Dy(0, 0) = 1.0;
+  if (ut > 0.0) Dy.block<1, 2>(0, 1) = mu * (uT.tail<2>() / ut).transpose();
+  for (int i = 1; i < d; ++i) Dy(i, i) = mu;
+  *A = (I - lu.solve(Arrow(x))) * Dx;
+  *B = (I - lu.solve(Arrow(y))) * Dy;
 }
 
 }  // namespace ncp::fc::internal

@@ -25,4 +25,14 @@ void AlartCurnierLaw(int d, double mu, double rho_n, double rho_t, const double*
 void NaturalMapLaw(int d, double mu, double rho, const double* r, const double* u,
                    double* phi, Block* A, Block* B);
 
+/// Fischer-Burmeister function of the second-order cone (Fukushima, Luo & Tseng 2001) on
+/// the scaled pair x = (mu r_N, r_T) in K, y = (u_N + mu |u_T|, mu u_T) in K (K = C_1 is
+/// self-dual and x . y = mu r . u_hat, so x, y complementary in K <=> the Coulomb law):
+///   Phi = x + y - (x o x + y o y)^(1/2)   (o: Jordan product; the square root spectral).
+/// dPhi = dx + dy - L_z^-1 (L_x dx + L_y dy), z = (x o x + y o y)^(1/2), L_v the arrow
+/// matrix [v0, v_bar'; v_bar, v0 I], where z is interior; at the boundary L_z + eps I. mu
+/// = 0: Phi = (r_N + u_N - |(r_N, u_N)|, r_T) (scalar FB and r_T = 0).
+void FischerBurmeisterLaw(int d, double mu, const double* r, const double* u, double* phi,
+                          Block* A, Block* B);
+
 }  // namespace ncp::fc::internal

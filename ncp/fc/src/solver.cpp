@@ -23,6 +23,8 @@ const char* ToString(Formulation f) {
       return "alart-curnier";
     case Formulation::kNaturalMap:
       return "natural-map";
+    case Formulation::kFischerBurmeister:
+      return "fischer-burmeister";
     case Formulation::kHybrid:
       return "hybrid";
   }
@@ -54,9 +56,11 @@ const char* ToString(Termination t) {
 Formulation ParseFormulation(const std::string& name) {
   if (name == "ac" || name == "alart-curnier") return Formulation::kAlartCurnier;
   if (name == "nm" || name == "natural-map") return Formulation::kNaturalMap;
+  if (name == "fb" || name == "fischer-burmeister")
+    return Formulation::kFischerBurmeister;
   if (name == "hybrid") return Formulation::kHybrid;
   throw std::invalid_argument("unknown formulation '" + name +
-                              "' (expected ac, nm or hybrid)");
+                              "' (expected ac, nm, fb or hybrid)");
 }
 
 bool Options::IsValid(std::string* error) const {
@@ -195,9 +199,10 @@ class NewtonSolver {
   std::vector<std::pair<Formulation, double>> AttemptSequence() const {
     if (options_.formulation != Formulation::kHybrid)
       return {{options_.formulation, 1.0}};
-    return {{Formulation::kAlartCurnier, 1.0},  {Formulation::kNaturalMap, 1.0},
-            {Formulation::kAlartCurnier, 10.0}, {Formulation::kNaturalMap, 0.1},
-            {Formulation::kAlartCurnier, 0.1},  {Formulation::kNaturalMap, 10.0}};
+    return {{Formulation::kAlartCurnier, 1.0}, {Formulation::kFischerBurmeister, 1.0},
+            {Formulation::kNaturalMap, 1.0},   {Formulation::kAlartCurnier, 10.0},
+            {Formulation::kNaturalMap, 0.1},   {Formulation::kAlartCurnier, 0.1},
+            {Formulation::kNaturalMap, 10.0}};
   }
 
   /// Phi(r) of the formulation into *phi, with the Jacobian blocks A_, B_; returns psi.
@@ -213,24 +218,27 @@ class NewtonSolver {
       if (formulation == Formulation::kAlartCurnier)
         internal::AlartCurnierLaw(d_, problem_.mu[a], s * rho_n_[a], s * rho_t_[a], ra,
                                   ua, pa, &A_[a], &B_[a]);
-      else
+      else if (formulation == Formulation::kNaturalMap)
         internal::NaturalMapLaw(d_, problem_.mu[a], s * rho_nm_[a], ra, ua, pa, &A_[a],
                                 &B_[a]);
+      else
+        internal::FischerBurmeisterLaw(d_, problem_.mu[a], ra, ua, pa, &A_[a], &B_[a]);
     }
     return 0.5 * phi->squaredNorm();
   }
 
   /// The Newton direction of the shifted matrix, (J + delta I) d = -phi with
-  /// delta = regularization max |J_ii| (1e-10: the step changes by O(1e-10) relative where J
-  /// is regular, and stays defined where J is singular, as when sticking contacts make
-  /// J = rho W with W rank-deficient), kept when it passes the inexact-Newton test
+  /// delta = regularization max |J_ii| (1e-10: the step changes by O(1e-10) relative
+  /// where J is regular, and stays defined where J is singular, as when sticking contacts
+  /// make J = rho W with W rank-deficient), kept when it passes the inexact-Newton test
   /// ||J d + phi|| <= eta ||phi||, eta = Options::newton_residual < 1, which makes d a
   /// descent direction of psi: grad psi' d = phi' (J d + phi) - ||phi||^2 < 0. Otherwise
   /// the Levenberg-Marquardt direction (J'J + m I) d = -J' phi, m = max(||phi||,
   /// regularization) (Yamashita & Fukushima 2001), a descent direction for any m > 0.
   /// Measured on ../shared/data/fc3d: one shifted factorization per step instead of J
-  /// first and J + delta I after a failure took Capsules-i101-404 from 111 steps, 0.45 s to
-  /// 104 steps, 0.27 s, with the same steps on the other 14 problems. false: both failed.
+  /// first and J + delta I after a failure took Capsules-i101-404 from 111 steps, 0.45 s
+  /// to 104 steps, 0.27 s, with the same steps on the other 14 problems. false: both
+  /// failed.
   bool Direction(const Vector& phi, Vector* direction) {
     W_.AssembleJacobian(A_, B_, &J_);
     SparseMatrix shifted = J_;
@@ -239,8 +247,8 @@ class NewtonSolver {
     for (int i = 0; i < shifted.rows(); ++i) shifted.coeffRef(i, i) += delta;
     const bool first = !factorized_once_;
     factorized_once_ = true;
-    if (linear_solver_->Factorize(shifted, first) && linear_solver_->Solve(-phi, direction) &&
-        direction->allFinite() &&
+    if (linear_solver_->Factorize(shifted, first) &&
+        linear_solver_->Solve(-phi, direction) && direction->allFinite() &&
         (J_ * *direction + phi).norm() <= options_.newton_residual * phi.norm())
       return true;
     ++summary_->linear_solver_failures;

@@ -1,4 +1,4 @@
-// fc-solve FILE [--solver hybrid|ac|nm] [--tolerance T] [--max-iterations N]
+// fc-solve FILE [--solver hybrid|ac|nm|fb] [--tolerance T] [--max-iterations N]
 // [--time-limit S]
 //          [--gauss-seidel N] [--rho-scale S] [--json] [--reactions OUT.txt] [--verbose]
 // Reads a frictional contact problem (Siconos .dat or FCLIB .hdf5), solves it, prints the
@@ -55,7 +55,8 @@ int main(int argc, char** argv) {
   cxxopts::Options cli(
       "fc-solve", "Solve a frictional contact problem (Siconos .dat or FCLIB .hdf5)");
   cli.add_options()("file", "problem file", cxxopts::value<std::string>())(
-      "solver", "hybrid (default), ac (Alart-Curnier) or nm (natural map)",
+      "solver",
+      "hybrid (default), ac (Alart-Curnier), nm (natural map) or fb (Fischer-Burmeister)",
       cxxopts::value<std::string>()->default_value("hybrid"))(
       "tolerance", "converged when Siconos' natural-map error <= this",
       cxxopts::value<double>()->default_value("1e-8"))(
@@ -65,6 +66,9 @@ int main(int argc, char** argv) {
       cxxopts::value<double>()->default_value("0"))(
       "gauss-seidel", "projected Gauss-Seidel sweeps before Newton",
       cxxopts::value<int>()->default_value("0"))(
+      "stall-window",
+      "an attempt stalls when its error has not halved in this many steps",
+      cxxopts::value<int>()->default_value("15"))(
       "rho-scale", "multiplies the per-contact rho of the formulations",
       cxxopts::value<double>()->default_value("1"))(
       "json", "print one JSON object instead of the text report")(
@@ -88,6 +92,7 @@ int main(int argc, char** argv) {
     options.max_iterations = args["max-iterations"].as<int>();
     options.max_time_s = args["time-limit"].as<double>();
     options.gauss_seidel_sweeps = args["gauss-seidel"].as<int>();
+    options.stall_window = args["stall-window"].as<int>();
     options.rho_scale = args["rho-scale"].as<double>();
     options.log_to_stderr = args.count("verbose") > 0;
     ncp::Vector r;
