@@ -1,0 +1,22 @@
+# fc-bench --quick must succeed and its CSV must have a solved ncp-hybrid row for every
+# problem it ran.
+execute_process(COMMAND ${FC_BENCH} --quick --csv ${CSV} --min-timing 0 --time-limit 5
+                RESULT_VARIABLE rc ERROR_VARIABLE log)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "fc-bench --quick failed (${rc}):\n${log}")
+endif()
+file(STRINGS ${CSV} lines)
+set(problems 0)
+set(solved 0)
+foreach(line IN LISTS lines)
+  if(line MATCHES ",ncp-hybrid,")
+    math(EXPR problems "${problems} + 1")
+    if(line MATCHES ",1$")
+      math(EXPR solved "${solved} + 1")
+    endif()
+  endif()
+endforeach()
+if(problems LESS 5 OR NOT solved EQUAL problems)
+  message(FATAL_ERROR "fc-bench --quick: ncp-hybrid solved ${solved} of ${problems} problems\n${log}")
+endif()
+message(STATUS "fc-bench --quick: ncp-hybrid solved ${solved} of ${problems}")

@@ -1,0 +1,46 @@
+/// \file io.hpp
+/// Readers of frictional contact problems: Siconos Numerics' `.dat` text format and FCLIB
+/// HDF5 files (local problems, and global ones reduced to local form).
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "ncp/fc/problem.hpp"
+
+namespace ncp::fc {
+
+/// Siconos' text format (FrictionContactProblem printed by frictionContact_printInFile):
+///   dimension, n_c, storage (0 dense, 1 sparse-block), the matrix, q, mu.
+/// Dense:  m n, then m n entries column by column.
+/// Sparse-block: nbblocks, block rows, block cols, cumulative row sizes, cumulative col
+/// sizes, filled1, filled2, block-row pointers (filled1), block-column indices (filled2),
+/// then per block its number and its entries column by column.
+/// Throws std::runtime_error (with the file name and what was expected) on a malformed
+/// file.
+FrictionProblem ReadSiconosDat(const std::string& path);
+
+/// Writes the problem in Siconos' text format with sparse-block storage (the blocks of W
+/// that hold a nonzero, 17 significant digits), so that ReadSiconosDat and Siconos'
+/// frictionContact_new_from_filename read it back. Throws std::runtime_error on I/O
+/// failure.
+void WriteSiconosDat(const FrictionProblem& problem, const std::string& path);
+
+/// True when the FCLIB reader was compiled in (Debian libfclib-dev found).
+bool HaveFclib();
+
+/// FCLIB HDF5: a local problem (fclib_read_local) as is; a global problem
+/// (fclib_read_global: M v = H r + f, u = H' v + w, without equality constraints G)
+/// reduced to local form W = H' M^-1 H, q = H' M^-1 f + w (M factorized by sparse
+/// Cholesky). Throws std::runtime_error when the file cannot be read or FCLIB is not
+/// compiled in.
+FrictionProblem ReadFclib(const std::string& path);
+
+/// The stored reference solution r of an FCLIB file (fclib_read_solution), if any.
+std::optional<Vector> ReadFclibSolution(const std::string& path);
+
+/// By content: HDF5 (signature "\x89HDF") goes to ReadFclib, anything else to
+/// ReadSiconosDat.
+FrictionProblem ReadProblem(const std::string& path);
+
+}  // namespace ncp::fc

@@ -1,0 +1,57 @@
+#include "block_delassus.hpp"
+
+#include <map>
+
+namespace ncp::fc::internal {
+
+BlockDelassus::BlockDelassus(const FrictionProblem& problem)
+    : d_(problem.dimension), num_contacts_(problem.num_contacts) {
+  std::vector<std::map<int, Block>> rows(num_contacts_);
+  for (int a = 0; a < num_contacts_; ++a) rows[a][a] = Block::Zero();
+  for (int k = 0; k < problem.W.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(problem.W, k); it; ++it) {
+      auto found =
+          rows[it.row() / d_].try_emplace(static_cast<int>(it.col()) / d_, Block::Zero());
+      found.first->second(it.row() % d_, it.col() % d_) = it.value();
+    }
+  row_ptr_.assign(1, 0);
+  diagonal_.resize(num_contacts_);
+  for (int a = 0; a < num_contacts_; ++a) {
+    for (const auto& [b, block] : rows[a]) {
+      if (b == a) diagonal_[a] = static_cast<int>(blocks_.size());
+      block_col_.push_back(b);
+      blocks_.push_back(block);
+    }
+    row_ptr_.push_back(static_cast<int>(blocks_.size()));
+  }
+}
+
+Eigen::Vector3d BlockDelassus::RowTimes(int a, const Vector& r) const {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int k = row_ptr_[a]; k < row_ptr_[a + 1]; ++k) {
+    Eigen::Vector3d rb = Eigen::Vector3d::Zero();
+    rb.head(d_) = r.segment(d_ * block_col_[k], d_);
+    sum += blocks_[k] * rb;
+  }
+  return sum;
+}
+
+void BlockDelassus::AssembleJacobian(const std::vector<Block>& A,
+                                     const std::vector<Block>& B, SparseMatrix* J) const {
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(blocks_.size() * d_ * d_);
+  for (int a = 0; a < num_contacts_; ++a)
+    for (int k = row_ptr_[a]; k < row_ptr_[a + 1]; ++k) {
+      const int b = block_col_[k];
+      Block Jab = B[a] * blocks_[k];
+      if (b == a) Jab += A[a];
+      for (int j = 0; j < d_; ++j)
+        for (int i = 0; i < d_; ++i)
+          entries.emplace_back(d_ * a + i, d_ * b + j, Jab(i, j));
+    }
+  const int n = d_ * num_contacts_;
+  J->resize(n, n);
+  J->setFromTriplets(entries.begin(), entries.end());
+}
+
+}  // namespace ncp::fc::internal

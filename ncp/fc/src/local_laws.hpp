@@ -1,0 +1,38 @@
+// The Coulomb law of one contact written as Phi(r, u) = 0, with its generalized Jacobian
+// blocks A = dPhi/dr and B = dPhi/du (components: normal, tangent 1[, tangent 2]; in 2D
+// the third row and column stay zero).
+#pragma once
+
+#include <Eigen/Core>
+
+namespace ncp::fc::internal {
+
+using Block = Eigen::Matrix3d;
+
+/// Alart-Curnier (Alart & Curnier 1991; Christensen & Pang 1998), with s_N = r_N - rho_N
+/// u_N, s_T = r_T - rho_T u_T, radius R = mu max(0, s_N):
+///   Phi_N = r_N - max(0, s_N),   Phi_T = r_T - P_{B(0,R)}(s_T).
+/// Jacobian: the element of the B-subdifferential that takes max'(0) = 0 and, on the disk
+/// boundary |s_T| = R, the sticking branch.
+void AlartCurnierLaw(int d, double mu, double rho_n, double rho_t, const double* r,
+                     const double* u, double* phi, Block* A, Block* B);
+
+/// Natural map of the De Saxce form (Siconos NSN_NM): u_hat = u + (mu |u_T|, 0, 0),
+///   Phi = r - P_{C_mu}(r - rho u_hat),
+/// A = I - J_P, B = rho J_P (I + mu e_N (0, u_T/|u_T|)'), J_P the Jacobian of the cone
+/// projection (identity inside, zero in the polar cone, Hiriart-Urruty's formula
+/// between).
+void NaturalMapLaw(int d, double mu, double rho, const double* r, const double* u,
+                   double* phi, Block* A, Block* B);
+
+/// Fischer-Burmeister function of the second-order cone (Fukushima, Luo & Tseng 2001) on
+/// the scaled pair x = (mu r_N, r_T) in K, y = (u_N + mu |u_T|, mu u_T) in K (K = C_1 is
+/// self-dual and x . y = mu r . u_hat, so x, y complementary in K <=> the Coulomb law):
+///   Phi = x + y - (x o x + y o y)^(1/2)   (o: Jordan product; the square root spectral).
+/// dPhi = dx + dy - L_z^-1 (L_x dx + L_y dy), z = (x o x + y o y)^(1/2), L_v the arrow
+/// matrix [v0, v_bar'; v_bar, v0 I], where z is interior; at the boundary L_z + eps I. mu
+/// = 0: Phi = (r_N + u_N - |(r_N, u_N)|, r_T) (scalar FB and r_T = 0).
+void FischerBurmeisterLaw(int d, double mu, const double* r, const double* u, double* phi,
+                          Block* A, Block* B);
+
+}  // namespace ncp::fc::internal
