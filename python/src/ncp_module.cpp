@@ -221,7 +221,10 @@ void BindSummary(py::module_& m) {
   cls.def("brief_report", &Summary::BriefReport)
       .def("full_report", &Summary::FullReport)
       .def("is_solution_usable", &Summary::IsSolutionUsable)
-      .def("__repr__", [](const Summary& s) { return "<ncp.Summary " + s.BriefReport() + ">"; });
+      .def("__repr__", [](const Summary& s) {
+        return "<ncp.Summary " + (s.termination == ncp::TerminationType::kNotSolved ? s.message : s.BriefReport()) +
+               ">";
+      });
 }
 
 /// The problems of ncp/collection, solved in C++ alone, so that the tests can check the
