@@ -65,6 +65,8 @@ def scene_from_dict(scene, base_dir="."):
         path = f.name
     try:
         return load_scene(path)
+    except SceneError as e:  # name the dict, not the temporary file
+        raise SceneError(str(e).replace(path, "<scene dict>")) from None
     finally:
         os.unlink(path)
 
@@ -100,11 +102,13 @@ class Result:
                 f"{len(self.output_times)} output times, {len(self.contact_node)} contact nodes>")
 
 
-def _progress_bar(stream=sys.stderr, width=40, interval_s=0.2):
-    """A text progress bar on `stream`, redrawn at most every interval_s seconds."""
+def _progress_bar(stream=None, width=40, interval_s=0.2):
+    """A text progress bar on `stream` (None: sys.stderr at the time of drawing), redrawn at
+    most every interval_s seconds."""
     last = [0.0]
 
     def draw(step, t, end_time):
+        out = stream or sys.stderr
         now = _time.monotonic()
         done = t >= end_time * (1 - 1e-12)
         if now - last[0] < interval_s and not done:
@@ -112,10 +116,10 @@ def _progress_bar(stream=sys.stderr, width=40, interval_s=0.2):
         last[0] = now
         fraction = min(t / end_time, 1.0) if end_time > 0 else 1.0
         filled = int(round(width * fraction))
-        stream.write(f"\r[{'#' * filled}{'.' * (width - filled)}] step {step}  t = {t:.4g} s")
+        out.write(f"\r[{'#' * filled}{'.' * (width - filled)}] step {step}  t = {t:.4g} s")
         if done:
-            stream.write("\n")
-        stream.flush()
+            out.write("\n")
+        out.flush()
     return draw
 
 
