@@ -55,13 +55,20 @@ def _toml(d, prefix=""):
 
 
 def scene_from_dict(scene, base_dir="."):
-    """A Scene from a nested dict with the keys of a scene file; relative paths in it
-    (msh files) are relative to base_dir.  Checked exactly like a file."""
+    """A Scene from a nested dict with the keys of a scene file, checked exactly like a
+    file.  Relative paths in it (geometry.file, output.directory) are relative to base_dir;
+    the scene's name defaults to "scene-dict"."""
     if not isinstance(scene, dict):
         raise ValueError(f"contact: scene_from_dict needs a dict, got {type(scene).__name__}")
-    with tempfile.NamedTemporaryFile("w", suffix=".toml", dir=base_dir, prefix=".scene-",
-                                     delete=False) as f:
-        f.write(_toml(scene) + "\n")
+    scene = {k: dict(v) if isinstance(v, dict) else v for k, v in scene.items()}
+    scene.setdefault("name", "scene-dict")
+    for table, key in (("geometry", "file"), ("output", "directory")):
+        value = scene.get(table, {}).get(key) if isinstance(scene.get(table), dict) else None
+        if isinstance(value, str):
+            scene[table][key] = os.path.join(os.path.abspath(base_dir), value)
+    text = _toml(scene) + "\n"  # before any file exists: a bad value raises here
+    with tempfile.NamedTemporaryFile("w", suffix=".toml", prefix="scene-", delete=False) as f:
+        f.write(text)
         path = f.name
     try:
         return load_scene(path)

@@ -144,8 +144,14 @@ def test_missing_file_and_bad_scenes_raise_value_error(tmp_path):
         contact.run(bad)
     with pytest.raises(ValueError, match="<scene dict>"):
         contact.scene_from_dict({"name": "no geometry"})
+    import glob
+    import tempfile
+    temporary = set(glob.glob(os.path.join(tempfile.gettempdir(), "scene-*.toml")))
     with pytest.raises(ValueError, match="type NoneType"):
         contact.scene_from_dict(dict(d, name=None))
+    with pytest.raises(ValueError, match="<scene dict>"):
+        contact.scene_from_dict(dict(d, bogus_key=1.0))
+    assert set(glob.glob(os.path.join(tempfile.gettempdir(), "scene-*.toml"))) == temporary
     with pytest.raises(ValueError, match="every must be >= 0"):
         contact.run(SCENES["flat"], every=-1)
     with pytest.raises(ValueError, match="Scene, a path or a dict"):
