@@ -11,6 +11,7 @@ EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", 
 
 
 def run_example(name, *args, cwd=None):
+    """Runs EXAMPLES/name as a script; returns its stdout, failing on a nonzero exit."""
     # Absolute PYTHONPATH entries: the script may run in another directory.
     path = os.pathsep.join(os.path.abspath(p) for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p)
     env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=path)
@@ -43,3 +44,13 @@ def test_thesis_scene_example_draws_its_figure(tmp_path, friction):
     with open(png, "rb") as f:
         assert f.read(8) == b"\x89PNG\r\n\x1a\n"
     assert png.stat().st_size > 20000  # two panels with curves, not an empty canvas
+
+
+def test_callback_overhead_benchmark_runs(tmp_path):
+    """benchmarks/python/callback_overhead.py once: it stops with an error if a Python
+    solve takes other iterations than the C++ one."""
+    out_csv = tmp_path / "overhead.csv"
+    run_example(os.path.join("..", "..", "benchmarks", "python", "callback_overhead.py"), "--repeat", "1",
+                "--csv", str(out_csv))
+    with open(out_csv) as f:
+        assert len(f.readlines()) == 1 + 6 * 3
