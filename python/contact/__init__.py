@@ -16,10 +16,11 @@ import time as _time
 
 import numpy as np
 
-from ._contact import STEP_FIELDS, Scene, SceneError, load_scene
+from ._contact import STEP_FIELDS, SUMMARY_FIELDS, Scene, SceneError, load_scene
 from . import _contact
 
-__all__ = ["load_scene", "scene_from_dict", "run", "Result", "Scene", "SceneError", "STEP_FIELDS"]
+__all__ = ["load_scene", "scene_from_dict", "run", "Result", "Scene", "SceneError", "STEP_FIELDS",
+           "SUMMARY_FIELDS"]
 
 
 def _toml_value(value, key):

@@ -163,6 +163,7 @@ py::dict RunScene(const contact::Scene& scene, int every, const py::object& prog
       snaps.push_back(std::move(s));
     }
     if (!progress.is_none()) progress(r.step, r.time, options.end_time);
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // Ctrl-C ends a long run
   };
   const DynamicSummary summary = contact::RunDynamics(built.model, options);
 
@@ -231,4 +232,5 @@ PYBIND11_MODULE(_contact, m) {
   m.def("load_scene", &contact::LoadScene, py::arg("path"), "Reads and validates a scene file.");
   m.def("run", &RunScene, py::arg("scene"), py::arg("every") = 0, py::arg("progress") = py::none());
   m.attr("STEP_FIELDS") = py::tuple(StepColumns().Arrays({}).attr("keys")());
+  m.attr("SUMMARY_FIELDS") = py::tuple(SummaryColumns().Scalars(DynamicSummary()).attr("keys")());
 }
