@@ -122,9 +122,9 @@ def solve_lcp(M, q, x0=None, lower=0.0, upper=np.inf, options=None, **kwargs):
     M dense or scipy.sparse (n x n); x0 defaults to 0.  Returns (x, Summary)."""
     q = _vector("q", q)
     n = q.size
-    if M.shape != (n, n):
-        raise ValueError(f"ncp: M is {M.shape[0]} x {M.shape[1]}, expected {n} x {n} (the size of q)")
     M = sp.csc_matrix(M, dtype=np.float64) if sp.issparse(M) else np.array(M, dtype=np.float64)
+    if M.ndim != 2 or M.shape != (n, n):
+        raise ValueError(f"ncp: M has shape {M.shape}, expected ({n}, {n}) (the size of q)")
     x0 = np.zeros(n) if x0 is None else _vector("x0", x0, n)
     return solve(lambda x: M @ x + q, lambda x: M, x0, lower, upper, options, **kwargs)
 

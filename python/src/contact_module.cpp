@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <sstream>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -226,8 +227,10 @@ PYBIND11_MODULE(_contact, m) {
           [](contact::Scene& s, double v) { s.dynamics.ncp.tolerance = v; },
           "Newton tolerance on the scaled step equations [m]")
       .def("__repr__", [](const contact::Scene& s) {
-        return "<contact.Scene '" + s.name + "' dim=" + std::to_string(s.dim) + " dt=" +
-               std::to_string(s.dynamics.dt) + " s end_time=" + std::to_string(s.dynamics.end_time) + " s>";
+        std::ostringstream text;
+        text << "<contact.Scene '" << s.name << "' dim=" << s.dim << " dt=" << s.dynamics.dt
+             << " s end_time=" << s.dynamics.end_time << " s friction=" << s.friction_coefficient << ">";
+        return text.str();
       });
   m.def("load_scene", &contact::LoadScene, py::arg("path"), "Reads and validates a scene file.");
   m.def("run", &RunScene, py::arg("scene"), py::arg("every") = 0, py::arg("progress") = py::none());

@@ -27,9 +27,20 @@ using ncp::Vector;
 /// A fresh NumPy copy of x: a callback may keep its argument, the solver reuses x's storage.
 py::array_t<double> ToNumpy(const Vector& x) { return py::array_t<double>(x.size(), x.data()); }
 
+/// py::cast<T>(value), with a failed conversion reported as misuse (ValueError) naming the callback.
+template <typename T>
+T CastResult(const py::handle& value, const std::string& what, const char* expected) {
+  try {
+    return py::cast<T>(value);
+  } catch (const py::cast_error&) {
+    throw std::invalid_argument(what + " must return " + expected + " or None, got " +
+                                std::string(py::str(py::type::handle_of(value).attr("__name__"))));
+  }
+}
+
 /// result (an array-like of `expected` numbers) -> *out. A size mismatch is misuse.
 void ToVector(const py::handle& result, Eigen::Index expected, const std::string& what, Vector* out) {
-  Vector v = py::cast<Vector>(result);
+  Vector v = CastResult<Vector>(result, what, "a 1-D array of floats");
   if (v.size() != expected)
     throw std::invalid_argument(what + " returned " + std::to_string(v.size()) + " values, expected " +
                                 std::to_string(expected));
@@ -42,7 +53,7 @@ void ToVector(const py::handle& result, Eigen::Index expected, const std::string
 void ToSparse(const py::handle& result, Eigen::Index rows, Eigen::Index cols, const std::string& what,
               SparseMatrix* out) {
   if (py::isinstance<py::array>(result)) {
-    const Eigen::MatrixXd dense = py::cast<Eigen::MatrixXd>(result);
+    const Eigen::MatrixXd dense = CastResult<Eigen::MatrixXd>(result, what, "a 2-D array");
     if (dense.rows() != rows || dense.cols() != cols)
       throw std::invalid_argument(what + " returned a " + std::to_string(dense.rows()) + " x " +
                                   std::to_string(dense.cols()) + " matrix, expected " + std::to_string(rows) +
@@ -54,7 +65,7 @@ void ToSparse(const py::handle& result, Eigen::Index rows, Eigen::Index cols, co
     out->makeCompressed();
     return;
   }
-  SparseMatrix sparse = py::cast<SparseMatrix>(result);
+  SparseMatrix sparse = CastResult<SparseMatrix>(result, what, "a scipy.sparse matrix or a 2-D ndarray");
   if (sparse.rows() != rows || sparse.cols() != cols)
     throw std::invalid_argument(what + " returned a " + std::to_string(sparse.rows()) + " x " +
                                 std::to_string(sparse.cols()) + " sparse matrix, expected " + std::to_string(rows) +

@@ -171,6 +171,9 @@ def test_bad_options_raise_value_error_with_the_cpp_message(kwargs, message):
     (lambda x: np.zeros(2), J3, np.zeros(3), 0.0, np.inf, r"F\(x\) returned 2 values, expected 3"),
     (F3, lambda x: np.eye(2), np.zeros(3), 0.0, np.inf, r"J\(x\) returned a 2 x 2 matrix, expected 3 x 3"),
     (F3, lambda x: sp.eye(4), np.zeros(3), 0.0, np.inf, r"J\(x\) returned a 4 x 4 sparse matrix"),
+    (lambda x: "price", J3, np.zeros(3), 0.0, np.inf, r"F\(x\) must return a 1-D array of floats or None, got str"),
+    (F3, lambda x: [[1.0]], np.zeros(3), 0.0, np.inf, r"J\(x\) returned a 1 x 1 matrix"),
+    (F3, lambda x: np.zeros((3, 3, 3)), np.zeros(3), 0.0, np.inf, r"J\(x\) must return a 2-D array"),
     (F3, J3, np.zeros(3), [1.0, 0, 0], [0.0, 1, 1], r"lower\[0\] = 1.0+ > upper\[0\]"),
     (F3, J3, np.array([0.0, np.nan, 0.0]), 0.0, np.inf, r"x\[1\]"),
     (F3, J3, np.zeros(3), [0.0, 0.0], np.inf, "lower has 2 entries, expected 3"),
@@ -181,8 +184,10 @@ def test_misuse_raises_value_error(F, J, x0, lower, upper, message):
 
 
 def test_lcp_and_mixed_misuse():
-    with pytest.raises(ValueError, match="M is 3 x 3, expected 2 x 2"):
+    with pytest.raises(ValueError, match=r"M has shape \(3, 3\), expected \(2, 2\)"):
         ncp.solve_lcp(M3, [1.0, 2.0])
+    with pytest.raises(ValueError, match=r"M has shape \(2,\)"):
+        ncp.solve_lcp([1.0, 2.0], [1.0, 2.0])
     with pytest.raises(ValueError, match="tuple"):
         ncp.solve_mixed(lambda z: (z, z), lambda z: None, np.zeros(2), num_equations=0)
     with pytest.raises(ValueError, match="NumEquations"):
