@@ -6,8 +6,9 @@ drawn with matplotlib from the arrays contact.run returns - no CSV files.
     PYTHONPATH=build/python /usr/bin/python3 examples/python/thesis_scene.py [OUT.png] [--friction F]
 
 Left: normal and friction stress [Pa] along Gamma_c (the edge x = 5 m) at every output
-time, darker = later (fig. 16; compressive normal stress positive).  Right: kinetic and
-strain energy, the external work and the friction dissipation [J] over time.
+time, darker = later (fig. 16; compressive normal stress positive).  Middle: the same
+stresses over time at the middle of Gamma_c, (5, 0) m (the marked node; figs. 19, 21).
+Right: kinetic and strain energy, the external work and the friction dissipation [J].
 """
 import argparse
 import os
@@ -44,7 +45,7 @@ def main(argv=None):
 
     y = result.contact_coordinates[:, 1]  # position along Gamma_c [m]
     order = np.argsort(y)
-    fig, (ax_s, ax_e) = plt.subplots(1, 2, figsize=(11, 4.2))
+    fig, (ax_s, ax_h, ax_e) = plt.subplots(1, 3, figsize=(15, 4.2))
     for k, t in enumerate(result.output_times):
         shade = plt.cm.Blues(0.3 + 0.7 * (k + 1) / len(result.output_times))
         ax_s.plot(y[order], result.normal_stress[k, order], "-o", ms=3, color=shade,
@@ -55,6 +56,14 @@ def main(argv=None):
     ax_s.set_ylabel("stress [Pa]")
     ax_s.set_title(f"contact stresses, {scene.name}")
     ax_s.legend(fontsize=8)
+    c = result.nearest_contact_node([5.0, 0.0])
+    area = result.contact_area[c]  # [m^2] per unit thickness
+    ax_h.plot(result.times, result.history_normal_force[:, c] / area, label="normal")
+    ax_h.plot(result.times, result.history_tangent_force[:, c, 0] / area, label="friction")
+    ax_h.set_xlabel("t [s]")
+    ax_h.set_ylabel("stress [Pa]")
+    ax_h.set_title(f"contact node at ({result.contact_coordinates[c][0]:g}, {result.contact_coordinates[c][1]:g}) m")
+    ax_h.legend(fontsize=8)
     rec = result.records
     for name in ("kinetic", "strain", "external_work", "friction_dissipation"):
         ax_e.plot(result.times, rec[name], label=name.replace("_", " "))

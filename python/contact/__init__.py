@@ -89,15 +89,22 @@ class Result:
     normal_stress (T, C) [Pa]            tangent_stress (T, C, dim-1) [Pa]
     gap (T, C) [m] (< 0: penetration)    contact_node (C,), contact_coordinates (C, dim) [m],
     contact_area (C,) [m^2]              nodes (N, dim) [m], elements (E, k), element_type
+    with contact_history (every step):   history_normal_force (steps, C) [N],
+    history_tangent_force (steps, C, dim-1) [N], history_gap (steps, C) [m]
     """
 
     def __init__(self, raw):
         self.__dict__.update(raw)
-        self.normal_force = self.normal_force[:, :, 0]
-        self.gap = self.gap[:, :, 0]
         self.times = self.records["time"]
         self.normal_stress = self.normal_force / self.contact_area
         self.tangent_stress = self.tangent_force / self.contact_area[None, :, None]
+
+    def nearest_contact_node(self, point):
+        """Index c (into the contact arrays) of the contact node nearest to point [m]."""
+        point = np.asarray(point, dtype=float)
+        if point.shape != (self.contact_coordinates.shape[1],):
+            raise ValueError(f"contact: point must have {self.contact_coordinates.shape[1]} coordinates")
+        return int(np.argmin(np.linalg.norm(self.contact_coordinates - point, axis=1)))
 
     @property
     def completed(self):
@@ -131,12 +138,14 @@ def _progress_bar(stream=None, width=40, interval_s=0.2):
     return draw
 
 
-def run(scene, every=0, progress=None, base_dir="."):
+def run(scene, every=0, contact_history=True, progress=None, base_dir="."):
     """Runs a scene (a Scene, a path to a scene file, or a dict) and returns a Result.
 
     Snapshots (displacements, contact forces, gaps) are taken at the scene's stress_times,
-    at every `every`-th step (0: none) and at the last step.  progress: True for a text bar
-    on stderr, or a callable(step, time, end_time) called after every step."""
+    at every `every`-th step (0: none) and at the last step.  contact_history keeps the
+    contact forces and gaps of every step (steps x contact nodes x (dim + 1) floats).
+    progress: True for a text bar on stderr, or a callable(step, time, end_time) called
+    after every step."""
     if isinstance(scene, dict):
         scene = scene_from_dict(scene, base_dir)
     elif isinstance(scene, (str, os.PathLike)):
@@ -147,4 +156,4 @@ def run(scene, every=0, progress=None, base_dir="."):
         progress = _progress_bar()
     elif progress is False:
         progress = None
-    return Result(_contact.run(scene, int(every), progress))
+    return Result(_contact.run(scene, int(every), bool(contact_history), progress))

@@ -127,10 +127,24 @@ py::array Stack(const std::vector<Snapshot>& snaps, Eigen::Index rows, Eigen::In
   return a;
 }
 
+/// out[prefix + "normal_force" | "tangent_force" | "gap"]: the contact state of the
+/// snapshots as (num_times, N_c), (num_times, N_c, dim - 1) and (num_times, N_c) arrays.
+void PutContactArrays(const std::vector<Snapshot>& snaps, Eigen::Index num_contact, int dim,
+                      const std::string& prefix, py::dict* out) {
+  py::dict& d = *out;
+  d[py::str(prefix + "normal_force")] =
+      Stack(snaps, num_contact, 1, [](const Snapshot& s) { return Eigen::MatrixXd(s.normal_force); })[
+          py::make_tuple(py::ellipsis(), 0)];
+  d[py::str(prefix + "tangent_force")] = Stack(snaps, num_contact, dim - 1, [](const Snapshot& s) { return s.tangent_force; });
+  d[py::str(prefix + "gap")] =
+      Stack(snaps, num_contact, 1, [](const Snapshot& s) { return Eigen::MatrixXd(s.gap); })[py::make_tuple(py::ellipsis(), 0)];
+}
+
 /// Runs the scene's time loop (no files are written) and returns its results:
 /// snapshots at scene.stress_times, at every `every`-th step (0: none) and at the end;
-/// progress(step, time, end_time) after every step if given.
-py::dict RunScene(const contact::Scene& scene, int every, const py::object& progress) {
+/// with contact_history the contact state of every step; progress(step, time, end_time)
+/// after every step if given.
+py::dict RunScene(const contact::Scene& scene, int every, bool contact_history, const py::object& progress) {
   if (every < 0) throw std::invalid_argument("contact.run: every must be >= 0, got " + std::to_string(every));
   contact::SceneModel built = contact::BuildSceneModel(scene);
   const contact::Mesh& mesh = built.body->mesh();
@@ -142,7 +156,7 @@ py::dict RunScene(const contact::Scene& scene, int every, const py::object& prog
 
   std::vector<double> pending = scene.stress_times;
   std::sort(pending.begin(), pending.end());
-  std::vector<Snapshot> snaps;
+  std::vector<Snapshot> snaps, history;
   options.on_step = [&](const StepRecord& r, const Eigen::VectorXd& u, const contact::ContactSystem::Result& c,
                         double force_scale) {
     // Same output rule as contact::RunScene: a stress time t is written at the first step
@@ -153,14 +167,15 @@ py::dict RunScene(const contact::Scene& scene, int every, const py::object& prog
       pending.erase(pending.begin());
       at_time = true;
     }
+    Snapshot s;
+    s.time = r.time;
+    s.normal_force = force_scale * c.normal_force;
+    s.tangent_force = force_scale * c.tangent_force.transpose();
+    s.gap = c.gap;
+    if (contact_history) history.push_back(s);
     if (at_time || last || (every > 0 && r.step % every == 0)) {
-      Snapshot s;
-      s.time = r.time;
       const Eigen::VectorXd full = built.dofs.Expand(u);
       s.displacement = Eigen::Map<const Eigen::MatrixXd>(full.data(), dim, mesh.NumNodes()).transpose();
-      s.normal_force = force_scale * c.normal_force;
-      s.tangent_force = force_scale * c.tangent_force.transpose();
-      s.gap = c.gap;
       snaps.push_back(std::move(s));
     }
     if (!progress.is_none()) progress(r.step, r.time, options.end_time);
@@ -190,9 +205,8 @@ py::dict RunScene(const contact::Scene& scene, int every, const py::object& prog
   out["solver_status"] = statuses;
   out["output_times"] = times;
   out["displacement"] = Stack(snaps, mesh.NumNodes(), dim, [](const Snapshot& s) { return s.displacement; });
-  out["normal_force"] = Stack(snaps, num_contact, 1, [](const Snapshot& s) { return Eigen::MatrixXd(s.normal_force); });
-  out["tangent_force"] = Stack(snaps, num_contact, dim - 1, [](const Snapshot& s) { return s.tangent_force; });
-  out["gap"] = Stack(snaps, num_contact, 1, [](const Snapshot& s) { return Eigen::MatrixXd(s.gap); });
+  PutContactArrays(snaps, num_contact, dim, "", &out);
+  if (contact_history) PutContactArrays(history, num_contact, dim, "history_", &out);
   out["contact_node"] = contact_node;
   out["contact_area"] = area;
   out["contact_coordinates"] = contact_coordinates;
@@ -233,7 +247,8 @@ PYBIND11_MODULE(_contact, m) {
         return text.str();
       });
   m.def("load_scene", &contact::LoadScene, py::arg("path"), "Reads and validates a scene file.");
-  m.def("run", &RunScene, py::arg("scene"), py::arg("every") = 0, py::arg("progress") = py::none());
+  m.def("run", &RunScene, py::arg("scene"), py::arg("every") = 0, py::arg("contact_history") = true,
+        py::arg("progress") = py::none());
   m.attr("STEP_FIELDS") = py::tuple(StepColumns().Arrays({}).attr("keys")());
   m.attr("SUMMARY_FIELDS") = py::tuple(SummaryColumns().Scalars(DynamicSummary()).attr("keys")());
 }

@@ -8,11 +8,11 @@ SOURCE_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..")
 BIN_DIR = os.environ.get("NCP_BIN_DIR", os.path.join(SOURCE_DIR, "build", "bin"))
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")
 def source_dir():
     return SOURCE_DIR
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")
 def bin_dir():
     return BIN_DIR

@@ -24,11 +24,11 @@ def read_csv(path):
 
 
 @pytest.fixture(scope="module")
-def runs(tmp_path_factory):
+def runs(tmp_path_factory, bin_dir):
     """Each scene run by Python and by contact-sim (CSV output into a temporary directory)."""
-    exe = os.path.join(os.environ.get("NCP_BIN_DIR", ""), "contact-sim")
+    exe = os.path.join(bin_dir, "contact-sim")
     if not os.path.exists(exe):
-        pytest.skip("contact-sim not built (set NCP_BIN_DIR)")
+        pytest.skip(f"{exe} not built (NCP_BIN_DIR)")
     out = {}
     for key, path in SCENES.items():
         d = tmp_path_factory.mktemp(key)
@@ -94,6 +94,29 @@ def test_contact_arrays_agree_with_the_step_sums(runs):
     # times the largest gap.
     assert np.abs(result.normal_force * result.gap).max() <= 1e-6 * f_max * np.abs(result.gap).max()
     assert result.summary["energy_balance_error"] < 1e-6
+
+
+def test_contact_history_and_the_marked_node(runs):
+    result, d = runs["flat"]
+    steps = result.times.size
+    assert result.history_normal_force.shape == (steps, result.contact_node.size)
+    assert result.history_tangent_force.shape == (steps, result.contact_node.size, 1)
+    step_of = np.searchsorted(result.times, result.output_times - 1e-12)
+    np.testing.assert_array_equal(result.history_normal_force[step_of], result.normal_force)
+    np.testing.assert_array_equal(result.history_gap[step_of], result.gap)
+    # contact-sim's node_history.csv: the contact node nearest to output.marked_point (5, 0)
+    c = result.nearest_contact_node([5.0, 0.0])
+    np.testing.assert_allclose(result.contact_coordinates[c], [5.0, 0.0])
+    history = read_csv(d / "node_history.csv")
+    area = result.contact_area[c]
+    np.testing.assert_allclose(result.history_normal_force[:, c] / area, history["normal_stress"], rtol=1e-8,
+                               atol=1e-9 * np.abs(history["normal_stress"]).max())
+    np.testing.assert_allclose(result.history_tangent_force[:, c, 0] / area, history["friction_stress"], rtol=1e-8,
+                               atol=1e-9 * np.abs(history["friction_stress"]).max())
+    with pytest.raises(ValueError, match="2 coordinates"):
+        result.nearest_contact_node([1.0, 2.0, 3.0])
+    lean = contact.run(SCENES["flat"], contact_history=False)
+    assert not hasattr(lean, "history_normal_force")
 
 
 def test_scene_from_dict_runs_like_the_file():
