@@ -1,6 +1,6 @@
 // The `contact._contact` extension: load a scene file, run its time loop and return the
-// results as NumPy arrays instead of CSV files. Units as in contact/include/contact: forces
-// [N], stresses [Pa], gaps and displacements [m], energies [J], times [s].
+// results as NumPy arrays instead of CSV files. Units as in contact/include/contact:
+// forces [N], stresses [Pa], gaps and displacements [m], energies [J], times [s].
 #include <pybind11/eigen.h>
 #include <pybind11/functional.h>
 #include <pybind11/numpy.h>
@@ -33,7 +33,8 @@ class ColumnTable {
   template <typename T>
   ColumnTable& operator()(const char* name, T Struct::*member) {
     static_assert(std::is_arithmetic_v<T>, "numeric fields only");
-    columns_.push_back({name, std::is_integral_v<T>, [member](const Struct& s) { return double(s.*member); }});
+    columns_.push_back({name, std::is_integral_v<T>,
+                        [member](const Struct& s) { return double(s.*member); }});
     return *this;
   }
   /// {name: array over rows}.
@@ -51,8 +52,9 @@ class ColumnTable {
   py::dict Scalars(const Struct& s) const {
     py::dict d;
     for (const Column& c : columns_)
-      d[py::str(c.name)] = c.integer ? py::object(py::int_(static_cast<long long>(c.get(s))))
-                                     : py::object(py::float_(c.get(s)));
+      d[py::str(c.name)] = c.integer
+                               ? py::object(py::int_(static_cast<long long>(c.get(s))))
+                               : py::object(py::float_(c.get(s)));
     return d;
   }
 
@@ -66,6 +68,7 @@ class ColumnTable {
 };
 
 const ColumnTable<StepRecord>& StepColumns() {
+  // clang-format off
   static const ColumnTable<StepRecord> table = ColumnTable<StepRecord>()
       ("step", &StepRecord::step)
       ("time", &StepRecord::time)
@@ -85,10 +88,12 @@ const ColumnTable<StepRecord>& StepColumns() {
       ("max_penetration", &StepRecord::max_penetration)
       ("active_nodes", &StepRecord::active_nodes)
       ("ipopt_relative_difference", &StepRecord::ipopt_relative_difference);
+  // clang-format on
   return table;
 }
 
 const ColumnTable<DynamicSummary>& SummaryColumns() {
+  // clang-format off
   static const ColumnTable<DynamicSummary> table = ColumnTable<DynamicSummary>()
       ("steps", &DynamicSummary::steps)
       ("newton_iterations", &DynamicSummary::newton_iterations)
@@ -100,6 +105,7 @@ const ColumnTable<DynamicSummary>& SummaryColumns() {
       ("energy_balance_error", &DynamicSummary::energy_balance_error)
       ("critical_time_step", &DynamicSummary::critical_time_step)
       ("max_ipopt_relative_difference", &DynamicSummary::max_ipopt_relative_difference);
+  // clang-format on
   return table;
 }
 
@@ -115,37 +121,45 @@ struct Snapshot {
 
 /// Stacks snapshots into (num_times, ...) arrays.
 template <typename Get>
-py::array Stack(const std::vector<Snapshot>& snaps, Eigen::Index rows, Eigen::Index cols, Get get) {
-  py::array_t<double> a({static_cast<py::ssize_t>(snaps.size()), static_cast<py::ssize_t>(rows),
-                         static_cast<py::ssize_t>(cols)});
+py::array Stack(const std::vector<Snapshot>& snaps, Eigen::Index rows, Eigen::Index cols,
+                Get get) {
+  py::array_t<double> a({static_cast<py::ssize_t>(snaps.size()),
+                         static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(cols)});
   auto v = a.mutable_unchecked<3>();
   for (size_t s = 0; s < snaps.size(); ++s) {
     const Eigen::MatrixXd m = get(snaps[s]);
     for (Eigen::Index i = 0; i < rows; ++i)
-      for (Eigen::Index j = 0; j < cols; ++j) v(static_cast<py::ssize_t>(s), i, j) = m(i, j);
+      for (Eigen::Index j = 0; j < cols; ++j)
+        v(static_cast<py::ssize_t>(s), i, j) = m(i, j);
   }
   return a;
 }
 
 /// out[prefix + "normal_force" | "tangent_force" | "gap"]: the contact state of the
 /// snapshots as (num_times, N_c), (num_times, N_c, dim - 1) and (num_times, N_c) arrays.
-void PutContactArrays(const std::vector<Snapshot>& snaps, Eigen::Index num_contact, int dim,
-                      const std::string& prefix, py::dict* out) {
+void PutContactArrays(const std::vector<Snapshot>& snaps, Eigen::Index num_contact,
+                      int dim, const std::string& prefix, py::dict* out) {
   py::dict& d = *out;
   d[py::str(prefix + "normal_force")] =
-      Stack(snaps, num_contact, 1, [](const Snapshot& s) { return Eigen::MatrixXd(s.normal_force); })[
-          py::make_tuple(py::ellipsis(), 0)];
-  d[py::str(prefix + "tangent_force")] = Stack(snaps, num_contact, dim - 1, [](const Snapshot& s) { return s.tangent_force; });
-  d[py::str(prefix + "gap")] =
-      Stack(snaps, num_contact, 1, [](const Snapshot& s) { return Eigen::MatrixXd(s.gap); })[py::make_tuple(py::ellipsis(), 0)];
+      Stack(snaps, num_contact, 1, [](const Snapshot& s) {
+        return Eigen::MatrixXd(s.normal_force);
+      })[py::make_tuple(py::ellipsis(), 0)];
+  d[py::str(prefix + "tangent_force")] = Stack(
+      snaps, num_contact, dim - 1, [](const Snapshot& s) { return s.tangent_force; });
+  d[py::str(prefix + "gap")] = Stack(snaps, num_contact, 1, [](const Snapshot& s) {
+    return Eigen::MatrixXd(s.gap);
+  })[py::make_tuple(py::ellipsis(), 0)];
 }
 
 /// Runs the scene's time loop (no files are written) and returns its results:
 /// snapshots at scene.stress_times, at every `every`-th step (0: none) and at the end;
 /// with contact_history the contact state of every step; progress(step, time, end_time)
 /// after every step if given.
-py::dict RunScene(const contact::Scene& scene, int every, bool contact_history, const py::object& progress) {
-  if (every < 0) throw std::invalid_argument("contact.run: every must be >= 0, got " + std::to_string(every));
+py::dict RunScene(const contact::Scene& scene, int every, bool contact_history,
+                  const py::object& progress) {
+  if (every < 0)
+    throw std::invalid_argument("contact.run: every must be >= 0, got " +
+                                std::to_string(every));
   contact::SceneModel built = contact::BuildSceneModel(scene);
   const contact::Mesh& mesh = built.body->mesh();
   const int dim = mesh.dim;
@@ -157,8 +171,8 @@ py::dict RunScene(const contact::Scene& scene, int every, bool contact_history, 
   std::vector<double> pending = scene.stress_times;
   std::sort(pending.begin(), pending.end());
   std::vector<Snapshot> snaps, history;
-  options.on_step = [&](const StepRecord& r, const Eigen::VectorXd& u, const contact::ContactSystem::Result& c,
-                        double force_scale) {
+  options.on_step = [&](const StepRecord& r, const Eigen::VectorXd& u,
+                        const contact::ContactSystem::Result& c, double force_scale) {
     // Same output rule as contact::RunScene: a stress time t is written at the first step
     // with time >= t - dt/2, and the last step always.
     const bool last = r.time >= options.end_time - 1e-9 * dt;
@@ -175,11 +189,14 @@ py::dict RunScene(const contact::Scene& scene, int every, bool contact_history, 
     if (contact_history) history.push_back(s);
     if (at_time || last || (every > 0 && r.step % every == 0)) {
       const Eigen::VectorXd full = built.dofs.Expand(u);
-      s.displacement = Eigen::Map<const Eigen::MatrixXd>(full.data(), dim, mesh.NumNodes()).transpose();
+      s.displacement =
+          Eigen::Map<const Eigen::MatrixXd>(full.data(), dim, mesh.NumNodes())
+              .transpose();
       snaps.push_back(std::move(s));
     }
     if (!progress.is_none()) progress(r.step, r.time, options.end_time);
-    if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // Ctrl-C ends a long run
+    if (PyErr_CheckSignals() != 0)
+      throw py::error_already_set();  // Ctrl-C ends a long run
   };
   const DynamicSummary summary = contact::RunDynamics(built.model, options);
 
@@ -192,7 +209,8 @@ py::dict RunScene(const contact::Scene& scene, int every, bool contact_history, 
     contact_coordinates.row(k) = mesh.nodes.col(contact_node(k)).transpose();
   }
   Eigen::VectorXd times(static_cast<Eigen::Index>(snaps.size()));
-  for (size_t s = 0; s < snaps.size(); ++s) times(static_cast<Eigen::Index>(s)) = snaps[s].time;
+  for (size_t s = 0; s < snaps.size(); ++s)
+    times(static_cast<Eigen::Index>(s)) = snaps[s].time;
 
   py::dict out;
   py::dict sum = SummaryColumns().Scalars(summary);
@@ -204,7 +222,8 @@ py::dict RunScene(const contact::Scene& scene, int every, bool contact_history, 
   for (const StepRecord& r : summary.records) statuses.push_back(r.solver_status);
   out["solver_status"] = statuses;
   out["output_times"] = times;
-  out["displacement"] = Stack(snaps, mesh.NumNodes(), dim, [](const Snapshot& s) { return s.displacement; });
+  out["displacement"] = Stack(snaps, mesh.NumNodes(), dim,
+                              [](const Snapshot& s) { return s.displacement; });
   PutContactArrays(snaps, num_contact, dim, "", &out);
   if (contact_history) PutContactArrays(history, num_contact, dim, "history_", &out);
   out["contact_node"] = contact_node;
@@ -221,10 +240,13 @@ py::dict RunScene(const contact::Scene& scene, int every, bool contact_history, 
 }  // namespace
 
 PYBIND11_MODULE(_contact, m) {
-  m.doc() = "Dynamic contact of an elastic body with a rigid obstacle (C++ core of the contact package)";
+  m.doc() =
+      "Dynamic contact of an elastic body with a rigid obstacle (C++ core of the contact "
+      "package)";
   py::register_exception<contact::SceneError>(m, "SceneError", PyExc_ValueError);
 
-  py::class_<contact::Scene>(m, "Scene", "A scene read from a TOML file (examples/scenes/README.md).")
+  py::class_<contact::Scene>(m, "Scene",
+                             "A scene read from a TOML file (examples/scenes/README.md).")
       .def_readonly("name", &contact::Scene::name)
       .def_readonly("source", &contact::Scene::source, "the file it was read from")
       .def_readonly("dim", &contact::Scene::dim)
@@ -242,13 +264,16 @@ PYBIND11_MODULE(_contact, m) {
           "Newton tolerance on the scaled step equations [m]")
       .def("__repr__", [](const contact::Scene& s) {
         std::ostringstream text;
-        text << "<contact.Scene '" << s.name << "' dim=" << s.dim << " dt=" << s.dynamics.dt
-             << " s end_time=" << s.dynamics.end_time << " s friction=" << s.friction_coefficient << ">";
+        text << "<contact.Scene '" << s.name << "' dim=" << s.dim
+             << " dt=" << s.dynamics.dt << " s end_time=" << s.dynamics.end_time
+             << " s friction=" << s.friction_coefficient << ">";
         return text.str();
       });
-  m.def("load_scene", &contact::LoadScene, py::arg("path"), "Reads and validates a scene file.");
-  m.def("run", &RunScene, py::arg("scene"), py::arg("every") = 0, py::arg("contact_history") = true,
-        py::arg("progress") = py::none());
+  m.def("load_scene", &contact::LoadScene, py::arg("path"),
+        "Reads and validates a scene file.");
+  m.def("run", &RunScene, py::arg("scene"), py::arg("every") = 0,
+        py::arg("contact_history") = true, py::arg("progress") = py::none());
   m.attr("STEP_FIELDS") = py::tuple(StepColumns().Arrays({}).attr("keys")());
-  m.attr("SUMMARY_FIELDS") = py::tuple(SummaryColumns().Scalars(DynamicSummary()).attr("keys")());
+  m.attr("SUMMARY_FIELDS") =
+      py::tuple(SummaryColumns().Scalars(DynamicSummary()).attr("keys")());
 }

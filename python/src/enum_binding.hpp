@@ -13,12 +13,14 @@
 namespace bindings {
 
 template <typename Enum>
-pybind11::enum_<Enum> BindEnum(pybind11::module_& m, const char* name, Enum last, const char* doc) {
+pybind11::enum_<Enum> BindEnum(pybind11::module_& m, const char* name, Enum last,
+                               const char* doc) {
   pybind11::enum_<Enum> e(m, name, doc);
   for (int v = 0; v <= static_cast<int>(last); ++v) {
     std::string label = ToString(static_cast<Enum>(v));
-    std::transform(label.begin(), label.end(), label.begin(),
-                   [](unsigned char c) { return c == '-' ? '_' : static_cast<char>(std::toupper(c)); });
+    std::transform(label.begin(), label.end(), label.begin(), [](unsigned char c) {
+      return c == '-' ? '_' : static_cast<char>(std::toupper(c));
+    });
     e.value(label.c_str(), static_cast<Enum>(v));
   }
   // The C++ spelling ("min", "fischer-burmeister") for messages and string arguments.
