@@ -11,7 +11,7 @@ takes the same iterations (checked):
            binding alone (argument copy to NumPy, result conversion, Jacobian as CSC)
   numpy    ncp.solve with F and J written in NumPy/SciPy (what a user writes): for the LCPs
            F = M x + q with M = J(0), q = F(0); nash5 from examples/python/nash_cournot.py
-One row per (problem, way): n, iterations, F and J calls, the shortest wall time of R solves [s],
+One row per (problem, way): n, iterations, F and J calls, the shortest wall time of R solves (the ways taking turns) [s],
 and the overhead per callback [us] = (time - time_cpp) / (F calls + J calls).
 """
 import argparse
@@ -39,13 +39,17 @@ def numpy_callbacks(name, p):
     return (lambda x: M @ x + q), (lambda x: M)
 
 
-def best_time(solve, repeat):
-    times, result = [], None
+def best_times(ways, repeat):
+    """{way: (shortest wall time of `repeat` solves [s], (x, Summary))}, the ways taking
+    turns so that a change of the machine's load hits all of them alike."""
+    best = {way: (float("inf"), None) for way in ways}
     for _ in range(repeat):
-        t = time.perf_counter()
-        result = solve()
-        times.append(time.perf_counter() - t)
-    return min(times), result  # the least disturbed run on a shared machine
+        for way, solve in ways.items():
+            t = time.perf_counter()
+            result = solve()
+            t = time.perf_counter() - t
+            best[way] = (min(best[way][0], t), result)
+    return best
 
 
 def main():
@@ -65,8 +69,7 @@ def main():
             "numpy": lambda: ncp.solve(F_np, J_np, x0, p["lower"], p["upper"], options=options),
         }
         base = None
-        for way, solve in ways.items():
-            t, (x, s) = best_time(solve, args.repeat)
+        for way, (t, (x, s)) in best_times(ways, args.repeat).items():
             if not s.is_solution_usable():
                 raise SystemExit(f"{name} {way}: {s.message}")
             calls = s.residual_evaluations + s.jacobian_evaluations
