@@ -16,6 +16,8 @@ packages=(
   python3-matplotlib       # figures (run with /usr/bin/python3)
   libsiconos-numerics-dev  # peer solver for benchmarks
   libfclib-dev             # FCLIB reader for the fc3d data
+  pybind11-dev python3-dev # Python bindings (python/)
+  python3-numpy python3-scipy python3-pytest   # Python packages' arrays, sparse Jacobians, tests
 )
 
 missing=()

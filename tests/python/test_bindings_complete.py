@@ -1,0 +1,55 @@
+"""Every field of the bound C++ structs is reachable from Python. Reads the public headers:
+a field added in C++ without its line in python/src/*.cpp fails here, naming the field."""
+import os
+import re
+
+import pytest
+
+import ncp
+
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+
+
+def struct_fields(header, struct):
+    """Names of the data members of `struct` in `header` (declarations ending in ';' at
+    the struct's indentation, several declarators per line allowed; no member functions)."""
+    with open(os.path.join(ROOT, header)) as f:
+        text = f.read()
+    body = re.search(r"^struct " + struct + r" \{\n(.*?)^\};", text, re.S | re.M).group(1)
+    body = re.sub(r"//[^\n]*", "", body)
+    names = []
+    for statement in body.split(";"):
+        statement = " ".join(statement.split())
+        if not statement or "(" in statement.split("=")[0] and "std::function" not in statement:
+            continue
+        if statement.startswith(("struct ", "enum ", "using ", "static ")):
+            continue
+        for declarator in re.split(r",(?![^<(]*[>)])", statement):
+            name = re.findall(r"(\w+)\s*(?:=.*)?$", declarator.split("=")[0].strip())
+            if name:
+                names.append(name[-1])
+    return names
+
+
+def test_every_ncp_option_is_a_keyword_argument():
+    missing = set(struct_fields("ncp/include/ncp/solver.hpp", "Options")) - set(ncp.Options._fields)
+    assert not missing, f"add to BindOptions in python/src/ncp_module.cpp: {sorted(missing)}"
+
+
+def test_every_ncp_summary_field_is_readable():
+    missing = set(struct_fields("ncp/include/ncp/solver.hpp", "Summary")) - set(ncp.Summary._fields)
+    assert not missing, f"add to BindSummary in python/src/ncp_module.cpp: {sorted(missing)}"
+    missing = set(struct_fields("ncp/include/ncp/solver.hpp", "IterationRecord")) - set(ncp.IterationRecord._fields)
+    assert not missing, f"add to BindSummary in python/src/ncp_module.cpp: {sorted(missing)}"
+
+
+def test_every_contact_record_and_summary_field_is_returned():
+    contact = pytest.importorskip("contact")
+    # Returned under other keys: the step's solver status as a list, the summary's status and
+    # message in result.summary, the records as result.records, u as final_displacement_free.
+    special = {"solver_status", "status", "message", "records", "u"}
+    missing = set(struct_fields("contact/include/contact/dynamics.hpp", "StepRecord")) - special - set(contact.STEP_FIELDS)
+    assert not missing, f"add to StepColumns in python/src/contact_module.cpp: {sorted(missing)}"
+    missing = (set(struct_fields("contact/include/contact/dynamics.hpp", "DynamicSummary")) - special
+               - set(contact.SUMMARY_FIELDS))
+    assert not missing, f"add to SummaryColumns in python/src/contact_module.cpp: {sorted(missing)}"
