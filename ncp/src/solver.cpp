@@ -90,6 +90,9 @@ bool Options::IsValid(std::string* error) const {
                 std::to_string(stagnation_tolerance));
   if (dense_threshold < 0)
     return fail("Options::dense_threshold must be >= 0, got " + std::to_string(dense_threshold));
+  if (!(infinite_bound > 0.0))
+    return fail("Options::infinite_bound must be > 0 (or +inf), got " +
+                std::to_string(infinite_bound));
   return true;
 }
 
@@ -119,6 +122,7 @@ std::string Summary::FullReport() const {
       << "  descent test failures    " << descent_test_failures << "\n"
       << "  backtracks               " << backtracks << "\n"
       << "  symbolic factorizations  " << symbolic_factorizations << "\n"
+      << "  start components moved   " << projected_start_components << "\n"
       << "  ||Phi||_inf initial      " << Fmt("%.6e", initial_phi_inf) << "\n"
       << "  ||Phi||_inf final        " << Fmt("%.6e", final_phi_inf) << "\n"
       << "  psi final                " << Fmt("%.6e", final_psi) << "\n"
@@ -278,6 +282,7 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
   s.linear_solver_failures = 0;
   s.descent_test_failures = 0;
   s.backtracks = 0;
+  s.projected_start_components = 0;
   s.evaluation_time_s = 0.0;
   s.linear_solver_time_s = 0.0;
 

@@ -83,6 +83,13 @@ struct Options {
   LinearSolverType linear_solver = LinearSolverType::kAuto;
   /// kAuto uses dense LU for n <= dense_threshold, UMFPACK above.
   int dense_threshold = 100;
+  /// Box MCP: a bound with |b| >= infinite_bound is infinite (GAMS and PATH write "no
+  /// bound" as +-1e20). +inf keeps every finite bound finite.
+  double infinite_bound = 1e20;
+  /// Box MCP: replace the start point x0 by mid(l, u, x0), its projection onto [l, u].
+  /// false uses x0 as given (FB and min are defined outside the box too; the obstacle
+  /// problems of tests/ncp/test_obstacle_mesh.cpp start below the obstacle on purpose).
+  bool project_start_point = true;
   /// Store an IterationRecord per iteration in Summary::trace.
   bool keep_trace = false;
   /// Print one line per iteration to stderr.
@@ -113,6 +120,9 @@ struct Summary {
   int descent_test_failures = -1;    ///< Newton directions rejected by eq. (22)
   int backtracks = -1;               ///< total halvings in the line search
   int symbolic_factorizations = -1;  ///< sparse analyses (1 if the pattern never changed)
+  /// Box MCP: components of the start point outside [l, u] moved onto the nearer bound
+  /// (x0_i <- mid(l_i, u_i, x0_i)); 0 for a mixed problem.
+  int projected_start_components = -1;
 
   double initial_phi_inf = -1.0;  ///< ||Phi(x^0)||_inf
   double final_phi_inf = -1.0;    ///< ||Phi(x)||_inf at the returned x
@@ -145,7 +155,9 @@ class Solver {
 
   /// Mixed problem; *x holds the start point on entry and the last iterate on return.
   void Solve(MixedProblem& problem, Vector* x, Summary* summary);
-  /// Box MCP l <= x <= u perp F(x); the start point is used as given (not projected).
+  /// Box MCP l <= x <= u perp F(x). Bounds with |b| >= Options::infinite_bound are
+  /// infinite; a start point outside [l, u] is projected onto it (counted in
+  /// Summary::projected_start_components and stated in Summary::message).
   void Solve(SquareFunction& F, const Vector& lower, const Vector& upper, Vector* x,
              Summary* summary);
   /// Standard NCP x >= 0 perp F(x) >= 0.
