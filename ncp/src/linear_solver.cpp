@@ -20,7 +20,13 @@ class DenseLUSolver final : public LinearSolver {
  public:
   static constexpr Eigen::Index kFullPivotingLimit = 100;
 
-  bool Factorize(const SparseMatrix& J, bool /*pattern_changed*/) override {
+  bool Analyze(const SparseMatrix& J, bool /*pattern_changed*/) override {
+    rows_ = static_cast<double>(J.rows());
+    return true;
+  }
+  /// LU of an n x n matrix: 2/3 n^3 flops (Golub and Van Loan, 4th ed., sec. 3.2.5).
+  double PredictedFactorizationFlops() const override { return 2.0 / 3.0 * rows_ * rows_ * rows_; }
+  bool Factorize(const SparseMatrix& J) override {
     dense_ = J;
     full_pivoting_ = J.rows() <= kFullPivotingLimit;
     if (full_pivoting_) {
@@ -49,23 +55,41 @@ class DenseLUSolver final : public LinearSolver {
 
  private:
   DenseMatrix dense_;
+  double rows_ = 0.0;
   bool full_pivoting_ = true;
   Eigen::FullPivLU<DenseMatrix> full_;
   Eigen::PartialPivLU<DenseMatrix> partial_;
   Vector permuted_;
 };
 
+/// Eigen::UmfPackLU with the flop estimate of UMFPACK's symbolic analysis exposed
+/// (UMFPACK user guide, Info[UMFPACK_FLOPS_ESTIMATE]: an upper bound on the flops of the
+/// numeric factorization).
+class UmfPackLUWithInfo : public Eigen::UmfPackLU<SparseMatrix> {
+ public:
+  double FlopsEstimate() const { return m_umfpackInfo(UMFPACK_FLOPS_ESTIMATE); }
+};
+
+template <typename Decomposition>
+double FlopsEstimate(const Decomposition&) {
+  return std::numeric_limits<double>::quiet_NaN();
+}
+double FlopsEstimate(const UmfPackLUWithInfo& lu) { return lu.FlopsEstimate(); }
+
 /// Any Eigen sparse LU with analyzePattern / factorize / solve / info.
 template <typename Decomposition, LinearSolverType kType>
 class SparseSolver final : public LinearSolver {
  public:
-  bool Factorize(const SparseMatrix& J, bool pattern_changed) override {
+  bool Analyze(const SparseMatrix& J, bool pattern_changed) override {
     if (pattern_changed || !analyzed_) {
       lu_.analyzePattern(J);
       ++symbolic_factorizations_;
       analyzed_ = lu_.info() == Eigen::Success;
-      if (!analyzed_) return false;
     }
+    return analyzed_;
+  }
+  double PredictedFactorizationFlops() const override { return FlopsEstimate(lu_); }
+  bool Factorize(const SparseMatrix& J) override {
     lu_.factorize(J);
     return lu_.info() == Eigen::Success;
   }
@@ -91,7 +115,7 @@ std::unique_ptr<LinearSolver> MakeLinearSolver(LinearSolverType type) {
                                            LinearSolverType::kSparseLU>>();
     case LinearSolverType::kUmfpack:
       return std::make_unique<
-          SparseSolver<Eigen::UmfPackLU<SparseMatrix>, LinearSolverType::kUmfpack>>();
+          SparseSolver<UmfPackLUWithInfo, LinearSolverType::kUmfpack>>();
     case LinearSolverType::kKlu:
       return std::make_unique<SparseSolver<Eigen::KLU<SparseMatrix>, LinearSolverType::kKlu>>();
     case LinearSolverType::kAuto:

@@ -88,6 +88,11 @@ bool Options::IsValid(std::string* error) const {
   if (!(stagnation_tolerance >= 0.0 && stagnation_tolerance < 1.0))
     return fail("Options::stagnation_tolerance must lie in [0, 1), got " +
                 std::to_string(stagnation_tolerance));
+  if (!(max_seconds > 0.0))
+    return fail("Options::max_seconds must be > 0 (or +inf), got " + std::to_string(max_seconds));
+  if (!(factorization_flop_rate > 0.0) || !std::isfinite(factorization_flop_rate))
+    return fail("Options::factorization_flop_rate must be finite and > 0, got " +
+                std::to_string(factorization_flop_rate));
   if (dense_threshold < 0)
     return fail("Options::dense_threshold must be >= 0, got " + std::to_string(dense_threshold));
   if (!(infinite_bound > 0.0))
@@ -154,6 +159,8 @@ struct Solver::Workspace {
   SparseMatrix JE, JA, JB;
   Vector E, A, B, Et, At, Bt;  // current point and trial point
   Vector phi, phi_trial, grad, d, x_trial, da, db, z, za, zb, newton_rhs, newton_residual;
+  // flop/s of the last timed numeric factorization (0: none timed yet).
+  double measured_flop_rate = 0.0;
   // psi of the last stagnation_window + 1 iterates (ring buffer): the stagnation test.
   std::vector<double> psi_ring;
 
@@ -441,6 +448,12 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
                  " with ||Phi||_inf = " + Fmt("%.3e", phi_inf));
       return;
     }
+    if (Seconds(start) > o.max_seconds) {
+      finish(TerminationType::kTimeLimit, "max_seconds = " + Fmt("%.3g", o.max_seconds) +
+                                              " s reached at iteration " + std::to_string(k) +
+                                              " with ||Phi||_inf = " + Fmt("%.3e", phi_inf));
+      return;
+    }
     if (!jacobian_ok) {
       finish(TerminationType::kEvaluationFailure,
              "MixedProblem::Jacobian returned false at iteration " + std::to_string(k));
@@ -471,8 +484,33 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
     {
       const auto t0 = Clock::now();
       w.newton_rhs = -w.phi;
-      bool solved = w.linear_solver->Factorize(w.J, pattern_changed) &&
-                    w.linear_solver->Solve(w.newton_rhs, &w.d) && AllFinite(w.d);
+      bool solved = w.linear_solver->Analyze(w.J, pattern_changed);
+      if (solved) {
+        // Predicted time of the numeric factorization = flops / rate; not started when it
+        // exceeds the time left (Options::max_seconds).
+        const double flops = w.linear_solver->PredictedFactorizationFlops();
+        s.predicted_factorization_flops = flops;
+        const double rate = w.measured_flop_rate > 0.0 ? w.measured_flop_rate
+                                                       : o.factorization_flop_rate;
+        const double left = o.max_seconds - Seconds(start);
+        if (std::isfinite(o.max_seconds) && flops / rate > left) {
+          s.linear_solver_time_s += Seconds(t0);
+          finish(TerminationType::kTimeLimit,
+                 "the factorization at iteration " + std::to_string(k) + " was not started: " +
+                     Fmt("%.3g", flops) + " flops at " + Fmt("%.3g", rate) +
+                     " flop/s predict " + Fmt("%.3g", flops / rate) + " s, more than the " +
+                     Fmt("%.3g", left) + " s left of max_seconds = " +
+                     Fmt("%.3g", o.max_seconds) + " s (||Phi||_inf = " +
+                     Fmt("%.3e", phi_inf) + ")");
+          return;
+        }
+        const auto t_factor = Clock::now();
+        solved = w.linear_solver->Factorize(w.J);
+        const double factor_s = Seconds(t_factor);
+        if (std::isfinite(flops) && flops > 0.0 && factor_s > 0.0)
+          w.measured_flop_rate = flops / factor_s;
+      }
+      solved = solved && w.linear_solver->Solve(w.newton_rhs, &w.d) && AllFinite(w.d);
       if (solved) {
         // Guard against a numerically singular factorization that "succeeded": the
         // computed d must satisfy J d = -Phi to a small relative residual.
@@ -518,8 +556,10 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
     int i = 0;
     const double d_inf = w.d.lpNorm<Eigen::Infinity>();
     const double x_inf = x.lpNorm<Eigen::Infinity>();
+    bool out_of_time = false;
     for (; i <= o.max_backtracks; ++i, t *= 0.5) {
       if (t * d_inf <= std::numeric_limits<double>::epsilon() * x_inf) break;
+      if ((out_of_time = Seconds(start) > o.max_seconds)) break;
       w.x_trial = x + t * w.d;
       if (!evaluate(w.x_trial, &w.Et, &w.At, &w.Bt, &w.phi_trial) || !AllFinite(w.phi_trial))
         continue;
@@ -530,6 +570,13 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
       }
     }
     s.backtracks += std::min(i, o.max_backtracks);
+    if (out_of_time) {
+      finish(TerminationType::kTimeLimit, "max_seconds = " + Fmt("%.3g", o.max_seconds) +
+                                              " s reached in the line search of iteration " +
+                                              std::to_string(k) + " with ||Phi||_inf = " +
+                                              Fmt("%.3e", phi_inf));
+      return;
+    }
     if (!accepted) {
       const std::string where = std::string(" along the ") +
                                 (use_gradient ? "gradient" : "Newton") + " direction at iteration " +
