@@ -50,6 +50,46 @@ void CheckJacobianShape(const SparseMatrix& S, Eigen::Index rows, Eigen::Index c
   }
 }
 
+// row_i *= weight_i for every stored entry of a compressed column-major matrix.
+void ScaleRows(const Vector& weight, SparseMatrix* J) {
+  double* values = J->valuePtr();
+  const int* rows = J->innerIndexPtr();
+  for (Eigen::Index k = 0; k < J->nonZeros(); ++k) values[k] *= weight(rows[k]);
+}
+
+// weight = 1 / (floor + tolerance * scale), checked; `what` names the vector in errors.
+void Weights(const Vector& scale, const Vector& floor, Eigen::Index size, double tolerance,
+             const char* what, Vector* weight) {
+  if (scale.size() != size || (floor.size() != 0 && floor.size() != size))
+    throw std::invalid_argument(std::string("ncp::Solver: MixedProblem::Scales gave ") + what +
+                                " of size " + std::to_string(scale.size()) + " (floor " +
+                                std::to_string(floor.size()) + "), expected " + std::to_string(size));
+  weight->resize(size);
+  for (Eigen::Index i = 0; i < size; ++i) {
+    const double f = floor.size() ? floor(i) : 0.0;
+    const double accuracy = f + tolerance * scale(i);
+    if (!(scale(i) > 0.0) || !(f >= 0.0) || !std::isfinite(accuracy) || !(accuracy > 0.0))
+      throw std::invalid_argument(std::string("ncp::Solver: MixedProblem::Scales gave ") + what +
+                                  "[" + std::to_string(i) + "] = " + Fmt("%.3e", scale(i)) +
+                                  " with floor " + Fmt("%.3e", f) +
+                                  ": scales must be finite and > 0, floors >= 0, and "
+                                  "floor + tolerance * scale > 0");
+    (*weight)(i) = 1.0 / accuracy;
+  }
+}
+
+// The problem's scales as row weights; false (weights untouched) if it gives none.
+// (`scales` is the caller's, kept between solves so that no vector is allocated again.)
+bool SetWeights(MixedProblem& problem, const Vector& x0, int m, int p, double tolerance,
+                ResidualScales* scales_ptr, Vector* we, Vector* wa, Vector* wb) {
+  ResidualScales& scales = *scales_ptr;
+  if (!problem.Scales(x0, &scales)) return false;
+  Weights(scales.equation, scales.equation_floor, m, tolerance, "equation", we);
+  Weights(scales.a, scales.a_floor, p, tolerance, "a", wa);
+  Weights(scales.b, scales.b_floor, p, tolerance, "b", wb);
+  return true;
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------
@@ -157,6 +197,10 @@ struct Solver::Workspace {
   std::vector<int> map[3];
 
   SparseMatrix JE, JA, JB;
+  // Row weights 1 / (floor + tolerance * scale) of MixedProblem::Scales (when `weighted`).
+  bool weighted = false;
+  ResidualScales scales;
+  Vector we, wa, wb;
   Vector E, A, B, Et, At, Bt;  // current point and trial point
   Vector phi, phi_trial, grad, d, x_trial, da, db, z, za, zb, newton_rhs, newton_residual;
   // flop/s of the last timed numeric factorization (0: none timed yet).
@@ -312,7 +356,13 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
   if (w.JA.rows() != p || w.JA.cols() != n) w.JA.resize(p, n);
   if (w.JB.rows() != p || w.JB.cols() != n) w.JB.resize(p, n);
 
-  // Phi(x) from E, A, B: equations first, then phi(A_j, B_j).
+  // Row weights from the problem's own scales (MixedProblem::Scales), once per solve.
+  w.weighted = SetWeights(problem, x, m, p, o.tolerance, &w.scales, &w.we, &w.wa, &w.wb);
+  s.weighted_residual = w.weighted;
+  const double threshold = w.weighted ? 1.0 : o.tolerance;  // on ||Phi||_inf
+
+  // Phi(x) from E, A, B (weighted when the problem gave scales): equations first, then
+  // phi(A_j, B_j).
   auto evaluate = [&](const Vector& point, Vector* E, Vector* A, Vector* B, Vector* phi) {
     ++s.residual_evaluations;
     const auto t0 = Clock::now();
@@ -321,6 +371,11 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
     if (!ok) return false;
     if (E->size() != m || A->size() != p || B->size() != p)
       throw std::invalid_argument("ncp::Solver: MixedProblem::Evaluate resized its outputs");
+    if (w.weighted) {
+      E->array() *= w.we.array();
+      A->array() *= w.wa.array();
+      B->array() *= w.wb.array();
+    }
     phi->head(m) = *E;
     for (int j = 0; j < p; ++j)
       (*phi)(m + j) = internal::PhiValue(o.ncp_function, o.penalized_fb_lambda, (*A)(j), (*B)(j));
@@ -360,7 +415,7 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
     const double psi = 0.5 * w.phi.squaredNorm();
 
     // Converged? (step 1; the infinity norm as in thesis section 6.4)
-    const bool converged = phi_inf <= o.tolerance;
+    const bool converged = phi_inf <= threshold;
 
     // Jacobian element J^k in the B-subdifferential (step 2), unless we stop here.
     bool jacobian_ok = true;
@@ -378,6 +433,11 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
         w.JE.makeCompressed();
         w.JA.makeCompressed();
         w.JB.makeCompressed();
+        if (w.weighted) {
+          ScaleRows(w.we, &w.JE);
+          ScaleRows(w.wa, &w.JA);
+          ScaleRows(w.wb, &w.JB);
+        }
       }
     }
     if (jacobian_ok && !converged && k < o.max_iterations) {
@@ -437,9 +497,12 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
     }
 
     if (converged) {
-      finish(TerminationType::kConverged, "||Phi||_inf = " + Fmt("%.3e", phi_inf) + " <= " +
-                                              Fmt("%.3e", o.tolerance) + " after " +
-                                              std::to_string(k) + " iterations");
+      finish(TerminationType::kConverged,
+             (w.weighted ? "every row within floor + " + Fmt("%.1e", o.tolerance) +
+                               " scale of its own units (weighted ||Phi||_inf = " +
+                               Fmt("%.3e", phi_inf) + ")"
+                         : "||Phi||_inf = " + Fmt("%.3e", phi_inf) + " <= " + Fmt("%.3e", o.tolerance)) +
+                 " after " + std::to_string(k) + " iterations");
       return;
     }
     if (k >= o.max_iterations) {

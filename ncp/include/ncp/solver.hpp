@@ -55,7 +55,9 @@ struct Options {
   bool min_tie_takes_b = false;
   /// lambda of the penalized FB function, in (0, 1]; 1 gives plain FB (CCK 2000 use 0.95).
   double penalized_fb_lambda = 0.95;
-  /// Converged when ||Phi(x)||_inf <= tolerance (thesis section 6.4, eq. 109).
+  /// Converged when ||Phi(x)||_inf <= tolerance (thesis section 6.4, eq. 109), in the units
+  /// of the rows. For a problem that states its own scales (MixedProblem::Scales) tolerance is
+  /// relative instead: row i must satisfy |row_i| <= floor_i + tolerance * scale_i.
   double tolerance = 1e-10;
   /// Stop with kMaxIterations after this many Newton/gradient steps.
   int max_iterations = 500;
@@ -134,6 +136,9 @@ struct Summary {
   /// (x0_i <- mid(l_i, u_i, x0_i)); 0 for a mixed problem.
   int projected_start_components = -1;
 
+  /// true when the problem gave its scales (MixedProblem::Scales): the residuals below are
+  /// then of the weighted system (rows divided by floor + tolerance * scale; converged <= 1).
+  bool weighted_residual = false;
   double initial_phi_inf = -1.0;  ///< ||Phi(x^0)||_inf
   double final_phi_inf = -1.0;    ///< ||Phi(x)||_inf at the returned x
   double final_psi = -1.0;        ///< psi at the returned x
