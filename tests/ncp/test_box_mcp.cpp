@@ -138,15 +138,17 @@ TEST_CASE("a start point outside [l, u] is projected onto the box", "[box_mcp]")
     }
   }
   SECTION("starts below x >= 0 that fail when used as given") {
-    // Measured with project_start_point = false (FB, min, penalized FB): josephy from
-    // x0 = -10 (1, 1, 1, 1) ends at a stationary point of psi (FB, PFB; ||Phi|| ~ 0.27)
-    // or in a line-search failure (min, from -1); mathiesen-mod from -1 cannot even be
-    // evaluated (its F has a domain). Projected, both converge.
+    // Measured with project_start_point = false and Algorithm 1 (FB, min, penalized FB):
+    // josephy from x0 = -10 (1, 1, 1, 1) ends at a stationary point of psi (FB, PFB;
+    // ||Phi|| ~ 0.27) or in a line-search failure (min, from -1); mathiesen-mod from -10
+    // cannot even be evaluated (its F has a domain). Projected, both converge (with the
+    // default options; the nonmonotone search also solves josephy unprojected).
     for (auto make : {&Josephy, &ModifiedMathiesen}) {
       TestProblem problem = make();
       const Vector x0 = Vector::Constant(4, problem.name == "josephy" && function ==
                                                     NcpFunction::kMin ? -1.0 : -10.0);
-      ncp::Options as_given = options;
+      ncp::Options as_given = ncp::Options::Algorithm1();
+      as_given.ncp_function = function;
       as_given.project_start_point = false;
       const Run unprojected = SolveFrom(problem, x0, as_given);
       const Run projected = SolveFrom(problem, x0, options);
