@@ -144,8 +144,8 @@ bool Options::IsValid(std::string* error) const {
                 std::to_string(stagnation_tolerance));
   if (!(max_seconds > 0.0))
     return fail("Options::max_seconds must be > 0 (or +inf), got " + std::to_string(max_seconds));
-  if (!(factorization_flop_rate > 0.0) || !std::isfinite(factorization_flop_rate))
-    return fail("Options::factorization_flop_rate must be finite and > 0, got " +
+  if (!(factorization_flop_rate >= 0.0) || !std::isfinite(factorization_flop_rate))
+    return fail("Options::factorization_flop_rate must be finite and >= 0, got " +
                 std::to_string(factorization_flop_rate));
   if (dense_threshold < 0)
     return fail("Options::dense_threshold must be >= 0, got " + std::to_string(dense_threshold));
@@ -408,6 +408,7 @@ class Solver::Iteration {
       w_.linear_solver = internal::MakeLinearSolver(resolved_);
       w_.regularized_solver = internal::MakeLinearSolver(resolved_);
       w_.have_pattern = false;
+      w_.measured_flop_rate = 0.0;
     }
     symbolic_before_ = w_.linear_solver->symbolic_factorizations();
     s_.linear_solver_used = resolved_;
@@ -680,7 +681,9 @@ class Solver::Iteration {
   bool FactorizationFits(const internal::LinearSolver& solver, int k) {
     const double flops = solver.PredictedFactorizationFlops();
     s_.predicted_factorization_flops = flops;
-    const double rate = w_.measured_flop_rate > 0.0 ? w_.measured_flop_rate : o_.factorization_flop_rate;
+    const double rate = w_.measured_flop_rate > 0.0      ? w_.measured_flop_rate
+                        : o_.factorization_flop_rate > 0.0 ? o_.factorization_flop_rate
+                                                           : solver.TypicalFlopRate();
     const double left = o_.max_seconds - Seconds(start_);
     if (!std::isfinite(o_.max_seconds) || !(flops / rate > left)) return true;
     Finish(TerminationType::kTimeLimit,

@@ -73,9 +73,10 @@ struct Options {
   double max_seconds = std::numeric_limits<double>::infinity();
   /// Rate [flop/s] that turns the predicted flop count of a factorization (from the
   /// symbolic analysis) into a predicted time until one factorization has been timed;
-  /// afterwards the rate measured on the last factorization is used. Measured on the
-  /// development machine: Eigen::PartialPivLU, n = 2000, 1.3e10 flop/s on one core.
-  double factorization_flop_rate = 1e10;
+  /// afterwards the rate measured on the last factorization is used. 0 takes the rate
+  /// measured for the backend on the development machine (dense LU 1.3e10, UMFPACK 4.8e10
+  /// estimated flops/s, KLU 2.2e9; see linear_solver.cpp).
+  double factorization_flop_rate = 0.0;
   /// Newton direction kept only if grad psi' d <= -descent_rho ||d||_2^descent_p (eq. 22).
   double descent_rho = 1e-8;
   double descent_p = 2.1;
