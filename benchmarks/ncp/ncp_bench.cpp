@@ -106,7 +106,8 @@ std::string MapStatus(ncp::TerminationType t) {
   switch (t) {
     case T::kConverged: return "converged";
     case T::kMaxIterations: return "max_iterations";
-    case T::kUserAbort: return "time_limit";  // the only abort: the time-limit callback
+    case T::kUserAbort: return "failure";  // no callback stops ncp here
+    case T::kTimeLimit: return "time_limit";
     case T::kStationaryPoint: return "stationary_point";
     case T::kLineSearchFailure: return "line_search_failure";
     case T::kLinearSolverFailure:
@@ -260,8 +261,7 @@ Row RunOne(const Settings& settings, BenchProblem& b, const ncp::collection::Sta
       options.linear_solver = config.linear_solver;
       options.tolerance = tolerance;
       options.max_iterations = kMaxIterations;
-      const double limit = settings.time_limit_s;
-      options.callback = [limit](const ncp::IterationRecord& r) { return r.time_s < limit; };
+      options.max_seconds = settings.time_limit_s;
       ncp::Summary summary;
       ncp::Solve(options, *p.F, p.lower, p.upper, &x, &summary);
       row.status = MapStatus(summary.termination);

@@ -13,6 +13,7 @@
 
 #include "box_mcp.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -197,23 +198,57 @@ void CheckBounds(int n, const Vector& lower, const Vector& upper, const Vector& 
   }
 }
 
+/// Bounds with |b| >= infinite_bound become +-inf (GAMS/PATH write "no bound" as
+/// +-1e20); a lower bound >= infinite_bound becomes +inf (an empty box, rejected later).
+Vector NormalizeBound(const Vector& bound, double infinite_bound) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  Vector normalized = bound;
+  for (Eigen::Index i = 0; i < bound.size(); ++i) {
+    if (bound(i) >= infinite_bound) normalized(i) = kInf;
+    else if (bound(i) <= -infinite_bound) normalized(i) = -kInf;
+  }
+  return normalized;
+}
+
+/// x <- mid(l, u, x), the Euclidean projection onto the box; returns how many
+/// components moved.
+int ProjectOntoBox(const Vector& lower, const Vector& upper, Vector* x) {
+  int moved = 0;
+  for (Eigen::Index i = 0; i < x->size(); ++i) {
+    const double projected = std::max(lower(i), std::min(upper(i), (*x)(i)));
+    if (projected != (*x)(i)) ++moved;
+    (*x)(i) = projected;
+  }
+  return moved;
+}
+
 }  // namespace
 
-void SolveBoxMcp(Solver& solver, SquareFunction& F, const Vector& lower, const Vector& upper,
-                 Vector* x, Summary* summary) {
+void SolveBoxMcp(Solver& solver, SquareFunction& F, const Vector& lower_in,
+                 const Vector& upper_in, Vector* x, Summary* summary) {
   if (x == nullptr || summary == nullptr)
     throw std::invalid_argument("ncp::Solver::Solve: x and summary must not be null");
+  const Options& options = solver.options();
+  const double infinite_bound = options.infinite_bound;
+  const Vector lower = NormalizeBound(lower_in, infinite_bound);
+  const Vector upper = NormalizeBound(upper_in, infinite_bound);
   CheckBounds(F.NumVariables(), lower, upper, *x);
+  const int projected = options.project_start_point ? ProjectOntoBox(lower, upper, x) : 0;
   BoxMcpAsMixed mixed(F, lower, upper);
   Vector y;
   if (!mixed.InitialSlacks(*x, &y)) {
     *summary = Summary();
     summary->termination = TerminationType::kEvaluationFailure;
     summary->message = "F cannot be evaluated (or is not finite) at the start point";
-    return;
+  } else {
+    solver.Solve(mixed, &y, summary);
+    *x = y.head(F.NumVariables());
   }
-  solver.Solve(mixed, &y, summary);
-  *x = y.head(F.NumVariables());
+  summary->projected_start_components = projected;
+  if (projected > 0)
+    summary->message += " (" + std::to_string(projected) +
+                        " components of the start point were outside [l, u] and were "
+                        "projected onto it)";
 }
 
 }  // namespace ncp::internal

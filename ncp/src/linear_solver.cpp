@@ -20,7 +20,15 @@ class DenseLUSolver final : public LinearSolver {
  public:
   static constexpr Eigen::Index kFullPivotingLimit = 100;
 
-  bool Factorize(const SparseMatrix& J, bool /*pattern_changed*/) override {
+  bool Analyze(const SparseMatrix& J, bool /*pattern_changed*/) override {
+    rows_ = static_cast<double>(J.rows());
+    return true;
+  }
+  /// LU of an n x n matrix: 2/3 n^3 flops (Golub and Van Loan, 4th ed., sec. 3.2.5).
+  double PredictedFactorizationFlops() const override { return 2.0 / 3.0 * rows_ * rows_ * rows_; }
+  /// Eigen::PartialPivLU, n = 2000: 0.415 s for 5.3e9 flops.
+  double TypicalFlopRate() const override { return 1.3e10; }
+  bool Factorize(const SparseMatrix& J) override {
     dense_ = J;
     full_pivoting_ = J.rows() <= kFullPivotingLimit;
     if (full_pivoting_) {
@@ -49,23 +57,63 @@ class DenseLUSolver final : public LinearSolver {
 
  private:
   DenseMatrix dense_;
+  double rows_ = 0.0;
   bool full_pivoting_ = true;
   Eigen::FullPivLU<DenseMatrix> full_;
   Eigen::PartialPivLU<DenseMatrix> partial_;
   Vector permuted_;
 };
 
+/// Eigen::UmfPackLU with the flop estimate of UMFPACK's symbolic analysis exposed
+/// (UMFPACK user guide, Info[UMFPACK_FLOPS_ESTIMATE]: an upper bound on the flops of the
+/// numeric factorization).
+class UmfPackLUWithInfo : public Eigen::UmfPackLU<SparseMatrix> {
+ public:
+  double FlopsEstimate() const { return m_umfpackInfo(UMFPACK_FLOPS_ESTIMATE); }
+};
+
+/// Eigen::KLU with the flop estimate of KLU's symbolic analysis exposed (klu.h:
+/// klu_symbolic::est_flops, computed when the AMD ordering is used, KLU's default).
+class KLUWithInfo : public Eigen::KLU<SparseMatrix> {
+ public:
+  double FlopsEstimate() const {
+    if (m_symbolic == nullptr || m_symbolic->ordering != 0 || m_symbolic->est_flops < 0)
+      return std::numeric_limits<double>::quiet_NaN();
+    return m_symbolic->est_flops;
+  }
+};
+
+template <typename Decomposition>
+double FlopsEstimate(const Decomposition&) {
+  return std::numeric_limits<double>::quiet_NaN();
+}
+/// Estimated flops per second of wall time, random sparse P-LCP (RandomPLcp):
+/// UMFPACK n = 10^4, 1.46e11 estimated flops in 3.06 s (its estimate is an upper bound);
+/// KLU n = 4000, 4.29e9 in 1.91 s.
+template <typename Decomposition>
+double TypicalRate(const Decomposition&) {
+  return std::numeric_limits<double>::quiet_NaN();
+}
+double TypicalRate(const UmfPackLUWithInfo&) { return 4.8e10; }
+double TypicalRate(const KLUWithInfo&) { return 2.2e9; }
+double FlopsEstimate(const UmfPackLUWithInfo& lu) { return lu.FlopsEstimate(); }
+double FlopsEstimate(const KLUWithInfo& lu) { return lu.FlopsEstimate(); }
+
 /// Any Eigen sparse LU with analyzePattern / factorize / solve / info.
 template <typename Decomposition, LinearSolverType kType>
 class SparseSolver final : public LinearSolver {
  public:
-  bool Factorize(const SparseMatrix& J, bool pattern_changed) override {
+  bool Analyze(const SparseMatrix& J, bool pattern_changed) override {
     if (pattern_changed || !analyzed_) {
       lu_.analyzePattern(J);
       ++symbolic_factorizations_;
       analyzed_ = lu_.info() == Eigen::Success;
-      if (!analyzed_) return false;
     }
+    return analyzed_;
+  }
+  double PredictedFactorizationFlops() const override { return FlopsEstimate(lu_); }
+  double TypicalFlopRate() const override { return TypicalRate(lu_); }
+  bool Factorize(const SparseMatrix& J) override {
     lu_.factorize(J);
     return lu_.info() == Eigen::Success;
   }
@@ -91,9 +139,9 @@ std::unique_ptr<LinearSolver> MakeLinearSolver(LinearSolverType type) {
                                            LinearSolverType::kSparseLU>>();
     case LinearSolverType::kUmfpack:
       return std::make_unique<
-          SparseSolver<Eigen::UmfPackLU<SparseMatrix>, LinearSolverType::kUmfpack>>();
+          SparseSolver<UmfPackLUWithInfo, LinearSolverType::kUmfpack>>();
     case LinearSolverType::kKlu:
-      return std::make_unique<SparseSolver<Eigen::KLU<SparseMatrix>, LinearSolverType::kKlu>>();
+      return std::make_unique<SparseSolver<KLUWithInfo, LinearSolverType::kKlu>>();
     case LinearSolverType::kAuto:
       break;
   }

@@ -97,6 +97,17 @@ bool SetWeights(MixedProblem& problem, const Vector& x0, int m, int p, double to
 // ---------------------------------------------------------------------------------------
 // Options and Summary.
 
+Options Options::Algorithm1() {
+  Options options;
+  options.descent_rho = 1e-8;
+  options.descent_p = 2.1;
+  options.armijo_beta = 1e-4;
+  options.nonmonotone_memory = 1;
+  options.regularized_direction = false;
+  options.gradient_fallback = true;
+  return options;
+}
+
 bool Options::IsValid(std::string* error) const {
   auto fail = [&](const std::string& what) {
     if (error) *error = what;
@@ -113,6 +124,9 @@ bool Options::IsValid(std::string* error) const {
   if (!(armijo_beta > 0.0 && armijo_beta < 0.5))
     return fail("Options::armijo_beta must lie in (0, 1/2) (eq. 23), got " +
                 std::to_string(armijo_beta));
+  if (nonmonotone_memory < 1 || nonmonotone_memory > 1000)
+    return fail("Options::nonmonotone_memory must lie in [1, 1000], got " +
+                std::to_string(nonmonotone_memory));
   if (max_backtracks < 0 || max_backtracks > 1000)
     return fail("Options::max_backtracks must lie in [0, 1000], got " +
                 std::to_string(max_backtracks));
@@ -130,8 +144,16 @@ bool Options::IsValid(std::string* error) const {
   if (!(stagnation_tolerance >= 0.0 && stagnation_tolerance < 1.0))
     return fail("Options::stagnation_tolerance must lie in [0, 1), got " +
                 std::to_string(stagnation_tolerance));
+  if (!(max_seconds > 0.0))
+    return fail("Options::max_seconds must be > 0 (or +inf), got " + std::to_string(max_seconds));
+  if (!(factorization_flop_rate >= 0.0) || !std::isfinite(factorization_flop_rate))
+    return fail("Options::factorization_flop_rate must be finite and >= 0, got " +
+                std::to_string(factorization_flop_rate));
   if (dense_threshold < 0)
     return fail("Options::dense_threshold must be >= 0, got " + std::to_string(dense_threshold));
+  if (!(infinite_bound > 0.0))
+    return fail("Options::infinite_bound must be > 0 (or +inf), got " +
+                std::to_string(infinite_bound));
   return true;
 }
 
@@ -157,10 +179,12 @@ std::string Summary::FullReport() const {
       << "  Jacobian evaluations     " << jacobian_evaluations << "\n"
       << "  residual evaluations     " << residual_evaluations << "\n"
       << "  gradient steps           " << gradient_steps << "\n"
+      << "  regularized (LM) steps   " << regularized_steps << "\n"
       << "  linear solver failures   " << linear_solver_failures << "\n"
       << "  descent test failures    " << descent_test_failures << "\n"
       << "  backtracks               " << backtracks << "\n"
       << "  symbolic factorizations  " << symbolic_factorizations << "\n"
+      << "  start components moved   " << projected_start_components << "\n"
       << "  ||Phi||_inf initial      " << Fmt("%.6e", initial_phi_inf) << "\n"
       << "  ||Phi||_inf final        " << Fmt("%.6e", final_phi_inf) << "\n"
       << "  psi final                " << Fmt("%.6e", final_psi) << "\n"
@@ -196,8 +220,33 @@ struct Solver::Workspace {
   Vector we, wa, wb;
   Vector E, A, B, Et, At, Bt;  // current point and trial point
   Vector phi, phi_trial, grad, d, x_trial, da, db, z, za, zb, newton_rhs, newton_residual;
+  // flop/s of the last timed numeric factorization (0: none timed yet).
+  double measured_flop_rate = 0.0;
+  // Levenberg-Marquardt system J'J + mu I, its own solver and pattern bookkeeping.
+  std::unique_ptr<internal::LinearSolver> regularized_solver;
+  SparseMatrix normal_matrix, identity;
+  bool regularized_analyzed = false;
+  Eigen::Index regularized_nonzeros = -1;
+  // psi of the last nonmonotone_memory iterates: the nonmonotone Armijo reference.
+  std::vector<double> psi_memory;
   // psi of the last stagnation_window + 1 iterates (ring buffer): the stagnation test.
   std::vector<double> psi_ring;
+
+  /// Sizes every vector of the iteration for n unknowns and m equations (zeros).
+  void Resize(int n, int m) {
+    const int p = n - m;
+    for (Vector* v : {&E, &Et}) v->setZero(m);
+    for (Vector* v : {&A, &B, &At, &Bt, &da, &db, &za, &zb}) v->setZero(p);
+    for (Vector* v : {&phi, &phi_trial, &grad, &d, &x_trial, &z, &newton_rhs, &newton_residual})
+      v->setZero(n);
+    if (JE.rows() != m || JE.cols() != n) JE.resize(m, n);
+    if (JA.rows() != p || JA.cols() != n) JA.resize(p, n);
+    if (JB.rows() != p || JB.cols() != n) JB.resize(p, n);
+    if (identity.rows() != n) {
+      identity.resize(n, n);
+      identity.setIdentity();
+    }
+  }
 
   static bool SamePattern(const SparseMatrix& S, const std::vector<int>& outer,
                           const std::vector<int>& inner) {
@@ -274,16 +323,11 @@ Solver::Solver(Solver&&) noexcept = default;
 Solver& Solver::operator=(Solver&&) noexcept = default;
 
 // ---------------------------------------------------------------------------------------
-// Algorithm 1.
+// Misuse at the API boundary: sizes, a non-finite start point, pair variables.
 
-void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
-  if (x_ptr == nullptr || summary_ptr == nullptr)
-    throw std::invalid_argument("ncp::Solver::Solve: x and summary must not be null");
-  Vector& x = *x_ptr;
-  Summary& s = *summary_ptr;
-  Workspace& w = *workspace_;
-  const Options& o = options_;
+namespace {
 
+void CheckProblem(const MixedProblem& problem, const Vector& x) {
   const int n = problem.NumVariables();
   const int m = problem.NumEquations();
   if (n < 0 || m < 0 || m > n) {
@@ -302,322 +346,494 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
                                   "] = " + std::to_string(x(i)) + " is not finite");
     }
   }
-  const int p = n - m;
-  for (int j = 0; j < p; ++j) {
+  for (int j = 0; j < n - m; ++j) {
     const int v = problem.PairVariable(j);
     if (v < 0 || v >= n)
       throw std::invalid_argument("ncp::Solver::Solve: PairVariable(" + std::to_string(j) +
                                   ") = " + std::to_string(v) + " is outside [0, n)");
   }
+}
 
-  const auto start = Clock::now();
-  s = Summary();
-  s.num_variables = n;
-  s.num_equations = m;
-  s.num_pairs = p;
-  s.ncp_function = o.ncp_function;
-  s.linear_solver_requested = o.linear_solver;
-  s.iterations = 0;
-  s.jacobian_evaluations = 0;
-  s.residual_evaluations = 0;
-  s.gradient_steps = 0;
-  s.linear_solver_failures = 0;
-  s.descent_test_failures = 0;
-  s.backtracks = 0;
-  s.evaluation_time_s = 0.0;
-  s.linear_solver_time_s = 0.0;
+}  // namespace
 
-  LinearSolverType resolved = o.linear_solver;
-  if (resolved == LinearSolverType::kAuto)
-    resolved = n <= o.dense_threshold ? LinearSolverType::kDenseLU : LinearSolverType::kUmfpack;
-  if (!w.linear_solver || w.linear_solver->type() != resolved) {
-    w.linear_solver = internal::MakeLinearSolver(resolved);
-    w.have_pattern = false;
-  }
-  const int symbolic_before = w.linear_solver->symbolic_factorizations();
-  s.linear_solver_used = resolved;
+// ---------------------------------------------------------------------------------------
+// Algorithm 1, one named phase per step. Solver::Iteration holds the state of one solve:
+// Run() reads like the algorithm,
+//
+//   Start                      Phi(x^0), sizes, backend, row weights
+//   loop k = 0, 1, ...
+//     EvaluateJacobian         J^k in the B-subdifferential, grad psi = J' Phi   (eq. 24)
+//     Report                   trace, log, callback
+//     TestStop                 step 1: ||Phi||_inf <= tolerance; safeguards
+//     ChooseDirection          step 2: Newton (eq. 21, 22), regularized, -grad psi
+//     LineSearch               step 3: Armijo, monotone (eq. 23) or nonmonotone
+//     Accept                   step 4
+//
+// (the layout follows Ceres' LineSearchMinimizer::Minimize).
 
-  for (Vector* v : {&w.E, &w.Et}) v->setZero(m);
-  for (Vector* v : {&w.A, &w.B, &w.At, &w.Bt, &w.da, &w.db, &w.za, &w.zb}) v->setZero(p);
-  for (Vector* v : {&w.phi, &w.phi_trial, &w.grad, &w.d, &w.x_trial, &w.z, &w.newton_rhs,
-                    &w.newton_residual})
-    v->setZero(n);
-  if (w.JE.rows() != m || w.JE.cols() != n) w.JE.resize(m, n);
-  if (w.JA.rows() != p || w.JA.cols() != n) w.JA.resize(p, n);
-  if (w.JB.rows() != p || w.JB.cols() != n) w.JB.resize(p, n);
+class Solver::Iteration {
+ public:
+  Iteration(const Options& options, Workspace& workspace, MixedProblem& problem, Vector& x,
+            Summary& summary)
+      : o_(options), w_(workspace), problem_(problem), x_(x), s_(summary),
+        n_(problem.NumVariables()), m_(problem.NumEquations()), p_(n_ - m_) {}
 
-  // Row weights from the problem's own scales (MixedProblem::Scales), once per solve.
-  w.weighted = SetWeights(problem, x, m, p, o.tolerance, &w.scales, &w.we, &w.wa, &w.wb);
-  s.weighted_residual = w.weighted;
-  const double threshold = o.tolerance;  // on ||Phi||_inf (weighted or not)
-
-  // Phi(x) from E, A, B (weighted when the problem gave scales): equations first, then
-  // phi(A_j, B_j).
-  auto evaluate = [&](const Vector& point, Vector* E, Vector* A, Vector* B, Vector* phi) {
-    ++s.residual_evaluations;
-    const auto t0 = Clock::now();
-    const bool ok = problem.Evaluate(point, E, A, B);
-    s.evaluation_time_s += Seconds(t0);
-    if (!ok) return false;
-    if (E->size() != m || A->size() != p || B->size() != p)
-      throw std::invalid_argument("ncp::Solver: MixedProblem::Evaluate resized its outputs");
-    if (w.weighted) {
-      E->array() *= w.we.array();
-      A->array() *= w.wa.array();
-      B->array() *= w.wb.array();
+  void Run() {
+    if (!Start()) return;
+    for (int k = 0;; ++k) {
+      phi_inf_ = w_.phi.lpNorm<Eigen::Infinity>();
+      psi_ = 0.5 * w_.phi.squaredNorm();
+      converged_ = phi_inf_ <= threshold_;
+      have_jacobian_ = !converged_ && k < o_.max_iterations;
+      jacobian_ok_ = true;
+      degenerate_count_ = 0;
+      pattern_changed_ = false;
+      if (have_jacobian_ && !EvaluateJacobian(k)) return;
+      if (!Report(k) || TestStop(k)) return;
+      const Direction direction = ChooseDirection(k);
+      if (finished_ || !LineSearch(k, direction)) return;
+      Accept(direction);
     }
-    phi->head(m) = *E;
-    for (int j = 0; j < p; ++j)
-      (*phi)(m + j) = internal::PhiValue(o.ncp_function, o.penalized_fb_lambda, (*A)(j), (*B)(j));
+  }
+
+ private:
+  enum class Direction { kNewton, kRegularized, kGradient };
+
+  // ---- Start: sizes, backend, weights, Phi(x^0) ------------------------------------
+  bool Start() {
+    start_ = Clock::now();
+    InitializeSummary();
+    resolved_ = o_.linear_solver;
+    if (resolved_ == LinearSolverType::kAuto)
+      resolved_ = n_ <= o_.dense_threshold ? LinearSolverType::kDenseLU : LinearSolverType::kUmfpack;
+    if (!w_.linear_solver || w_.linear_solver->type() != resolved_) {
+      w_.linear_solver = internal::MakeLinearSolver(resolved_);
+      w_.regularized_solver = internal::MakeLinearSolver(resolved_);
+      w_.have_pattern = false;
+      w_.measured_flop_rate = 0.0;
+    }
+    symbolic_before_ = w_.linear_solver->symbolic_factorizations();
+    s_.linear_solver_used = resolved_;
+    w_.Resize(n_, m_);
+
+    // Row weights from the problem's own scales (MixedProblem::Scales), once per solve.
+    w_.weighted = SetWeights(problem_, x_, m_, p_, o_.tolerance, &w_.scales, &w_.we, &w_.wa, &w_.wb);
+    s_.weighted_residual = w_.weighted;
+    threshold_ = o_.tolerance;  // on ||Phi||_inf, weighted (relative) or not
+
+    if (!Evaluate(x_, &w_.E, &w_.A, &w_.B, &w_.phi)) {
+      w_.phi.setConstant(std::numeric_limits<double>::quiet_NaN());
+      Finish(TerminationType::kEvaluationFailure, "the problem cannot be evaluated at the start point");
+      return false;
+    }
+    s_.initial_phi_inf = w_.phi.lpNorm<Eigen::Infinity>();
+    if (!AllFinite(w_.phi)) {
+      Finish(TerminationType::kNonFiniteValues, "Phi(x0) has NaN or Inf entries");
+      return false;
+    }
+    w_.psi_ring.assign(static_cast<size_t>(o_.stagnation_window) + 1, 0.0);
+    w_.psi_memory.assign(static_cast<size_t>(o_.nonmonotone_memory), 0.0);
+    if (o_.log_to_stderr)
+      std::fprintf(stderr, "%5s %12s %12s %12s %10s %4s %4s %5s\n", "iter", "|Phi|_inf", "psi",
+                   "|grad|_inf", "step", "bt", "dir", "|gam|");
     return true;
-  };
-
-  auto finish = [&](TerminationType type, const std::string& message) {
-    s.termination = type;
-    s.message = message;
-    s.final_phi_inf = w.phi.lpNorm<Eigen::Infinity>();
-    s.final_psi = 0.5 * w.phi.squaredNorm();
-    s.symbolic_factorizations = w.linear_solver->symbolic_factorizations() - symbolic_before;
-    s.total_time_s = Seconds(start);
-  };
-
-  if (!evaluate(x, &w.E, &w.A, &w.B, &w.phi)) {
-    w.phi.setConstant(std::numeric_limits<double>::quiet_NaN());
-    finish(TerminationType::kEvaluationFailure, "the problem cannot be evaluated at the start point");
-    return;
-  }
-  s.initial_phi_inf = w.phi.lpNorm<Eigen::Infinity>();
-  if (!AllFinite(w.phi)) {
-    finish(TerminationType::kNonFiniteValues, "Phi(x0) has NaN or Inf entries");
-    return;
   }
 
-  IterationRecord record;
-  const size_t window = static_cast<size_t>(o.stagnation_window);
-  std::vector<double>& psi_ring = w.psi_ring;
-  psi_ring.assign(window + 1, 0.0);
-  if (o.log_to_stderr)
-    std::fprintf(stderr, "%5s %12s %12s %12s %10s %4s %4s %5s\n", "iter", "|Phi|_inf", "psi",
-                 "|grad|_inf", "step", "bt", "grad", "|gam|");
+  void InitializeSummary() {
+    s_ = Summary();
+    s_.num_variables = n_;
+    s_.num_equations = m_;
+    s_.num_pairs = p_;
+    s_.ncp_function = o_.ncp_function;
+    s_.linear_solver_requested = o_.linear_solver;
+    s_.iterations = s_.jacobian_evaluations = s_.residual_evaluations = 0;
+    s_.gradient_steps = s_.regularized_steps = 0;
+    s_.linear_solver_failures = s_.descent_test_failures = s_.backtracks = 0;
+    s_.projected_start_components = 0;
+    s_.evaluation_time_s = s_.linear_solver_time_s = 0.0;
+  }
 
-  for (int k = 0;; ++k) {
-    const double phi_inf = w.phi.lpNorm<Eigen::Infinity>();
-    const double psi = 0.5 * w.phi.squaredNorm();
+  // ---- Phi(x) = [E; phi(A_j, B_j)] (thesis eq. 15), rows weighted by the scales ----
+  bool Evaluate(const Vector& point, Vector* E, Vector* A, Vector* B, Vector* phi) {
+    ++s_.residual_evaluations;
+    const auto t0 = Clock::now();
+    const bool ok = problem_.Evaluate(point, E, A, B);
+    s_.evaluation_time_s += Seconds(t0);
+    if (!ok) return false;
+    if (E->size() != m_ || A->size() != p_ || B->size() != p_)
+      throw std::invalid_argument("ncp::Solver: MixedProblem::Evaluate resized its outputs");
+    if (w_.weighted) {
+      E->array() *= w_.we.array();
+      A->array() *= w_.wa.array();
+      B->array() *= w_.wb.array();
+    }
+    phi->head(m_) = *E;
+    for (int j = 0; j < p_; ++j)
+      (*phi)(m_ + j) = internal::PhiValue(o_.ncp_function, o_.penalized_fb_lambda, (*A)(j), (*B)(j));
+    return true;
+  }
 
-    // Converged? (step 1; the infinity norm as in thesis section 6.4)
-    const bool converged = phi_inf <= threshold;
+  // ---- J^k in the B-subdifferential (step 2) and grad psi = J' Phi (eq. 24) ---------
+  // Returns false only when the solve has finished (non-finite Jacobian); a Jacobian()
+  // that returned false is reported by TestStop after the callback has seen iterate k.
+  bool EvaluateJacobian(int k) {
+    ++s_.jacobian_evaluations;
+    const auto t0 = Clock::now();
+    jacobian_ok_ = problem_.Jacobian(x_, &w_.JE, &w_.JA, &w_.JB);
+    s_.evaluation_time_s += Seconds(t0);
+    if (!jacobian_ok_) return true;
+    CheckJacobianShape(w_.JE, m_, n_, "JE");
+    CheckJacobianShape(w_.JA, p_, n_, "JA");
+    CheckJacobianShape(w_.JB, p_, n_, "JB");
+    for (SparseMatrix* S : {&w_.JE, &w_.JA, &w_.JB}) S->makeCompressed();
+    if (w_.weighted) {
+      ScaleRows(w_.we, &w_.JE);
+      ScaleRows(w_.wa, &w_.JA);
+      ScaleRows(w_.wb, &w_.JB);
+    }
+    if (!AllFinite(w_.JE) || !AllFinite(w_.JA) || !AllFinite(w_.JB)) {
+      Finish(TerminationType::kNonFiniteValues,
+             "the Jacobian has NaN or Inf entries at iteration " + std::to_string(k));
+      return false;
+    }
+    PhiPartials();
+    pattern_changed_ = w_.UpdatePattern(m_);
+    w_.FillJacobian();
+    w_.grad.noalias() = w_.J.transpose() * w_.phi;  // grad psi = J' Phi (eq. 24)
+    return true;
+  }
 
-    // Jacobian element J^k in the B-subdifferential (step 2), unless we stop here.
-    bool jacobian_ok = true;
-    bool pattern_changed = false;
-    int degenerate_count = 0;
-    if (!converged && k < o.max_iterations) {
-      ++s.jacobian_evaluations;
-      const auto t0 = Clock::now();
-      jacobian_ok = problem.Jacobian(x, &w.JE, &w.JA, &w.JB);
-      s.evaluation_time_s += Seconds(t0);
-      if (jacobian_ok) {
-        CheckJacobianShape(w.JE, m, n, "JE");
-        CheckJacobianShape(w.JA, p, n, "JA");
-        CheckJacobianShape(w.JB, p, n, "JB");
-        w.JE.makeCompressed();
-        w.JA.makeCompressed();
-        w.JB.makeCompressed();
-        if (w.weighted) {
-          ScaleRows(w.we, &w.JE);
-          ScaleRows(w.wa, &w.JA);
-          ScaleRows(w.wb, &w.JB);
-        }
+  // da_j, db_j: the partials of phi at (A_j, B_j). Degenerate set gamma = {j : A_j = B_j
+  // = 0} (eq. 13) and the z-vector rule: z_v = 1 at the variable of every degenerate pair
+  // (DFK 1996, eq. 27; thesis 3.1).
+  void PhiPartials() {
+    degenerate_count_ = 0;
+    const bool fb_family = o_.ncp_function != NcpFunction::kMin;
+    auto degenerate = [&](int j) {
+      return fb_family && std::hypot(w_.A(j), w_.B(j)) <= o_.degenerate_tolerance;
+    };
+    if (fb_family) {
+      w_.z.setZero();
+      for (int j = 0; j < p_; ++j) {
+        if (!degenerate(j)) continue;
+        w_.z(problem_.PairVariable(j)) = 1.0;
+        ++degenerate_count_;
+      }
+      if (degenerate_count_ > 0) {
+        w_.za.noalias() = w_.JA * w_.z;
+        w_.zb.noalias() = w_.JB * w_.z;
       }
     }
-    if (jacobian_ok && !converged && k < o.max_iterations) {
-      if (!AllFinite(w.JE) || !AllFinite(w.JA) || !AllFinite(w.JB)) {
-        finish(TerminationType::kNonFiniteValues,
-               "the Jacobian has NaN or Inf entries at iteration " + std::to_string(k));
-        return;
-      }
-      // Degenerate set gamma = {j : A_j = B_j = 0} (eq. 13) and the z-vector rule:
-      // z_v = 1 at the variable of every degenerate pair, 0 elsewhere (DFK; thesis 3.1).
-      const bool fb_family = o.ncp_function != NcpFunction::kMin;
-      if (fb_family) {
-        w.z.setZero();
-        for (int j = 0; j < p; ++j) {
-          if (std::hypot(w.A(j), w.B(j)) <= o.degenerate_tolerance) {
-            w.z(problem.PairVariable(j)) = 1.0;
-            ++degenerate_count;
-          }
-        }
-        if (degenerate_count > 0) {
-          w.za.noalias() = w.JA * w.z;
-          w.zb.noalias() = w.JB * w.z;
-        }
-      }
-      for (int j = 0; j < p; ++j) {
-        const bool degenerate =
-            fb_family && std::hypot(w.A(j), w.B(j)) <= o.degenerate_tolerance;
-        const internal::PhiPartials dp = internal::PhiDerivatives(
-            o.ncp_function, o.penalized_fb_lambda, w.A(j), w.B(j), degenerate,
-            degenerate ? w.za(j) : 0.0, degenerate ? w.zb(j) : 0.0, o.min_tie_takes_b);
-        w.da(j) = dp.da;
-        w.db(j) = dp.db;
-      }
-      pattern_changed = w.UpdatePattern(m);
-      w.FillJacobian();
-      w.grad.noalias() = w.J.transpose() * w.phi;  // grad psi = J' Phi (eq. 24)
+    for (int j = 0; j < p_; ++j) {
+      const bool gamma = degenerate(j);
+      const internal::PhiPartials dp = internal::PhiDerivatives(
+          o_.ncp_function, o_.penalized_fb_lambda, w_.A(j), w_.B(j), gamma,
+          gamma ? w_.za(j) : 0.0, gamma ? w_.zb(j) : 0.0, o_.min_tie_takes_b);
+      w_.da(j) = dp.da;
+      w_.db(j) = dp.db;
     }
+  }
 
-    // Trace, log, callback for iterate k.
-    record.iteration = k;
-    record.phi_inf = phi_inf;
-    record.psi = psi;
-    record.grad_psi_inf = (jacobian_ok && !converged && k < o.max_iterations)
-                              ? w.grad.lpNorm<Eigen::Infinity>()
-                              : 0.0;
-    record.degenerate_pairs = degenerate_count;
-    record.time_s = Seconds(start);
-    if (o.keep_trace) s.trace.push_back(record);
-    if (o.log_to_stderr)
-      std::fprintf(stderr, "%5d %12.4e %12.4e %12.4e %10.3e %4d %4s %5d\n", k, phi_inf, psi,
-                   record.grad_psi_inf, record.step_length, record.backtracks,
-                   record.gradient_step ? "yes" : "no", degenerate_count);
-    if (o.callback && !o.callback(record)) {
-      finish(TerminationType::kUserAbort, "the iteration callback stopped the solve at iteration " +
-                                              std::to_string(k));
-      return;
+  // ---- trace, log, callback for iterate k; false when the callback stopped ----------
+  bool Report(int k) {
+    record_.iteration = k;
+    record_.phi_inf = phi_inf_;
+    record_.psi = psi_;
+    record_.grad_psi_inf =
+        have_jacobian_ && jacobian_ok_ ? w_.grad.lpNorm<Eigen::Infinity>() : 0.0;
+    record_.degenerate_pairs = degenerate_count_;
+    record_.time_s = Seconds(start_);
+    if (o_.keep_trace) s_.trace.push_back(record_);
+    if (o_.log_to_stderr)
+      std::fprintf(stderr, "%5d %12.4e %12.4e %12.4e %10.3e %4d %4s %5d\n", k, phi_inf_, psi_,
+                   record_.grad_psi_inf, record_.step_length, record_.backtracks,
+                   record_.gradient_step ? "grad" : record_.regularized_step ? "reg" : "newt",
+                   degenerate_count_);
+    if (o_.callback && !o_.callback(record_)) {
+      Finish(TerminationType::kUserAbort,
+             "the iteration callback stopped the solve at iteration " + std::to_string(k));
+      return false;
     }
+    return true;
+  }
 
-    if (converged) {
-      finish(TerminationType::kConverged,
-             (w.weighted ? "every row within floor + " + Fmt("%.1e", o.tolerance) +
-                               " x scale in its own units (relative ||Phi||_inf = " +
-                               Fmt("%.3e", phi_inf) + ")"
-                         : "||Phi||_inf = " + Fmt("%.3e", phi_inf) + " <= " + Fmt("%.3e", o.tolerance)) +
+  // ---- step 1 and the safeguards; true when the solve ends here ----------------------
+  bool TestStop(int k) {
+    if (converged_) {
+      Finish(TerminationType::kConverged,
+             (w_.weighted ? "every row within floor + " + Fmt("%.1e", o_.tolerance) +
+                                " x scale in its own units (relative ||Phi||_inf = " +
+                                Fmt("%.3e", phi_inf_) + ")"
+                          : "||Phi||_inf = " + Fmt("%.3e", phi_inf_) + " <= " +
+                                Fmt("%.3e", o_.tolerance)) +
                  " after " + std::to_string(k) + " iterations");
-      return;
+      return true;
     }
-    if (k >= o.max_iterations) {
-      finish(TerminationType::kMaxIterations,
-             "reached max_iterations = " + std::to_string(o.max_iterations) +
-                 " with ||Phi||_inf = " + Fmt("%.3e", phi_inf));
-      return;
+    if (k >= o_.max_iterations) {
+      Finish(TerminationType::kMaxIterations, "reached max_iterations = " +
+                                                  std::to_string(o_.max_iterations) +
+                                                  " with ||Phi||_inf = " + Fmt("%.3e", phi_inf_));
+      return true;
     }
-    if (!jacobian_ok) {
-      finish(TerminationType::kEvaluationFailure,
+    if (OutOfTime("at iteration ", k)) return true;
+    if (!jacobian_ok_) {
+      Finish(TerminationType::kEvaluationFailure,
              "MixedProblem::Jacobian returned false at iteration " + std::to_string(k));
-      return;
+      return true;
     }
-    const double grad_inf = w.grad.lpNorm<Eigen::Infinity>();
+    grad_inf_ = w_.grad.lpNorm<Eigen::Infinity>();
+    return Stagnated(k) || StationaryPoint();
+  }
+
+  // Options::max_seconds passed? (no allocation unless it did: checked every trial)
+  bool OutOfTime(const char* where, int k) {
+    if (!(Seconds(start_) > o_.max_seconds)) return false;
+    Finish(TerminationType::kTimeLimit, "max_seconds = " + Fmt("%.3g", o_.max_seconds) +
+                                            " s reached " + where + std::to_string(k) + " with ||Phi||_inf = " +
+                                            Fmt("%.3e", phi_inf_));
+    return true;
+  }
+
+  // The smallest psi so far decreased by less than stagnation_tolerance of itself over the
+  // last stagnation_window iterations (a ring buffer). With a monotone line search the
+  // smallest psi is psi(x^k); a nonmonotone one may raise psi in between.
+  bool Stagnated(int k) {
+    const size_t window = static_cast<size_t>(o_.stagnation_window);
     const size_t kk = static_cast<size_t>(k);
-    psi_ring[kk % (window + 1)] = psi;
-    const double psi_window_ago = psi_ring[(kk + 1) % (window + 1)];  // psi at k - window
-    if (window > 0 && kk >= window && psi_window_ago - psi <= o.stagnation_tolerance * psi_window_ago) {
-      finish(TerminationType::kStationaryPoint,
-             "psi decreased by less than " + Fmt("%.1e", o.stagnation_tolerance) +
-                 " relative over the last " + std::to_string(window) +
-                 " iterations (||Phi||_inf = " + Fmt("%.3e", phi_inf) + ", ||grad psi||_inf = " +
-                 Fmt("%.3e", grad_inf) +
-                 "): the iterates approach a stationary point of psi that is not a solution");
-      return;
-    }
-    if (grad_inf == 0.0) {
-      finish(TerminationType::kStationaryPoint,
-             "grad psi = J' Phi = 0 with ||Phi||_inf = " + Fmt("%.3e", phi_inf) +
-                 ": a stationary point of psi that is not a solution");
-      return;
-    }
+    best_psi_ = k == 0 ? psi_ : std::min(best_psi_, psi_);
+    w_.psi_ring[kk % (window + 1)] = best_psi_;
+    const double best_window_ago = w_.psi_ring[(kk + 1) % (window + 1)];  // at k - window
+    if (window == 0 || kk < window ||
+        best_window_ago - best_psi_ > o_.stagnation_tolerance * best_window_ago)
+      return false;
+    Finish(TerminationType::kStationaryPoint,
+           "the smallest psi decreased by less than " + Fmt("%.1e", o_.stagnation_tolerance) +
+               " relative over the last " + std::to_string(window) + " iterations (||Phi||_inf = " +
+               Fmt("%.3e", phi_inf_) + ", ||grad psi||_inf = " + Fmt("%.3e", grad_inf_) +
+               "): the iterates approach a stationary point of psi that is not a solution");
+    return true;
+  }
 
-    // Newton direction J d = -Phi (eq. 21), or the gradient fallback (step 2).
-    bool use_gradient = false;
-    {
-      const auto t0 = Clock::now();
-      w.newton_rhs = -w.phi;
-      bool solved = w.linear_solver->Factorize(w.J, pattern_changed) &&
-                    w.linear_solver->Solve(w.newton_rhs, &w.d) && AllFinite(w.d);
-      if (solved) {
-        // Guard against a numerically singular factorization that "succeeded": the
-        // computed d must satisfy J d = -Phi to a small relative residual.
-        w.newton_residual.noalias() = w.J * w.d;
-        const double jd_inf = w.newton_residual.lpNorm<Eigen::Infinity>();
-        w.newton_residual += w.phi;
-        solved = w.newton_residual.lpNorm<Eigen::Infinity>() <= 1e-6 * (phi_inf + jd_inf);
-      }
-      s.linear_solver_time_s += Seconds(t0);
-      if (!solved) {
-        ++s.linear_solver_failures;
-        if (!o.gradient_fallback) {
-          finish(TerminationType::kLinearSolverFailure,
-                 std::string("the Newton system is singular or the ") + ToString(resolved) +
-                     " solve failed at iteration " + std::to_string(k) +
-                     " and gradient_fallback is off");
-          return;
-        }
-        use_gradient = true;
-      }
-    }
-    double slope = 0.0;  // grad psi' d
-    if (!use_gradient) {
-      slope = w.grad.dot(w.d);
-      const double d_norm = w.d.norm();
-      if (slope > -o.descent_rho * std::pow(d_norm, o.descent_p)) {  // eq. (22) fails
-        ++s.descent_test_failures;
-        use_gradient = o.gradient_fallback;
-      }
-    }
-    if (use_gradient) {
-      w.d = -w.grad;
-      slope = -w.grad.squaredNorm();
-      ++s.gradient_steps;
-    }
+  bool StationaryPoint() {
+    if (grad_inf_ != 0.0) return false;
+    Finish(TerminationType::kStationaryPoint,
+           "grad psi = J' Phi = 0 with ||Phi||_inf = " + Fmt("%.3e", phi_inf_) +
+               ": a stationary point of psi that is not a solution");
+    return true;
+  }
 
-    // Armijo line search on psi with steps 2^-i (step 3, eq. 23). A trial point where the
-    // problem cannot be evaluated, or evaluates to non-finite values, is rejected too.
-    // Numerically, a step is only taken if it changes x and strictly decreases psi;
-    // otherwise the iteration would stall at round-off level.
+  // ---- step 2: the direction d and slope_ = grad psi' d ------------------------------
+  // Newton J d = -Phi (eq. 21) kept if it passes the descent test (eq. 22); else, with
+  // Options::regularized_direction, the Levenberg-Marquardt direction; else -grad psi.
+  Direction ChooseDirection(int k) {
+    const bool newton_solved = NewtonDirection(k);
+    if (finished_) return Direction::kNewton;
+    if (newton_solved && PassesDescentTest()) return Direction::kNewton;
+    if (newton_solved) ++s_.descent_test_failures;
+    else ++s_.linear_solver_failures;
+    if (!o_.gradient_fallback) {
+      if (!newton_solved)
+        Finish(TerminationType::kLinearSolverFailure,
+               std::string("the Newton system is singular or the ") + ToString(resolved_) +
+                   " solve failed at iteration " + std::to_string(k) +
+                   " and gradient_fallback is off");
+      return Direction::kNewton;  // Algorithm 1 without step 2's fallback
+    }
+    if (o_.regularized_direction && RegularizedDirection() && PassesDescentTest()) {
+      ++s_.regularized_steps;
+      return Direction::kRegularized;
+    }
+    w_.d = -w_.grad;
+    slope_ = -w_.grad.squaredNorm();
+    ++s_.gradient_steps;
+    return Direction::kGradient;
+  }
+
+  // grad psi' d <= -rho ||d||^p (eq. 22); sets slope_.
+  bool PassesDescentTest() {
+    slope_ = w_.grad.dot(w_.d);
+    return slope_ <= -o_.descent_rho * std::pow(w_.d.norm(), o_.descent_p);
+  }
+
+  // J d = -Phi (eq. 21). A factorization predicted to take longer than the time left is
+  // not started (the solve ends with kTimeLimit). false when singular or failed.
+  bool NewtonDirection(int k) {
+    const auto t0 = Clock::now();
+    w_.newton_rhs = -w_.phi;
+    bool solved = w_.linear_solver->Analyze(w_.J, pattern_changed_);
+    if (solved) {
+      if (!FactorizationFits(*w_.linear_solver, k)) return false;
+      solved = TimedFactorize(*w_.linear_solver, w_.J);
+    }
+    solved = solved && w_.linear_solver->Solve(w_.newton_rhs, &w_.d) && AllFinite(w_.d);
+    if (solved) {
+      // Guard against a numerically singular factorization that "succeeded": the
+      // computed d must satisfy J d = -Phi to a small relative residual.
+      w_.newton_residual.noalias() = w_.J * w_.d;
+      const double jd_inf = w_.newton_residual.lpNorm<Eigen::Infinity>();
+      w_.newton_residual += w_.phi;
+      solved = w_.newton_residual.lpNorm<Eigen::Infinity>() <= 1e-6 * (phi_inf_ + jd_inf);
+    }
+    s_.linear_solver_time_s += Seconds(t0);
+    return solved;
+  }
+
+  // Predicted time of the numeric factorization = flops / rate (Options::max_seconds,
+  // factorization_flop_rate); false (and the solve finished) when it exceeds the time left.
+  bool FactorizationFits(const internal::LinearSolver& solver, int k) {
+    const double flops = solver.PredictedFactorizationFlops();
+    s_.predicted_factorization_flops = flops;
+    const double rate = w_.measured_flop_rate > 0.0      ? w_.measured_flop_rate
+                        : o_.factorization_flop_rate > 0.0 ? o_.factorization_flop_rate
+                                                           : solver.TypicalFlopRate();
+    const double left = o_.max_seconds - Seconds(start_);
+    if (!std::isfinite(o_.max_seconds) || !(flops / rate > left)) return true;
+    Finish(TerminationType::kTimeLimit,
+           "the factorization at iteration " + std::to_string(k) + " was not started: " +
+               Fmt("%.3g", flops) + " flops at " + Fmt("%.3g", rate) + " flop/s predict " +
+               Fmt("%.3g", flops / rate) + " s, more than the " + Fmt("%.3g", left) +
+               " s left of max_seconds = " + Fmt("%.3g", o_.max_seconds) +
+               " s (||Phi||_inf = " + Fmt("%.3e", phi_inf_) + ")");
+    return false;
+  }
+
+  bool TimedFactorize(internal::LinearSolver& solver, const SparseMatrix& matrix) {
+    const double flops = solver.PredictedFactorizationFlops();
+    const auto t0 = Clock::now();
+    const bool ok = solver.Factorize(matrix);
+    const double seconds = Seconds(t0);
+    if (std::isfinite(flops) && flops > 0.0 && seconds > 0.0) w_.measured_flop_rate = flops / seconds;
+    return ok;
+  }
+
+  // Levenberg-Marquardt direction (J'J + mu I) d = -J' Phi with mu = ||Phi||_2 (Fan and
+  // Yuan 2005; the proximal perturbation of Munson et al. 2001, sec. 3): a descent
+  // direction of psi whenever grad psi != 0, between Newton (mu -> 0) and -grad psi / mu.
+  bool RegularizedDirection() {
+    const auto t0 = Clock::now();
+    const double mu = std::sqrt(2.0 * psi_);
+    w_.normal_matrix = SparseMatrix(w_.J.transpose()) * w_.J;
+    w_.normal_matrix += mu * w_.identity;
+    w_.normal_matrix.makeCompressed();
+    // The pattern of J'J + mu I follows J's; analysed again whenever J's changed.
+    const bool changed = pattern_changed_ || !w_.regularized_analyzed ||
+                         w_.normal_matrix.nonZeros() != w_.regularized_nonzeros;
+    w_.regularized_nonzeros = w_.normal_matrix.nonZeros();
+    w_.newton_rhs = -w_.grad;
+    bool solved = w_.regularized_solver->Analyze(w_.normal_matrix, changed);
+    w_.regularized_analyzed = solved;
+    solved = solved && TimedFactorize(*w_.regularized_solver, w_.normal_matrix) &&
+             w_.regularized_solver->Solve(w_.newton_rhs, &w_.d) && AllFinite(w_.d);
+    s_.linear_solver_time_s += Seconds(t0);
+    return solved;
+  }
+
+  // ---- step 3: Armijo line search on psi with steps 2^-i -------------------------------
+  // Monotone (nonmonotone_memory = 1, eq. 23):   psi(x + t d) <= psi(x) + beta t slope.
+  // Nonmonotone (Grippo, Lampariello and Lucidi 1986; Munson et al. 2001, sec. 3):
+  // psi(x) replaced by R = max of psi over the last nonmonotone_memory iterates.
+  // A trial point where the problem cannot be evaluated, or evaluates to non-finite
+  // values, is rejected. Numerically, a step is only taken if it changes x and strictly
+  // decreases the reference (else the iteration would stall at round-off level).
+  bool LineSearch(int k, Direction direction) {
+    const size_t memory = w_.psi_memory.size();
+    w_.psi_memory[static_cast<size_t>(k) % memory] = psi_;
+    double reference = psi_;
+    for (size_t j = 0; j < std::min(memory, static_cast<size_t>(k) + 1); ++j)
+      reference = std::max(reference, w_.psi_memory[j]);
+
     double t = 1.0;
-    bool accepted = false;
     int i = 0;
-    const double d_inf = w.d.lpNorm<Eigen::Infinity>();
-    const double x_inf = x.lpNorm<Eigen::Infinity>();
-    for (; i <= o.max_backtracks; ++i, t *= 0.5) {
+    bool accepted = false;
+    const double d_inf = w_.d.lpNorm<Eigen::Infinity>();
+    const double x_inf = x_.lpNorm<Eigen::Infinity>();
+    for (; i <= o_.max_backtracks; ++i, t *= 0.5) {
       if (t * d_inf <= std::numeric_limits<double>::epsilon() * x_inf) break;
-      w.x_trial = x + t * w.d;
-      if (!evaluate(w.x_trial, &w.Et, &w.At, &w.Bt, &w.phi_trial) || !AllFinite(w.phi_trial))
+      if (OutOfTime("in the line search of iteration ", k)) {
+        s_.backtracks += i;
+        return false;
+      }
+      w_.x_trial = x_ + t * w_.d;
+      if (!Evaluate(w_.x_trial, &w_.Et, &w_.At, &w_.Bt, &w_.phi_trial) || !AllFinite(w_.phi_trial))
         continue;
-      const double psi_trial = 0.5 * w.phi_trial.squaredNorm();
-      if (psi_trial <= psi + o.armijo_beta * t * slope && psi_trial < psi) {
+      const double psi_trial = 0.5 * w_.phi_trial.squaredNorm();
+      if (psi_trial <= reference + o_.armijo_beta * t * slope_ && psi_trial < reference) {
         accepted = true;
         break;
       }
     }
-    s.backtracks += std::min(i, o.max_backtracks);
-    if (!accepted) {
-      const std::string where = std::string(" along the ") +
-                                (use_gradient ? "gradient" : "Newton") + " direction at iteration " +
-                                std::to_string(k) + ", ||Phi||_inf = " + Fmt("%.3e", phi_inf) +
-                                ", ||grad psi||_inf = " + Fmt("%.3e", grad_inf);
-      if (grad_inf <= o.stationarity_tolerance * phi_inf) {
-        finish(TerminationType::kStationaryPoint,
-               "no decrease of psi possible" + where +
-                   ": a stationary point of psi that is not a solution");
-      } else {
-        finish(TerminationType::kLineSearchFailure,
-               "no Armijo step of length >= 2^-" + std::to_string(o.max_backtracks) + where);
-      }
-      return;
-    }
-
-    // Step 4: accept.
-    x.swap(w.x_trial);
-    w.E.swap(w.Et);
-    w.A.swap(w.At);
-    w.B.swap(w.Bt);
-    w.phi.swap(w.phi_trial);
-    ++s.iterations;
-    record.step_length = t;
-    record.direction_norm = w.d.norm();
-    record.backtracks = i;
-    record.gradient_step = use_gradient;
+    s_.backtracks += std::min(i, o_.max_backtracks);
+    step_ = t;
+    backtracks_ = i;
+    if (!accepted) LineSearchFailed(k, direction);
+    return accepted;
   }
+
+  void LineSearchFailed(int k, Direction direction) {
+    const char* name = direction == Direction::kGradient      ? "gradient"
+                       : direction == Direction::kRegularized ? "regularized"
+                                                              : "Newton";
+    const std::string where = std::string(" along the ") + name + " direction at iteration " +
+                              std::to_string(k) + ", ||Phi||_inf = " + Fmt("%.3e", phi_inf_) +
+                              ", ||grad psi||_inf = " + Fmt("%.3e", grad_inf_);
+    if (grad_inf_ <= o_.stationarity_tolerance * phi_inf_)
+      Finish(TerminationType::kStationaryPoint,
+             "no decrease of psi possible" + where +
+                 ": a stationary point of psi that is not a solution");
+    else
+      Finish(TerminationType::kLineSearchFailure,
+             "no Armijo step of length >= 2^-" + std::to_string(o_.max_backtracks) + where);
+  }
+
+  // ---- step 4: x^{k+1} = x^k + t d ---------------------------------------------------
+  void Accept(Direction direction) {
+    x_.swap(w_.x_trial);
+    w_.E.swap(w_.Et);
+    w_.A.swap(w_.At);
+    w_.B.swap(w_.Bt);
+    w_.phi.swap(w_.phi_trial);
+    ++s_.iterations;
+    record_.step_length = step_;
+    record_.direction_norm = w_.d.norm();
+    record_.backtracks = backtracks_;
+    record_.gradient_step = direction == Direction::kGradient;
+    record_.regularized_step = direction == Direction::kRegularized;
+  }
+
+  void Finish(TerminationType type, const std::string& message) {
+    finished_ = true;
+    s_.termination = type;
+    s_.message = message;
+    s_.final_phi_inf = w_.phi.lpNorm<Eigen::Infinity>();
+    s_.final_psi = 0.5 * w_.phi.squaredNorm();
+    s_.symbolic_factorizations = w_.linear_solver->symbolic_factorizations() - symbolic_before_;
+    s_.total_time_s = Seconds(start_);
+  }
+
+  const Options& o_;
+  Workspace& w_;
+  MixedProblem& problem_;
+  Vector& x_;
+  Summary& s_;
+  const int n_, m_, p_;
+  Clock::time_point start_;
+  LinearSolverType resolved_ = LinearSolverType::kAuto;
+  int symbolic_before_ = 0;
+  double threshold_ = 0.0;
+  IterationRecord record_;
+  // Iterate k.
+  double best_psi_ = 0.0;  // min of psi(x^0 .. x^k)
+  double phi_inf_ = 0.0, psi_ = 0.0, grad_inf_ = 0.0, slope_ = 0.0, step_ = 0.0;
+  int backtracks_ = 0, degenerate_count_ = 0;
+  bool converged_ = false, have_jacobian_ = false, jacobian_ok_ = true;
+  bool pattern_changed_ = false, finished_ = false;
+};
+
+void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
+  if (x_ptr == nullptr || summary_ptr == nullptr)
+    throw std::invalid_argument("ncp::Solver::Solve: x and summary must not be null");
+  CheckProblem(problem, *x_ptr);
+  Iteration(options_, *workspace_, problem, *x_ptr, *summary_ptr).Run();
 }
 
 void Solver::Solve(SquareFunction& F, const Vector& lower, const Vector& upper, Vector* x,

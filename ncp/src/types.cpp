@@ -33,6 +33,7 @@ const char* ToString(TerminationType t) {
     case TerminationType::kNonFiniteValues: return "non-finite-values";
     case TerminationType::kEvaluationFailure: return "evaluation-failure";
     case TerminationType::kUserAbort: return "user-abort";
+    case TerminationType::kTimeLimit: return "time-limit";
   }
   return "unknown";
 }

@@ -59,6 +59,7 @@ double SolverPhiAtStart(NcpFunction function, double a, double b) {
   ncp::Options options;
   options.ncp_function = function;
   options.penalized_fb_lambda = 0.95;
+  options.project_start_point = false;  // a = x0 may lie outside x >= 0 on purpose
   double phi0 = std::numeric_limits<double>::quiet_NaN();
   options.callback = [&](const ncp::IterationRecord& record) {
     if (record.iteration == 0) phi0 = record.phi_inf;

@@ -35,9 +35,12 @@ struct Row {
 };
 
 // Solves the given grids (1D sizes n or 2D sizes m) from start 0 ("zero") and prints
-// one table row per grid.
+// one table row per grid. For the bump, u0 = 0 lies below the obstacle; it is used as
+// given (all nodes inactive) unless project_start, which moves it onto the obstacle
+// (u0 = max(psi, 0), every node of the bump active: the too large active set above).
 std::vector<Row> SolveOnGrids(int dimension, const std::vector<int>& sizes,
-                              ObstacleKind kind, NcpFunction function) {
+                              ObstacleKind kind, NcpFunction function,
+                              bool project_start = false) {
   std::vector<Row> rows;
   std::printf("\n%-26s %8s %-19s %9s %-20s %5s %6s %5s %10s\n", "problem", "n",
               "function", "tolerance", "status", "iter", "resid", "bt", "nat.res");
@@ -46,6 +49,7 @@ std::vector<Row> SolveOnGrids(int dimension, const std::vector<int>& sizes,
     ncp::Options options = MakeOptions(
         function, dimension == 1 ? LinearSolverType::kKlu : LinearSolverType::kUmfpack);
     options.tolerance = AttainableObstacleTolerance(1.0 / (size + 1));
+    options.project_start_point = project_start;
     Row row;
     row.problem = p.name;
     row.n = p.NumVariables();
@@ -121,5 +125,14 @@ TEST_CASE("two-sided band obstacle, FB from zero (recorded)",
       2.0);
   CheckAllConvergedWithinFactor(SolveOnGrids(2, {10, 30, 60}, ObstacleKind::kTwoSidedBand,
                                              NcpFunction::kFischerBurmeister),
+                                2.0);
+}
+
+// The zero start projected onto [l, u] is the "obstacle" start: measured 22 iterations at
+// n = 100 and 186 at n = 1000 (the active set shrinks by boundary nodes per iteration).
+TEST_CASE("1D bump obstacle, FB from zero projected onto the obstacle (recorded)",
+          "[solver][obstacle][mesh][!mayfail]") {
+  CheckAllConvergedWithinFactor(SolveOnGrids(1, {100, 1000}, ObstacleKind::kLowerBump,
+                                             NcpFunction::kFischerBurmeister, true),
                                 2.0);
 }

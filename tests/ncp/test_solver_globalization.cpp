@@ -4,9 +4,11 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "ncp/solver.hpp"
 #include "ncp_collection/checks.hpp"
+#include "ncp_collection/small_problems.hpp"
 #include "solve_support.hpp"
 
 using ncp::LinearSolverType;
@@ -171,4 +173,71 @@ TEST_CASE("Evaluate() returning false shortens the step and the solve still conv
   CHECK(summary.termination == TerminationType::kConverged);
   CHECK(ncp::collection::NaturalResidual(F, kZero1, kInf1, x) <= 1e-8);
   CHECK(x(0) == Approx(1.0).epsilon(1e-8));
+}
+
+TEST_CASE("Options::Algorithm1 keeps the thesis's published constants", "[solver][globalization]") {
+  const ncp::Options a = ncp::Options::Algorithm1();
+  CHECK(a.descent_rho == 1e-8);  // eq. (22)
+  CHECK(a.descent_p == 2.1);
+  CHECK(a.armijo_beta == 1e-4);  // eq. (23)
+  CHECK(a.nonmonotone_memory == 1);  // monotone
+  CHECK_FALSE(a.regularized_direction);
+  CHECK(a.gradient_fallback);
+  std::string error;
+  CHECK(a.IsValid(&error));
+}
+
+TEST_CASE("josephy from MCPLIB start 3 with FB: Algorithm 1 stalls, the nonmonotone default converges",
+          "[solver][globalization]") {
+  ncp::collection::TestProblem problem = ncp::collection::Josephy();
+  const Vector x0 = Vector::Constant(4, 100.0);  // MCPLIB start 3
+  ncp::Options algorithm1 = ncp::Options::Algorithm1();
+  const ncp::test::Run stalled = ncp::test::SolveFrom(problem, x0, algorithm1);
+  INFO("Algorithm 1: " << stalled.summary.BriefReport());
+  // Measured: stationary-point after 235 iterations, ||Phi||_inf = 0.277.
+  CHECK(stalled.summary.termination == TerminationType::kStationaryPoint);
+  CHECK(stalled.natural_residual > 1e-2);
+
+  ncp::Options options;
+  options.keep_trace = true;
+  const ncp::test::Run run = ncp::test::SolveFrom(problem, x0, options);
+  INFO("default: " << run.summary.FullReport());
+  REQUIRE(run.summary.termination == TerminationType::kConverged);
+  CHECK(run.summary.iterations <= 37);  // Siconos' FB-LSA: 37 iterations
+  CHECK(run.natural_residual <= 1e-8);
+  CHECK(ncp::test::DistanceToNearest(run.x, problem.solutions) <= 1e-8);
+  // The run is nonmonotone, and every accepted psi respects the reference of the last
+  // 3 iterates: psi_{k+1} < max(psi_k, psi_{k-1}, psi_{k-2}).
+  bool increased = false;
+  const auto& trace = run.summary.trace;
+  for (size_t k = 1; k < trace.size(); ++k) {
+    double reference = 0.0;
+    for (size_t j = k >= 3 ? k - 3 : 0; j < k; ++j) reference = std::max(reference, trace[j].psi);
+    CHECK(trace[k].psi < reference);
+    increased = increased || trace[k].psi > trace[k - 1].psi;
+  }
+  CHECK(increased);
+}
+
+TEST_CASE("singular Newton matrix: the Levenberg-Marquardt direction comes before -grad psi",
+          "[solver][globalization]") {
+  const LinearSolverType backend =
+      GENERATE(LinearSolverType::kDenseLU, LinearSolverType::kUmfpack, LinearSolverType::kKlu);
+  SingularAtStart F;
+  Vector x(2);
+  x << 1.0, 1.0;
+  ncp::Options options = ncp::test::MakeOptions(NcpFunction::kFischerBurmeister, backend);
+  options.regularized_direction = true;
+  options.keep_trace = true;
+  ncp::Summary summary;
+  ncp::Solve(options, F, Vector::Zero(2), Vector::Constant(2, kInf), &x, &summary);
+  INFO(ncp::ToString(backend) << ": " << summary.FullReport());
+  CHECK(summary.linear_solver_failures >= 1);
+  CHECK(summary.regularized_steps >= 1);
+  REQUIRE(summary.trace.size() >= 2);
+  CHECK(summary.trace[1].regularized_step);
+  CHECK_FALSE(summary.trace[1].gradient_step);
+  REQUIRE(summary.termination == TerminationType::kConverged);
+  CHECK(ncp::collection::NaturalResidual(F, Vector::Zero(2), Vector::Constant(2, kInf), x) <= 1e-8);
+  CHECK(x(1) == Approx(2.0).epsilon(1e-8));
 }

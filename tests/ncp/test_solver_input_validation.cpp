@@ -96,6 +96,21 @@ TEST_CASE("invalid options are rejected before any work", "[solver][validation]"
     o.penalized_fb_lambda = 0.0;
     cases.push_back({"penalized_fb_lambda", o});
   }
+  {
+    ncp::Options o;
+    o.max_seconds = 0.0;
+    cases.push_back({"max_seconds", o});
+  }
+  {
+    ncp::Options o;
+    o.factorization_flop_rate = -1.0;
+    cases.push_back({"factorization_flop_rate", o});
+  }
+  {
+    ncp::Options o;
+    o.infinite_bound = 0.0;
+    cases.push_back({"infinite_bound", o});
+  }
   for (const Case& c : cases) {
     INFO(c.field);
     std::string error;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <string>
 #include <utility>
 
 #include "dense_function.hpp"
@@ -377,6 +378,30 @@ TestProblem PathManualLcp() {
   p.starts = {{"zero", Vector::Zero(4)}, {"ones", Vector::Ones(4)}};
   p.solutions = {Vec({2.8, 0.0, 0.8, 1.2})};
   p.notes = "M is positive semidefinite (QP KKT matrix); unique nondegenerate solution";
+  return p;
+}
+
+// ---- Murty's exponential LCP ----------------------------------------------------------
+// K. G. Murty, "Computational complexity of complementary pivot methods", Math. Programming
+// Study 7 (1978) 61-73: the LCP on which Lemke's method takes 2^n - 1 pivots,
+//   M_ii = 1,  M_ij = 2 for i > j,  M_ij = 0 for i < j,  q = -1.
+// M is lower triangular with a positive diagonal, a P-matrix: the solution is unique. By
+// hand: x = e_1 gives w = M e_1 + q = (0, 1, ..., 1) >= 0 with x' w = 0.
+TestProblem MurtyExponentialLcp(int n) {
+  DenseMatrix M = DenseMatrix::Zero(n, n);
+  for (int i = 0; i < n; ++i) {
+    M(i, i) = 1.0;
+    for (int j = 0; j < i; ++j) M(i, j) = 2.0;
+  }
+  TestProblem p;
+  p.name = "explcp-" + std::to_string(n);
+  p.source = "Murty (1978), Math. Programming Study 7, the exponential LCP for Lemke's method "
+             "(the family of MCPLIB explcp)";
+  p.F = std::make_unique<AffineFunction>(DenseToSparse(M), -Vector::Ones(n));
+  MakeStandardNcp(&p);
+  p.starts = {{"zero", Vector::Zero(n)}, {"ones", Vector::Ones(n)}};
+  p.solutions = {Vector::Unit(n, 0)};
+  p.notes = "P-matrix (triangular, unit diagonal): unique solution e_1, nondegenerate";
   return p;
 }
 

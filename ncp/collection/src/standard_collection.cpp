@@ -11,6 +11,7 @@ std::vector<TestProblem> StandardCollection() {
   problems.push_back(Billups());
   problems.push_back(Hs35Lcp());
   problems.push_back(PathManualLcp());
+  problems.push_back(MurtyExponentialLcp(16));
   problems.push_back(Obstacle1D(100, ObstacleKind::kLowerBump));
   problems.push_back(Obstacle1D(100, ObstacleKind::kTwoSidedBand));
   problems.push_back(Obstacle2D(20, ObstacleKind::kLowerBump));

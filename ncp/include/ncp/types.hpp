@@ -47,6 +47,8 @@ enum class TerminationType {
   kNonFiniteValues,      ///< NaN/Inf in the residual or Jacobian at the current iterate
   kEvaluationFailure,    ///< Evaluate()/Jacobian() returned false at the current iterate
   kUserAbort,            ///< the iteration callback asked to stop
+  kTimeLimit,            ///< Options::max_seconds reached, or a factorization predicted
+                         ///< to take longer than the time left was not started
 };
 
 const char* ToString(NcpFunction f);

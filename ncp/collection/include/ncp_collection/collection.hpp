@@ -15,7 +15,7 @@
 
 namespace ncp::collection {
 
-/// kojshin, josephy, mathiesen-mod, nash5, billups, hs35-lcp, path-lcp,
+/// kojshin, josephy, mathiesen-mod, nash5, billups, hs35-lcp, path-lcp, explcp-16,
 /// obstacle1d-bump-100, obstacle1d-band-100, obstacle2d-bump-20x20,
 /// obstacle2d-band-20x20, random-plcp-200, random-plcp-degenerate-200.
 std::vector<TestProblem> StandardCollection();
