@@ -51,6 +51,10 @@ bool SamePattern(const ncp::SparseMatrix& a, const ncp::SparseMatrix& b) {
 ncp::Options ContactNcpOptions() {
   ncp::Options options;
   options.min_tie_takes_b = true;
+  // Monotone Armijo search: on the 3D friction steps (eq. 94) of the closed-form checks
+  // (contact-physics-check --quick --dim 3, lumped mass) the nonmonotone default of ncp ended
+  // two sliding runs with a failed step where the monotone search failed none.
+  options.nonmonotone_memory = 1;
   return options;
 }
 

@@ -87,6 +87,12 @@ const ColumnTable<StepRecord>& StepColumns() {
       ("tangent_force_sum", &StepRecord::tangent_force_sum)
       ("max_penetration", &StepRecord::max_penetration)
       ("active_nodes", &StepRecord::active_nodes)
+      ("equilibrium_residual", &StepRecord::equilibrium_residual)
+      ("complementarity_residual", &StepRecord::complementarity_residual)
+      ("friction_residual", &StepRecord::friction_residual)
+      ("force_accuracy", &StepRecord::force_accuracy)
+      ("displacement_accuracy", &StepRecord::displacement_accuracy)
+      ("accurate", &StepRecord::accurate)
       ("ipopt_relative_difference", &StepRecord::ipopt_relative_difference);
   // clang-format on
   return table;
@@ -102,6 +108,10 @@ const ColumnTable<DynamicSummary>& SummaryColumns() {
       ("friction_restarts", &DynamicSummary::friction_restarts)
       ("seconds", &DynamicSummary::seconds)
       ("max_penetration", &DynamicSummary::max_penetration)
+      ("max_equilibrium_residual", &DynamicSummary::max_equilibrium_residual)
+      ("max_complementarity_residual", &DynamicSummary::max_complementarity_residual)
+      ("max_friction_residual", &DynamicSummary::max_friction_residual)
+      ("inaccurate_steps", &DynamicSummary::inaccurate_steps)
       ("energy_balance_error", &DynamicSummary::energy_balance_error)
       ("critical_time_step", &DynamicSummary::critical_time_step)
       ("max_ipopt_relative_difference", &DynamicSummary::max_ipopt_relative_difference);
@@ -261,7 +271,7 @@ PYBIND11_MODULE(_contact, m) {
       .def_property(
           "tolerance", [](const contact::Scene& s) { return s.dynamics.ncp.tolerance; },
           [](contact::Scene& s, double v) { s.dynamics.ncp.tolerance = v; },
-          "Newton tolerance on the scaled step equations [m]")
+          "tolerance of every step relative to its force and displacement scales")
       .def("__repr__", [](const contact::Scene& s) {
         std::ostringstream text;
         text << "<contact.Scene '" << s.name << "' dim=" << s.dim

@@ -247,7 +247,7 @@ class NewtonSolver {
     for (int i = 0; i < shifted.rows(); ++i) shifted.coeffRef(i, i) += delta;
     const bool first = !factorized_once_;
     factorized_once_ = true;
-    if (linear_solver_->Factorize(shifted, first) &&
+    if (linear_solver_->Analyze(shifted, first) && linear_solver_->Factorize(shifted) &&
         linear_solver_->Solve(-phi, direction) && direction->allFinite() &&
         (J_ * *direction + phi).norm() <= options_.newton_residual * phi.norm())
       return true;
@@ -261,7 +261,8 @@ class NewtonSolver {
     const bool first_normal = !normal_factorized_once_;
     normal_factorized_once_ = true;
     const Vector gradient = J_.transpose() * phi;
-    return normal_solver_->Factorize(normal_matrix_, first_normal) &&
+    return normal_solver_->Analyze(normal_matrix_, first_normal) &&
+           normal_solver_->Factorize(normal_matrix_) &&
            normal_solver_->Solve(-gradient, direction) && direction->allFinite();
   }
 
