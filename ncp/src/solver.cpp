@@ -61,35 +61,46 @@ bool Options::IsValid(std::string* error) const {
     return false;
   };
   if (!(tolerance >= 0.0) || !std::isfinite(tolerance))
-    return fail("Options::tolerance must be finite and >= 0, got " + std::to_string(tolerance));
+    return fail("Options::tolerance must be finite and >= 0, got " + Fmt("%g", tolerance));
   if (max_iterations < 0)
     return fail("Options::max_iterations must be >= 0, got " + std::to_string(max_iterations));
   if (!(descent_rho > 0.0))
-    return fail("Options::descent_rho must be > 0 (eq. 22), got " + std::to_string(descent_rho));
+    return fail("Options::descent_rho must be > 0 (eq. 22), got " + Fmt("%g", descent_rho));
   if (!(descent_p > 2.0))
-    return fail("Options::descent_p must be > 2 (eq. 22), got " + std::to_string(descent_p));
+    return fail("Options::descent_p must be > 2 (eq. 22), got " + Fmt("%g", descent_p));
   if (!(armijo_beta > 0.0 && armijo_beta < 0.5))
     return fail("Options::armijo_beta must lie in (0, 1/2) (eq. 23), got " +
-                std::to_string(armijo_beta));
+                Fmt("%g", armijo_beta));
   if (max_backtracks < 0 || max_backtracks > 1000)
     return fail("Options::max_backtracks must lie in [0, 1000], got " +
                 std::to_string(max_backtracks));
   if (!(degenerate_tolerance >= 0.0))
     return fail("Options::degenerate_tolerance must be >= 0, got " +
-                std::to_string(degenerate_tolerance));
+                Fmt("%g", degenerate_tolerance));
   if (!(stationarity_tolerance >= 0.0))
     return fail("Options::stationarity_tolerance must be >= 0, got " +
-                std::to_string(stationarity_tolerance));
+                Fmt("%g", stationarity_tolerance));
   if (!(penalized_fb_lambda > 0.0 && penalized_fb_lambda <= 1.0))
     return fail("Options::penalized_fb_lambda must lie in (0, 1], got " +
-                std::to_string(penalized_fb_lambda));
-  if (stagnation_window < 0)
-    return fail("Options::stagnation_window must be >= 0, got " + std::to_string(stagnation_window));
+                Fmt("%g", penalized_fb_lambda));
+  if (stagnation_window < 0 || stagnation_window > kMaxStagnationWindow)
+    return fail("Options::stagnation_window must lie in [0, " + std::to_string(kMaxStagnationWindow) +
+                "] iterations, got " + std::to_string(stagnation_window));
   if (!(stagnation_tolerance >= 0.0 && stagnation_tolerance < 1.0))
     return fail("Options::stagnation_tolerance must lie in [0, 1), got " +
-                std::to_string(stagnation_tolerance));
+                Fmt("%g", stagnation_tolerance));
   if (dense_threshold < 0)
     return fail("Options::dense_threshold must be >= 0, got " + std::to_string(dense_threshold));
+  // Enums set from integers (a cast, a file) may hold any value: checked before a switch.
+  const int function = static_cast<int>(ncp_function);
+  if (function < 0 || function > static_cast<int>(NcpFunction::kPenalizedFischerBurmeister))
+    return fail("Options::ncp_function must be an NcpFunction (0.." +
+                std::to_string(static_cast<int>(NcpFunction::kPenalizedFischerBurmeister)) + "), got " +
+                std::to_string(function));
+  const int solver = static_cast<int>(linear_solver);
+  if (solver < 0 || solver > static_cast<int>(LinearSolverType::kKlu))
+    return fail("Options::linear_solver must be a LinearSolverType (0.." +
+                std::to_string(static_cast<int>(LinearSolverType::kKlu)) + "), got " + std::to_string(solver));
   return true;
 }
 
@@ -510,14 +521,21 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
     // otherwise the iteration would stall at round-off level.
     double t = 1.0;
     bool accepted = false;
-    int i = 0;
+    int i = 0, trials = 0, non_finite_trials = 0, failed_trials = 0;
     const double d_inf = w.d.lpNorm<Eigen::Infinity>();
     const double x_inf = x.lpNorm<Eigen::Infinity>();
     for (; i <= o.max_backtracks; ++i, t *= 0.5) {
       if (t * d_inf <= std::numeric_limits<double>::epsilon() * x_inf) break;
       w.x_trial = x + t * w.d;
-      if (!evaluate(w.x_trial, &w.Et, &w.At, &w.Bt, &w.phi_trial) || !AllFinite(w.phi_trial))
+      ++trials;
+      if (!evaluate(w.x_trial, &w.Et, &w.At, &w.Bt, &w.phi_trial)) {
+        ++failed_trials;
         continue;
+      }
+      if (!AllFinite(w.phi_trial)) {
+        ++non_finite_trials;
+        continue;
+      }
       const double psi_trial = 0.5 * w.phi_trial.squaredNorm();
       if (psi_trial <= psi + o.armijo_beta * t * slope && psi_trial < psi) {
         accepted = true;
@@ -530,13 +548,26 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
                                 (use_gradient ? "gradient" : "Newton") + " direction at iteration " +
                                 std::to_string(k) + ", ||Phi||_inf = " + Fmt("%.3e", phi_inf) +
                                 ", ||grad psi||_inf = " + Fmt("%.3e", grad_inf);
-      if (grad_inf <= o.stationarity_tolerance * phi_inf) {
+      if (trials > 0 && non_finite_trials == trials) {
+        finish(TerminationType::kNonFiniteValues,
+               "Phi has NaN or Inf entries at all " + std::to_string(trials) +
+                   " trial points of the line search" + where);
+      } else if (trials > 0 && failed_trials == trials) {
+        finish(TerminationType::kEvaluationFailure,
+               "the problem could not be evaluated at any of the " + std::to_string(trials) +
+                   " trial points of the line search" + where);
+      } else if (grad_inf <= o.stationarity_tolerance * phi_inf) {
         finish(TerminationType::kStationaryPoint,
                "no decrease of psi possible" + where +
                    ": a stationary point of psi that is not a solution");
       } else {
         finish(TerminationType::kLineSearchFailure,
-               "no Armijo step of length >= 2^-" + std::to_string(o.max_backtracks) + where);
+               "no Armijo step of length >= 2^-" + std::to_string(o.max_backtracks) + where +
+                   (non_finite_trials + failed_trials > 0
+                        ? " (" + std::to_string(non_finite_trials) + " of " + std::to_string(trials) +
+                              " trial points gave NaN/Inf, " + std::to_string(failed_trials) +
+                              " could not be evaluated)"
+                        : std::string()));
       }
       return;
     }
