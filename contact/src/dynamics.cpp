@@ -439,7 +439,8 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
   const CriticalTimeStep crit =
       Lanczos(model.K, model.M, &mass, kCriticalStepTolerance, kCriticalStepMaxIterations);
   summary.critical_time_step = crit.dt_crit;
-  if (!(crit.dt_crit > 0) || !std::isfinite(crit.dt_crit))
+  // omega_max = 0 (no stiffness, e.g. a rigid mass) gives dt_crit = inf: any dt is stable.
+  if (!(crit.dt_crit > 0) || !(crit.omega_max >= 0) || !std::isfinite(crit.omega_max))
     throw std::invalid_argument(who + "the critical time step 2/omega_max = " + internal::FormatShort(crit.dt_crit) +
                                 " s is not a positive finite number (omega_max = " +
                                 internal::FormatShort(crit.omega_max) +

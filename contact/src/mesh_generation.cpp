@@ -59,12 +59,12 @@ std::string CheckGridLimits(const std::vector<double>& size, const std::vector<d
     h_max = std::max(h_max, size[k] / cells[k]);
   }
   if (count > kMaxGeneratedCells)
-    return "give " + str(count) + " cells; at most " + str(kMaxGeneratedCells) + " are accepted";
+    return str(count) + " cells exceed the limit of " + str(kMaxGeneratedCells);
   if (h_min < kMinCellSize)
-    return "give cells of edge " + str(h_min) + " m; at least " + str(kMinCellSize) + " m is accepted";
+    return "cells of edge " + str(h_min) + " m are below the limit of " + str(kMinCellSize) + " m";
   if (h_max > kMaxCellAspectRatio * h_min)
-    return "give cells of aspect ratio " + str(h_max / h_min) + " (edges " + str(h_max) + " m and " +
-           str(h_min) + " m); at most " + str(kMaxCellAspectRatio) + " is accepted";
+    return "cells of aspect ratio " + str(h_max / h_min) + " (edges " + str(h_max) + " m and " +
+           str(h_min) + " m) exceed the limit of " + str(kMaxCellAspectRatio);
   return "";
 }
 
@@ -93,7 +93,7 @@ void CheckGeometry(const char* who, const std::array<double, Dim>& origin,
   }
   const std::string limits = CheckGridLimits(std::vector<double>(size.begin(), size.end()),
                                              std::vector<double>(cells.begin(), cells.end()));
-  if (!limits.empty()) throw std::invalid_argument(std::string(who) + ": size and cells " + limits);
+  if (!limits.empty()) throw std::invalid_argument(std::string(who) + ": " + limits);
 }
 
 // Physical groups "fixed"/"load"/"contact" of dimension dim - 1 from the side roles;

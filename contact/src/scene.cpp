@@ -92,7 +92,7 @@ class Table {
   int Integer(const std::string& key, const Range& range, int fallback) const {
     if (!Has(key)) return used_.insert(key), fallback;
     const toml::value& v = Get(key);
-    if (!v.is_integer()) Fail(key, "must be an integer" + range.Describe(), &v);
+    if (!v.is_integer()) Fail(key, "must be an integer in" + range.Describe(), &v);
     const double x = ToDouble(key, v, v);
     CheckRange(key, x, range, v);
     return static_cast<int>(v.as_integer());
@@ -125,7 +125,7 @@ class Table {
   /// An array of numbers, each in `range` (and `expected_size` entries if >= 0).
   std::vector<double> Numbers(const std::string& key, const Range& range, int expected_size = -1) const {
     const toml::value& v = Get(key);
-    if (!v.is_array()) Fail(key, "must be an array of numbers" + range.Describe(), &v);
+    if (!v.is_array()) Fail(key, "must be an array of numbers in" + range.Describe(), &v);
     if (expected_size >= 0 && static_cast<int>(v.as_array().size()) != expected_size)
       Fail(key, "must have " + std::to_string(expected_size) + " entries, got " +
                     std::to_string(v.as_array().size()), &v);
@@ -279,7 +279,7 @@ void ReadGeometry(const Table& g, Scene* s) {
     for (double c : cells)
       if (c != std::floor(c)) g.Fail("cells", "entries must be integers, got " + Str(c), &g.Get("cells"));
     const std::string grid_error = CheckGridLimits(std::vector<double>(size.data(), size.data() + s->dim), cells);
-    if (!grid_error.empty()) g.Fail("size", "and 'cells' " + grid_error, &g.Get("cells"));
+    if (!grid_error.empty()) g.Fail("size", "and 'cells': " + grid_error, &g.Get("cells"));
     const bool structured = g.Choice("topology", {"structured", "unstructured"}, "structured") == "structured";
     if (s->dim == 2) {
       RectangleMeshOptions o;

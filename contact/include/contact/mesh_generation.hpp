@@ -25,7 +25,7 @@ inline constexpr double kMaxCellAspectRatio = 1e4;     ///< max_k h_k / min_k h_
 inline constexpr double kMaxGridExtent = 1e6;          ///< |origin_k| and size_k [m]
 inline constexpr double kMinCellSize = 1e-9;           ///< h_k [m]
 /// "" if `cells` cells along sides of lengths `size` [m] respect those limits, else the
-/// reason, e.g. "give 1e+12 cells; at most 4e+06 are accepted". Takes doubles so that
+/// reason, e.g. "1e+12 cells exceed the limit of 4e+06". Takes doubles so that
 /// scene values are checked before their conversion to int.
 std::string CheckGridLimits(const std::vector<double>& size, const std::vector<double>& cells);
 
