@@ -208,6 +208,9 @@ def main():
             slowest = max(slowest, seconds)
             counts[code] = counts.get(code, 0) + 1
             defect = judge(code, stderr, certainly_invalid)
+            if (case + 1) % 100 == 0:
+                print("fuzz: %d of %d cases, %d defects so far" % (case + 1, args.cases, len(failures) + bool(defect)),
+                      flush=True)
             if defect:
                 keep = os.path.join(args.keep_dir, "case_%d" % case)
                 os.makedirs(keep, exist_ok=True)
