@@ -130,7 +130,11 @@ Mesh ReadGmshMesh(const std::string& path) {
       mesh = internal::ExtractGmshMesh(context);
     });
   }
-  ValidateMesh(mesh);
+  try {
+    ValidateMesh(mesh);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument("ReadGmshMesh('" + path + "'): " + e.what());
+  }
   return mesh;
 }
 

@@ -220,6 +220,11 @@ TEST_CASE("tags beyond the limit and non-ASCII or non-.msh files are refused by 
   CHECK_THROWS_WITH(ReadGmshMesh(binary_file.path()), Catch::Contains("binary.msh:2: binary .msh files"));
   const TemporaryFile script("square.geo", kSquareMsh);
   CHECK_THROWS_WITH(ReadGmshMesh(script.path()), Catch::Contains("square.geo' must end in .msh"));
+  // A node moved far away (fuzz case, seed 7): the mesh error names the file.
+  std::string moved = kSquareMsh;
+  moved.replace(moved.find("0 1 0\n$EndNodes"), 5, "0 -1e8 0");  // node 40: element 5 inverted
+  const TemporaryFile far("moved.msh", moved);
+  CHECK_THROWS_WITH(ReadGmshMesh(far.path()), Catch::Contains("moved.msh'): inverted element: element 1"));
   std::string truncated = kSquareMsh;
   truncated.resize(truncated.find("$Elements") + 14);
   const TemporaryFile cut("truncated.msh", truncated);

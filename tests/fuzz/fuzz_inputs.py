@@ -185,6 +185,7 @@ def main():
     parser.add_argument("--time-limit", type=float, default=30.0, help="wall seconds per case")
     parser.add_argument("--memory-mb", type=int, default=2048, help="address-space limit (0 = none)")
     parser.add_argument("--keep-dir", default="fuzz-failures")
+    parser.add_argument("--show", action="store_true", help="print every case and its message")
     args = parser.parse_args()
     rng = random.Random(args.seed)
     seeds = [open(path, encoding="utf-8").read() for path in SCENES]
@@ -208,6 +209,8 @@ def main():
             slowest = max(slowest, seconds)
             counts[code] = counts.get(code, 0) + 1
             defect = judge(code, stderr, certainly_invalid)
+            if args.show:
+                print("case %d: %s -> exit %s: %s" % (case, what, code, stderr.strip().split("\n")[-1][:300]))
             if (case + 1) % 100 == 0:
                 print("fuzz: %d of %d cases, %d defects so far" % (case + 1, args.cases, len(failures) + bool(defect)),
                       flush=True)
