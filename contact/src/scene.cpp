@@ -510,13 +510,41 @@ Scene LoadScene(const std::string& path, const SceneOverrides& overrides) {
 
 // ---------------------------------------------------------------------------------------
 
+namespace {
+
+/// Runs `build`; a std::invalid_argument from the mesh or the model (a missing group, an
+/// empty contact set ...) becomes a SceneError that names the scene file and the mesh file.
+template <typename Build>
+auto NamingTheScene(const Scene& scene, Build build) {
+  try {
+    return build();
+  } catch (const SceneError&) {
+    throw;
+  } catch (const std::invalid_argument& e) {
+    const std::string mesh = scene.msh_file.empty() ? "" : " (mesh " + scene.msh_file + ")";
+    throw SceneError(scene.source + mesh + ": " + e.what());
+  }
+}
+
+SceneModel BuildModel(const Scene& scene, Mesh mesh);
+
+}  // namespace
+
 SceneModel BuildSceneModel(const Scene& scene) {
-  return BuildSceneModel(scene, !scene.msh_file.empty() ? ReadGmshMesh(scene.msh_file)
-                                : scene.rectangle       ? MakeRectangleMesh(*scene.rectangle)
-                                                        : MakeBoxMesh(*scene.box));
+  return NamingTheScene(scene, [&] {
+    return BuildModel(scene, !scene.msh_file.empty() ? ReadGmshMesh(scene.msh_file)
+                             : scene.rectangle       ? MakeRectangleMesh(*scene.rectangle)
+                                                     : MakeBoxMesh(*scene.box));
+  });
 }
 
 SceneModel BuildSceneModel(const Scene& scene, Mesh mesh) {
+  return NamingTheScene(scene, [&] { return BuildModel(scene, std::move(mesh)); });
+}
+
+namespace {
+
+SceneModel BuildModel(const Scene& scene, Mesh mesh) {
   SceneModel out;
   if (mesh.dim != scene.dim)
     throw SceneError(scene.source + ": the mesh is " + std::to_string(mesh.dim) +
@@ -582,6 +610,8 @@ SceneModel BuildSceneModel(const Scene& scene, Mesh mesh) {
   }
   return out;
 }
+
+}  // namespace
 
 SceneResult RunScene(const Scene& scene, bool progress) {
   SceneResult result;
@@ -716,7 +746,7 @@ SceneResult RunScene(const Scene& scene, bool progress) {
       snapshot(name, u);
     }
   };
-  result.summary = RunDynamics(built.model, options);
+  result.summary = NamingTheScene(scene, [&] { return RunDynamics(built.model, options); });
   return result;
 }
 

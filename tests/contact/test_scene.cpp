@@ -131,6 +131,14 @@ TEST_CASE("Scene values outside their range are refused before any work", "[scen
                                                     std::string(40, '{') + "\"\n" + good)));
 }
 
+// Found by the fuzz test (seed 2, case 211): errors of the mesh and the model named no file.
+TEST_CASE("Errors while building a scene's model name the scene file", "[scene][errors]") {
+  const std::string path = WriteScene("no_contact", Replace(Block(2, 0.0), "contact = [\"ymin\"]\n", ""));
+  const Scene scene = LoadScene(path);
+  CHECK_THROWS_AS(BuildSceneModel(scene), SceneError);
+  CHECK_THROWS_WITH(BuildSceneModel(scene), Catch::Contains(path + ": mesh has no boundary group 'contact'"));
+}
+
 TEST_CASE("Scene overrides are validated like values of the file", "[scene][errors]") {
   const std::string path = WriteScene("good", Block(2, 0.0));
   CHECK(LoadScene(path, {{"time.dt", "1e-5"}}).dynamics.dt == 1e-5);
