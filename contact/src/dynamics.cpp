@@ -14,6 +14,7 @@
 #include "contact/static_contact.hpp"
 #include "cholmod_factor.hpp"
 #include "parallel.hpp"
+#include "text_format.hpp"
 
 namespace contact {
 namespace {
@@ -487,8 +488,14 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
   if (!model.load) throw std::invalid_argument(who + "the load function is not set");
   if (!(options.dt > 0.0) || !std::isfinite(options.dt))
     throw std::invalid_argument(who + "dt must be > 0, got " + std::to_string(options.dt));
-  if (!(options.end_time >= options.start_time))
-    throw std::invalid_argument(who + "end_time must be >= start_time");
+  if (!(options.end_time >= options.start_time) || !std::isfinite(options.end_time) ||
+      !std::isfinite(options.start_time))
+    throw std::invalid_argument(who + "end_time must be finite and >= start_time");
+  // Counted in double: (end_time - start_time) / dt may exceed every integer type.
+  const double step_count = std::ceil((options.end_time - options.start_time) / options.dt - 1e-3);
+  if (!(step_count <= kMaxTimeSteps))
+    throw std::invalid_argument(who + "(end_time - start_time) / dt = " + internal::FormatShort(step_count) +
+                                " time steps; at most " + internal::FormatShort(kMaxTimeSteps) + " are accepted");
   if (!(options.friction_coefficient >= 0.0))
     throw std::invalid_argument(who + "friction_coefficient must be >= 0, got " +
                                 std::to_string(options.friction_coefficient));
@@ -511,6 +518,13 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
   const CriticalTimeStep crit =
       Lanczos(model.K, model.M, &mass, kCriticalStepTolerance, kCriticalStepMaxIterations);
   summary.critical_time_step = crit.dt_crit;
+  // omega_max = 0 (no stiffness, e.g. a rigid mass) gives dt_crit = inf: any dt is stable.
+  if (!(crit.dt_crit > 0) || !(crit.omega_max >= 0) || !std::isfinite(crit.omega_max))
+    throw std::invalid_argument(who + "the critical time step 2/omega_max = " + internal::FormatShort(crit.dt_crit) +
+                                " s is not a positive finite number (omega_max = " +
+                                internal::FormatShort(crit.omega_max) +
+                                " rad/s): K or M is out of the range of double precision (check the "
+                                "Young's modulus [Pa], density [kg/m^3] and mesh size [m])");
   if (dt > crit.dt_crit && !options.allow_unstable_time_step) {
     summary.status = DynamicStatus::kRefusedUnstable;
     char buffer[256];
@@ -607,7 +621,7 @@ DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& opti
   double contact_force_max = 0.0;  // |r^k|_inf of the previous step [N]
   StepRecord first_inaccurate;
   ContactSystem::Result contact;
-  const long num_steps = std::lround(std::ceil((options.end_time - options.start_time) / dt - 1e-3));
+  const long num_steps = static_cast<long>(step_count);
   double last_progress = 0.0;
   summary.records.reserve(static_cast<size_t>(std::max(0L, num_steps)));
 

@@ -39,6 +39,9 @@ struct CriticalTimeStep {
   int iterations = 0;
   bool converged = false;
 };
+/// At most this many time steps (end_time - start_time) / dt per run: RunDynamics keeps one
+/// StepRecord (~200 bytes) per step, reserved up front.
+inline constexpr double kMaxTimeSteps = 1e6;
 /// The defaults, which RunDynamics uses too.
 inline constexpr double kCriticalStepTolerance = 1e-9;
 inline constexpr int kCriticalStepMaxIterations = 20000;
