@@ -375,7 +375,7 @@ contact::SceneModel ThrownBlock(contact::StepMethod method) {
 
 }  // namespace
 
-TEST_CASE("RunDynamics: the explicit time loop allocates nothing; Newton steps a constant",
+TEST_CASE("RunDynamics: the explicit time loop allocates nothing, Newton steps a constant",
           "[contact][allocation][dynamics]") {
   const contact::StepMethod method =
       GENERATE(contact::StepMethod::kExplicit, contact::StepMethod::kCondensed,
