@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "block_on_floor.hpp"
 #include "contact/scene.hpp"
 #include "mass_inverse.hpp"
 #include "step_accuracy.hpp"
@@ -20,20 +21,7 @@ using namespace contact;
 // A 2 x 1 m steel block of 8 x 4 Q4, lumped mass, resting on the floor y >= 0 (gap 0) and
 // moving with v = (1, -1) m/s into it: every bottom node presses and slides.
 SceneModel PressedBlock() {
-  Scene scene;
-  scene.dim = 2;
-  RectangleMeshOptions o;
-  o.size = {2.0, 1.0};
-  o.cells = {8, 4};
-  o.side_roles = {{Side::kYMin, BoundaryRole::kContact}};
-  scene.rectangle = o;
-  scene.material = IsotropicMaterial{210e9, 0.3, 7850.0};
-  scene.mass = MassKind::kLumped;
-  scene.body_force = Eigen::Vector2d(0.0, -9.81 * 7850.0);
-  scene.obstacle = std::make_shared<HalfSpace>(HalfSpace::ObstacleBelow(2, 1, 0.0));
-  scene.friction_coefficient = 0.3;
-  scene.dynamics.dt = 2e-6;
-  scene.dynamics.end_time = scene.dynamics.dt;
+  const Scene scene = testing::SteelBlockOnFloor(MassKind::kLumped);
   return BuildSceneModel(scene);
 }
 
