@@ -260,7 +260,7 @@ TEST_CASE("The explicit step refuses a consistent mass", "[scene][errors]") {
   CHECK_THROWS_WITH(RunDynamics(built.model, built.options), Catch::Contains("lumped (diagonal) mass"));
 }
 
-TEST_CASE("Table 3 with f_c = 0.5 completes with both step methods; a failed frictional "
+TEST_CASE("Table 3 with f_c = 0.5 completes with both step methods, a failed frictional "
           "solve is retried once from the neutral start",
           "[scene][dynamics][friction]") {
   // With a mass factor computed as LDL' (an earlier version) the condensed solve of step 29
