@@ -14,6 +14,7 @@ packages=(
   nlohmann-json3-dev       # JSON output
   libcxxopts-dev           # command-line parsing
   python3-matplotlib       # figures (run with /usr/bin/python3)
+  python3                  # input fuzz test tests/fuzz (run with /usr/bin/python3)
   libsiconos-numerics-dev  # peer solver for benchmarks
   libfclib-dev             # FCLIB reader for the fc3d data
   pybind11-dev python3-dev # Python bindings (python/)

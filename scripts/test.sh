@@ -1,7 +1,12 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs the whole test suite with ctest.
+#   scripts/test.sh --sanitize   the same with AddressSanitizer + UBSan (scripts/sanitize.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+if [[ "${1:-}" == "--sanitize" ]]; then
+  shift
+  exec bash scripts/sanitize.sh "$@"
+fi
 bash scripts/setup.sh
 bash scripts/build.sh
 cd build

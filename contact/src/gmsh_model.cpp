@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <stdexcept>
@@ -56,6 +57,9 @@ GmshSession::GmshSession(const std::string& model_name) {
   try {
     gmsh::initialize(0, nullptr, /*readConfigFiles=*/false);
     gmsh::option::setNumber("General.Terminal", 0);
+    // Never ask on standard input: gmsh's questions (e.g. "Do you really want to continue?"
+    // before a very large mesh) take their default answer.
+    gmsh::option::setNumber("General.NoPopup", 1);
     gmsh::model::add(model_name);
   } catch (const std::string& what) {
     GmshMutex().unlock();
@@ -140,27 +144,26 @@ Mesh ExtractGmshMesh(const std::string& source) {
   std::vector<std::size_t> node_tags;
   std::vector<double> coordinates, parametric;
   gmsh::model::mesh::getNodes(node_tags, coordinates, parametric, -1, -1, false, false);
-  const std::size_t max_tag =
-      node_tags.empty() ? 0 : *std::max_element(node_tags.begin(), node_tags.end());
-  std::vector<long long> position_of_tag(max_tag + 1,
-                                         -1);  // tag -> position in node_tags
+  // Tags may be sparse (any value up to 2^64 - 1): maps sized by the number of nodes, never
+  // by the largest tag. Sorted, so that nodes are numbered by increasing tag.
+  std::map<std::size_t, std::size_t> position_of_tag;  // tag -> position in node_tags
   for (std::size_t k = 0; k < node_tags.size(); ++k) position_of_tag[node_tags[k]] = k;
-  std::vector<int> index_of_tag(max_tag + 1, -1);
+  std::map<std::size_t, int> index_of_tag;  // tag -> node index, for the nodes of elements
   for (const std::size_t tag : element_nodes[chosen]) {
-    if (tag > max_tag || position_of_tag[tag] < 0)
+    if (!position_of_tag.count(tag))
       throw std::invalid_argument(source + ": element refers to missing node tag " +
                                   std::to_string(tag));
     index_of_tag[tag] = 0;
   }
+  if (index_of_tag.size() > static_cast<std::size_t>(std::numeric_limits<int>::max() / dim))
+    throw std::invalid_argument(source + ": " + std::to_string(index_of_tag.size()) +
+                                " nodes exceed the int index range of the dofs");
   int num_nodes = 0;
-  for (std::size_t tag = 0; tag <= max_tag; ++tag)
-    if (index_of_tag[tag] == 0) index_of_tag[tag] = ++num_nodes;  // 1-based for now
+  for (auto& [tag, index] : index_of_tag) index = num_nodes++;
   mesh.nodes.resize(dim, num_nodes);
   double max_abs_z = 0, extent = 0;
-  for (std::size_t tag = 0; tag <= max_tag; ++tag) {
-    if (index_of_tag[tag] <= 0) continue;
-    const int node = --index_of_tag[tag];
-    const double* x = &coordinates[3 * position_of_tag[tag]];
+  for (const auto& [tag, node] : index_of_tag) {
+    const double* x = &coordinates[3 * position_of_tag.at(tag)];
     for (int k = 0; k < dim; ++k) {
       mesh.nodes(k, node) = x[k];
       extent = std::max(extent, std::abs(x[k]));
@@ -176,7 +179,7 @@ Mesh ExtractGmshMesh(const std::string& source) {
   mesh.elements.resize(nen, static_cast<Eigen::Index>(num_elements));
   for (std::size_t e = 0; e < num_elements; ++e)
     for (int a = 0; a < nen; ++a)
-      mesh.elements(a, e) = index_of_tag[element_nodes[chosen][nen * e + a]];
+      mesh.elements(a, e) = index_of_tag.at(element_nodes[chosen][nen * e + a]);
   mesh.element_tags = element_tags[chosen];
 
   // Boundary groups: physical groups of dimension dim - 1, merged by name.
@@ -205,12 +208,12 @@ Mesh ExtractGmshMesh(const std::string& source) {
               DescribeGmshType(facet_types[t]) + "; " + ToString(mesh.element_type) +
               " elements need facets of type " + DescribeGmshType(GmshType(facet_type)));
         for (const std::size_t tag : facet_node_tags[t]) {
-          if (tag > max_tag || index_of_tag[tag] < 0)
+          if (!index_of_tag.count(tag))
             throw std::invalid_argument(source + ": boundary group '" + name +
                                         "' uses node tag " + std::to_string(tag) +
                                         ", which belongs to no " + std::to_string(dim) +
                                         "D element");
-          connectivity.push_back(index_of_tag[tag]);
+          connectivity.push_back(index_of_tag.at(tag));
         }
       }
     }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -154,6 +155,29 @@ void CheckOrientation(const Mesh& mesh) {
   }
 }
 
+// Repeated nodes within an element (a collapsed quad keeps det J > 0 at its Gauss points
+// but leaves a hole), the same node set twice, and nodes of no element (zero rows of K, M).
+void CheckConnectivity(const Mesh& mesh) {
+  std::set<std::vector<int>> node_sets;
+  std::vector<char> used(static_cast<size_t>(mesh.NumNodes()), 0);
+  for (int e = 0; e < mesh.NumElements(); ++e) {
+    std::vector<int> nodes(mesh.elements.col(e).data(), mesh.elements.col(e).data() + mesh.elements.rows());
+    for (int node : nodes) used[static_cast<size_t>(node)] = 1;
+    std::sort(nodes.begin(), nodes.end());
+    if (std::adjacent_find(nodes.begin(), nodes.end()) != nodes.end())
+      throw std::invalid_argument("invalid mesh: degenerate element: " + mesh.DescribeElement(e) +
+                                  " repeats node " + std::to_string(*std::adjacent_find(nodes.begin(), nodes.end())));
+    if (!node_sets.insert(nodes).second)
+      throw std::invalid_argument("invalid mesh: duplicate element: " + mesh.DescribeElement(e) +
+                                  " has the same nodes as an earlier element");
+  }
+  const auto unused = std::find(used.begin(), used.end(), 0);
+  if (unused != used.end())
+    throw std::invalid_argument("invalid mesh: unused node " + std::to_string(unused - used.begin()) +
+                                " at " + FormatPoint(mesh.nodes.col(unused - used.begin())) +
+                                " belongs to no element");
+}
+
 }  // namespace
 
 void ValidateMesh(const Mesh& mesh) {
@@ -202,6 +226,7 @@ void ValidateMesh(const Mesh& mesh) {
       fail("boundary group '" + name + "' has node indices outside [0, " +
            std::to_string(mesh.NumNodes()) + ")");
   }
+  CheckConnectivity(mesh);
   internal::DispatchElement(
       mesh.element_type, [&](auto tag) { CheckOrientation<decltype(tag)::value>(mesh); });
 }

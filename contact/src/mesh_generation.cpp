@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gmsh_model.hpp"
+#include "text_format.hpp"
 
 namespace contact {
 
@@ -45,6 +46,28 @@ const char* GroupName(BoundaryRole role) {
   return "";
 }
 
+std::string CheckGridLimits(const std::vector<double>& size, const std::vector<double>& cells) {
+  const auto str = internal::FormatShort;
+  double count = 1, h_min = std::numeric_limits<double>::infinity(), h_max = 0;
+  for (std::size_t k = 0; k < size.size() && k < cells.size(); ++k) {
+    if (!(size[k] > 0 && size[k] <= kMaxGridExtent))
+      return "size " + str(size[k]) + " m lies outside (0, " + str(kMaxGridExtent) + "] m";
+    if (!(cells[k] >= 1 && cells[k] <= kMaxGeneratedCells))
+      return "cells " + str(cells[k]) + " lies outside [1, " + str(kMaxGeneratedCells) + "]";
+    count *= cells[k];
+    h_min = std::min(h_min, size[k] / cells[k]);
+    h_max = std::max(h_max, size[k] / cells[k]);
+  }
+  if (count > kMaxGeneratedCells)
+    return str(count) + " cells exceed the limit of " + str(kMaxGeneratedCells);
+  if (h_min < kMinCellSize)
+    return "cells of edge " + str(h_min) + " m are below the limit of " + str(kMinCellSize) + " m";
+  if (h_max > kMaxCellAspectRatio * h_min)
+    return "cells of aspect ratio " + str(h_max / h_min) + " (edges " + str(h_max) + " m and " +
+           str(h_min) + " m) exceed the limit of " + str(kMaxCellAspectRatio);
+  return "";
+}
+
 namespace {
 
 template <std::size_t Dim>
@@ -63,7 +86,14 @@ void CheckGeometry(const char* who, const std::array<double, Dim>& origin,
     if (cells[k] < 1)
       throw std::invalid_argument(std::string(who) + ": cells along " + axis[k] +
                                   " must be >= 1, got " + std::to_string(cells[k]));
+    if (std::abs(origin[k]) > kMaxGridExtent)
+      throw std::invalid_argument(std::string(who) + ": |origin[" + std::to_string(k) + "]| = " +
+                                  internal::FormatShort(std::abs(origin[k])) + " m exceeds " +
+                                  internal::FormatShort(kMaxGridExtent) + " m");
   }
+  const std::string limits = CheckGridLimits(std::vector<double>(size.begin(), size.end()),
+                                             std::vector<double>(cells.begin(), cells.end()));
+  if (!limits.empty()) throw std::invalid_argument(std::string(who) + ": " + limits);
 }
 
 // Physical groups "fixed"/"load"/"contact" of dimension dim - 1 from the side roles;

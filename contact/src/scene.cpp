@@ -14,11 +14,55 @@
 #include "contact/elastic_body.hpp"
 #include "contact/gmsh_reader.hpp"
 #include "contact/vtk_writer.hpp"
+#include "text_format.hpp"
 
 namespace contact {
 namespace {
 
 namespace fs = std::filesystem;
+
+/// Integers in full (4294967297, not 4.29497e+09), other numbers with 6 digits.
+std::string Str(double x) {
+  if (x == std::floor(x) && std::abs(x) < 1e15) return std::to_string(static_cast<long long>(x));
+  return internal::FormatShort(x);
+}
+
+/// The accepted interval of a scene number and its SI unit: every number of a scene is read
+/// through one of these, so a new key gets its range check and its one-line message
+/// "file:line: 'table.key' = value unit is outside the accepted range [min, max] unit".
+/// The bounds keep every derived quantity (stiffness E/h^2, omega_max^2 = E/(rho h^2),
+/// step counts) finite in double precision; they are far outside any physical use.
+struct Range {
+  double min, max;
+  const char* unit;
+  bool min_open = false, max_open = false;  ///< "(" or ")" instead of "[" or "]"
+  bool Contains(double x) const {
+    return (min_open ? x > min : x >= min) && (max_open ? x < max : x <= max);
+  }
+  std::string Describe() const {
+    const std::string u = unit[0] ? std::string(" ") + unit : "";
+    return std::string(" the accepted range ") + (min_open ? "(" : "[") + Str(min) + ", " + Str(max) + (max_open ? ")" : "]") + u;
+  }
+};
+// A scene may be written in any consistent unit system (SI, mm-tonne-s with N and MPa, a body
+// scaled by 1e-3 ...): the unit shown is SI's, and each range spans the values of every such
+// system by many orders of magnitude while keeping E / (rho h^2) and the step counts finite.
+constexpr double kMaxLength = 1e9;  // coordinates and sizes of a scene
+const Range kCoordinate{-kMaxLength, kMaxLength, "m"};
+const Range kLength{1e-9, kMaxLength, "m"};
+const Range kDirection{-1e6, 1e6, ""};  // normals and axes, normalized by the obstacle
+const Range kModulus{1e-12, 1e18, "Pa"};  // Young's modulus (steel 2.1e11 Pa = 2.1e5 MPa)
+const Range kDensity{1e-15, 1e12, "kg/m^3"};  // (osmium 22590 kg/m^3 = 2.26e-8 t/mm^3)
+const Range kPoisson{-1.0, 0.5, "", true, true};
+const Range kForceDensity{-1e18, 1e18, "N/m^3"};
+const Range kStress{-1e18, 1e18, "Pa"};
+const Range kCurvature{-1e15, 1e15, "1/m"};
+const Range kFriction{0.0, 100.0, ""};
+const Range kTime{0.0, 1e9, "s", true};
+const Range kTimeOrZero{0.0, 1e9, "s"};
+const Range kVelocity{-1e9, 1e9, "m/s"};
+const Range kRelativeTolerance{0.0, 1.0, "", true};
+const Range kIterations{1, 1e6, ""};
 
 /// A TOML table that remembers which keys were read, so that unknown keys (typos) can be
 /// reported by name, and that names the key in every error.
@@ -37,26 +81,23 @@ class Table {
     return value_->as_table().at(key);
   }
 
-  double Number(const std::string& key) const {
+  /// A number in `range` (integers are accepted and converted exactly when |n| < 2^53).
+  double Number(const std::string& key, const Range& range) const {
     const toml::value& v = Get(key);
-    if (v.is_floating()) return v.as_floating();
-    if (v.is_integer()) return static_cast<double>(v.as_integer());
-    Fail(key, "must be a number", &v);
-  }
-  double Number(const std::string& key, double fallback) const {
-    return Has(key) ? Number(key) : (used_.insert(key), fallback);
-  }
-  /// A number > 0 (or >= 0 with allow_zero).
-  double Positive(const std::string& key, bool allow_zero = false) const {
-    const double x = Number(key);
-    if (!(allow_zero ? x >= 0.0 : x > 0.0) || !std::isfinite(x))
-      Fail(key, std::string("must be ") + (allow_zero ? ">= 0" : "> 0") + ", got " + Str(x), &Get(key));
+    const double x = ToDouble(key, v, v);
+    CheckRange(key, x, range, v);
     return x;
   }
-  int Integer(const std::string& key, int fallback) const {
+  double Number(const std::string& key, const Range& range, double fallback) const {
+    return Has(key) ? Number(key, range) : (used_.insert(key), fallback);
+  }
+  /// An integer in [range.min, range.max], checked on the 64-bit value before narrowing.
+  int Integer(const std::string& key, const Range& range, int fallback) const {
     if (!Has(key)) return used_.insert(key), fallback;
     const toml::value& v = Get(key);
-    if (!v.is_integer()) Fail(key, "must be an integer", &v);
+    if (!v.is_integer()) Fail(key, "must be an integer in" + range.Describe(), &v);
+    const double x = ToDouble(key, v, v);
+    CheckRange(key, x, range, v);
     return static_cast<int>(v.as_integer());
   }
   bool Boolean(const std::string& key, bool fallback) const {
@@ -84,24 +125,22 @@ class Table {
     }
     return s;
   }
-  std::vector<double> Numbers(const std::string& key, int expected_size = -1) const {
+  /// An array of numbers, each in `range` (and `expected_size` entries if >= 0).
+  std::vector<double> Numbers(const std::string& key, const Range& range, int expected_size = -1) const {
     const toml::value& v = Get(key);
-    if (!v.is_array()) Fail(key, "must be an array of numbers", &v);
+    if (!v.is_array()) Fail(key, "must be an array of numbers in" + range.Describe(), &v);
+    if (expected_size >= 0 && static_cast<int>(v.as_array().size()) != expected_size)
+      Fail(key, "must have " + std::to_string(expected_size) + " entries, got " +
+                    std::to_string(v.as_array().size()), &v);
     std::vector<double> out;
     for (const toml::value& e : v.as_array()) {
-      if (e.is_floating()) out.push_back(e.as_floating());
-      else if (e.is_integer()) out.push_back(static_cast<double>(e.as_integer()));
-      else Fail(key, "must be an array of numbers", &v);
+      out.push_back(ToDouble(key, e, v));
+      CheckRange(key, out.back(), range, v, out.size() - 1);
     }
-    if (expected_size >= 0 && static_cast<int>(out.size()) != expected_size)
-      Fail(key, "must have " + std::to_string(expected_size) + " entries, got " +
-                    std::to_string(out.size()), &v);
-    for (double x : out)
-      if (!std::isfinite(x)) Fail(key, "has a non-finite entry", &v);
     return out;
   }
-  Eigen::VectorXd Vec(const std::string& key, int size) const {
-    const std::vector<double> v = Numbers(key, size);
+  Eigen::VectorXd Vec(const std::string& key, const Range& range, int size) const {
+    const std::vector<double> v = Numbers(key, range, size);
     return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
   }
   std::vector<std::string> Strings(const std::string& key) const {
@@ -142,11 +181,35 @@ class Table {
 
   [[noreturn]] void Fail(const std::string& key, const std::string& what,
                          const toml::value* at = nullptr) const {
-    const std::string where = at ? file_ + ":" + std::to_string(at->location().line()) : file_;
+    // The value's own source: the scene file, or "command line (table.key)" for an override.
+    const std::string where =
+        at ? at->location().file_name() + ":" + std::to_string(at->location().line()) : file_;
     throw SceneError(where + ": '" + Join(key) + "' " + what);
   }
 
  private:
+  /// The value of a TOML number as a double. toml11 3.7 saturates an integer literal beyond
+  /// the int64 range to INT64_MIN / INT64_MAX without an error, so those two are refused.
+  double ToDouble(const std::string& key, const toml::value& e, const toml::value& at) const {
+    if (e.is_floating()) return e.as_floating();
+    if (!e.is_integer()) Fail(key, "must be a number, got a " + TypeName(e), &at);
+    const std::int64_t i = e.as_integer();
+    if (i == std::numeric_limits<std::int64_t>::max() || i == std::numeric_limits<std::int64_t>::min())
+      Fail(key, "is an integer literal beyond the 64-bit range [-2^63, 2^63 - 1]", &at);
+    return static_cast<double>(i);
+  }
+  void CheckRange(const std::string& key, double x, const Range& range, const toml::value& at,
+                  size_t entry = static_cast<size_t>(-1)) const {
+    if (range.Contains(x)) return;
+    const std::string which = entry == static_cast<size_t>(-1) ? "" : "entry " + std::to_string(entry) + " ";
+    Fail(key, which + "= " + Str(x) + (range.unit[0] ? std::string(" ") + range.unit : "") +
+                  " is outside" + range.Describe(), &at);
+  }
+  static std::string TypeName(const toml::value& v) {
+    std::ostringstream s;
+    s << v.type();
+    return s.str();
+  }
   std::string Join(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
 
   /// " (found 'youngs_modulus' in this table: a typo?)" for a present key within edit
@@ -170,11 +233,6 @@ class Table {
       if (row[m] <= 2) return " (found '" + Join(key) + "' instead: a typo?)";
     }
     return "";
-  }
-  static std::string Str(double x) {
-    std::ostringstream s;
-    s << x;
-    return s.str();
   }
   const toml::value* value_;
   std::string path_, file_;
@@ -205,7 +263,7 @@ void ReadGeometry(const Table& g, Scene* s) {
   const std::string type = g.Choice("type", {"rectangle", "box", "msh"});
   if (type == "msh") {
     s->msh_file = g.String("file");
-    s->dim = g.Integer("dimension", 0);
+    s->dim = g.Integer("dimension", Range{2, 3, ""}, 0);
     if (s->dim != 2 && s->dim != 3) g.Fail("dimension", "must be 2 or 3 for a .msh geometry");
   } else {
     s->dim = type == "rectangle" ? 2 : 3;
@@ -218,14 +276,13 @@ void ReadGeometry(const Table& g, Scene* s) {
         if (roles.count(sd)) g.Fail(key, "assigns side " + side + " a second role");
         roles[sd] = role;
       }
-    const Eigen::VectorXd origin = g.Has("origin") ? g.Vec("origin", s->dim) : Eigen::VectorXd::Zero(s->dim);
-    const Eigen::VectorXd size = g.Vec("size", s->dim);
-    const std::vector<double> cells = g.Numbers("cells", s->dim);
-    for (int k = 0; k < s->dim; ++k) {
-      if (!(size(k) > 0)) g.Fail("size", "entries must be > 0");
-      if (!(cells[static_cast<size_t>(k)] >= 1) || cells[static_cast<size_t>(k)] != std::floor(cells[static_cast<size_t>(k)]))
-        g.Fail("cells", "entries must be integers >= 1");
-    }
+    const Eigen::VectorXd origin = g.Has("origin") ? g.Vec("origin", kCoordinate, s->dim) : Eigen::VectorXd::Zero(s->dim);
+    const Eigen::VectorXd size = g.Vec("size", kLength, s->dim);
+    const std::vector<double> cells = g.Numbers("cells", Range{1, kMaxGeneratedCells, ""}, s->dim);
+    for (double c : cells)
+      if (c != std::floor(c)) g.Fail("cells", "entries must be integers, got " + Str(c), &g.Get("cells"));
+    const std::string grid_error = CheckGridLimits(std::vector<double>(size.data(), size.data() + s->dim), cells);
+    if (!grid_error.empty()) g.Fail("size", "and 'cells': " + grid_error, &g.Get("cells"));
     const bool structured = g.Choice("topology", {"structured", "unstructured"}, "structured") == "structured";
     if (s->dim == 2) {
       RectangleMeshOptions o;
@@ -251,7 +308,7 @@ void ReadGeometry(const Table& g, Scene* s) {
       s->box = o;
     }
   }
-  for (double c : g.Has("fixed_components") ? g.Numbers("fixed_components") : std::vector<double>{}) {
+  for (double c : g.Has("fixed_components") ? g.Numbers("fixed_components", Range{0, 2, ""}) : std::vector<double>{}) {
     if (c != std::floor(c) || c < 0 || c >= s->dim)
       g.Fail("fixed_components", "entries must be components 0.." + std::to_string(s->dim - 1));
     s->fixed_components.push_back(static_cast<int>(c));
@@ -265,15 +322,15 @@ std::shared_ptr<RigidObstacle> ReadObstacle(const Table& o, int dim) {
   try {
     if (type == "plane") {
       // The obstacle fills {y : n . y <= offset}; the body lies where n . x >= offset.
-      obstacle = std::make_shared<HalfSpace>(o.Vec("normal", dim), o.Number("offset"));
+      obstacle = std::make_shared<HalfSpace>(o.Vec("normal", kDirection, dim), o.Number("offset", kCoordinate));
     } else if (type == "parabola") {
-      obstacle = std::make_shared<ParabolaObstacle>(dim, o.Number("vertex"), o.Number("coefficient"));
+      obstacle = std::make_shared<ParabolaObstacle>(dim, o.Number("vertex", kCoordinate), o.Number("coefficient", kCurvature));
     } else if (type == "sphere") {
-      obstacle = std::make_shared<SphereObstacle>(o.Vec("center", dim), o.Positive("radius"));
+      obstacle = std::make_shared<SphereObstacle>(o.Vec("center", kCoordinate, dim), o.Number("radius", kLength));
     } else {
       if (dim != 3) o.Fail("type", "\"cylinder\" needs a 3D geometry");
-      obstacle = std::make_shared<CylinderObstacle>(o.Vec("axis_point", 3), o.Vec("axis_direction", 3),
-                                                    o.Positive("radius"));
+      obstacle = std::make_shared<CylinderObstacle>(o.Vec("axis_point", kCoordinate, 3), o.Vec("axis_direction", kDirection, 3),
+                                                    o.Number("radius", kLength));
     }
   } catch (const SceneError&) {
     throw;
@@ -283,14 +340,83 @@ std::shared_ptr<RigidObstacle> ReadObstacle(const Table& o, int dim) {
   return obstacle;
 }
 
+/// The deepest nesting of arrays and inline tables in TOML text, with the line where it is
+/// reached; strings and comments are skipped. toml11 parses nested values recursively, so
+/// a few hundred thousand '[' overflow the stack: this runs before it.
+std::pair<int, int> MaxNestingDepth(const std::string& text) {
+  int depth = 0, deepest = 0, line = 1, deepest_line = 1;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line;
+    } else if (c == '#') {
+      while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+    } else if (c == '"' || c == '\'') {
+      const std::string quote = text.compare(i, 3, std::string(3, c)) == 0 ? std::string(3, c) : std::string(1, c);
+      for (i += quote.size(); i < text.size() && text.compare(i, quote.size(), quote) != 0; ++i) {
+        if (text[i] == '\n') ++line;
+        if (c == '"' && text[i] == '\\') ++i;  // an escape in a basic string
+      }
+      i += quote.size() - 1;
+    } else if (c == '[' || c == '{') {
+      if (++depth > deepest) deepest = depth, deepest_line = line;
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return {deepest, deepest_line};
+}
+
+/// The text of a scene file, refused before parsing if it is not a regular file, larger
+/// than kMaxSceneFileBytes, or nested deeper than kMaxSceneNesting.
+std::string ReadSceneText(const std::string& path) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (ec || !fs::exists(status)) throw SceneError(path + ": cannot read scene file: no such file");
+  if (!fs::is_regular_file(status))
+    throw SceneError(path + ": cannot read scene file: not a regular file (a directory?)");
+  const std::uintmax_t bytes = fs::file_size(path, ec);
+  if (ec || bytes > kMaxSceneFileBytes)
+    throw SceneError(path + ": scene file of " + std::to_string(bytes) + " bytes; at most " +
+                     std::to_string(kMaxSceneFileBytes) + " bytes are accepted");
+  std::ifstream in(path, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.good() && !in.eof()) throw SceneError(path + ": cannot read scene file");
+  const auto [depth, line] = MaxNestingDepth(text);
+  if (depth > kMaxSceneNesting)
+    throw SceneError(path + ":" + std::to_string(line) + ": arrays or inline tables nested " +
+                     std::to_string(depth) + " deep; at most " + std::to_string(kMaxSceneNesting) +
+                     " levels are accepted");
+  return text;
+}
+
 }  // namespace
 
-Scene LoadScene(const std::string& path) {
+Scene LoadScene(const std::string& path, const SceneOverrides& overrides) {
   toml::value root;
+  std::istringstream text(ReadSceneText(path));
   try {
-    root = toml::parse(path);
+    root = toml::parse(text, path);
   } catch (const std::exception& e) {
     throw SceneError("cannot read scene file " + path + ": " + e.what());
+  }
+  // Each override "table.key" = TOML literal replaces the file's value before validation,
+  // so it is checked (and named in messages, at "command line") like a value of the file.
+  for (const auto& [dotted, literal] : overrides) {
+    const size_t dot = dotted.find('.');
+    if (dot == std::string::npos || dotted.find('.', dot + 1) != std::string::npos)
+      throw SceneError("command line: override key '" + dotted + "' must be table.key");
+    std::istringstream value_text("value = " + literal);
+    toml::value parsed;
+    try {
+      parsed = toml::parse(value_text, "command line (" + dotted + ")");
+    } catch (const std::exception& e) {
+      throw SceneError("command line: '" + dotted + "' = " + literal + " is not a TOML value: " + e.what());
+    }
+    toml::value& table = root.as_table()[dotted.substr(0, dot)];
+    if (table.is_uninitialized()) table = toml::table{};
+    if (!table.is_table()) throw SceneError(path + ": '" + dotted.substr(0, dot) + "' must be a table");
+    table.as_table()[dotted.substr(dot + 1)] = parsed.as_table().at("value");
   }
   Scene s;
   s.source = path;
@@ -302,24 +428,22 @@ Scene LoadScene(const std::string& path) {
   if (!s.msh_file.empty() && fs::path(s.msh_file).is_relative()) s.msh_file = (base / s.msh_file).string();
 
   const Table m = top.Sub("material", true);
-  s.material.youngs_modulus = m.Positive("young_modulus");
-  s.material.poisson_ratio = m.Number("poisson_ratio");
-  if (!(s.material.poisson_ratio > -1.0 && s.material.poisson_ratio < 0.5))
-    m.Fail("poisson_ratio", "must lie in (-1, 0.5), got " + std::to_string(s.material.poisson_ratio), &m.Get("poisson_ratio"));
-  s.material.density = m.Positive("density");
+  s.material.youngs_modulus = m.Number("young_modulus", kModulus);
+  s.material.poisson_ratio = m.Number("poisson_ratio", kPoisson);
+  s.material.density = m.Number("density", kDensity);
   s.mass = m.Choice("mass", {"consistent", "lumped"}, "consistent") == "lumped" ? MassKind::kLumped : MassKind::kConsistent;
   if (s.dim == 2) {
     s.plane.model = m.Choice("plane", {"strain", "stress"}, "strain") == "stress" ? PlaneModel::kPlaneStress : PlaneModel::kPlaneStrain;
-    s.plane.thickness = m.Has("thickness") ? m.Positive("thickness") : 1.0;
+    s.plane.thickness = m.Number("thickness", kLength, 1.0);
   }
   m.RejectUnknownKeys();
 
   const Table l = top.Sub("loads", false);
-  s.body_force = l.Has("body_force") ? l.Vec("body_force", s.dim) : Eigen::VectorXd::Zero(s.dim);
-  if (l.Has("traction")) s.traction = l.Vec("traction", s.dim);
+  s.body_force = l.Has("body_force") ? l.Vec("body_force", kForceDensity, s.dim) : Eigen::VectorXd::Zero(s.dim);
+  if (l.Has("traction")) s.traction = l.Vec("traction", kStress, s.dim);
   const std::string history = l.Choice("history", {"constant", "step", "ramp"}, "constant");
   s.load_history = history == "step" ? LoadHistory::kStep : history == "ramp" ? LoadHistory::kRamp : LoadHistory::kConstant;
-  if (s.load_history == LoadHistory::kRamp) s.ramp_time = l.Positive("ramp_time");
+  if (s.load_history == LoadHistory::kRamp) s.ramp_time = l.Number("ramp_time", kTime);
   l.RejectUnknownKeys();
 
   const Table o = top.Sub("obstacle", true);
@@ -328,17 +452,22 @@ Scene LoadScene(const std::string& path) {
   o.RejectUnknownKeys();
 
   const Table f = top.Sub("friction", false);
-  s.friction_coefficient = f.Has("coefficient") ? f.Positive("coefficient", true) : 0.0;
+  s.friction_coefficient = f.Number("coefficient", kFriction, 0.0);
   f.RejectUnknownKeys();
 
   const Table t = top.Sub("time", true);
-  s.dynamics.dt = t.Positive("dt");
-  s.dynamics.end_time = t.Positive("end_time");
+  s.dynamics.dt = t.Number("dt", kTime);
+  s.dynamics.end_time = t.Number("end_time", kTime);
+  const double steps = std::ceil(s.dynamics.end_time / s.dynamics.dt);
+  if (steps > kMaxTimeSteps)
+    t.Fail("dt", "= " + Str(s.dynamics.dt) + " s with time.end_time = " + Str(s.dynamics.end_time) +
+                     " s gives " + Str(steps) + " time steps; at most " + Str(kMaxTimeSteps) +
+                     " are accepted (one step record each)", &t.Get("dt"));
   s.dynamics.allow_unstable_time_step = t.Boolean("allow_unstable", false);
   const std::string initial = t.Choice("initial_state", {"static", "velocity"}, "static");
   if (initial == "velocity") {
     s.dynamics.initial_state = InitialState::kPrescribed;
-    s.initial_velocity = t.Vec("initial_velocity", s.dim);
+    s.initial_velocity = t.Vec("initial_velocity", kVelocity, s.dim);
   }
   t.RejectUnknownKeys();
 
@@ -350,9 +479,8 @@ Scene LoadScene(const std::string& path) {
   if (s.dynamics.solver == StepSolver::kIpopt && s.friction_coefficient > 0)
     v.Fail("method", "= \"ipopt\" solves frictionless steps only, but friction.coefficient = " +
                          std::to_string(s.friction_coefficient));
-  s.dynamics.ncp.tolerance = v.Has("tolerance") ? v.Positive("tolerance") : 1e-10;
-  s.dynamics.ncp.max_iterations = v.Integer("max_iterations", 500);
-  if (s.dynamics.ncp.max_iterations < 1) v.Fail("max_iterations", "must be >= 1");
+  s.dynamics.ncp.tolerance = v.Number("tolerance", kRelativeTolerance, 1e-10);
+  s.dynamics.ncp.max_iterations = v.Integer("max_iterations", kIterations, 500);
   const std::string ls = v.Choice("linear_solver", {"auto", "dense", "sparse-lu", "umfpack", "klu"}, "auto");
   s.dynamics.ncp.linear_solver = ls == "dense" ? ncp::LinearSolverType::kDenseLU
                                  : ls == "sparse-lu" ? ncp::LinearSolverType::kSparseLU
@@ -375,10 +503,9 @@ Scene LoadScene(const std::string& path) {
     const fs::path d = out.String("directory");
     s.output_directory = (d.is_relative() ? base / d : d).string();
   }
-  if (out.Has("stress_times")) s.stress_times = out.Numbers("stress_times");
-  s.snapshot_every = out.Integer("snapshot_every", 0);
-  if (s.snapshot_every < 0) out.Fail("snapshot_every", "must be >= 0");
-  if (out.Has("marked_point")) s.marked_point = out.Vec("marked_point", s.dim);
+  if (out.Has("stress_times")) s.stress_times = out.Numbers("stress_times", kTimeOrZero);
+  s.snapshot_every = out.Integer("snapshot_every", Range{0, kMaxTimeSteps, ""}, 0);
+  if (out.Has("marked_point")) s.marked_point = out.Vec("marked_point", kCoordinate, s.dim);
   out.RejectUnknownKeys();
 
   top.RejectUnknownKeys();
@@ -387,13 +514,41 @@ Scene LoadScene(const std::string& path) {
 
 // ---------------------------------------------------------------------------------------
 
+namespace {
+
+/// Runs `build`; a std::invalid_argument from the mesh or the model (a missing group, an
+/// empty contact set ...) becomes a SceneError that names the scene file and the mesh file.
+template <typename Build>
+auto NamingTheScene(const Scene& scene, Build build) {
+  try {
+    return build();
+  } catch (const SceneError&) {
+    throw;
+  } catch (const std::invalid_argument& e) {
+    const std::string mesh = scene.msh_file.empty() ? "" : " (mesh " + scene.msh_file + ")";
+    throw SceneError(scene.source + mesh + ": " + e.what());
+  }
+}
+
+SceneModel BuildModel(const Scene& scene, Mesh mesh);
+
+}  // namespace
+
 SceneModel BuildSceneModel(const Scene& scene) {
-  return BuildSceneModel(scene, !scene.msh_file.empty() ? ReadGmshMesh(scene.msh_file)
-                                : scene.rectangle       ? MakeRectangleMesh(*scene.rectangle)
-                                                        : MakeBoxMesh(*scene.box));
+  return NamingTheScene(scene, [&] {
+    return BuildModel(scene, !scene.msh_file.empty() ? ReadGmshMesh(scene.msh_file)
+                             : scene.rectangle       ? MakeRectangleMesh(*scene.rectangle)
+                                                     : MakeBoxMesh(*scene.box));
+  });
 }
 
 SceneModel BuildSceneModel(const Scene& scene, Mesh mesh) {
+  return NamingTheScene(scene, [&] { return BuildModel(scene, std::move(mesh)); });
+}
+
+namespace {
+
+SceneModel BuildModel(const Scene& scene, Mesh mesh) {
   SceneModel out;
   if (mesh.dim != scene.dim)
     throw SceneError(scene.source + ": the mesh is " + std::to_string(mesh.dim) +
@@ -460,6 +615,8 @@ SceneModel BuildSceneModel(const Scene& scene, Mesh mesh) {
   return out;
 }
 
+}  // namespace
+
 SceneResult RunScene(const Scene& scene, bool progress) {
   SceneResult result;
   SceneModel built = BuildSceneModel(scene);
@@ -474,10 +631,12 @@ SceneResult RunScene(const Scene& scene, bool progress) {
   result.num_contact_nodes = static_cast<int>(frames.nodes.size());
   result.num_elements = M.NumElements();
 
-  // Marked node: the contact node nearest to marked_point.
+  // Marked node: the contact node nearest to marked_point (the first one if every distance
+  // compares equal, e.g. overflows to inf; BuildSceneModel guarantees one contact node).
   int marked = -1;
   if (scene.marked_point) {
     double best = std::numeric_limits<double>::infinity();
+    marked = 0;
     for (size_t c = 0; c < frames.nodes.size(); ++c) {
       const double d = (M.nodes.col(frames.nodes[c].node) - *scene.marked_point).norm();
       if (d < best) best = d, marked = static_cast<int>(c);
@@ -594,7 +753,7 @@ SceneResult RunScene(const Scene& scene, bool progress) {
       snapshot(name, u);
     }
   };
-  result.summary = RunDynamics(built.model, options);
+  result.summary = NamingTheScene(scene, [&] { return RunDynamics(built.model, options); });
   return result;
 }
 

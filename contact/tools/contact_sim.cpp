@@ -9,68 +9,83 @@
 
 #include "contact/scene.hpp"
 
+namespace {
+
+/// A TOML basic string literal of `s` (quotes and backslashes escaped).
+std::string TomlString(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   cxxopts::Options cli("contact-sim", "Elastodynamic contact of a body with a rigid obstacle");
   cli.add_options()("scene", "scene file (TOML)", cxxopts::value<std::string>())(
       "json", "print one JSON summary object on stdout")(
       "solver", "override solver.method: fb, min, penalized-fb, ipopt", cxxopts::value<std::string>())(
       "step", "override solver.step: condensed, full, explicit", cxxopts::value<std::string>())(
-      "dt", "override time.dt [s]", cxxopts::value<double>())(
-      "end-time", "override time.end_time [s]", cxxopts::value<double>())(
-      "friction", "override friction.coefficient", cxxopts::value<double>())(
-      "tolerance", "override solver.tolerance", cxxopts::value<double>())(
+      "dt", "override time.dt [s]", cxxopts::value<std::string>())(
+      "end-time", "override time.end_time [s]", cxxopts::value<std::string>())(
+      "friction", "override friction.coefficient", cxxopts::value<std::string>())(
+      "tolerance", "override solver.tolerance", cxxopts::value<std::string>())(
       "output", "override output.directory", cxxopts::value<std::string>())(
       "no-output", "write no files")("quiet", "no progress lines on stderr")(
       "h,help", "show this help");
   cli.parse_positional({"scene"});
   cli.positional_help("SCENE.toml");
+  // Exit codes: 0 completed, 1 refused input (scene, mesh, option value) or a run that did
+  // not complete, 2 usage error (unknown option, missing scene, option without its value).
   contact::Scene scene;
   bool json = false, quiet = false;
+  cxxopts::ParseResult args;
   try {
-    const auto args = cli.parse(argc, argv);
-    if (args.count("help") || !args.count("scene")) {
-      std::cout << cli.help() << std::endl;
-      return args.count("help") ? 0 : 2;
-    }
-    json = args.count("json") > 0;
-    quiet = args.count("quiet") > 0;
-    scene = contact::LoadScene(args["scene"].as<std::string>());
-    if (args.count("solver")) {
-      const std::string s = args["solver"].as<std::string>();
-      if (s == "fb") scene.dynamics.solver = contact::StepSolver::kFischerBurmeister;
-      else if (s == "min") scene.dynamics.solver = contact::StepSolver::kMin;
-      else if (s == "penalized-fb") scene.dynamics.solver = contact::StepSolver::kPenalizedFischerBurmeister;
-      else if (s == "ipopt") scene.dynamics.solver = contact::StepSolver::kIpopt;
-      else throw contact::SceneError("--solver must be fb, min, penalized-fb or ipopt, got \"" + s + "\"");
-    }
-    if (args.count("step")) {
-      const std::string m = args["step"].as<std::string>();
-      if (m != "full" && m != "condensed" && m != "explicit")
-        throw contact::SceneError("--step must be condensed, full or explicit, got \"" + m + "\"");
-      scene.dynamics.step_method = m == "full"       ? contact::StepMethod::kFull
-                                   : m == "explicit" ? contact::StepMethod::kExplicit
-                                                     : contact::StepMethod::kCondensed;
-    }
-    if (args.count("dt")) scene.dynamics.dt = args["dt"].as<double>();
-    if (args.count("end-time")) scene.dynamics.end_time = args["end-time"].as<double>();
-    if (args.count("friction")) scene.friction_coefficient = args["friction"].as<double>();
-    if (args.count("tolerance")) scene.dynamics.ncp.tolerance = args["tolerance"].as<double>();
-    if (args.count("output")) scene.output_directory = args["output"].as<std::string>();
-    if (args.count("no-output")) scene.output_directory.clear();
+    args = cli.parse(argc, argv);
   } catch (const std::exception& e) {
-    std::cerr << "contact-sim: " << e.what() << std::endl;
+    std::cerr << "contact-sim: usage error: " << e.what() << "\n" << cli.help() << std::endl;
     return 2;
   }
-
+  if (args.count("help")) {
+    std::cout << cli.help() << std::endl;
+    return 0;
+  }
+  if (!args.count("scene")) {
+    std::cerr << "contact-sim: usage error: no scene file given\n" << cli.help() << std::endl;
+    return 2;
+  }
+  json = args.count("json") > 0;
+  quiet = args.count("quiet") > 0;
   contact::SceneResult r;
   try {
+    // The overrides are TOML literals validated with the file's values (same ranges).
+    contact::SceneOverrides overrides;
+    const std::pair<const char*, const char*> string_options[] = {{"solver", "solver.method"},
+                                                                  {"step", "solver.step"}};
+    for (const auto& [option, key] : string_options)
+      if (args.count(option)) overrides.emplace_back(key, TomlString(args[option].as<std::string>()));
+    const std::pair<const char*, const char*> number_options[] = {
+        {"dt", "time.dt"}, {"end-time", "time.end_time"}, {"friction", "friction.coefficient"},
+        {"tolerance", "solver.tolerance"}};
+    for (const auto& [option, key] : number_options)
+      if (args.count(option)) overrides.emplace_back(key, args[option].as<std::string>());
+    scene = contact::LoadScene(args["scene"].as<std::string>(), overrides);
+    if (args.count("output")) scene.output_directory = args["output"].as<std::string>();
+    if (args.count("no-output")) scene.output_directory.clear();
     r = contact::RunScene(scene, !quiet);
   } catch (const std::exception& e) {
     std::cerr << "contact-sim: " << e.what() << std::endl;
-    return 2;
+    return 1;
   }
   const contact::DynamicSummary& s = r.summary;
   std::FILE* table = json ? stderr : stdout;
+  // A run that did not complete says so on stderr even with --quiet and --json.
+  if (s.status != contact::DynamicStatus::kCompleted && (quiet || table != stderr))
+    std::fprintf(stderr, "contact-sim: %s: %s (%s)\n", scene.source.c_str(), contact::ToString(s.status),
+                 s.message.c_str());
   std::fprintf(table, "%s: %s (%s)\n", scene.name.c_str(), contact::ToString(s.status), s.message.c_str());
   std::fprintf(table, "  %d dofs (%d free), %d elements, %d contact nodes, dt_crit = %.4g s\n", r.num_dofs,
                r.num_free_dofs, r.num_elements, r.num_contact_nodes, s.critical_time_step);

@@ -114,16 +114,16 @@ bool Options::IsValid(std::string* error) const {
     return false;
   };
   if (!(tolerance >= 0.0) || !std::isfinite(tolerance))
-    return fail("Options::tolerance must be finite and >= 0, got " + std::to_string(tolerance));
+    return fail("Options::tolerance must be finite and >= 0, got " + Fmt("%g", tolerance));
   if (max_iterations < 0)
     return fail("Options::max_iterations must be >= 0, got " + std::to_string(max_iterations));
   if (!(descent_rho > 0.0))
-    return fail("Options::descent_rho must be > 0 (eq. 22), got " + std::to_string(descent_rho));
+    return fail("Options::descent_rho must be > 0 (eq. 22), got " + Fmt("%g", descent_rho));
   if (!(descent_p > 2.0))
-    return fail("Options::descent_p must be > 2 (eq. 22), got " + std::to_string(descent_p));
+    return fail("Options::descent_p must be > 2 (eq. 22), got " + Fmt("%g", descent_p));
   if (!(armijo_beta > 0.0 && armijo_beta < 0.5))
     return fail("Options::armijo_beta must lie in (0, 1/2) (eq. 23), got " +
-                std::to_string(armijo_beta));
+                Fmt("%g", armijo_beta));
   if (nonmonotone_memory < 1 || nonmonotone_memory > 1000)
     return fail("Options::nonmonotone_memory must lie in [1, 1000], got " +
                 std::to_string(nonmonotone_memory));
@@ -132,28 +132,38 @@ bool Options::IsValid(std::string* error) const {
                 std::to_string(max_backtracks));
   if (!(degenerate_tolerance >= 0.0))
     return fail("Options::degenerate_tolerance must be >= 0, got " +
-                std::to_string(degenerate_tolerance));
+                Fmt("%g", degenerate_tolerance));
   if (!(stationarity_tolerance >= 0.0))
     return fail("Options::stationarity_tolerance must be >= 0, got " +
-                std::to_string(stationarity_tolerance));
+                Fmt("%g", stationarity_tolerance));
   if (!(penalized_fb_lambda > 0.0 && penalized_fb_lambda <= 1.0))
     return fail("Options::penalized_fb_lambda must lie in (0, 1], got " +
-                std::to_string(penalized_fb_lambda));
-  if (stagnation_window < 0)
-    return fail("Options::stagnation_window must be >= 0, got " + std::to_string(stagnation_window));
+                Fmt("%g", penalized_fb_lambda));
+  if (stagnation_window < 0 || stagnation_window > kMaxStagnationWindow)
+    return fail("Options::stagnation_window must lie in [0, " + std::to_string(kMaxStagnationWindow) +
+                "] iterations, got " + std::to_string(stagnation_window));
   if (!(stagnation_tolerance >= 0.0 && stagnation_tolerance < 1.0))
     return fail("Options::stagnation_tolerance must lie in [0, 1), got " +
-                std::to_string(stagnation_tolerance));
+                Fmt("%g", stagnation_tolerance));
   if (!(max_seconds > 0.0))
-    return fail("Options::max_seconds must be > 0 (or +inf), got " + std::to_string(max_seconds));
+    return fail("Options::max_seconds must be > 0 (or +inf), got " + Fmt("%g", max_seconds));
   if (!(factorization_flop_rate >= 0.0) || !std::isfinite(factorization_flop_rate))
     return fail("Options::factorization_flop_rate must be finite and >= 0, got " +
-                std::to_string(factorization_flop_rate));
+                Fmt("%g", factorization_flop_rate));
   if (dense_threshold < 0)
     return fail("Options::dense_threshold must be >= 0, got " + std::to_string(dense_threshold));
   if (!(infinite_bound > 0.0))
-    return fail("Options::infinite_bound must be > 0 (or +inf), got " +
-                std::to_string(infinite_bound));
+    return fail("Options::infinite_bound must be > 0 (or +inf), got " + Fmt("%g", infinite_bound));
+  // Enums set from integers (a cast, a file) may hold any value: checked before a switch.
+  const int function = static_cast<int>(ncp_function);
+  if (function < 0 || function > static_cast<int>(NcpFunction::kPenalizedFischerBurmeister))
+    return fail("Options::ncp_function must be an NcpFunction (0.." +
+                std::to_string(static_cast<int>(NcpFunction::kPenalizedFischerBurmeister)) + "), got " +
+                std::to_string(function));
+  const int solver = static_cast<int>(linear_solver);
+  if (solver < 0 || solver > static_cast<int>(LinearSolverType::kKlu))
+    return fail("Options::linear_solver must be a LinearSolverType (0.." +
+                std::to_string(static_cast<int>(LinearSolverType::kKlu)) + "), got " + std::to_string(solver));
   return true;
 }
 
@@ -745,6 +755,7 @@ class Solver::Iteration {
     double t = 1.0;
     int i = 0;
     bool accepted = false;
+    trials_ = non_finite_trials_ = failed_trials_ = 0;
     const double d_inf = w_.d.lpNorm<Eigen::Infinity>();
     const double x_inf = x_.lpNorm<Eigen::Infinity>();
     for (; i <= o_.max_backtracks; ++i, t *= 0.5) {
@@ -754,8 +765,15 @@ class Solver::Iteration {
         return false;
       }
       w_.x_trial = x_ + t * w_.d;
-      if (!Evaluate(w_.x_trial, &w_.Et, &w_.At, &w_.Bt, &w_.phi_trial) || !AllFinite(w_.phi_trial))
+      ++trials_;
+      if (!Evaluate(w_.x_trial, &w_.Et, &w_.At, &w_.Bt, &w_.phi_trial)) {
+        ++failed_trials_;
         continue;
+      }
+      if (!AllFinite(w_.phi_trial)) {
+        ++non_finite_trials_;
+        continue;
+      }
       const double psi_trial = 0.5 * w_.phi_trial.squaredNorm();
       if (psi_trial <= reference + o_.armijo_beta * t * slope_ && psi_trial < reference) {
         accepted = true;
@@ -776,13 +794,27 @@ class Solver::Iteration {
     const std::string where = std::string(" along the ") + name + " direction at iteration " +
                               std::to_string(k) + ", ||Phi||_inf = " + Fmt("%.3e", phi_inf_) +
                               ", ||grad psi||_inf = " + Fmt("%.3e", grad_inf_);
-    if (grad_inf_ <= o_.stationarity_tolerance * phi_inf_)
+    // Every trial NaN/Inf, or none evaluable: say so rather than "no decrease".
+    if (trials_ > 0 && non_finite_trials_ == trials_)
+      Finish(TerminationType::kNonFiniteValues, "Phi has NaN or Inf entries at all " +
+                                                    std::to_string(trials_) +
+                                                    " trial points of the line search" + where);
+    else if (trials_ > 0 && failed_trials_ == trials_)
+      Finish(TerminationType::kEvaluationFailure,
+             "the problem could not be evaluated at any of the " + std::to_string(trials_) +
+                 " trial points of the line search" + where);
+    else if (grad_inf_ <= o_.stationarity_tolerance * phi_inf_)
       Finish(TerminationType::kStationaryPoint,
              "no decrease of psi possible" + where +
                  ": a stationary point of psi that is not a solution");
     else
       Finish(TerminationType::kLineSearchFailure,
-             "no Armijo step of length >= 2^-" + std::to_string(o_.max_backtracks) + where);
+             "no Armijo step of length >= 2^-" + std::to_string(o_.max_backtracks) + where +
+                 (non_finite_trials_ + failed_trials_ > 0
+                      ? " (" + std::to_string(non_finite_trials_) + " of " + std::to_string(trials_) +
+                            " trial points gave NaN/Inf, " + std::to_string(failed_trials_) +
+                            " could not be evaluated)"
+                      : std::string()));
   }
 
   // ---- step 4: x^{k+1} = x^k + t d ---------------------------------------------------
@@ -820,6 +852,7 @@ class Solver::Iteration {
   LinearSolverType resolved_ = LinearSolverType::kAuto;
   int symbolic_before_ = 0;
   double threshold_ = 0.0;
+  int trials_ = 0, non_finite_trials_ = 0, failed_trials_ = 0;  // of the last line search
   IterationRecord record_;
   // Iterate k.
   double best_psi_ = 0.0;  // min of psi(x^0 .. x^k)

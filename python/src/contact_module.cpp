@@ -279,7 +279,7 @@ PYBIND11_MODULE(_contact, m) {
              << " s friction=" << s.friction_coefficient << ">";
         return text.str();
       });
-  m.def("load_scene", &contact::LoadScene, py::arg("path"),
+  m.def("load_scene", [](const std::string& path) { return contact::LoadScene(path); }, py::arg("path"),
         "Reads and validates a scene file.");
   m.def("run", &RunScene, py::arg("scene"), py::arg("every") = 0,
         py::arg("contact_history") = true, py::arg("progress") = py::none());

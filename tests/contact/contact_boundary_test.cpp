@@ -100,7 +100,7 @@ TEST_CASE("normals follow a rotation of the body", "[contact_boundary]") {
   CHECK_THAT(BoundaryMeasure(mesh, kContactGroup), WithinRel(2.0, 1e-14));
 }
 
-TEST_CASE("3D: tributary areas sum to the contact area; normals are outward",
+TEST_CASE("3D: tributary areas sum to the contact area, normals are outward",
           "[contact_boundary]") {
   for (const ElementType type : {ElementType::kTetrahedron4, ElementType::kHexahedron8}) {
     BoxMeshOptions options;

@@ -75,6 +75,36 @@ TEST_CASE("structural errors in a hand-made mesh", "[mesh]") {
   }
 }
 
+// A quad with a repeated node has det J > 0 at its 2 x 2 Gauss points: before the
+// connectivity check it was accepted and run, with a hole in the mesh.
+TEST_CASE("degenerate, duplicate elements and unused nodes are named errors", "[mesh]") {
+  RectangleMeshOptions options;
+  options.size = {2.0, 1.0};
+  options.cells = {2, 1};
+  const Mesh good = MakeRectangleMesh(options);
+  REQUIRE(good.NumElements() == 2);
+  REQUIRE_NOTHROW(ValidateMesh(good));
+  SECTION("repeated node") {
+    Mesh mesh = good;
+    const int kept = mesh.elements(2, 1);  // collapse the right quad into a triangle
+    mesh.elements(3, 1) = kept;
+    CHECK_THROWS_WITH(ValidateMesh(mesh), Catch::Contains("degenerate element: element 1") &&
+                                              Catch::Contains("repeats node " + std::to_string(kept)));
+  }
+  SECTION("duplicate element") {
+    Mesh mesh = good;
+    mesh.elements.col(1) = mesh.elements.col(0);
+    CHECK_THROWS_WITH(ValidateMesh(mesh), Catch::Contains("duplicate element: element 1"));
+  }
+  SECTION("unused node") {
+    Mesh mesh = good;
+    mesh.nodes.conservativeResize(2, mesh.NumNodes() + 1);
+    mesh.nodes.col(mesh.NumNodes() - 1) << 5.0, 5.0;
+    CHECK_THROWS_WITH(ValidateMesh(mesh), Catch::Contains("unused node " + std::to_string(mesh.NumNodes() - 1) +
+                                                          " at (5, 5) belongs to no element"));
+  }
+}
+
 TEST_CASE("a missing group names the available ones", "[mesh]") {
   const Mesh mesh = UnitCubeHexes();
   CHECK(mesh.HasBoundaryGroup("load"));

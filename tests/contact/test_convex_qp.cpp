@@ -394,7 +394,7 @@ TEST_CASE("ConvexQpOptions: IsValid and rejected settings", "[convex_qp]") {
       Contains("SolveConvexQpIpopt: ConvexQpOptions: bound_relax_factor"));
 }
 
-TEST_CASE("ConvexQpResult: defaults cannot be mistaken for a result; status names",
+TEST_CASE("ConvexQpResult: defaults cannot be mistaken for a result, status names",
           "[convex_qp]") {
   const ConvexQpResult result;
   CHECK(result.status == ConvexQpStatus::kNotSolved);

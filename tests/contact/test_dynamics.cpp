@@ -2,6 +2,7 @@
 // rigid wall (1D wave: contact lasts 2L/c with stress rho c v0, rebound at -v0), a mass
 // sliding to rest under Coulomb friction, the critical time step, and the stability guard.
 #include <catch2/catch.hpp>
+#include <limits>
 
 #include "contact/dynamics.hpp"
 
@@ -198,4 +199,17 @@ TEST_CASE("RunDynamics rejects inconsistent input", "[dynamics][errors]") {
   CHECK_THROWS_WITH(RunDynamics(indefinite, o), Catch::Contains("not positive definite (Cholesky failed)"));
   CHECK_THROWS_WITH(EstimateCriticalTimeStep(indefinite.K, indefinite.M),
                     Catch::Contains("EstimateCriticalTimeStep: the mass matrix is not positive definite"));
+  // Before: the step count overflowed (0 steps "completed") or reserved 1e10 records.
+  DynamicOptions long_run = BarImpact(model, 0.1);
+  long_run.dt = 1e-300;
+  CHECK_THROWS_WITH(RunDynamics(model, long_run), Catch::Contains("time steps; at most 1e+06 are accepted"));
+  long_run.dt = 1e-3;
+  long_run.end_time = 1e7;  // 1e10 steps
+  CHECK_THROWS_WITH(RunDynamics(model, long_run), Catch::Contains("1e+10 time steps; at most 1e+06"));
+  long_run.end_time = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_WITH(RunDynamics(model, long_run), Catch::Contains("end_time must be finite"));
+  // K scaled to overflow: omega_max = inf, dt_crit = 0 is an error naming E and rho, not a run.
+  DynamicModel overflowing = model;
+  overflowing.K *= 1e306;
+  CHECK_THROWS_WITH(RunDynamics(overflowing, o), Catch::Contains("is not a positive finite number"));
 }

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "block_on_floor.hpp"
 #include "contact/contact_boundary.hpp"
 #include "contact/contact_frames.hpp"
 #include "contact/contact_system.hpp"
@@ -353,19 +354,8 @@ namespace {
 // 0.3: its bottom nodes hit the floor in the first steps and slide on it.
 contact::SceneModel ThrownBlock(contact::StepMethod method) {
   using namespace contact;
-  Scene scene;
-  scene.dim = 2;
-  RectangleMeshOptions o;
-  o.size = {2.0, 1.0};
-  o.cells = {8, 4};
-  o.side_roles = {{Side::kYMin, BoundaryRole::kContact}};
-  scene.rectangle = o;
-  scene.material = IsotropicMaterial{210e9, 0.3, 7850.0};
-  scene.mass = method == StepMethod::kExplicit ? MassKind::kLumped : MassKind::kConsistent;
-  scene.body_force = Eigen::Vector2d(0.0, -9.81 * 7850.0);
-  scene.obstacle = std::make_shared<HalfSpace>(HalfSpace::ObstacleBelow(2, 1, 0.0));
-  scene.friction_coefficient = 0.3;
-  scene.dynamics.dt = 2e-6;
+  Scene scene = testing::SteelBlockOnFloor(method == StepMethod::kExplicit ? MassKind::kLumped
+                                                                           : MassKind::kConsistent);
   scene.dynamics.end_time = 30 * scene.dynamics.dt;
   scene.dynamics.step_method = method;
   scene.dynamics.initial_state = InitialState::kPrescribed;
@@ -375,7 +365,7 @@ contact::SceneModel ThrownBlock(contact::StepMethod method) {
 
 }  // namespace
 
-TEST_CASE("RunDynamics: the explicit time loop allocates nothing; Newton steps a constant",
+TEST_CASE("RunDynamics: the explicit time loop allocates nothing, Newton steps a constant",
           "[contact][allocation][dynamics]") {
   const contact::StepMethod method =
       GENERATE(contact::StepMethod::kExplicit, contact::StepMethod::kCondensed,

@@ -84,6 +84,72 @@ void CheckSameTrajectory(const std::vector<Eigen::VectorXd>& a, const std::vecto
 
 }  // namespace
 
+namespace {
+std::string Replace(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  REQUIRE(at != std::string::npos);
+  return text.replace(at, from.size(), to);
+}
+}  // namespace
+
+// Values that crashed, exhausted memory or ran to a silently wrong result before the range
+// checks: each is refused by LoadScene with the key, the value, the range and the unit.
+TEST_CASE("Scene values outside their range are refused before any work", "[scene][errors][limits]") {
+  const std::string good = Block(2, 0.0);
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {Replace(good, "end_time = 0.004", "end_time = 1e300"),
+       "'time.end_time' = 1e+300 s is outside the accepted range (0, 1000000000] s"},
+      {Replace(good, "dt = 2e-5", "dt = 1e-300"), "gives 4e+297 time steps; at most 1000000 are accepted"},
+      {Replace(good, "end_time = 0.004", "end_time = 1e5"), "'time.dt' = 2e-05 s with time.end_time = 100000 s"},
+      {good + "[solver]\nmax_iterations = 4294967297\n",
+       "'solver.max_iterations' = 4294967297 is outside the accepted range [1, 1000000]"},
+      {Replace(good, "density = 7800", "density = 99999999999999999999999"),
+       "'material.density' is an integer literal beyond the 64-bit range"},
+      {Replace(good, "density = 7800", "density = 1e-300"),
+       "'material.density' = 1e-300 kg/m^3 is outside the accepted range [1e-15, 1000000000000] kg/m^3"},
+      {Replace(good, "young_modulus = 2e8", "young_modulus = 1e300"),
+       "'material.young_modulus' = 1e+300 Pa is outside the accepted range [1e-12, 1e+18] Pa"},
+      {Replace(good, "size = [1.0, 0.2]", "size = [1e300, 1e300]"),
+       "'geometry.size' entry 0 = 1e+300 m is outside the accepted range [1e-09, 1000000000] m"},
+      {Replace(good, "size = [1.0, 0.2]", "size = [1000.0, 1e-5]"),
+       "'geometry.size' and 'cells': cells of aspect ratio 4e+07 (edges 200 m and 5e-06 m) exceed the limit of 10000"},
+      {Replace(good, "cells = [5, 2]", "cells = [1000000, 1000]"), "'geometry.size' and 'cells': 1e+09 cells exceed the limit of 4e+06"},
+      {good + "[output]\nmarked_point = [1e300, 0.0]\n", "'output.marked_point' entry 0 = 1e+300 m"},
+      {Replace(good, "cells = [5, 2]", "cells = " + std::string(100000, '[') + std::string(100000, ']')),
+       "bad.toml:4: arrays or inline tables nested 100000 deep; at most 32 levels are accepted"},
+      {Replace(good, "cells = [5, 2]", "cells = {a = " + std::string(50, '{') + std::string(50, '}') + "}"),
+       "nested 51 deep; at most 32"},
+      {Replace(good, "cells = [5, 2]", "cells = [5.5, 2]"), "'geometry.cells' entries must be integers, got 5.5"},
+  };
+  for (const auto& [text, message] : cases) {
+    CAPTURE(message);
+    CHECK_THROWS_WITH(LoadScene(WriteScene("bad", text)), Catch::Contains(message));
+  }
+  // Not a file; the nesting scan skips brackets inside strings and comments.
+  CHECK_THROWS_WITH(LoadScene(fs::temp_directory_path().string()), Catch::Contains("not a regular file"));
+  CHECK_NOTHROW(LoadScene(WriteScene("strings", "# [[[[ " + std::string(40, '[') + "\nname = \"" +
+                                                    std::string(40, '{') + "\"\n" + good)));
+}
+
+// Found by the fuzz test (seed 2, case 211): errors of the mesh and the model named no file.
+TEST_CASE("Errors while building a scene's model name the scene file", "[scene][errors]") {
+  const std::string path = WriteScene("no_contact", Replace(Block(2, 0.0), "contact = [\"ymin\"]\n", ""));
+  const Scene scene = LoadScene(path);
+  CHECK_THROWS_AS(BuildSceneModel(scene), SceneError);
+  CHECK_THROWS_WITH(BuildSceneModel(scene), Catch::Contains(path + ": mesh has no boundary group 'contact'"));
+}
+
+TEST_CASE("Scene overrides are validated like values of the file", "[scene][errors]") {
+  const std::string path = WriteScene("good", Block(2, 0.0));
+  CHECK(LoadScene(path, {{"time.dt", "1e-5"}}).dynamics.dt == 1e-5);
+  CHECK(LoadScene(path, {{"friction.coefficient", "0.25"}}).friction_coefficient == 0.25);
+  CHECK_THROWS_WITH(LoadScene(path, {{"time.dt", "-3"}}),
+                    Catch::Contains("command line (time.dt):1: 'time.dt' = -3 s is outside the accepted range"));
+  CHECK_THROWS_WITH(LoadScene(path, {{"time.dt", "abc"}}), Catch::Contains("'time.dt' = abc is not a TOML value"));
+  CHECK_THROWS_WITH(LoadScene(path, {{"solver.method", "\"newton\""}}),
+                    Catch::Contains("'solver.method' must be one of"));
+}
+
 TEST_CASE("Scene errors name the key", "[scene][errors]") {
   const std::string good = Block(2, 0.0);
   REQUIRE_NOTHROW(LoadScene(WriteScene("good", good)));
@@ -91,11 +157,11 @@ TEST_CASE("Scene errors name the key", "[scene][errors]") {
       {good + "[solver]\nmethd = \"fb\"\n", "unknown key 'solver.methd'"},
       {good + "colour = 3\n", "unknown key 'time.colour'"},
       {"colour = 3\n" + good, "unknown key 'colour'"},
-      {Block(2, 0.0, "[output]\nsnapshot_every = -1\n"), "'output.snapshot_every' must be >= 0"},
+      {Block(2, 0.0, "[output]\nsnapshot_every = -1\n"), "'output.snapshot_every' = -1 is outside the accepted range [0, 1000000]"},
       {std::string(good).replace(good.find("dt = 2e-5"), 9, "dt = \"x\""), "'time.dt' must be a number"},
-      {std::string(good).replace(good.find("dt = 2e-5"), 9, "dt = -1.0"), "'time.dt' must be > 0"},
+      {std::string(good).replace(good.find("dt = 2e-5"), 9, "dt = -1.0"), "'time.dt' = -1 s is outside the accepted range (0, 1000000000] s"},
       {std::string(good).replace(good.find("poisson_ratio = 0.3"), 19, "poisson_ratio = 0.6"),
-       "'material.poisson_ratio' must lie in (-1, 0.5)"},
+       "'material.poisson_ratio' = 0.6 is outside the accepted range (-1, 0.5)"},
       {std::string(good).replace(good.find("density = 7800"), 14, ""), "'material.density' is missing"},
       {std::string(good).replace(good.find("\"ymin\""), 6, "\"top\""), "unknown side \"top\""},
       {std::string(good).replace(good.find("\"plane\""), 7, "\"cone\""), "'obstacle.type' must be one of"},
@@ -194,7 +260,7 @@ TEST_CASE("The explicit step refuses a consistent mass", "[scene][errors]") {
   CHECK_THROWS_WITH(RunDynamics(built.model, built.options), Catch::Contains("lumped (diagonal) mass"));
 }
 
-TEST_CASE("Table 3 with f_c = 0.5 completes with both step methods; a failed frictional "
+TEST_CASE("Table 3 with f_c = 0.5 completes with both step methods, a failed frictional "
           "solve is retried once from the neutral start",
           "[scene][dynamics][friction]") {
   // With a mass factor computed as LDL' (an earlier version) the condensed solve of step 29

@@ -39,6 +39,9 @@ struct CriticalTimeStep {
   int iterations = 0;
   bool converged = false;
 };
+/// At most this many time steps (end_time - start_time) / dt per run: RunDynamics keeps one
+/// StepRecord (~200 bytes) per step, reserved up front.
+inline constexpr double kMaxTimeSteps = 1e6;
 /// The defaults, which RunDynamics uses too.
 inline constexpr double kCriticalStepTolerance = 1e-9;
 inline constexpr int kCriticalStepMaxIterations = 20000;
@@ -72,7 +75,9 @@ struct DynamicModel {
   std::vector<ContactNode> contact_nodes;
 };
 
-/// How each step's complementarity system is posed.
+/// How each step's complementarity system is posed. (Each method is one class behind the
+/// internal interface contact/src/step_method.hpp, chosen by MakeStepAlgorithm; a new
+/// method is a new file there and one value here.)
 enum class StepMethod {
   kFull,       ///< over all free dofs, as the thesis (eq. 82, 90, 94)
   kCondensed,  ///< over the contact unknowns only: the other dofs are eliminated exactly

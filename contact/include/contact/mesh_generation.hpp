@@ -11,10 +11,23 @@
 #include <array>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "contact/mesh.hpp"
 
 namespace contact {
+
+/// Limits of the generated grids, checked before gmsh is called: beyond them gmsh meshes for
+/// hours, runs out of memory, or (for elements of extreme aspect ratio) stops to ask on
+/// standard input whether to continue.
+inline constexpr double kMaxGeneratedCells = 4e6;      ///< cells_x cells_y (cells_z)
+inline constexpr double kMaxCellAspectRatio = 1e4;     ///< max_k h_k / min_k h_k, h_k = size_k / cells_k
+inline constexpr double kMaxGridExtent = 1e6;          ///< |origin_k| and size_k [m]
+inline constexpr double kMinCellSize = 1e-9;           ///< h_k [m]
+/// "" if `cells` cells along sides of lengths `size` [m] respect those limits, else the
+/// reason, e.g. "1e+12 cells exceed the limit of 4e+06". Takes doubles so that
+/// scene values are checked before their conversion to int.
+std::string CheckGridLimits(const std::vector<double>& size, const std::vector<double>& cells);
 
 /// The sides of an axis-aligned rectangle or box.
 enum class Side { kXMin, kXMax, kYMin, kYMax, kZMin, kZMax };

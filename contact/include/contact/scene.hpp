@@ -9,6 +9,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "contact/contact_boundary.hpp"
@@ -21,6 +22,11 @@
 #include "contact/obstacle.hpp"
 
 namespace contact {
+
+/// Limits of a scene file, checked before it is parsed (they protect the machine: toml11
+/// parses nested values recursively and would overflow the stack).
+inline constexpr std::size_t kMaxSceneFileBytes = 1 << 20;  ///< 1 MiB
+inline constexpr int kMaxSceneNesting = 32;  ///< arrays and inline tables inside each other
 
 class SceneError : public std::invalid_argument {
  public:
@@ -67,8 +73,15 @@ struct Scene {
   std::optional<Eigen::VectorXd> marked_point;  ///< history of the contact node nearest to it
 };
 
+/// Values that replace those of the file: "table.key" -> a TOML literal, e.g.
+/// {"time.dt", "1e-5"}, {"solver.method", "\"min\""} (contact-sim's --dt, --solver ...).
+using SceneOverrides = std::vector<std::pair<std::string, std::string>>;
+
 /// Reads and validates a scene file; relative paths inside are relative to the file.
-Scene LoadScene(const std::string& path);
+/// Every number is range-checked (with its unit) before any conversion; the file itself is
+/// refused beyond kMaxSceneFileBytes or kMaxSceneNesting. Throws SceneError with
+/// "file:line: 'table.key' ..." on the first bad value.
+Scene LoadScene(const std::string& path, const SceneOverrides& overrides = {});
 
 /// The discretized scene: body, Dirichlet map, contact boundary and frames, and the model
 /// on the free dofs that RunDynamics integrates (loads with their time history).

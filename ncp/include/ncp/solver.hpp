@@ -52,6 +52,9 @@ struct IterationRecord {
 /// Return false to stop the solve (TerminationType::kUserAbort).
 using IterationCallback = std::function<bool(const IterationRecord&)>;
 
+/// Largest Options::stagnation_window: the solver keeps that many values of psi.
+inline constexpr int kMaxStagnationWindow = 1000000;
+
 struct Options {
   NcpFunction ncp_function = NcpFunction::kFischerBurmeister;
   /// min function at a tie A_j = B_j: take grad B_j (true) or grad A_j (false) as the
@@ -104,7 +107,7 @@ struct Options {
   /// Stagnation: stop with kStationaryPoint when the smallest psi so far decreased by less
   /// than stagnation_tolerance of itself over the last stagnation_window iterations (the iterates
   /// approach a stationary point of psi that is not a solution). 0 disables the test.
-  int stagnation_window = 20;
+  int stagnation_window = 20;  ///< in [0, kMaxStagnationWindow] (a ring buffer of that many psi)
   double stagnation_tolerance = 1e-6;
   /// Algorithm 1 step 2: fall back to d = -grad psi. If false, a failed Newton solve
   /// ends with kLinearSolverFailure and a failed descent test keeps the Newton direction.

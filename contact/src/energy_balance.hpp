@@ -1,0 +1,46 @@
+// Energy bookkeeping of central differences (contact/dynamics.hpp): the exact discrete
+// balance
+//     E^{k+1/2} - E^{-1/2} = W_ext + W_contact,   E^{k+1/2} = 1/2 v' M v + 1/2 (u^k)' K u^{k+1},
+//     v = (u^{k+1} - u^k) / dt,
+// with the work increments over the half span (u^{k+1} - u^{k-1}) / 2 and W_contact split
+// into its normal part and the friction dissipation (>= 0). All energies in joules.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "contact/dynamics.hpp"
+
+namespace contact::internal {
+
+struct EnergyBalance {
+  double kinetic0 = 0.0;  ///< 1/2 v' M v at the start, v = (u^0 - u^{-1}) / dt
+  double energy0 = 0.0;   ///< shadow energy E^{-1/2} = kinetic0 + 1/2 (u^{-1})' K u^0
+  double strain0 = 0.0;   ///< 1/2 (u^0)' K u^0
+  double external_work = 0.0, normal_work = 0.0, friction_dissipation = 0.0;
+  double work_scale = 0.0;  ///< sum of |external work increments|
+
+  /// At the start: Ku = K u^0, Mdu = M (u^0 - u^{-1}).
+  EnergyBalance(const Eigen::VectorXd& u, const Eigen::VectorXd& u_previous,
+                const Eigen::VectorXd& Ku, const Eigen::VectorXd& Mdu, double dt);
+
+  /// Adds the work of step k: W_ext += f^k . s, W_normal += sum_c (r_c . n_c)(s_c . n_c),
+  /// dissipation -= sum_c (r_c . s_c - (r_c . n_c)(s_c . n_c)), s = (u^{k+1} - u^{k-1}) / 2,
+  /// r = the contact forces [N] (nonzero at the contact nodes only).
+  void AddStepWork(int dim, const std::vector<ContactNode>& nodes, const Eigen::VectorXd& f,
+                   const Eigen::VectorXd& r, const Eigen::VectorXd& u_next,
+                   const Eigen::VectorXd& u_previous);
+
+  /// The energies of rec after step k: kinetic 1/2 du' M du / dt^2 (Mdu = M du), strain
+  /// 1/2 (u^{k+1})' K u^{k+1} (Ku_next = K u^{k+1}), the cumulative works and the balance
+  /// error E^{k+1/2} - E^{-1/2} - W_ext - W_normal + dissipation.
+  void Record(const Eigen::VectorXd& du, const Eigen::VectorXd& Mdu, const Eigen::VectorXd& u,
+              const Eigen::VectorXd& u_next, const Eigen::VectorXd& Ku_next, double dt,
+              StepRecord* rec) const;
+
+  /// What the blow-up guard compares kinetic + strain energy with: the initial kinetic and
+  /// strain energy and all external work that entered.
+  double BlowUpReference() const { return kinetic0 + strain0 + work_scale; }
+};
+
+}  // namespace contact::internal

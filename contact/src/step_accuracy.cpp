@@ -1,0 +1,94 @@
+#include "step_accuracy.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace contact::internal {
+
+StepScales ComputeStepScales(const Eigen::VectorXd& f, const Eigen::VectorXd& Ku,
+                             double contact_force_max, const Eigen::VectorXd& du_previous,
+                             const std::vector<ContactNode>& nodes, const Eigen::VectorXd& u,
+                             double m_max, double dt) {
+  StepScales out;
+  out.force = std::max({f.lpNorm<Eigen::Infinity>(), Ku.lpNorm<Eigen::Infinity>(), contact_force_max});
+  double penetration = 0.0;
+  for (const ContactNode& node : nodes) {
+    double un = 0.0;
+    for (int a = 0; a < 3; ++a)
+      if (node.dofs[a] >= 0) un += node.normal(a) * u(node.dofs[a]);
+    penetration = std::max(penetration, un - node.gap);
+  }
+  const double step_of_force = out.force * dt * dt / m_max;
+  out.displacement = std::max({du_previous.lpNorm<Eigen::Infinity>(), step_of_force, penetration});
+  if (out.force == 0.0) out.force = out.displacement * m_max / (dt * dt);
+  if (out.force == 0.0) out.force = out.displacement = 1.0;  // nothing moves, loads or touches
+  return out;
+}
+
+void SetAskedAccuracy(double tolerance, const StepScales& scales, const Eigen::VectorXd& Q,
+                      const Eigen::VectorXd& Mdu, double dt, const Eigen::VectorXd& u_next,
+                      const Eigen::VectorXd& gap0, StepRecord* rec) {
+  const double eps = std::numeric_limits<double>::epsilon();
+  rec->force_accuracy = tolerance * scales.force +
+                        ContactSystem::kRoundoffUlps * eps *
+                            (Q.lpNorm<Eigen::Infinity>() + Mdu.lpNorm<Eigen::Infinity>() / (dt * dt));
+  rec->displacement_accuracy = tolerance * scales.displacement +
+                               ContactSystem::kRoundoffUlps * eps *
+                                   (u_next.lpNorm<Eigen::Infinity>() + gap0.lpNorm<Eigen::Infinity>());
+}
+
+// Accuracy of a completed step, recomputed from the state in newtons and metres:
+//   equilibrium: r = M (u^{k+1} - 2u^k + u^{k-1}) / dt^2 + K u^k - f^k (given) must equal the
+//     contact forces -lambda_c n_c + tau_c at the contact nodes and 0 elsewhere;
+//   penetration: max(0, -(s_c - n_c . u^{k+1}_c));
+//   complementarity: lambda_c >= 0, and lambda_c = 0 where the gap is open by more than
+//     kAccuracySlack displacement accuracies;
+//   friction: |tau_c| <= g_c, and tau_c = -g_c slip_c / |slip_c| where the node slips by more
+//     than kAccuracySlack displacement accuracies (g_c [N] the step's Tresca bound).
+void MeasureStepAccuracy(int dim, const std::vector<ContactNode>& nodes, const Eigen::VectorXd& r,
+                         const ContactSystem::Result& contact, double force_scale,
+                         const Eigen::VectorXd& u_next, const Eigen::VectorXd& bound,
+                         Eigen::VectorXd* residual, StepRecord* rec) {
+  // (bound and the contact result in system units: times force_scale for newtons.)
+  *residual = r;  // minus the contact forces below
+  double penetration = 0.0, complementarity = 0.0, friction = 0.0;
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const ContactNode& node = nodes[i];
+    const auto c = static_cast<Eigen::Index>(i);
+    const double lambda = force_scale * contact.normal_force(c);
+    Eigen::Vector3d force = -lambda * node.normal;
+    Eigen::Vector2d tau = Eigen::Vector2d::Zero(), slip = Eigen::Vector2d::Zero();
+    for (int a = 1; a < dim; ++a) {
+      const Eigen::Vector3d& t = a == 1 ? node.tangent1 : node.tangent2;
+      tau(a - 1) = force_scale * contact.tangent_force(a - 1, c);
+      slip(a - 1) = contact.slip(a - 1, c);
+      force += tau(a - 1) * t;
+    }
+    double un = 0.0;
+    for (int a = 0; a < dim; ++a) {
+      if (node.dofs[a] < 0) continue;
+      (*residual)(node.dofs[a]) -= force(a);
+      un += node.normal(a) * u_next(node.dofs[a]);
+    }
+    const double gap = node.gap - un;
+    penetration = std::max(penetration, -gap);
+    complementarity = std::max(complementarity, -lambda);
+    if (gap > kAccuracySlack * rec->displacement_accuracy)  // open: no force
+      complementarity = std::max(complementarity, lambda);
+    const double g = bound.size() ? force_scale * bound(c) : 0.0;
+    friction = std::max(friction, tau.norm() - g);
+    if (slip.norm() > kAccuracySlack * rec->displacement_accuracy)  // slipping: tau opposes it
+      friction = std::max(friction, (tau + g * slip / slip.norm()).norm());
+  }
+  rec->equilibrium_residual = residual->lpNorm<Eigen::Infinity>();
+  rec->max_penetration = std::max(0.0, penetration);
+  rec->complementarity_residual = complementarity;
+  rec->friction_residual = friction;
+  rec->accurate = rec->equilibrium_residual <= kAccuracySlack * rec->force_accuracy &&
+                  rec->complementarity_residual <= kAccuracySlack * rec->force_accuracy &&
+                  rec->friction_residual <= kAccuracySlack * rec->force_accuracy &&
+                  rec->max_penetration <= kAccuracySlack * rec->displacement_accuracy;
+}
+
+}  // namespace contact::internal

@@ -1,0 +1,93 @@
+// One step k -> k+1 of central differences as a complementarity problem, behind one small
+// interface so that every way of solving it (full, condensed, explicit, Ipopt, ...) is one
+// class in one file and the time integrator (dynamics.cpp) does not know which it runs.
+//
+// The step (contact/dynamics.hpp, thesis eq. 73, 80, 81): find du = u^{k+1} - u^k with
+//     S du + q = H' F,   S = M / m_max,   q = dt^2 Q^k / m_max,
+// F the contact forces (system units: times force_scale = m_max / dt^2 for newtons), which
+// satisfy Signorini's conditions at u^k + du and Tresca friction with bounds g_c.
+//
+// Adding a step method: a class deriving from StepAlgorithm in its own file (set-up in the
+// constructor, once per run; Solve once per step), and one line in MakeStepAlgorithm
+// (step_method.cpp). Solve must not allocate once the sizes are set, apart from a constant
+// few per step (tests/contact/test_no_allocation.cpp), and must not throw on numerical
+// trouble: it reports it in StepOutcome.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "contact/convex_qp.hpp"
+#include "contact/dynamics.hpp"
+#include "mass_inverse.hpp"
+#include "step_accuracy.hpp"
+
+namespace contact::internal {
+
+/// The data of one step (vectors over the free dofs unless said).
+struct StepData {
+  const Eigen::VectorXd& q;      ///< dt^2 Q^k / m_max (system units)
+  const Eigen::VectorXd& u;      ///< u^k [m]
+  const Eigen::VectorXd& bound;  ///< Tresca bound g_c per contact node (system units);
+                                 ///< empty = frictionless
+  const Eigen::VectorXd& guess;  ///< start guess of du [m] (the previous step's increment)
+  StepScales scales;             ///< what the step is solved against: tolerance F, D [N], [m]
+  double force_scale = 0.0;      ///< m_max / dt^2: system force units -> N
+};
+
+/// How a step's solve ended.
+struct StepOutcome {
+  bool ok = false;                    ///< the result is usable (solved to its tolerance)
+  std::string status = "not solved";  ///< "converged", or why not
+  int newton_iterations = 0, jacobian_evaluations = 0, residual_evaluations = 0;
+  int friction_restarts = 0;          ///< Newton solves repeated from the neutral friction start
+  double solve_seconds = 0.0;         ///< time in the solver proper [s]
+};
+
+class StepAlgorithm {
+ public:
+  virtual ~StepAlgorithm() = default;
+  /// Solves one step: *result gets du (result->x, [m]) and the contact forces, gaps and
+  /// slips (ContactSystem::Result, system units). Reuses *result's storage.
+  virtual StepOutcome Solve(const StepData& step, ContactSystem::Result* result) = 0;
+};
+
+/// The step method of `options` (StepSolver::kIpopt: the Ipopt QP whatever step_method;
+/// else StepMethod kFull, kCondensed or kExplicit), set up for the model. `mass` (M^-1)
+/// must outlive the result. Throws std::invalid_argument when the method cannot take the
+/// model (explicit without a lumped mass, condensed with a singular Delassus operator).
+std::unique_ptr<StepAlgorithm> MakeStepAlgorithm(const DynamicModel& model,
+                                                 const DynamicOptions& options,
+                                                 MassInverse* mass, double m_max);
+
+/// The step methods, one per file (full_step.cpp, condensed_step.cpp, explicit_step.cpp,
+/// ipopt_step.cpp), which MakeStepAlgorithm chooses from. ncp_options: the Newton settings
+/// with the NCP function of DynamicOptions::solver.
+std::unique_ptr<StepAlgorithm> MakeFullStep(const DynamicModel& model, double m_max,
+                                            const ncp::Options& ncp_options, bool friction);
+std::unique_ptr<StepAlgorithm> MakeCondensedStep(const DynamicModel& model, MassInverse* mass,
+                                                 double m_max, const ncp::Options& ncp_options,
+                                                 bool friction);
+std::unique_ptr<StepAlgorithm> MakeExplicitStep(const DynamicModel& model, double m_max);
+std::unique_ptr<StepAlgorithm> MakeIpoptStep(const DynamicModel& model, double m_max,
+                                             double tolerance);
+
+/// The frictionless step as the convex QP
+///   min 1/2 du' S du + q' du   s.t.   n_c . du_c <= s_c - n_c . u^k_c
+/// (multipliers: the normal reactions, system units), solved by Ipopt in the step's own
+/// scales. The Ipopt step method, and the reference of DynamicOptions::compare_with_ipopt.
+class IpoptQp {
+ public:
+  /// Ipopt's tests at `tolerance` (ncp.tolerance) in the step's scales.
+  IpoptQp(const DynamicModel& model, double m_max, double tolerance);
+  /// du (qp.x, [m]) and the multipliers (system units) of the step.
+  ConvexQpResult Solve(const StepData& step) const;
+
+ private:
+  Eigen::SparseMatrix<double> S_;  // M / m_max
+  Eigen::SparseMatrix<double> G_;  // rows n_c' R_c: n_c . du_c
+  Eigen::VectorXd gap0_;           // s_c [m]
+  double tolerance_;
+};
+
+}  // namespace contact::internal

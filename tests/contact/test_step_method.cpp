@@ -1,0 +1,152 @@
+// The step methods behind internal::StepAlgorithm (contact/src/step_method.hpp), each solving
+// the same step through the interface: every result is checked against the step's equations,
+// recomputed here from the model (S du + q = contact forces, Signorini, Tresca), and the
+// methods against each other. A new step method joins the GENERATE lists below.
+#include <catch2/catch.hpp>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+
+#include "block_on_floor.hpp"
+#include "contact/scene.hpp"
+#include "mass_inverse.hpp"
+#include "step_accuracy.hpp"
+#include "step_method.hpp"
+
+namespace {
+
+using namespace contact;
+
+// A 2 x 1 m steel block of 8 x 4 Q4, lumped mass, resting on the floor y >= 0 (gap 0) and
+// moving with v = (1, -1) m/s into it: every bottom node presses and slides.
+SceneModel PressedBlock() {
+  const Scene scene = testing::SteelBlockOnFloor(MassKind::kLumped);
+  return BuildSceneModel(scene);
+}
+
+struct Step {
+  Eigen::VectorXd q, u, bound, guess, f, Ku;
+  internal::StepScales scales;
+  double force_scale = 0.0, m_max = 0.0;
+};
+
+// Step 0 from u^0 = 0, u^{-1} = -dt v: Q = K u^0 - f - M (u^0 - u^{-1}) / dt^2 (eq. 73),
+// q = Q / force_scale; Tresca bounds g_c = 0.3 times the weight-and-impact force M v / dt of
+// one node (system units), or none.
+Step MakeStep(const SceneModel& built, bool friction) {
+  const DynamicModel& model = built.model;
+  const Eigen::Index n = model.M.rows();
+  const double dt = built.options.dt;
+  Step s;
+  s.m_max = internal::MaxAbsEntry(model.M);
+  s.force_scale = s.m_max / (dt * dt);
+  s.u = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd velocity(n);
+  for (Eigen::Index i = 0; i < n; ++i) velocity(i) = i % 2 == 0 ? 1.0 : -1.0;  // (1, -1) m/s
+  s.f.resize(n);
+  model.load(0.0, &s.f);
+  s.Ku = model.K * s.u;
+  const Eigen::VectorXd Q = s.Ku - s.f - model.M * velocity / dt;
+  s.q = Q / s.force_scale;
+  s.guess = dt * velocity;
+  if (friction)
+    s.bound = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(model.contact_nodes.size()),
+                                        0.3 * s.m_max * 1.0 / dt / s.force_scale);
+  s.scales = internal::ComputeStepScales(s.f, s.Ku, 0.0, s.guess, model.contact_nodes, s.u,
+                                         s.m_max, dt);
+  return s;
+}
+
+// The step's equations, from the model: largest violation in system units (forces) and
+// metres (gaps, slips).
+struct Violation {
+  double equilibrium = 0.0, signorini = 0.0, friction = 0.0;
+};
+Violation Check(const SceneModel& built, const Step& s, const ContactSystem::Result& r) {
+  const DynamicModel& model = built.model;
+  Violation v;
+  Eigen::VectorXd residual = model.M * r.x / s.m_max + s.q;  // S du + q minus the contact forces
+  for (size_t i = 0; i < model.contact_nodes.size(); ++i) {
+    const ContactNode& node = model.contact_nodes[i];
+    const auto c = static_cast<Eigen::Index>(i);
+    const double lambda = r.normal_force(c), tau = r.tangent_force(0, c);
+    double un = 0.0, slip = 0.0;
+    for (int a = 0; a < model.dim; ++a) {
+      if (node.dofs[a] < 0) continue;
+      residual(node.dofs[a]) -= -lambda * node.normal(a) + tau * node.tangent1(a);
+      un += node.normal(a) * (s.u(node.dofs[a]) + r.x(node.dofs[a]));
+      slip += node.tangent1(a) * r.x(node.dofs[a]);
+    }
+    const double gap = node.gap - un;
+    v.signorini = std::max({v.signorini, -gap, -lambda, std::min(std::abs(gap), std::abs(lambda))});
+    const double g = s.bound.size() ? s.bound(c) : 0.0;
+    v.friction = std::max(v.friction, std::abs(tau) - g);
+    // Sliding (|tau| = g): tau opposes the slip; sticking (|tau| < g): no slip.
+    if (std::abs(slip) > 1e-9 * s.scales.displacement)
+      v.friction = std::max(v.friction, std::abs(tau + std::copysign(g, slip)));
+  }
+  v.equilibrium = residual.lpNorm<Eigen::Infinity>();
+  return v;
+}
+
+ContactSystem::Result SolveWith(StepMethod method, StepSolver solver, const SceneModel& built,
+                                const Step& s, bool friction) {
+  DynamicOptions options = built.options;
+  options.step_method = method;
+  options.solver = solver;
+  options.friction_coefficient = friction ? 0.3 : 0.0;
+  internal::MassInverse mass(built.model.M, "test: ");
+  const auto algorithm = internal::MakeStepAlgorithm(built.model, options, &mass, s.m_max);
+  ContactSystem::Result result;
+  const internal::StepData data{s.q, s.u, s.bound, s.guess, s.scales, s.force_scale};
+  const internal::StepOutcome outcome = algorithm->Solve(data, &result);
+  CAPTURE(outcome.status);
+  REQUIRE(outcome.ok);
+  CHECK(outcome.status == "converged");
+  return result;
+}
+
+}  // namespace
+
+TEST_CASE("Step methods through the interface: the step equations hold, the methods agree",
+          "[contact][dynamics][step_method]") {
+  const SceneModel built = PressedBlock();
+  const bool friction = GENERATE(true, false);
+  CAPTURE(friction);
+  const Step s = MakeStep(built, friction);
+  const ContactSystem::Result full =
+      SolveWith(StepMethod::kFull, StepSolver::kFischerBurmeister, built, s, friction);
+  const double force = s.scales.force / s.force_scale;  // system units
+  const double tol = 1e-8;
+  // The step is a real contact step: every contact node pushes.
+  CHECK((full.normal_force.array() > 0.0).all());
+  auto [method, solver] = GENERATE(table<StepMethod, StepSolver>(
+      {{StepMethod::kFull, StepSolver::kFischerBurmeister},
+       {StepMethod::kFull, StepSolver::kMin},
+       {StepMethod::kCondensed, StepSolver::kFischerBurmeister},
+       {StepMethod::kCondensed, StepSolver::kPenalizedFischerBurmeister},
+       {StepMethod::kExplicit, StepSolver::kFischerBurmeister},
+       {StepMethod::kFull, StepSolver::kIpopt}}));
+  if (solver == StepSolver::kIpopt && friction) return;  // Ipopt: frictionless only
+  CAPTURE(ToString(method), ToString(solver));
+  const ContactSystem::Result r = SolveWith(method, solver, built, s, friction);
+  const Violation v = Check(built, s, r);
+  CHECK(v.equilibrium <= tol * force);
+  CHECK(v.signorini <= tol * std::max(force, s.scales.displacement));
+  CHECK(v.friction <= tol * force);
+  CHECK((r.x - full.x).lpNorm<Eigen::Infinity>() <= tol * full.x.lpNorm<Eigen::Infinity>());
+  CHECK((r.normal_force - full.normal_force).lpNorm<Eigen::Infinity>() <=
+        tol * full.normal_force.lpNorm<Eigen::Infinity>());
+}
+
+TEST_CASE("Step methods: a model a method cannot take is refused at set-up",
+          "[contact][dynamics][step_method]") {
+  SceneModel built = PressedBlock();
+  built.model.M.coeffRef(0, 2) = built.model.M.coeffRef(2, 0) = 1e-3 * built.model.M.coeff(0, 0);
+  DynamicOptions options = built.options;
+  options.step_method = StepMethod::kExplicit;
+  internal::MassInverse mass(built.model.M, "test: ");
+  CHECK_THROWS_WITH(internal::MakeStepAlgorithm(built.model, options, &mass, 1.0),
+                    Catch::Contains("lumped (diagonal) mass"));
+}
