@@ -19,10 +19,11 @@
 /// Stopping test in the step's scales: the problem is solved as r = F r', u = D u' (F the
 /// force scale and D the displacement scale of the step, system units):
 ///     u' = (F / D) W_fc r' + q_fc / D,
-/// to Siconos' natural-map error ||r' - P_C(r' - u'_hat)||_2 <= tolerance (+ round-off),
-/// i.e. every reaction to tolerance F and every gap and slip to tolerance D, as the other
-/// step methods (README, "Stopping rules in physical units"). ncp::fc's measure is relative
-/// to 1 + ||q'||_2, so its tolerance is set to tolerance / (1 + ||q'||_2).
+/// to Siconos' natural-map error ||r' - P_C(r' - u'_hat)||_2 <= kNaturalMapMargin tolerance
+/// (+ round-off), so that every reaction is right to tolerance F and every gap and slip to
+/// tolerance D, as with the other step methods (README, "Stopping rules in physical units").
+/// ncp::fc's measure is relative to 1 + ||q'||_2, so its tolerance is set to that bound
+/// divided by 1 + ||q'||_2.
 #pragma once
 
 #include <Eigen/Core>
@@ -36,6 +37,15 @@ namespace contact::internal {
 
 class CoulombStep {
  public:
+  /// The natural map does not bound the friction law at a node that slips by little: there
+  /// |r_T| may sit below f_c r_N by much more than the residual. Solved to 1e-5 of the
+  /// tolerance (Newton converges quadratically: +0.2-0.5 iterations per step), every step of
+  /// contact-physics-check --quick --dim 3 --mass consistent passes the independent check of
+  /// the friction law (with 1: 129 of 17187 steps of the sticking incline and 4 of 9883 of
+  /// the sliding block missed it; with 1e-3 still 1 step). The margin is asked for, not
+  /// required: a solve that stops short of it (round-off) but within the tolerance counts.
+  static constexpr double kNaturalMapMargin = 1e-5;
+
   /// dim = 2 or 3; W: the Delassus operator on the contact unknowns (symmetric positive
   /// semidefinite, system units); nodes: the contact nodes with dofs numbered on the contact
   /// unknowns (-1: constrained component) and unit frames; friction_coefficient f_c >= 0;
@@ -54,8 +64,9 @@ class CoulombStep {
 
   /// Solves one step: x_free (contact unknowns), gap0 (one per node, s_c - n_c . u^k_c),
   /// force and displacement scales F, D > 0 (system units), tolerance > 0. Starts from the
-  /// previous call's forces. Returns true when the fc solve converged; otherwise the outcome
-  /// holds the best iterate and the summary says why (never thrown).
+  /// previous call's forces. Returns true when the natural-map residual recomputed at the
+  /// returned forces is within tolerance (+ round-off); otherwise the outcome holds the best
+  /// iterate and the summary says why (never thrown).
   bool Solve(const Eigen::VectorXd& x_free, const Eigen::VectorXd& gap0, double force_scale,
              double displacement_scale, double tolerance, Outcome* out);
 
