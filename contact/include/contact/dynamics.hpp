@@ -170,9 +170,11 @@ struct DynamicOptions {
   double friction_coefficient = 0.0;  ///< f_c (0 = frictionless)
   StepSolver solver = StepSolver::kFischerBurmeister;
   StepMethod step_method = StepMethod::kCondensed;  ///< kFull for the thesis formulation
-  /// With friction and the condensed step. kCoulombFc ignores `solver` and `ncp` except
-  /// ncp.tolerance and ncp.max_iterations.
-  FrictionFormulation friction_formulation = FrictionFormulation::kEq94;
+  /// With friction and the condensed step (the full and explicit steps always use the lagged
+  /// bound). kCoulombFc ignores `solver` and `ncp` except ncp.tolerance, ncp.max_iterations
+  /// and ncp.log_to_stderr. Default kCoulombFc: measured more robust (README, "Coulomb
+  /// friction in Delassus form").
+  FrictionFormulation friction_formulation = FrictionFormulation::kCoulombFc;
   /// Semismooth Newton settings. `tolerance` is relative to the step's force and displacement
   /// scales (see kAccuracySlack above). Default min tie: a touching node counts as closed.
   ncp::Options ncp = ContactNcpOptions();
