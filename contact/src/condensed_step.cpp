@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "delassus.hpp"
 #include "newton_step.hpp"
 #include "step_method.hpp"
 
@@ -11,70 +12,25 @@ namespace contact::internal {
 namespace {
 
 // Exact elimination of the non-contact dofs from one step (StepMethod::kCondensed).
-// With H mapping the displacements to the contact unknowns x_c = H du, the step equation
-//     S du + q = H' F          (F: the contact forces conjugate to x_c)
-// gives du = S^-1 (H' F - q) and x_c = W F - H S^-1 q with the Delassus operator
-// W = H S^-1 H'. Hence F = W^-1 x_c + W^-1 H S^-1 q: a ContactSystem over the contact
-// unknowns with S_c = W^-1 and q_c = W^-1 H S^-1 q, whose solution is the same as that of
-// the full system. W is formed once from one solve with the Cholesky factor of S per row of H.
-//   With friction, H selects every free component of every contact node (the condensed
-//   nodes keep their frames). Frictionless, only the normal displacement n_c . du_c of each
-//   node enters the contact conditions, so H has one row per node (the condensed node has
-//   normal e_x and no tangent): W is dim^2 times smaller and its solves dim^3 times cheaper.
+// With the Delassus operator W = H S^-1 H' (delassus.hpp), x_c = W F - H S^-1 q, hence
+// F = W^-1 x_c + W^-1 H S^-1 q: a ContactSystem over the contact unknowns with S_c = W^-1
+// and q_c = W^-1 H S^-1 q, whose solution is the same as that of the full system.
+// Frictionless, H takes only the normal displacement of each node (W dim^2 times smaller).
 class CondensedStep : public StepAlgorithm {
  public:
   /// S = M / m_max: S^-1 = m_max M^-1 through `mass` (which must outlive this).
   CondensedStep(const DynamicModel& model, MassInverse* mass, double m_max,
                 const ncp::Options& ncp_options, bool friction)
-      : dim_(model.dim), nodes_(model.contact_nodes), mass_(mass), m_max_(m_max),
+      : dim_(model.dim), nodes_(model.contact_nodes), delassus_(model, mass, m_max, !friction),
         newton_(ncp_options, friction) {
-    const int dim = model.dim;
-    const Eigen::Index n = model.M.rows();
-    const std::vector<ContactNode>& nodes = model.contact_nodes;
-    const bool frictionless = !friction;
-    // H, and the nodes renumbered onto the contact unknowns.
-    std::vector<Eigen::Triplet<double>> h;
-    std::vector<ContactNode> condensed = nodes;
-    int rows = 0;
-    for (ContactNode& node : condensed) {
-      if (frictionless) {
-        for (int a = 0; a < dim; ++a)
-          if (node.dofs[a] >= 0) h.emplace_back(rows, node.dofs[a], node.normal(a));
-        node.dofs[0] = rows++;
-        node.dofs[1] = node.dofs[2] = -1;
-        node.normal = Eigen::Vector3d::UnitX();
-        node.tangent1.setZero();
-        node.tangent2.setZero();
-        CompleteContactFrame(dim, &node);
-        continue;
-      }
-      for (int a = 0; a < dim; ++a) {
-        if (node.dofs[a] < 0) continue;
-        h.emplace_back(rows, node.dofs[a], 1.0);
-        node.dofs[a] = rows++;
-      }
-    }
-    H_.resize(rows, n);
-    H_.setFromTriplets(h.begin(), h.end());
-    // W = H (S^-1 H'), in blocks of columns of H' (at most ~256 MB of right-hand sides).
-    const Eigen::SparseMatrix<double> Ht = H_.transpose();
-    Eigen::MatrixXd W(rows, rows), block, solved;
-    const int width = static_cast<int>(std::clamp<Eigen::Index>((1 << 25) / std::max<Eigen::Index>(n, 1), 1, 256));
-    for (int first = 0; first < rows; first += width) {
-      const int count = std::min(width, rows - first);
-      block = Eigen::MatrixXd(Ht.middleCols(first, count));
-      mass_->Solve(block, &solved);
-      solved *= m_max_;  // S^-1 = m_max M^-1
-      W.middleCols(first, count) = H_ * solved;
-    }
-    W = 0.5 * (W + W.transpose());
-    const Eigen::LLT<Eigen::MatrixXd> llt(W);
+    const Eigen::LLT<Eigen::MatrixXd> llt(delassus_.W());
     if (llt.info() != Eigen::Success)
       throw std::invalid_argument("contact::RunDynamics: the Delassus operator H M^-1 H' is not "
                                   "positive definite; use the full step");
-    inverse_delassus_ = llt.solve(Eigen::MatrixXd::Identity(rows, rows));
-    system_ = std::make_unique<ContactSystem>(dim, inverse_delassus_.sparseView(0.0, 0.0), condensed);
-    normal_only_ = frictionless;
+    inverse_delassus_ = llt.solve(Eigen::MatrixXd::Identity(delassus_.W().rows(), delassus_.W().rows()));
+    system_ = std::make_unique<ContactSystem>(dim_, inverse_delassus_.sparseView(0.0, 0.0),
+                                              delassus_.condensed_nodes());
+    normal_only_ = !friction;
   }
 
   StepOutcome Solve(const StepData& step, ContactSystem::Result* result) override {
@@ -89,14 +45,14 @@ class CondensedStep : public StepAlgorithm {
 
  private:
   /// x_c = H x.
-  Eigen::VectorXd Restrict(const Eigen::VectorXd& x) const { return H_ * x; }
+  Eigen::VectorXd Restrict(const Eigen::VectorXd& x) const { return delassus_.H() * x; }
 
   /// Data of one step: q and u0 on all free dofs.
   void Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0, const Eigen::VectorXd& bound) {
-    SolveS(q, &full_);
-    contact_.noalias() = H_ * full_;
+    delassus_.SolveS(q, &full_);
+    contact_.noalias() = delassus_.H() * full_;
     q_c_.noalias() = inverse_delassus_ * contact_;  // W^-1 H S^-1 q
-    contact_.noalias() = H_ * u0;
+    contact_.noalias() = delassus_.H() * u0;
     system_->Update(q_c_, contact_, bound);
   }
 
@@ -105,9 +61,9 @@ class CondensedStep : public StepAlgorithm {
   ContactSystem::Result Expand(ContactSystem::Result condensed, const Eigen::VectorXd& q) {
     contact_.noalias() = inverse_delassus_ * condensed.x;
     contact_ += q_c_;  // F
-    full_.noalias() = H_.transpose() * contact_;
+    full_.noalias() = delassus_.H().transpose() * contact_;
     full_ -= q;
-    SolveS(full_, &condensed.x);
+    delassus_.SolveS(full_, &condensed.x);
     if (normal_only_)
       for (size_t c = 0; c < nodes_.size(); ++c) {
         const ContactNode& node = nodes_[c];
@@ -125,13 +81,7 @@ class CondensedStep : public StepAlgorithm {
   int dim_;
   std::vector<ContactNode> nodes_;
   bool normal_only_ = false;
-  MassInverse* mass_;
-  double m_max_;
-  void SolveS(const Eigen::VectorXd& b, Eigen::VectorXd* x) {  // x = S^-1 b
-    mass_->Solve(b, x);
-    *x *= m_max_;
-  }
-  Eigen::SparseMatrix<double> H_;
+  DelassusOperator delassus_;
   Eigen::MatrixXd inverse_delassus_;
   std::unique_ptr<ContactSystem> system_;
   Eigen::VectorXd q_c_, full_, contact_;  // (buffers: no allocation per step)

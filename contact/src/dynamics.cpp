@@ -231,6 +231,10 @@ class CentralDifferences {
     rec->jacobian_evaluations = outcome.jacobian_evaluations;
     rec->residual_evaluations = outcome.residual_evaluations;
     summary_.friction_restarts += outcome.friction_restarts;
+    // Implicit Coulomb: the bound the step was solved (and is measured) against is
+    // f_c lambda^{k+1}, not the lagged f_c lambda^k.
+    if (outcome.implicit_friction_bound)
+      s.bound = options_.friction_coefficient * s.contact.normal_force.cwiseMax(0.0);
     if (outcome.ok && reference_) CompareWithIpopt(data, rec);
     summary_.newton_iterations += rec->newton_iterations;
     summary_.jacobian_evaluations += rec->jacobian_evaluations;
@@ -363,6 +367,14 @@ void SymmetricMultiply(const Eigen::SparseMatrix<double>& A, const Eigen::Vector
   if (A.rows() != A.cols() || x.size() != A.cols())
     throw std::invalid_argument("SymmetricMultiply: A must be square with as many columns as x has entries");
   internal::SymmetricMultiply(A, x, y);
+}
+
+const char* ToString(FrictionFormulation f) {
+  switch (f) {
+    case FrictionFormulation::kEq94: return "eq94";
+    case FrictionFormulation::kCoulombFc: return "coulomb-fc";
+  }
+  return "unknown";
 }
 
 const char* ToString(StepMethod m) {

@@ -492,6 +492,12 @@ Scene LoadScene(const std::string& path, const SceneOverrides& overrides) {
                                                 : StepMethod::kCondensed;
   if (s.dynamics.step_method == StepMethod::kExplicit && s.mass != MassKind::kLumped)
     v.Fail("step", "= \"explicit\" needs material.mass = \"lumped\"");
+  const std::string friction = v.Choice("friction", {"default", "eq94", "coulomb-fc"}, "default");
+  if (friction != "default")
+    s.dynamics.friction_formulation =
+        friction == "eq94" ? FrictionFormulation::kEq94 : FrictionFormulation::kCoulombFc;
+  if (friction == "coulomb-fc" && s.dynamics.step_method != StepMethod::kCondensed)
+    v.Fail("friction", "= \"coulomb-fc\" needs solver.step = \"condensed\", got \"" + step + "\"");
   s.dynamics.ncp.log_to_stderr = v.Boolean("log_iterations", false);
   s.dynamics.compare_with_ipopt = v.Boolean("compare_with_ipopt", false);
   if (s.dynamics.compare_with_ipopt && s.friction_coefficient > 0)

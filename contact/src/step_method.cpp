@@ -25,6 +25,8 @@ std::unique_ptr<StepAlgorithm> MakeStepAlgorithm(const DynamicModel& model,
   switch (options.step_method) {
     case StepMethod::kFull: return MakeFullStep(model, m_max, ncp_options, friction);
     case StepMethod::kCondensed:
+      if (friction && options.friction_formulation == FrictionFormulation::kCoulombFc)
+        return MakeCoulombFcStep(model, mass, m_max, options);
       // The condensed system's matrix W^-1 is dense: a dense LU beats a sparse one at any size.
       if (ncp_options.linear_solver == ncp::LinearSolverType::kAuto)
         ncp_options.linear_solver = ncp::LinearSolverType::kDenseLU;

@@ -41,6 +41,9 @@ struct StepOutcome {
   std::string status = "not solved";  ///< "converged", or why not
   int newton_iterations = 0, jacobian_evaluations = 0, residual_evaluations = 0;
   int friction_restarts = 0;          ///< Newton solves repeated from the neutral friction start
+  /// Friction was solved against f_c lambda^{k+1} (this step's normal forces, implicit
+  /// Coulomb), not against StepData::bound: the step's accuracy is measured against it.
+  bool implicit_friction_bound = false;
   double solve_seconds = 0.0;         ///< time in the solver proper [s]
 };
 
@@ -68,6 +71,9 @@ std::unique_ptr<StepAlgorithm> MakeFullStep(const DynamicModel& model, double m_
 std::unique_ptr<StepAlgorithm> MakeCondensedStep(const DynamicModel& model, MassInverse* mass,
                                                  double m_max, const ncp::Options& ncp_options,
                                                  bool friction);
+/// The condensed step with FrictionFormulation::kCoulombFc (coulomb_fc_step.cpp).
+std::unique_ptr<StepAlgorithm> MakeCoulombFcStep(const DynamicModel& model, MassInverse* mass,
+                                                 double m_max, const DynamicOptions& options);
 std::unique_ptr<StepAlgorithm> MakeExplicitStep(const DynamicModel& model, double m_max);
 std::unique_ptr<StepAlgorithm> MakeIpoptStep(const DynamicModel& model, double m_max,
                                              double tolerance);

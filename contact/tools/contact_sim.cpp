@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
       "dt", "override time.dt [s]", cxxopts::value<std::string>())(
       "end-time", "override time.end_time [s]", cxxopts::value<std::string>())(
       "friction", "override friction.coefficient", cxxopts::value<std::string>())(
+      "friction-formulation", "override solver.friction: eq94, coulomb-fc", cxxopts::value<std::string>())(
       "tolerance", "override solver.tolerance", cxxopts::value<std::string>())(
       "output", "override output.directory", cxxopts::value<std::string>())(
       "no-output", "write no files")("quiet", "no progress lines on stderr")(
@@ -64,7 +65,8 @@ int main(int argc, char** argv) {
     // The overrides are TOML literals validated with the file's values (same ranges).
     contact::SceneOverrides overrides;
     const std::pair<const char*, const char*> string_options[] = {{"solver", "solver.method"},
-                                                                  {"step", "solver.step"}};
+                                                                  {"step", "solver.step"},
+                                                                  {"friction-formulation", "solver.friction"}};
     for (const auto& [option, key] : string_options)
       if (args.count(option)) overrides.emplace_back(key, TomlString(args[option].as<std::string>()));
     const std::pair<const char*, const char*> number_options[] = {
@@ -122,6 +124,7 @@ int main(int argc, char** argv) {
     j["friction_coefficient"] = scene.friction_coefficient;
     j["solver"] = contact::ToString(scene.dynamics.solver);
     j["step_method"] = contact::ToString(scene.dynamics.step_method);
+    j["friction_formulation"] = contact::ToString(scene.dynamics.friction_formulation);
     j["tolerance"] = scene.dynamics.ncp.tolerance;
     j["dofs"] = r.num_dofs;
     j["free_dofs"] = r.num_free_dofs;

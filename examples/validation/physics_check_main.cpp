@@ -1,6 +1,6 @@
 // contact-physics-check: the closed-form checks of physics_checks.hpp over a sweep of
 // materials, time steps, mass kinds and dimensions, with default solver settings.
-//   contact-physics-check [--quick] [--csv FILE] [--step S] [--solver M] [--tolerance T]
+//   contact-physics-check [--quick] [--csv FILE] [--step S] [--solver M] [--friction eq94|coulomb-fc] [--tolerance T]
 //                         [--dim 2|3] [--mass lumped|consistent]
 // Prints one line per run and a count; exit code 1 if any check failed.
 #include <cstdio>
@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
   bool quick = false;
   int only_dim = 0;
   std::string only_mass;
-  std::string csv, step, solver;
+  std::string csv, step, solver, friction;
   double tolerance = 0.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -25,11 +25,12 @@ int main(int argc, char** argv) {
     else if (a == "--csv" && i + 1 < argc) csv = argv[++i];
     else if (a == "--step" && i + 1 < argc) step = argv[++i];
     else if (a == "--solver" && i + 1 < argc) solver = argv[++i];
+    else if (a == "--friction" && i + 1 < argc) friction = argv[++i];
     else if (a == "--tolerance" && i + 1 < argc) tolerance = std::stod(argv[++i]);
     else if (a == "--dim" && i + 1 < argc) only_dim = std::stoi(argv[++i]);
     else if (a == "--mass" && i + 1 < argc) only_mass = argv[++i];
     else {
-      std::fprintf(stderr, "usage: contact-physics-check [--quick] [--csv FILE] [--step S] [--solver M] [--tolerance T] [--dim 2|3] [--mass lumped|consistent]\n");
+      std::fprintf(stderr, "usage: contact-physics-check [--quick] [--csv FILE] [--step S] [--solver M] [--friction eq94|coulomb-fc] [--tolerance T] [--dim 2|3] [--mass lumped|consistent]\n");
       return 2;
     }
   }
@@ -52,6 +53,7 @@ int main(int argc, char** argv) {
           c.dt_fraction = fraction;
           c.step = step;
           c.solver = solver;
+          c.friction_formulation = friction;
           c.tolerance = tolerance;
           if ((only_dim && dim != only_dim) || (!only_mass.empty() && only_mass != (lumped ? "lumped" : "consistent")))
             continue;

@@ -74,6 +74,7 @@ std::string SolverSection(const Case& c) {
   std::string s = "[solver]\n";
   if (!c.solver.empty()) s += "method = \"" + c.solver + "\"\n";
   if (!c.step.empty()) s += "step = \"" + c.step + "\"\n";
+  if (!c.friction_formulation.empty()) s += "friction = \"" + c.friction_formulation + "\"\n";
   if (c.tolerance > 0.0) s += "tolerance = " + Num(c.tolerance) + "\n";
   return s;
 }
@@ -193,7 +194,8 @@ std::string Case::Label() const {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%dD E=%.0e dt=%.2fcrit ", dim, young_modulus, dt_fraction);
   return buffer + std::string(lumped ? "lumped" : "consistent") +
-         (step.empty() ? "" : " " + step) + (solver.empty() ? "" : " " + solver) + " " + units.name;
+         (step.empty() ? "" : " " + step) + (solver.empty() ? "" : " " + solver) +
+         (friction_formulation.empty() ? "" : " " + friction_formulation) + " " + units.name;
 }
 
 Outcome FreeFall(const Case& c) {

@@ -40,6 +40,7 @@ struct Case {
   bool lumped = true;             ///< lumped (row-sum) or consistent mass
   std::string step = "";          ///< solver.step; "" = the default
   std::string solver = "";        ///< solver.method; "" = the default
+  std::string friction_formulation = "";  ///< solver.friction; "" = the default
   double tolerance = 0.0;         ///< solver.tolerance; 0 = the default
   double friction = 0.3;          ///< mu (incline, sliding)
   Units units;

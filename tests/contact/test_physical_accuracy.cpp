@@ -83,14 +83,17 @@ TEST_CASE("Unit invariance: SI, mm-tonne-s and bodies scaled by 1e-3 and 1e3 mov
   struct Variant {
     std::string step, solver;
     bool lumped;
+    std::string friction = "";  // solver.friction ("": the default, coulomb-fc when condensed)
   };
   const std::vector<Variant> variants{
-      {"condensed", "fb", false}, {"condensed", "min", false}, {"condensed", "penalized-fb", false},
+      {"condensed", "fb", false, "eq94"}, {"condensed", "min", false, "eq94"},
+      {"condensed", "penalized-fb", false, "eq94"}, {"condensed", "fb", false},
       {"full", "fb", false},      {"explicit", "", true},      {"condensed", "fb", true}};
   for (const Variant& v : variants) {
     Case c = Make(2, 7e10, 0.9, v.lumped);
     c.step = v.step;
     c.solver = v.solver;
+    c.friction_formulation = v.friction;
     for (bool sliding : {false, true}) {
       c.units = kSI;
       const Outcome reference = sliding ? Sliding(c) : FreeFall(c);

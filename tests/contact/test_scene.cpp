@@ -148,6 +148,15 @@ TEST_CASE("Scene overrides are validated like values of the file", "[scene][erro
   CHECK_THROWS_WITH(LoadScene(path, {{"time.dt", "abc"}}), Catch::Contains("'time.dt' = abc is not a TOML value"));
   CHECK_THROWS_WITH(LoadScene(path, {{"solver.method", "\"newton\""}}),
                     Catch::Contains("'solver.method' must be one of"));
+  // solver.friction: the default (implicit Coulomb on ncp::fc), eq. 94, and only with the
+  // condensed step.
+  CHECK(LoadScene(path).dynamics.friction_formulation == FrictionFormulation::kCoulombFc);
+  CHECK(LoadScene(path, {{"solver.friction", "\"eq94\""}}).dynamics.friction_formulation ==
+        FrictionFormulation::kEq94);
+  CHECK_THROWS_WITH(LoadScene(path, {{"solver.friction", "\"coulomb-fc\""}, {"solver.step", "\"full\""}}),
+                    Catch::Contains("needs solver.step = \"condensed\""));
+  CHECK_THROWS_WITH(LoadScene(path, {{"solver.friction", "\"coulomb\""}}),
+                    Catch::Contains("'solver.friction' must be one of"));
 }
 
 TEST_CASE("Scene errors name the key", "[scene][errors]") {

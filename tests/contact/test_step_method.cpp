@@ -91,8 +91,10 @@ Violation Check(const SceneModel& built, const Step& s, const ContactSystem::Res
 }
 
 ContactSystem::Result SolveWith(StepMethod method, StepSolver solver, const SceneModel& built,
-                                const Step& s, bool friction) {
+                                const Step& s, bool friction,
+                                FrictionFormulation formulation = FrictionFormulation::kEq94) {
   DynamicOptions options = built.options;
+  options.friction_formulation = formulation;
   options.step_method = method;
   options.solver = solver;
   options.friction_coefficient = friction ? 0.3 : 0.0;
@@ -104,6 +106,8 @@ ContactSystem::Result SolveWith(StepMethod method, StepSolver solver, const Scen
   CAPTURE(outcome.status);
   REQUIRE(outcome.ok);
   CHECK(outcome.status == "converged");
+  CHECK(outcome.implicit_friction_bound == (friction && method == StepMethod::kCondensed &&
+                                            formulation == FrictionFormulation::kCoulombFc));
   return result;
 }
 
@@ -149,4 +153,29 @@ TEST_CASE("Step methods: a model a method cannot take is refused at set-up",
   internal::MassInverse mass(built.model.M, "test: ");
   CHECK_THROWS_WITH(internal::MakeStepAlgorithm(built.model, options, &mass, 1.0),
                     Catch::Contains("lumped (diagonal) mass"));
+}
+
+TEST_CASE("Condensed step with implicit Coulomb (ncp::fc): the step equations hold with the "
+          "bound f_c lambda^{k+1}; eq. 94 given that bound finds the same step",
+          "[contact][dynamics][step_method]") {
+  const SceneModel built = PressedBlock();
+  Step s = MakeStep(built, true);
+  const ContactSystem::Result r = SolveWith(StepMethod::kCondensed, StepSolver::kFischerBurmeister,
+                                            built, s, true, FrictionFormulation::kCoulombFc);
+  CHECK((r.normal_force.array() > 0.0).all());
+  // A Coulomb solution is the (unique) Tresca solution for its own bound f_c lambda.
+  s.bound = 0.3 * r.normal_force;
+  const double force = s.scales.force / s.force_scale, tol = 1e-8;
+  const Violation v = Check(built, s, r);
+  CHECK(v.equilibrium <= tol * force);
+  CHECK(v.signorini <= tol * std::max(force, s.scales.displacement));
+  CHECK(v.friction <= tol * force);
+  const ContactSystem::Result full =
+      SolveWith(StepMethod::kFull, StepSolver::kFischerBurmeister, built, s, true);
+  CHECK((r.x - full.x).lpNorm<Eigen::Infinity>() <= tol * full.x.lpNorm<Eigen::Infinity>());
+  CHECK((r.normal_force - full.normal_force).lpNorm<Eigen::Infinity>() <=
+        tol * full.normal_force.lpNorm<Eigen::Infinity>());
+  // The block slides: every bottom node slips and its friction force is at the bound.
+  for (Eigen::Index c = 0; c < r.normal_force.size(); ++c)
+    CHECK_THAT(std::abs(r.tangent_force(0, c)), Catch::Matchers::WithinRel(0.3 * r.normal_force(c), 1e-8));
 }

@@ -96,6 +96,17 @@ enum class StepMethod {
 };
 const char* ToString(StepMethod m);
 
+/// How a step with friction (f_c > 0) poses Coulomb's law (condensed step only for kCoulombFc).
+enum class FrictionFormulation {
+  kEq94,       ///< the thesis: Tresca with the lagged bound g_c = f_c lambda_c^k of the
+               ///< previous step (eq. 70) in the mixed NCP of eq. 94 (direction unknowns),
+               ///< solved by ncp with `solver`
+  kCoulombFc,  ///< implicit Coulomb |tau_c| <= f_c lambda_c^{k+1} as the local frictional
+               ///< contact problem in Delassus form u = E W E' r + q (contact/src/
+               ///< coulomb_step.hpp), solved by ncp::fc's hybrid semismooth Newton
+};
+const char* ToString(FrictionFormulation f);
+
 enum class InitialState {
   kStaticEquilibrium,  ///< u^0 = static frictionless contact equilibrium for f(t0), v = 0,
                        ///< u^{-1} = u^0 (thesis section 4.3)
@@ -159,6 +170,11 @@ struct DynamicOptions {
   double friction_coefficient = 0.0;  ///< f_c (0 = frictionless)
   StepSolver solver = StepSolver::kFischerBurmeister;
   StepMethod step_method = StepMethod::kCondensed;  ///< kFull for the thesis formulation
+  /// With friction and the condensed step (the full and explicit steps always use the lagged
+  /// bound). kCoulombFc ignores `solver` and `ncp` except ncp.tolerance, ncp.max_iterations
+  /// and ncp.log_to_stderr. Default kCoulombFc: measured more robust (README, "Coulomb
+  /// friction in Delassus form").
+  FrictionFormulation friction_formulation = FrictionFormulation::kCoulombFc;
   /// Semismooth Newton settings. `tolerance` is relative to the step's force and displacement
   /// scales (see kAccuracySlack above). Default min tie: a touching node counts as closed.
   ncp::Options ncp = ContactNcpOptions();

@@ -1,0 +1,126 @@
+#include "coulomb_step.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "ncp/fc/error.hpp"
+
+namespace contact::internal {
+
+CoulombStep::CoulombStep(int dim, const Eigen::MatrixXd& W, std::vector<ContactNode> nodes,
+                         double friction_coefficient, const ncp::fc::Options& fc_options)
+    : dim_(dim), nodes_(std::move(nodes)), W_(W), options_(fc_options) {
+  const std::string who = "contact::CoulombStep: ";
+  if (dim != 2 && dim != 3) throw std::invalid_argument(who + "dim must be 2 or 3, got " + std::to_string(dim));
+  if (W.rows() != W.cols())
+    throw std::invalid_argument(who + "W must be square, got " + std::to_string(W.rows()) + " x " +
+                                std::to_string(W.cols()));
+  if (!(friction_coefficient >= 0.0) || !std::isfinite(friction_coefficient))
+    throw std::invalid_argument(who + "the friction coefficient must be finite and >= 0, got " +
+                                std::to_string(friction_coefficient));
+  std::string error;
+  if (!options_.IsValid(&error)) throw std::invalid_argument(who + error);
+  // W_fc is dense (every contact sees every other through the body): dense LU.
+  if (options_.linear_solver == ncp::LinearSolverType::kAuto)
+    options_.linear_solver = ncp::LinearSolverType::kDenseLU;
+
+  // E: row dim c + a holds e_c,a = (-n_c, t1_c[, t2_c])_a on the free components of node c.
+  const Eigen::Index num_contacts = static_cast<Eigen::Index>(nodes_.size());
+  std::vector<Eigen::Triplet<double>> e;
+  for (Eigen::Index c = 0; c < num_contacts; ++c) {
+    const ContactNode& node = nodes_[static_cast<size_t>(c)];
+    for (int b = 0; b < dim; ++b) {
+      const int unknown = node.dofs[b];
+      if (unknown < 0) continue;
+      if (unknown >= W.rows())
+        throw std::invalid_argument(who + "node " + std::to_string(node.node) + " has contact unknown " +
+                                    std::to_string(unknown) + ", W has " + std::to_string(W.rows()));
+      e.emplace_back(dim * c, unknown, -node.normal(b));
+      e.emplace_back(dim * c + 1, unknown, node.tangent1(b));
+      if (dim == 3) e.emplace_back(dim * c + 2, unknown, node.tangent2(b));
+    }
+  }
+  E_.resize(dim * num_contacts, W.rows());
+  E_.setFromTriplets(e.begin(), e.end());
+  transmits_.assign(static_cast<size_t>(E_.rows()), false);
+  for (Eigen::Index col = 0; col < E_.outerSize(); ++col)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(E_, col); it; ++it)
+      if (it.value() != 0.0) transmits_[static_cast<size_t>(it.row())] = true;
+  for (Eigen::Index c = 0; c < num_contacts; ++c) transmits_[static_cast<size_t>(dim * c)] = true;
+  W_fc_ = E_ * W_ * E_.transpose();
+  W_fc_ = 0.5 * (W_fc_ + W_fc_.transpose());
+
+  problem_.dimension = dim;
+  problem_.num_contacts = static_cast<int>(num_contacts);
+  problem_.mu = Eigen::VectorXd::Constant(num_contacts, friction_coefficient);
+  problem_.name = "contact step";
+}
+
+bool CoulombStep::Solve(const Eigen::VectorXd& x_free, const Eigen::VectorXd& gap0, double force_scale,
+                        double displacement_scale, double tolerance, Outcome* out) {
+  const std::string who = "contact::CoulombStep::Solve: ";
+  const Eigen::Index num_contacts = problem_.num_contacts;
+  if (x_free.size() != W_.rows() || gap0.size() != num_contacts)
+    throw std::invalid_argument(who + "x_free has " + std::to_string(x_free.size()) + " entries (expected " +
+                                std::to_string(W_.rows()) + "), gap0 " + std::to_string(gap0.size()) +
+                                " (expected " + std::to_string(num_contacts) + ")");
+  if (!(force_scale > 0.0) || !(displacement_scale > 0.0) || !(tolerance > 0.0))
+    throw std::invalid_argument(who + "the scales F, D and the tolerance must be > 0");
+  const double F = force_scale, D = displacement_scale;
+
+  // The problem in the step's scales: u' = (F / D) W_fc r' + q_fc / D.
+  Eigen::VectorXd q_fc = E_ * x_free;
+  for (Eigen::Index c = 0; c < num_contacts; ++c) q_fc(dim_ * c) += gap0(c);
+  problem_.q = q_fc / D;
+  problem_.W = ((F / D) * W_fc_).sparseView(0.0, 0.0);
+
+  // Asked: ||e'||_2 <= kNaturalMapMargin tolerance; required: ||e'||_2 <= tolerance; each
+  // plus the round-off of u' (16 ulp of its terms, as ContactSystem).
+  const double eps = std::numeric_limits<double>::epsilon();
+  const double q_norm = problem_.q.norm();
+  const double roundoff = ContactSystem::kRoundoffUlps * eps * problem_.q.lpNorm<Eigen::Infinity>();
+  ncp::fc::Options options = options_;
+  options.tolerance = (kNaturalMapMargin * tolerance + roundoff) / (1.0 + q_norm);
+
+  Eigen::VectorXd r = r_previous_.size() == q_fc.size() ? Eigen::VectorXd(r_previous_ / F)
+                                                        : Eigen::VectorXd::Zero(q_fc.size());
+  ncp::fc::Solve(options, problem_, &r, &out->summary);
+
+  // A local tangent along a constrained axis (empty row of E) transmits no force to the
+  // body: its component of r is arbitrary in the problem and set to 0. Then r_c onto C_mu
+  // (moves r by at most the error reached): the forces applied are admissible, lambda >= 0.
+  for (Eigen::Index i = 0; i < r.size(); ++i)
+    if (!transmits_[static_cast<size_t>(i)]) r(i) = 0.0;
+  for (Eigen::Index c = 0; c < num_contacts; ++c)
+    ncp::fc::ProjectOnCone(problem_.mu(c), dim_, r.data() + dim_ * c);
+  out->natural_map_residual = ncp::fc::NaturalMapError(problem_, r) * (1.0 + q_norm);
+  // The margin is best effort (round-off of W' r' can stop Newton short of it): the step is
+  // solved when the required bound holds at the returned (projected) r, recomputed here.
+  const bool converged = out->natural_map_residual <= tolerance + roundoff;
+
+  // Back to system units: r, F = E' r, x_c = W F + x_free, u = E x_c + (gap0, 0, 0).
+  r *= F;
+  if (converged) r_previous_ = r;
+  out->force = E_.transpose() * r;
+  ContactSystem::Result& contact = out->contact;
+  contact.x = W_ * out->force + x_free;
+  const Eigen::VectorXd local = E_ * contact.x;
+  contact.normal_force.resize(num_contacts);
+  contact.gap.resize(num_contacts);
+  contact.tangent_force.resize(dim_ - 1, num_contacts);
+  contact.slip.resize(dim_ - 1, num_contacts);
+  for (Eigen::Index c = 0; c < num_contacts; ++c) {
+    contact.normal_force(c) = r(dim_ * c);
+    contact.gap(c) = gap0(c) + local(dim_ * c);
+    for (int a = 1; a < dim_; ++a) {
+      contact.tangent_force(a - 1, c) = r(dim_ * c + a);
+      contact.slip(a - 1, c) = local(dim_ * c + a);
+    }
+  }
+  return converged;
+}
+
+}  // namespace contact::internal
