@@ -1,7 +1,12 @@
 // StepMethod::kCondensed with FrictionFormulation::kCoulombFc: the step over the contact
 // unknowns as the frictional contact problem in Delassus form (coulomb_step.hpp), solved by
 // ncp::fc, with implicit Coulomb friction |tau_c| <= f_c lambda_c^{k+1}.
+// StepMethod::kSparse: the same problem with W = H S^-1 H' never formed - each product with
+// it is one solve with the Cholesky factor of M - solved by ncp::fc's matrix-free Newton
+// (GMRES); with or without friction (f_c = 0: Signorini alone). Memory and set-up follow
+// the factor of M, not the square of the contact set.
 #include <chrono>
+#include <memory>
 #include <string>
 
 #include "coulomb_step.hpp"
@@ -23,13 +28,22 @@ ncp::fc::Options FcOptions(const DynamicOptions& options) {
 //   du = S^-1 (H' F - q).
 class CoulombFcStep : public StepAlgorithm {
  public:
-  CoulombFcStep(const DynamicModel& model, MassInverse* mass, double m_max, const DynamicOptions& options)
+  CoulombFcStep(const DynamicModel& model, MassInverse* mass, double m_max, const DynamicOptions& options,
+                bool matrix_free)
       : nodes_(model.contact_nodes),
-        delassus_(model, mass, m_max, /*normal_only=*/false),
-        coulomb_(model.dim, delassus_.W(), delassus_.condensed_nodes(), options.friction_coefficient,
-                 FcOptions(options)),
+        delassus_(model, mass, m_max, /*normal_only=*/false, matrix_free),
         tolerance_(options.ncp.tolerance),
-        gap0_(static_cast<Eigen::Index>(nodes_.size())) {}
+        friction_(options.friction_coefficient > 0.0),
+        gap0_(static_cast<Eigen::Index>(nodes_.size())) {
+    if (matrix_free)
+      coulomb_ = std::make_unique<CoulombStep>(
+          model.dim, [this](const Eigen::VectorXd& F, Eigen::VectorXd* x) { delassus_.Apply(F, x); },
+          delassus_.LumpedDiagonal(), delassus_.condensed_nodes(), options.friction_coefficient,
+          FcOptions(options));
+    else
+      coulomb_ = std::make_unique<CoulombStep>(model.dim, delassus_.W(), delassus_.condensed_nodes(),
+                                               options.friction_coefficient, FcOptions(options));
+  }
 
   StepOutcome Solve(const StepData& step, ContactSystem::Result* result) override {
     const auto start = std::chrono::steady_clock::now();
@@ -42,7 +56,7 @@ class CoulombFcStep : public StepAlgorithm {
         if (nodes_[c].dofs[a] >= 0) normal_motion += nodes_[c].normal(a) * step.u(nodes_[c].dofs[a]);
       gap0_(static_cast<Eigen::Index>(c)) = nodes_[c].gap - normal_motion;
     }
-    const bool ok = coulomb_.Solve(x_free_, gap0_, step.scales.force / step.force_scale,
+    const bool ok = coulomb_->Solve(x_free_, gap0_, step.scales.force / step.force_scale,
                                    step.scales.displacement, tolerance_, &outcome_);
     // du = S^-1 (H' F - q); the contact forces, gaps and slips as CoulombStep found them.
     full_.noalias() = delassus_.H().transpose() * outcome_.force;
@@ -58,7 +72,7 @@ class CoulombFcStep : public StepAlgorithm {
     out.newton_iterations = s.iterations;
     out.jacobian_evaluations = s.iterations;  // one generalized Jacobian per Newton step
     out.residual_evaluations = s.iterations + s.backtracks + 1;
-    out.implicit_friction_bound = true;
+    out.implicit_friction_bound = friction_;
     out.solve_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;
   }
@@ -66,8 +80,9 @@ class CoulombFcStep : public StepAlgorithm {
  private:
   std::vector<ContactNode> nodes_;
   DelassusOperator delassus_;
-  CoulombStep coulomb_;
+  std::unique_ptr<CoulombStep> coulomb_;
   double tolerance_;
+  bool friction_;
   Eigen::VectorXd gap0_, x_free_, full_;
   CoulombStep::Outcome outcome_;
 };
@@ -76,7 +91,12 @@ class CoulombFcStep : public StepAlgorithm {
 
 std::unique_ptr<StepAlgorithm> MakeCoulombFcStep(const DynamicModel& model, MassInverse* mass,
                                                  double m_max, const DynamicOptions& options) {
-  return std::make_unique<CoulombFcStep>(model, mass, m_max, options);
+  return std::make_unique<CoulombFcStep>(model, mass, m_max, options, /*matrix_free=*/false);
+}
+
+std::unique_ptr<StepAlgorithm> MakeSparseStep(const DynamicModel& model, MassInverse* mass, double m_max,
+                                              const DynamicOptions& options) {
+  return std::make_unique<CoulombFcStep>(model, mass, m_max, options, /*matrix_free=*/true);
 }
 
 }  // namespace contact::internal

@@ -12,20 +12,48 @@ namespace contact::internal {
 
 CoulombStep::CoulombStep(int dim, const Eigen::MatrixXd& W, std::vector<ContactNode> nodes,
                          double friction_coefficient, const ncp::fc::Options& fc_options)
-    : dim_(dim), nodes_(std::move(nodes)), W_(W), options_(fc_options) {
-  const std::string who = "contact::CoulombStep: ";
-  if (dim != 2 && dim != 3) throw std::invalid_argument(who + "dim must be 2 or 3, got " + std::to_string(dim));
+    : dim_(dim), nodes_(std::move(nodes)), options_(fc_options) {
   if (W.rows() != W.cols())
-    throw std::invalid_argument(who + "W must be square, got " + std::to_string(W.rows()) + " x " +
-                                std::to_string(W.cols()));
+    throw std::invalid_argument("contact::CoulombStep: W must be square, got " + std::to_string(W.rows()) +
+                                " x " + std::to_string(W.cols()));
+  apply_W_ = [W](const Eigen::VectorXd& F, Eigen::VectorXd* x) { x->noalias() = W * F; };
+  Build(W.rows(), friction_coefficient);
+  // W_fc is dense (every contact sees every other through the body): dense LU.
+  if (options_.linear_solver == ncp::LinearSolverType::kAuto)
+    options_.linear_solver = ncp::LinearSolverType::kDenseLU;
+  W_fc_ = E_ * W * E_.transpose();
+  W_fc_ = 0.5 * (W_fc_ + W_fc_.transpose());
+}
+
+CoulombStep::CoulombStep(int dim, Operator apply_W, const Eigen::VectorXd& W_diagonal,
+                         std::vector<ContactNode> nodes, double friction_coefficient,
+                         const ncp::fc::Options& fc_options)
+    : dim_(dim), nodes_(std::move(nodes)), apply_W_(std::move(apply_W)), matrix_free_(true),
+      options_(fc_options) {
+  Build(W_diagonal.size(), friction_coefficient);
+  diagonal_fc_ = E_.cwiseAbs2() * W_diagonal;
+  operator_problem_.dimension = dim;
+  operator_problem_.num_contacts = problem_.num_contacts;
+  operator_problem_.mu = problem_.mu;
+  operator_problem_.name = problem_.name;
+  // W' r' = (F / D) E W E' r' with the scales of the current step.
+  operator_problem_.apply_W = [this](const Eigen::VectorXd& r, Eigen::VectorXd* Wr) {
+    spread_.noalias() = E_.transpose() * r;
+    apply_W_(spread_, &applied_);
+    Wr->noalias() = E_ * applied_;
+    *Wr *= operator_scale_;
+  };
+}
+
+void CoulombStep::Build(Eigen::Index num_unknowns, double friction_coefficient) {
+  const std::string who = "contact::CoulombStep: ";
+  const int dim = dim_;
+  if (dim != 2 && dim != 3) throw std::invalid_argument(who + "dim must be 2 or 3, got " + std::to_string(dim));
   if (!(friction_coefficient >= 0.0) || !std::isfinite(friction_coefficient))
     throw std::invalid_argument(who + "the friction coefficient must be finite and >= 0, got " +
                                 std::to_string(friction_coefficient));
   std::string error;
   if (!options_.IsValid(&error)) throw std::invalid_argument(who + error);
-  // W_fc is dense (every contact sees every other through the body): dense LU.
-  if (options_.linear_solver == ncp::LinearSolverType::kAuto)
-    options_.linear_solver = ncp::LinearSolverType::kDenseLU;
 
   // E: row dim c + a holds e_c,a = (-n_c, t1_c[, t2_c])_a on the free components of node c.
   const Eigen::Index num_contacts = static_cast<Eigen::Index>(nodes_.size());
@@ -35,23 +63,21 @@ CoulombStep::CoulombStep(int dim, const Eigen::MatrixXd& W, std::vector<ContactN
     for (int b = 0; b < dim; ++b) {
       const int unknown = node.dofs[b];
       if (unknown < 0) continue;
-      if (unknown >= W.rows())
+      if (unknown >= num_unknowns)
         throw std::invalid_argument(who + "node " + std::to_string(node.node) + " has contact unknown " +
-                                    std::to_string(unknown) + ", W has " + std::to_string(W.rows()));
+                                    std::to_string(unknown) + ", W has " + std::to_string(num_unknowns));
       e.emplace_back(dim * c, unknown, -node.normal(b));
       e.emplace_back(dim * c + 1, unknown, node.tangent1(b));
       if (dim == 3) e.emplace_back(dim * c + 2, unknown, node.tangent2(b));
     }
   }
-  E_.resize(dim * num_contacts, W.rows());
+  E_.resize(dim * num_contacts, num_unknowns);
   E_.setFromTriplets(e.begin(), e.end());
   transmits_.assign(static_cast<size_t>(E_.rows()), false);
   for (Eigen::Index col = 0; col < E_.outerSize(); ++col)
     for (Eigen::SparseMatrix<double>::InnerIterator it(E_, col); it; ++it)
       if (it.value() != 0.0) transmits_[static_cast<size_t>(it.row())] = true;
   for (Eigen::Index c = 0; c < num_contacts; ++c) transmits_[static_cast<size_t>(dim * c)] = true;
-  W_fc_ = E_ * W_ * E_.transpose();
-  W_fc_ = 0.5 * (W_fc_ + W_fc_.transpose());
 
   problem_.dimension = dim;
   problem_.num_contacts = static_cast<int>(num_contacts);
@@ -59,46 +85,61 @@ CoulombStep::CoulombStep(int dim, const Eigen::MatrixXd& W, std::vector<ContactN
   problem_.name = "contact step";
 }
 
+double CoulombStep::SolveScaled(const Eigen::VectorXd& q_fc, double F, double D, double tolerance,
+                                Eigen::VectorXd* r, ncp::fc::Summary* summary) {
+  const Eigen::Index num_contacts = problem_.num_contacts;
+  // Asked: ||e'||_2 <= kNaturalMapMargin tolerance (+ the round-off of u', 16 ulp of its
+  // terms, as ContactSystem); ncp::fc's measure is relative to 1 + ||q'||_2.
+  const Eigen::VectorXd q = q_fc / D;
+  const double eps = std::numeric_limits<double>::epsilon();
+  const double q_norm = q.norm();
+  const double roundoff = ContactSystem::kRoundoffUlps * eps * q.lpNorm<Eigen::Infinity>();
+  ncp::fc::Options options = options_;
+  options.tolerance = (kNaturalMapMargin * tolerance + roundoff) / (1.0 + q_norm);
+  if (matrix_free_) {
+    operator_problem_.q = q;
+    operator_problem_.diagonal = (F / D) * diagonal_fc_;
+    operator_scale_ = F / D;
+    ncp::fc::Solve(options, operator_problem_, r, summary);
+  } else {
+    problem_.q = q;
+    problem_.W = ((F / D) * W_fc_).sparseView(0.0, 0.0);
+    ncp::fc::Solve(options, problem_, r, summary);
+  }
+  // A local tangent along a constrained axis (empty row of E) transmits no force to the
+  // body: its component of r is arbitrary in the problem and set to 0. Then r_c onto C_mu
+  // (moves r by at most the error reached): the forces applied are admissible, lambda >= 0.
+  for (Eigen::Index i = 0; i < r->size(); ++i)
+    if (!transmits_[static_cast<size_t>(i)]) (*r)(i) = 0.0;
+  for (Eigen::Index c = 0; c < num_contacts; ++c) ncp::fc::ProjectOnCone(problem_.mu(c), dim_, r->data() + dim_ * c);
+  if (!matrix_free_) return ncp::fc::NaturalMapError(problem_, *r) * (1.0 + q_norm);
+  Eigen::VectorXd u;
+  operator_problem_.apply_W(*r, &u);
+  u += q;
+  return ncp::fc::NaturalMapResidual(dim_, problem_.mu, *r, u);
+}
+
 bool CoulombStep::Solve(const Eigen::VectorXd& x_free, const Eigen::VectorXd& gap0, double force_scale,
                         double displacement_scale, double tolerance, Outcome* out) {
   const std::string who = "contact::CoulombStep::Solve: ";
   const Eigen::Index num_contacts = problem_.num_contacts;
-  if (x_free.size() != W_.rows() || gap0.size() != num_contacts)
+ if (x_free.size() != E_.cols() || gap0.size() != num_contacts)
     throw std::invalid_argument(who + "x_free has " + std::to_string(x_free.size()) + " entries (expected " +
-                                std::to_string(W_.rows()) + "), gap0 " + std::to_string(gap0.size()) +
+                                std::to_string(E_.cols()) + "), gap0 " + std::to_string(gap0.size()) +
                                 " (expected " + std::to_string(num_contacts) + ")");
   if (!(force_scale > 0.0) || !(displacement_scale > 0.0) || !(tolerance > 0.0))
     throw std::invalid_argument(who + "the scales F, D and the tolerance must be > 0");
   const double F = force_scale, D = displacement_scale;
 
-  // The problem in the step's scales: u' = (F / D) W_fc r' + q_fc / D.
   Eigen::VectorXd q_fc = E_ * x_free;
   for (Eigen::Index c = 0; c < num_contacts; ++c) q_fc(dim_ * c) += gap0(c);
-  problem_.q = q_fc / D;
-  problem_.W = ((F / D) * W_fc_).sparseView(0.0, 0.0);
-
-  // Asked: ||e'||_2 <= kNaturalMapMargin tolerance; required: ||e'||_2 <= tolerance; each
-  // plus the round-off of u' (16 ulp of its terms, as ContactSystem).
-  const double eps = std::numeric_limits<double>::epsilon();
-  const double q_norm = problem_.q.norm();
-  const double roundoff = ContactSystem::kRoundoffUlps * eps * problem_.q.lpNorm<Eigen::Infinity>();
-  ncp::fc::Options options = options_;
-  options.tolerance = (kNaturalMapMargin * tolerance + roundoff) / (1.0 + q_norm);
-
   Eigen::VectorXd r = r_previous_.size() == q_fc.size() ? Eigen::VectorXd(r_previous_ / F)
                                                         : Eigen::VectorXd::Zero(q_fc.size());
-  ncp::fc::Solve(options, problem_, &r, &out->summary);
-
-  // A local tangent along a constrained axis (empty row of E) transmits no force to the
-  // body: its component of r is arbitrary in the problem and set to 0. Then r_c onto C_mu
-  // (moves r by at most the error reached): the forces applied are admissible, lambda >= 0.
-  for (Eigen::Index i = 0; i < r.size(); ++i)
-    if (!transmits_[static_cast<size_t>(i)]) r(i) = 0.0;
-  for (Eigen::Index c = 0; c < num_contacts; ++c)
-    ncp::fc::ProjectOnCone(problem_.mu(c), dim_, r.data() + dim_ * c);
-  out->natural_map_residual = ncp::fc::NaturalMapError(problem_, r) * (1.0 + q_norm);
+  out->natural_map_residual = SolveScaled(q_fc, F, D, tolerance, &r, &out->summary);
   // The margin is best effort (round-off of W' r' can stop Newton short of it): the step is
-  // solved when the required bound holds at the returned (projected) r, recomputed here.
+  // solved when the required bound holds at the returned (projected) r, recomputed.
+  const double roundoff = ContactSystem::kRoundoffUlps * std::numeric_limits<double>::epsilon() *
+                          q_fc.lpNorm<Eigen::Infinity>() / D;
   const bool converged = out->natural_map_residual <= tolerance + roundoff;
 
   // Back to system units: r, F = E' r, x_c = W F + x_free, u = E x_c + (gap0, 0, 0).
@@ -106,7 +147,8 @@ bool CoulombStep::Solve(const Eigen::VectorXd& x_free, const Eigen::VectorXd& ga
   if (converged) r_previous_ = r;
   out->force = E_.transpose() * r;
   ContactSystem::Result& contact = out->contact;
-  contact.x = W_ * out->force + x_free;
+  apply_W_(out->force, &contact.x);
+  contact.x += x_free;
   const Eigen::VectorXd local = E_ * contact.x;
   contact.normal_force.resize(num_contacts);
   contact.gap.resize(num_contacts);

@@ -24,13 +24,19 @@
 /// tolerance D, as with the other step methods (README, "Stopping rules in physical units").
 /// ncp::fc's measure is relative to 1 + ||q'||_2, so its tolerance is set to that bound
 /// divided by 1 + ||q'||_2.
+///
+/// W dense (condensed step): W_fc formed, ncp::fc's hybrid on it. W as an operator (sparse
+/// step, large contact sets): W_fc r = E W E' r applied, ncp::fc's matrix-free
+/// Alart-Curnier Newton (ncp/fc/operator_problem.hpp); same problem, same stopping test.
 #pragma once
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <functional>
 #include <vector>
 
 #include "contact/contact_system.hpp"
+#include "ncp/fc/operator_problem.hpp"
 #include "ncp/fc/solver.hpp"
 
 namespace contact::internal {
@@ -54,6 +60,14 @@ class CoulombStep {
   CoulombStep(int dim, const Eigen::MatrixXd& W, std::vector<ContactNode> nodes,
               double friction_coefficient, const ncp::fc::Options& fc_options);
 
+  /// x = W F on the contact unknowns (x may not alias F).
+  using Operator = std::function<void(const Eigen::VectorXd& F, Eigen::VectorXd* x)>;
+  /// Matrix-free: W given by apply_W on `num_unknowns` contact unknowns and an
+  /// approximation of its diagonal (> 0), otherwise as above.
+  CoulombStep(int dim, Operator apply_W, const Eigen::VectorXd& W_diagonal,
+              std::vector<ContactNode> nodes, double friction_coefficient,
+              const ncp::fc::Options& fc_options);
+
   /// The step's outcome, system units.
   struct Outcome {
     ContactSystem::Result contact;  ///< x = x_c (contact unknowns), lambda, tau, gap, slip
@@ -70,20 +84,32 @@ class CoulombStep {
   bool Solve(const Eigen::VectorXd& x_free, const Eigen::VectorXd& gap0, double force_scale,
              double displacement_scale, double tolerance, Outcome* out);
 
-  /// W_fc = E W E' (system units), for tests.
+  /// W_fc = E W E' (system units; empty when matrix-free), for tests.
   const Eigen::MatrixXd& local_delassus() const { return W_fc_; }
   /// E: local components (normal, tangents per node) from the contact unknowns.
   const Eigen::SparseMatrix<double>& frames() const { return E_; }
 
  private:
+  /// E, transmits_ and the problem's constant parts, checking the arguments.
+  void Build(Eigen::Index num_unknowns, double friction_coefficient);
+  /// The scaled problem u' = (F / D) W_fc r' + q_fc / D solved from *r (scaled); returns the
+  /// natural-map residual ||r' - P_C(r' - u'_hat)||_2 at the returned (projected) r.
+  double SolveScaled(const Eigen::VectorXd& q_fc, double F, double D, double tolerance,
+                     Eigen::VectorXd* r, ncp::fc::Summary* summary);
+
   int dim_;
   std::vector<ContactNode> nodes_;
   Eigen::SparseMatrix<double> E_;
   std::vector<bool> transmits_;  // per row of E: acts on a free component (normals always)
-  Eigen::MatrixXd W_;      // on the contact unknowns
-  Eigen::MatrixXd W_fc_;   // E W E'
+  Operator apply_W_;       // W on the contact unknowns
+  bool matrix_free_ = false;
+  Eigen::MatrixXd W_fc_;   // E W E' (dense form)
+  Eigen::VectorXd diagonal_fc_;  // approximate diag(E W E') (matrix-free form)
   ncp::fc::Options options_;
-  ncp::fc::FrictionProblem problem_;  // scaled, rebuilt per step (values only)
+  ncp::fc::FrictionProblem problem_;        // scaled, rebuilt per step (values only)
+  ncp::fc::OperatorProblem operator_problem_;  // the same, matrix-free
+  double operator_scale_ = 1.0;             // F / D of the current step (matrix-free)
+  Eigen::VectorXd spread_, applied_;        // buffers of the matrix-free product
   Eigen::VectorXd r_previous_;        // system units; empty before the first step
 };
 

@@ -5,7 +5,7 @@
 namespace contact::internal {
 
 DelassusOperator::DelassusOperator(const DynamicModel& model, MassInverse* mass, double m_max,
-                                   bool normal_only)
+                                   bool normal_only, bool matrix_free)
     : mass_(mass), m_max_(m_max), condensed_(model.contact_nodes) {
   const int dim = model.dim;
   const Eigen::Index n = model.M.rows();
@@ -32,6 +32,10 @@ DelassusOperator::DelassusOperator(const DynamicModel& model, MassInverse* mass,
   }
   H_.resize(rows, n);
   H_.setFromTriplets(h.begin(), h.end());
+  // diag(H S^-1 H') with S^-1 replaced by m_max / (row sums of M).
+  const Eigen::VectorXd row_sums = model.M * Eigen::VectorXd::Ones(n);
+  lumped_diagonal_ = H_.cwiseAbs2() * (m_max_ * row_sums.cwiseInverse());
+  if (matrix_free) return;
   // W = H (S^-1 H'), in blocks of columns of H' (at most ~256 MB of right-hand sides).
   const Eigen::SparseMatrix<double> Ht = H_.transpose();
   W_.resize(rows, rows);

@@ -7,6 +7,8 @@
 // With friction, H selects every free component of every contact node (the condensed nodes
 // keep their frames); normal-only (frictionless), one row n_c' per node (the condensed node
 // has normal e_x and no tangent): W is dim^2 times smaller.
+// Matrix-free (the sparse step, for contact sets too large for a dense W): W is not formed;
+// Apply() multiplies by it with one solve with M, Diagonal() approximates its diagonal.
 #pragma once
 
 #include <Eigen/Core>
@@ -21,11 +23,24 @@ namespace contact::internal {
 class DelassusOperator {
  public:
   /// W formed once from one solve with M^-1 (`mass`, which must outlive this) per row of H,
-  /// symmetrized. S^-1 = m_max M^-1.
-  DelassusOperator(const DynamicModel& model, MassInverse* mass, double m_max, bool normal_only);
+  /// symmetrized, unless matrix_free. S^-1 = m_max M^-1.
+  DelassusOperator(const DynamicModel& model, MassInverse* mass, double m_max, bool normal_only,
+                   bool matrix_free = false);
 
   const Eigen::SparseMatrix<double>& H() const { return H_; }
+  /// W (empty when matrix-free).
   const Eigen::MatrixXd& W() const { return W_; }
+  /// x = W F = H S^-1 H' F by one solve with M (x may not alias F).
+  void Apply(const Eigen::VectorXd& F, Eigen::VectorXd* x) {
+    spread_.noalias() = H_.transpose() * F;
+    SolveS(spread_, &solved_);
+    x->noalias() = H_ * solved_;
+  }
+  /// diag(W) from the lumped (row-sum) mass, m_max / sum_j M_ij per contact unknown: the
+  /// exact diagonal for a lumped M; for a consistent M within the factor by which its
+  /// inverse's diagonal exceeds the lumped inverse (about 1.7 per dimension for linear
+  /// elements). The scaling of the matrix-free solve, not part of the solution.
+  Eigen::VectorXd LumpedDiagonal() const { return lumped_diagonal_; }
   /// The contact nodes with dofs numbered on the contact unknowns.
   const std::vector<ContactNode>& condensed_nodes() const { return condensed_; }
   /// x = S^-1 b = m_max M^-1 b (no allocation once x is sized).
@@ -39,7 +54,9 @@ class DelassusOperator {
   double m_max_;
   Eigen::SparseMatrix<double> H_;
   Eigen::MatrixXd W_;
+  Eigen::VectorXd lumped_diagonal_;
   std::vector<ContactNode> condensed_;
+  Eigen::VectorXd spread_, solved_;  // buffers of Apply
 };
 
 }  // namespace contact::internal

@@ -170,6 +170,8 @@ class CentralDifferences {
     // The frictionless reference of compare_with_ipopt, next to any other step method.
     if (options.compare_with_ipopt && options.solver != StepSolver::kIpopt)
       reference_ = std::make_unique<internal::IpoptQp>(model, m_max_, options.ncp.tolerance);
+    summary->step_method = options.solver == StepSolver::kIpopt ? options.step_method
+                                                                 : internal::ResolveStepMethod(model, options);
     gap0_.resize(static_cast<Eigen::Index>(model.contact_nodes.size()));
     for (size_t c = 0; c < model.contact_nodes.size(); ++c)
       gap0_(static_cast<Eigen::Index>(c)) = model.contact_nodes[c].gap;
@@ -382,6 +384,8 @@ const char* ToString(StepMethod m) {
     case StepMethod::kFull: return "full";
     case StepMethod::kCondensed: return "condensed";
     case StepMethod::kExplicit: return "explicit";
+    case StepMethod::kSparse: return "sparse";
+    case StepMethod::kAuto: return "auto";
   }
   return "unknown";
 }

@@ -486,18 +486,25 @@ Scene LoadScene(const std::string& path, const SceneOverrides& overrides) {
                                  : ls == "sparse-lu" ? ncp::LinearSolverType::kSparseLU
                                  : ls == "umfpack" ? ncp::LinearSolverType::kUmfpack
                                  : ls == "klu" ? ncp::LinearSolverType::kKlu : ncp::LinearSolverType::kAuto;
-  const std::string step = v.Choice("step", {"condensed", "full", "explicit"}, "condensed");
-  s.dynamics.step_method = step == "full"       ? StepMethod::kFull
-                           : step == "explicit" ? StepMethod::kExplicit
-                                                : StepMethod::kCondensed;
+  const std::string step = v.Choice("step", {"auto", "condensed", "sparse", "full", "explicit"}, "auto");
+  s.dynamics.step_method = step == "full"        ? StepMethod::kFull
+                           : step == "explicit"  ? StepMethod::kExplicit
+                           : step == "sparse"    ? StepMethod::kSparse
+                           : step == "condensed" ? StepMethod::kCondensed
+                                                 : StepMethod::kAuto;
   if (s.dynamics.step_method == StepMethod::kExplicit && s.mass != MassKind::kLumped)
     v.Fail("step", "= \"explicit\" needs material.mass = \"lumped\"");
   const std::string friction = v.Choice("friction", {"default", "eq94", "coulomb-fc"}, "default");
   if (friction != "default")
     s.dynamics.friction_formulation =
         friction == "eq94" ? FrictionFormulation::kEq94 : FrictionFormulation::kCoulombFc;
-  if (friction == "coulomb-fc" && s.dynamics.step_method != StepMethod::kCondensed)
-    v.Fail("friction", "= \"coulomb-fc\" needs solver.step = \"condensed\", got \"" + step + "\"");
+  const StepMethod chosen = s.dynamics.step_method;
+  if (friction == "coulomb-fc" && chosen != StepMethod::kCondensed && chosen != StepMethod::kSparse && chosen != StepMethod::kAuto)
+    v.Fail("friction", "= \"coulomb-fc\" needs solver.step = \"auto\", \"condensed\" or \"sparse\", got \"" +
+                           step + "\"");
+  if (friction == "eq94" && chosen == StepMethod::kSparse)
+    v.Fail("friction", "= \"eq94\" needs solver.step = \"auto\", \"condensed\" or \"full\" (the sparse step "
+                       "solves implicit Coulomb only), got \"sparse\"");
   s.dynamics.ncp.log_to_stderr = v.Boolean("log_iterations", false);
   s.dynamics.compare_with_ipopt = v.Boolean("compare_with_ipopt", false);
   if (s.dynamics.compare_with_ipopt && s.friction_coefficient > 0)

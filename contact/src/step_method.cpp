@@ -15,6 +15,18 @@ ncp::NcpFunction FunctionOf(StepSolver s) {
 
 }  // namespace
 
+StepMethod ResolveStepMethod(const DynamicModel& model, const DynamicOptions& options) {
+  const bool friction = options.friction_coefficient > 0.0;
+  if (options.step_method == StepMethod::kSparse && friction &&
+      options.friction_formulation == FrictionFormulation::kEq94)
+    throw std::invalid_argument("contact::RunDynamics: the sparse step poses friction as implicit Coulomb "
+                                "(coulomb-fc) only, not eq. 94; use the condensed or full step for eq. 94");
+  if (options.step_method != StepMethod::kAuto) return options.step_method;
+  if (friction && options.friction_formulation == FrictionFormulation::kEq94) return StepMethod::kCondensed;
+  const size_t unknowns = model.contact_nodes.size() * static_cast<size_t>(model.dim);
+  return unknowns > static_cast<size_t>(kAutoSparseUnknowns) ? StepMethod::kSparse : StepMethod::kCondensed;
+}
+
 std::unique_ptr<StepAlgorithm> MakeStepAlgorithm(const DynamicModel& model,
                                                  const DynamicOptions& options,
                                                  MassInverse* mass, double m_max) {
@@ -22,7 +34,7 @@ std::unique_ptr<StepAlgorithm> MakeStepAlgorithm(const DynamicModel& model,
   ncp::Options ncp_options = options.ncp;
   ncp_options.ncp_function = FunctionOf(options.solver);
   const bool friction = options.friction_coefficient > 0.0;
-  switch (options.step_method) {
+  switch (ResolveStepMethod(model, options)) {
     case StepMethod::kFull: return MakeFullStep(model, m_max, ncp_options, friction);
     case StepMethod::kCondensed:
       if (friction && options.friction_formulation == FrictionFormulation::kCoulombFc)
@@ -32,6 +44,8 @@ std::unique_ptr<StepAlgorithm> MakeStepAlgorithm(const DynamicModel& model,
         ncp_options.linear_solver = ncp::LinearSolverType::kDenseLU;
       return MakeCondensedStep(model, mass, m_max, ncp_options, friction);
     case StepMethod::kExplicit: return MakeExplicitStep(model, m_max);
+    case StepMethod::kSparse: return MakeSparseStep(model, mass, m_max, options);
+    case StepMethod::kAuto: break;  // resolved above
   }
   throw std::invalid_argument("contact::RunDynamics: unknown step method");
 }

@@ -55,6 +55,11 @@ class StepAlgorithm {
   virtual StepOutcome Solve(const StepData& step, ContactSystem::Result* result) = 0;
 };
 
+/// The method that runs: options.step_method, or for kAuto condensed or sparse by the
+/// size of the contact set (dynamics.hpp). Throws std::invalid_argument for the sparse
+/// step with friction formulation eq. 94.
+StepMethod ResolveStepMethod(const DynamicModel& model, const DynamicOptions& options);
+
 /// The step method of `options` (StepSolver::kIpopt: the Ipopt QP whatever step_method;
 /// else StepMethod kFull, kCondensed or kExplicit), set up for the model. `mass` (M^-1)
 /// must outlive the result. Throws std::invalid_argument when the method cannot take the
@@ -74,6 +79,10 @@ std::unique_ptr<StepAlgorithm> MakeCondensedStep(const DynamicModel& model, Mass
 /// The condensed step with FrictionFormulation::kCoulombFc (coulomb_fc_step.cpp).
 std::unique_ptr<StepAlgorithm> MakeCoulombFcStep(const DynamicModel& model, MassInverse* mass,
                                                  double m_max, const DynamicOptions& options);
+/// StepMethod::kSparse: the problem of MakeCoulombFcStep (f_c >= 0) with W applied, not
+/// formed (coulomb_fc_step.cpp).
+std::unique_ptr<StepAlgorithm> MakeSparseStep(const DynamicModel& model, MassInverse* mass, double m_max,
+                                              const DynamicOptions& options);
 std::unique_ptr<StepAlgorithm> MakeExplicitStep(const DynamicModel& model, double m_max);
 std::unique_ptr<StepAlgorithm> MakeIpoptStep(const DynamicModel& model, double m_max,
                                              double tolerance);

@@ -123,7 +123,7 @@ int main(int argc, char** argv) {
     j["dt_crit"] = s.critical_time_step;
     j["friction_coefficient"] = scene.friction_coefficient;
     j["solver"] = contact::ToString(scene.dynamics.solver);
-    j["step_method"] = contact::ToString(scene.dynamics.step_method);
+    j["step_method"] = contact::ToString(s.step_method);  // auto resolved
     j["friction_formulation"] = contact::ToString(scene.dynamics.friction_formulation);
     j["tolerance"] = scene.dynamics.ncp.tolerance;
     j["dofs"] = r.num_dofs;

@@ -238,6 +238,44 @@ TEST_CASE("The condensed step follows the full thesis system on the thesis scene
   CheckSameTrajectory(full, Trajectory(scene));
 }
 
+TEST_CASE("The sparse step follows the condensed step (implicit Coulomb) on every scene both run",
+          "[scene][dynamics][sparse]") {
+  // The thesis scenes (2D and 3D, frictionless and with friction, consistent mass; friction
+  // as implicit Coulomb, the one formulation of the sparse step) and the falling, sliding
+  // block (lumped mass; in 3D a plane-strain slab whose contact nodes have a constrained
+  // component), with default tolerance. The condensed step solves the Delassus problem on
+  // W formed, the sparse one with W applied by solves with M (GMRES): same trajectories.
+  struct Case {
+    std::string file;
+    double friction, end_time;
+  };
+  const std::string thesis = std::string(NCP_SOURCE_DIR) + "/examples/thesis/";
+  const Case c = GENERATE_COPY(Case{thesis + "friction_2d_curved.toml", 0.0, 0.1},
+                               Case{thesis + "friction_2d_flat.toml", 0.5, 0.1},
+                               Case{thesis + "frictionless_3d.toml", 0.0, 0.01},
+                               Case{thesis + "friction_3d.toml", 0.5, 0.025},
+                               Case{"block2", 0.4, -1.0}, Case{"block3", 0.4, -1.0}, Case{"block3", 0.0, -1.0});
+  CAPTURE(c.file, c.friction);
+  Scene scene = c.file.rfind("block", 0) == 0
+                    ? LoadScene(WriteScene("sparse" + c.file, Block(c.file.back() - '0', c.friction)))
+                    : LoadScene(c.file);
+  scene.friction_coefficient = c.friction;
+  if (c.end_time > 0) {
+    scene.dynamics.end_time = c.end_time;
+    scene.dynamics.dt = std::max(scene.dynamics.dt, c.end_time / 100);
+  }
+  scene.dynamics.friction_formulation = FrictionFormulation::kCoulombFc;
+  scene.dynamics.step_method = StepMethod::kCondensed;
+  const auto condensed = Trajectory(scene);
+  scene.dynamics.step_method = StepMethod::kSparse;
+  CheckSameTrajectory(condensed, Trajectory(scene));
+  // auto: the condensed step on these small contact sets
+  scene.dynamics.step_method = StepMethod::kAuto;
+  SceneModel built = BuildSceneModel(scene);
+  built.options.end_time = built.options.start_time + built.options.dt;
+  CHECK(RunDynamics(built.model, built.options).step_method == StepMethod::kCondensed);
+}
+
 TEST_CASE("The explicit step equals the semismooth Newton solution of the lumped-mass step",
           "[scene][dynamics][explicit]") {
   // The falling and sliding block (lumped mass): 2D and the 3D plane-strain slab (contact

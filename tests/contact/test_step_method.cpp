@@ -106,8 +106,9 @@ ContactSystem::Result SolveWith(StepMethod method, StepSolver solver, const Scen
   CAPTURE(outcome.status);
   REQUIRE(outcome.ok);
   CHECK(outcome.status == "converged");
-  CHECK(outcome.implicit_friction_bound == (friction && method == StepMethod::kCondensed &&
-                                            formulation == FrictionFormulation::kCoulombFc));
+  CHECK(outcome.implicit_friction_bound ==
+        (friction && (method == StepMethod::kSparse ||
+                      (method == StepMethod::kCondensed && formulation == FrictionFormulation::kCoulombFc))));
   return result;
 }
 
@@ -131,8 +132,10 @@ TEST_CASE("Step methods through the interface: the step equations hold, the meth
        {StepMethod::kCondensed, StepSolver::kFischerBurmeister},
        {StepMethod::kCondensed, StepSolver::kPenalizedFischerBurmeister},
        {StepMethod::kExplicit, StepSolver::kFischerBurmeister},
+       {StepMethod::kSparse, StepSolver::kFischerBurmeister},
        {StepMethod::kFull, StepSolver::kIpopt}}));
   if (solver == StepSolver::kIpopt && friction) return;  // Ipopt: frictionless only
+  if (method == StepMethod::kSparse && friction) return;  // implicit Coulomb: next test case
   CAPTURE(ToString(method), ToString(solver));
   const ContactSystem::Result r = SolveWith(method, solver, built, s, friction);
   const Violation v = Check(built, s, r);
@@ -178,4 +181,21 @@ TEST_CASE("Condensed step with implicit Coulomb (ncp::fc): the step equations ho
   // The block slides: every bottom node slips and its friction force is at the bound.
   for (Eigen::Index c = 0; c < r.normal_force.size(); ++c)
     CHECK_THAT(std::abs(r.tangent_force(0, c)), Catch::Matchers::WithinRel(0.3 * r.normal_force(c), 1e-8));
+  // The sparse step (W applied, not formed) finds the same step.
+  const ContactSystem::Result sparse =
+      SolveWith(StepMethod::kSparse, StepSolver::kFischerBurmeister, built, s, true, FrictionFormulation::kCoulombFc);
+  CHECK((sparse.x - r.x).lpNorm<Eigen::Infinity>() <= tol * r.x.lpNorm<Eigen::Infinity>());
+  CHECK((sparse.normal_force - r.normal_force).lpNorm<Eigen::Infinity>() <=
+        tol * r.normal_force.lpNorm<Eigen::Infinity>());
+}
+
+TEST_CASE("The sparse step refuses the thesis friction formulation", "[contact][dynamics][step_method]") {
+  const SceneModel built = PressedBlock();
+  DynamicOptions options = built.options;
+  options.step_method = StepMethod::kSparse;
+  options.friction_coefficient = 0.3;
+  options.friction_formulation = FrictionFormulation::kEq94;
+  internal::MassInverse mass(built.model.M, "test: ");
+  CHECK_THROWS_WITH(internal::MakeStepAlgorithm(built.model, options, &mass, 1.0),
+                    Catch::Contains("implicit Coulomb (coulomb-fc) only"));
 }

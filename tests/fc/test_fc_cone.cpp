@@ -28,6 +28,16 @@ TEST_CASE("ProjectOnCone satisfies Moreau's decomposition", "[fc][cone]") {
     CHECK_THAT(p[0] * w[0] + p[1] * w[1] + p[2] * w[2],
                WithinAbs(0.0, 1e-12));  // orthogonal
   }
+  // Frictionless (mu = 0) with no tangential part: C_0 is the half-line r_N >= 0, so a
+  // negative normal component projects to 0 (a contact that separates carries no force).
+  for (double mu : {0.0, 0.5}) {
+    double z[3] = {-1.0, 0.0, 0.0};
+    ProjectOnCone(mu, d, z);
+    CHECK(z[0] == 0.0);
+    double y[3] = {2.0, 0.0, 0.0};
+    ProjectOnCone(mu, d, y);
+    CHECK(y[0] == 2.0);
+  }
 }
 
 TEST_CASE("NaturalMapError vanishes at the published solution only", "[fc][error]") {

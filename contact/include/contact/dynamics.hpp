@@ -93,7 +93,20 @@ enum class StepMethod {
                ///< friction sticks if the trial force is within g_c, else is projected onto
                ///< it (forward-increment Lagrange multipliers, Carpenter, Taylor and Katona
                ///< 1991). Same solution as kFull for a lumped mass; no Newton iteration.
+  kSparse,     ///< large contact sets, any mass: the problem of kCondensed with implicit
+               ///< Coulomb friction (FrictionFormulation::kCoulombFc; f_c = 0 frictionless),
+               ///< but W = H M~^-1 H' is never formed - each product with it is one solve
+               ///< with the Cholesky factor of M - and each Newton step is solved by GMRES
+               ///< (ncp/fc/operator_problem.hpp). No set-up beyond the factor of M, memory
+               ///< linear in the contact set; cost per Newton step (GMRES iterations + 2)
+               ///< solves with M.
+  kAuto,       ///< kCondensed up to kAutoSparseUnknowns contact unknowns (dim per contact
+               ///< node), kSparse above; kCondensed whenever the friction formulation is
+               ///< kEq94 (DynamicSummary::step_method tells which ran)
 };
+/// The crossover of StepMethod::kAuto, in contact unknowns (dim per contact node): measured
+/// by contact-scaling-bench (benchmarks/results/contact/scaling/README.md).
+constexpr int kAutoSparseUnknowns = 1500;
 const char* ToString(StepMethod m);
 
 /// How a step with friction (f_c > 0) poses Coulomb's law (condensed step only for kCoulombFc).
@@ -169,7 +182,7 @@ struct DynamicOptions {
   double end_time = 0.0;    ///< run until t >= end_time (within dt/1000) [s]
   double friction_coefficient = 0.0;  ///< f_c (0 = frictionless)
   StepSolver solver = StepSolver::kFischerBurmeister;
-  StepMethod step_method = StepMethod::kCondensed;  ///< kFull for the thesis formulation
+  StepMethod step_method = StepMethod::kAuto;  ///< kFull for the thesis formulation
   /// With friction and the condensed step (the full and explicit steps always use the lagged
   /// bound). kCoulombFc ignores `solver` and `ncp` except ncp.tolerance, ncp.max_iterations
   /// and ncp.log_to_stderr. Default kCoulombFc: measured more robust (README, "Coulomb
@@ -212,6 +225,7 @@ const char* ToString(DynamicStatus s);
 struct DynamicSummary {
   DynamicStatus status = DynamicStatus::kNotRun;
   std::string message = "not run yet";
+  StepMethod step_method = StepMethod::kAuto;  ///< the method that ran (kAuto resolved)
   int steps = 0;
   long newton_iterations = 0, jacobian_evaluations = 0, residual_evaluations = 0;
   /// Steps whose Newton solve from the previous friction forces failed and that were solved

@@ -29,7 +29,7 @@ double LocalResidual(int d, double mu, const Block& Waa, const Eigen::Vector3d& 
 }  // namespace
 
 void GaussSeidelSweep(const FrictionProblem& problem, const BlockDelassus& W,
-                      const std::vector<double>& rho_n, const std::vector<double>& rho_t,
+                      const std::vector<Rho>& rho,
                       Vector* r) {
   const int d = problem.dimension;
   for (int a = 0; a < problem.num_contacts; ++a) {
@@ -44,7 +44,7 @@ void GaussSeidelSweep(const FrictionProblem& problem, const BlockDelassus& W,
     Block A, B;
     for (int k = 0; k < kLocalNewtonSteps; ++k) {
       const Eigen::Vector3d u = Waa * x + v;
-      AlartCurnierLaw(d, mu, rho_n[a], rho_t[a], x.data(), u.data(), phi.data(), &A, &B);
+      AlartCurnierLaw(d, mu, rho[a].n, rho[a].t, x.data(), u.data(), phi.data(), &A, &B);
       const Eigen::MatrixXd J = (A + B * Waa).topLeftCorner(d, d);
       const Eigen::FullPivLU<Eigen::MatrixXd> lu(J);
       if (!lu.isInvertible()) break;

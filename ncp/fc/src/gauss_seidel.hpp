@@ -12,9 +12,8 @@ namespace ncp::fc::internal {
 
 /// One sweep over the contacts in order, updating *r in place. A contact's new force is
 /// kept only when it lowers that contact's natural-map residual |r_a - P_C(r_a -
-/// u_hat_a)|. rho_n, rho_t: the Alart-Curnier parameters per contact.
+/// u_hat_a)|. rho: the Alart-Curnier parameters per contact (Rho::n, Rho::t).
 void GaussSeidelSweep(const FrictionProblem& problem, const BlockDelassus& W,
-                      const std::vector<double>& rho_n, const std::vector<double>& rho_t,
-                      Vector* r);
+                      const std::vector<Rho>& rho, Vector* r);
 
 }  // namespace ncp::fc::internal

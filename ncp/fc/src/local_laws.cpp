@@ -27,7 +27,7 @@ Block TangentSelector(int d) {
 Block ConeProjectionJacobian(int d, double mu, const Eigen::Vector3d& s) {
   const Eigen::Vector3d sT = Tangent(d, s.data());
   const double t = sT.norm();
-  if (t <= mu * s[0])
+  if (s[0] >= 0.0 && t <= mu * s[0])
     return d == 3 ? Block::Identity() : Block(Eigen::Vector3d(1, 1, 0).asDiagonal());
   if (mu * t <= -s[0]) return Block::Zero();
   const Eigen::Vector3d n = sT / t;
@@ -154,6 +154,35 @@ void FischerBurmeisterLaw(int d, double mu, const double* r, const double* u, do
   for (int i = 1; i < d; ++i) Dy(i, i) = mu;
   *A = (I - lu.solve(Arrow(x))) * Dx;
   *B = (I - lu.solve(Arrow(y))) * Dy;
+}
+
+Rho RhoFromDiagonal(int d, const double* diagonal, double fallback) {
+  auto inverse = [fallback](double w) { return w > 0.0 ? 1.0 / w : fallback; };
+  double tangential = 0.0;
+  for (int i = 1; i < d; ++i) tangential += diagonal[i] / (d - 1);
+  Rho rho;
+  rho.n = inverse(diagonal[0]);
+  rho.t = inverse(tangential);
+  rho.nm = inverse((diagonal[0] + tangential * (d - 1)) / d);
+  return rho;
+}
+
+void EvaluateLaw(Formulation formulation, int d, double mu, const Rho& rho, double scale,
+                 const double* r, const double* u, double* phi, Block* A, Block* B) {
+  if (formulation == Formulation::kAlartCurnier)
+    AlartCurnierLaw(d, mu, scale * rho.n, scale * rho.t, r, u, phi, A, B);
+  else if (formulation == Formulation::kNaturalMap)
+    NaturalMapLaw(d, mu, scale * rho.nm, r, u, phi, A, B);
+  else
+    FischerBurmeisterLaw(d, mu, r, u, phi, A, B);
+}
+
+std::vector<std::pair<Formulation, double>> AttemptSequence(Formulation formulation) {
+  if (formulation != Formulation::kHybrid) return {{formulation, 1.0}};
+  return {{Formulation::kAlartCurnier, 1.0}, {Formulation::kFischerBurmeister, 1.0},
+          {Formulation::kNaturalMap, 1.0},   {Formulation::kAlartCurnier, 10.0},
+          {Formulation::kNaturalMap, 0.1},   {Formulation::kAlartCurnier, 0.1},
+          {Formulation::kNaturalMap, 10.0}};
 }
 
 }  // namespace ncp::fc::internal

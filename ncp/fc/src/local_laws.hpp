@@ -4,6 +4,10 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <utility>
+#include <vector>
+
+#include "ncp/fc/solver.hpp"
 
 namespace ncp::fc::internal {
 
@@ -34,5 +38,22 @@ void NaturalMapLaw(int d, double mu, double rho, const double* r, const double* 
 /// = 0: Phi = (r_N + u_N - |(r_N, u_N)|, r_T) (scalar FB and r_T = 0).
 void FischerBurmeisterLaw(int d, double mu, const double* r, const double* u, double* phi,
                           Block* A, Block* B);
+
+/// The rho of one contact (solver.hpp, Formulation): rho_n = 1 / W_NN, rho_t = 1 /
+/// mean(W_TT), rho_nm = 1 / mean(diag W_aa), from the diagonal of its block (d entries);
+/// a zero entry takes `fallback` (1 / the largest diagonal entry of W, or 1).
+struct Rho {
+  double n = 1.0, t = 1.0, nm = 1.0;
+};
+Rho RhoFromDiagonal(int d, const double* diagonal, double fallback);
+
+/// Phi and the blocks A, B of contact law `formulation` (not kHybrid) with rho times
+/// `scale` (Options::rho_scale times the attempt's factor).
+void EvaluateLaw(Formulation formulation, int d, double mu, const Rho& rho, double scale,
+                 const double* r, const double* u, double* phi, Block* A, Block* B);
+
+/// The attempts of a solve: {(formulation, rho factor)}; kHybrid's sequence (solver.hpp)
+/// or the one formulation asked for.
+std::vector<std::pair<Formulation, double>> AttemptSequence(Formulation formulation);
 
 }  // namespace ncp::fc::internal

@@ -83,6 +83,7 @@ bool Options::IsValid(std::string* error) const {
   if (!(newton_residual > 0.0 && newton_residual < 1.0))
     return fail("newton_residual must be in (0, 1)");
   if (dense_threshold < 0) return fail("dense_threshold must be >= 0");
+  if (krylov_max_iterations < 1) return fail("krylov_max_iterations must be >= 1");
   return true;
 }
 
@@ -132,7 +133,8 @@ class NewtonSolver {
       status = Termination::kNonFiniteValues;
     else
       WarmStart();
-    const std::vector<std::pair<Formulation, double>> attempts = AttemptSequence();
+    const std::vector<std::pair<Formulation, double>> attempts =
+        internal::AttemptSequence(options_.formulation);
     for (const auto& [formulation, rho_factor] : attempts) {
       if (status == Termination::kNonFiniteValues || best_error_ <= options_.tolerance)
         break;
@@ -156,26 +158,18 @@ class NewtonSolver {
     return std::chrono::duration<double>(Clock::now() - start_).count();
   }
 
-  /// Per-contact rho from the diagonal block of W: rho_N = 1 / W_NN, rho_T = 1 /
-  /// mean(W_TT), rho_NM = 1 / mean(diag); a zero diagonal (contact W does not see) falls
-  /// back to 1 / max diag W, or 1 when W = 0. Units: velocity per force inverted, so rho
-  /// u is a force.
+  /// Per-contact rho from the diagonal block of W (internal::RhoFromDiagonal); a zero
+  /// diagonal (contact W does not see) falls back to 1 / max diag W, or 1 when W = 0.
+  /// Units: velocity per force inverted, so rho u is a force.
   void ComputeBaseRho() {
     double largest = 0.0;
     for (int a = 0; a < nc_; ++a)
       largest = std::max(largest, W_.Diagonal(a).diagonal().maxCoeff());
     const double fallback = largest > 0.0 ? 1.0 / largest : 1.0;
-    auto inverse = [fallback](double w) { return w > 0.0 ? 1.0 / w : fallback; };
-    rho_n_.resize(nc_);
-    rho_t_.resize(nc_);
-    rho_nm_.resize(nc_);
+    rho_.resize(nc_);
     for (int a = 0; a < nc_; ++a) {
-      const Block& Waa = W_.Diagonal(a);
-      double tangential = 0.0;
-      for (int i = 1; i < d_; ++i) tangential += Waa(i, i) / (d_ - 1);
-      rho_n_[a] = inverse(Waa(0, 0));
-      rho_t_[a] = inverse(tangential);
-      rho_nm_[a] = inverse((Waa(0, 0) + tangential * (d_ - 1)) / d_);
+      const Eigen::Vector3d diagonal = W_.Diagonal(a).diagonal();
+      rho_[a] = internal::RhoFromDiagonal(d_, diagonal.data(), fallback);
     }
   }
 
@@ -185,7 +179,7 @@ class NewtonSolver {
     Vector r = best_r_;
     for (int k = 0; k < options_.gauss_seidel_sweeps && best_error_ > options_.tolerance;
          ++k) {
-      internal::GaussSeidelSweep(problem_, W_, rho_n_, rho_t_, &r);
+      internal::GaussSeidelSweep(problem_, W_, rho_, &r);
       ++summary_->gauss_seidel_sweeps;
       const double error = NaturalMapError(problem_, r);
       if (!std::isfinite(error)) return;
@@ -194,15 +188,6 @@ class NewtonSolver {
         best_r_ = r;
       }
     }
-  }
-
-  std::vector<std::pair<Formulation, double>> AttemptSequence() const {
-    if (options_.formulation != Formulation::kHybrid)
-      return {{options_.formulation, 1.0}};
-    return {{Formulation::kAlartCurnier, 1.0}, {Formulation::kFischerBurmeister, 1.0},
-            {Formulation::kNaturalMap, 1.0},   {Formulation::kAlartCurnier, 10.0},
-            {Formulation::kNaturalMap, 0.1},   {Formulation::kAlartCurnier, 0.1},
-            {Formulation::kNaturalMap, 10.0}};
   }
 
   /// Phi(r) of the formulation into *phi, with the Jacobian blocks A_, B_; returns psi.
@@ -215,15 +200,8 @@ class NewtonSolver {
       const double* ra = r.data() + d_ * a;
       const double* ua = u.data() + d_ * a;
       double* pa = phi->data() + d_ * a;
-      if (formulation == Formulation::kAlartCurnier)
-        internal::AlartCurnierLaw(d_, problem_.mu[a], s * rho_n_[a], s * rho_t_[a], ra,
-                                  ua, pa, &A_[a], &B_[a]);
-      else if (formulation == Formulation::kNaturalMap)
-        internal::NaturalMapLaw(d_, problem_.mu[a], s * rho_nm_[a], ra, ua, pa, &A_[a],
-                                &B_[a]);
-      else
-        internal::FischerBurmeisterLaw(d_, problem_.mu[a], ra, ua, pa, &A_[a], &B_[a]);
-    }
+      internal::EvaluateLaw(formulation, d_, problem_.mu[a], rho_[a], s, ra, ua, pa, &A_[a], &B_[a]);
+  }
     return 0.5 * phi->squaredNorm();
   }
 
@@ -349,7 +327,7 @@ class NewtonSolver {
   Summary* summary_;
   int d_, nc_;
   std::vector<Block> A_, B_;
-  std::vector<double> rho_n_, rho_t_, rho_nm_;
+  std::vector<internal::Rho> rho_;
   SparseMatrix J_, normal_matrix_;
   std::unique_ptr<ncp::internal::LinearSolver> normal_solver_;
   bool normal_factorized_once_ = false;

@@ -99,6 +99,10 @@ struct Options {
   LinearSolverType linear_solver = LinearSolverType::kAuto;
   /// kAuto: dense LU for dimension n_c <= dense_threshold, UMFPACK above.
   int dense_threshold = 150;
+  /// GMRES iterations per Newton step at most (operator_problem.hpp only; restarted every
+  /// 50). A Newton step whose GMRES stops short of the forcing term is still taken when it
+  /// reduces ||J d + Phi|| below ||Phi|| (then still a descent direction).
+  int krylov_max_iterations = 200;
   /// One line per iteration on stderr.
   bool log_to_stderr = false;
 
@@ -130,6 +134,8 @@ struct Summary {
   int linear_solver_failures = -1;  ///< Newton solves failed or failing the residual test
   int levenberg_marquardt_steps = -1;  ///< directions from (J'J + m I) d = -J' Phi
   int symbolic_factorizations = -1;
+  int krylov_iterations = -1;      ///< GMRES iterations, all Newton steps (operator_problem.hpp)
+  int operator_applications = -1;  ///< products with W (operator_problem.hpp)
 
   double initial_error = -1.0;  ///< NaturalMapError at the start point
   double final_error = -1.0;    ///< NaturalMapError at the returned r (recomputed)

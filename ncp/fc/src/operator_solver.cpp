@@ -1,0 +1,333 @@
+// Alart-Curnier semismooth Newton with GMRES for OperatorProblem (operator_problem.hpp).
+#include <Eigen/LU>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include "local_laws.hpp"
+#include "ncp/fc/error.hpp"
+#include "ncp/fc/operator_problem.hpp"
+
+namespace ncp::fc {
+
+void OperatorProblem::Validate() const {
+  const std::string who = "ncp::fc::OperatorProblem" + (name.empty() ? "" : " '" + name + "'") + ": ";
+  if (dimension != 2 && dimension != 3)
+    throw std::invalid_argument(who + "dimension must be 2 or 3, got " + std::to_string(dimension));
+  if (num_contacts < 0) throw std::invalid_argument(who + "num_contacts must be >= 0");
+  if (!apply_W) throw std::invalid_argument(who + "apply_W is not set");
+  auto check = [&](const Vector& v, Eigen::Index expected, const char* what) {
+    if (v.size() != expected)
+      throw std::invalid_argument(who + what + " must have " + std::to_string(expected) +
+                                  " entries, got " + std::to_string(v.size()));
+    if (!v.allFinite()) throw std::invalid_argument(who + what + " has non-finite entries");
+  };
+  check(q, size(), "q");
+  check(diagonal, size(), "diagonal");
+  check(mu, num_contacts, "mu");
+  if ((mu.array() < 0.0).any()) throw std::invalid_argument(who + "mu must be >= 0");
+  if ((diagonal.array() < 0.0).any()) throw std::invalid_argument(who + "diagonal must be >= 0");
+}
+
+namespace {
+
+using internal::Block;
+using Clock = std::chrono::steady_clock;
+
+/// GMRES iterations between restarts.
+constexpr int kRestart = 50;
+
+class OperatorNewton {
+ public:
+  OperatorNewton(const Options& options, const OperatorProblem& problem, Summary* summary)
+      : options_(options), problem_(problem), summary_(summary), d_(problem.dimension),
+        nc_(problem.num_contacts), A_(nc_), B_(nc_), P_inverse_(nc_), start_(Clock::now()) {
+    ComputeRho();
+  }
+
+  /// From *r through the attempts of options.formulation (kHybrid: AC, then FB, NM and
+  /// other rho when one stalls, as solver.hpp), each from the best iterate so far; the
+  /// best iterate is returned in *r.
+  void Run(Vector* r) {
+    Vector u;
+    MultiplyW(*r, &u);
+    u += problem_.q;
+    double error = Error(*r, u);
+    summary_->initial_error = error;
+    Termination status = std::isfinite(error) ? Termination::kConverged : Termination::kNonFiniteValues;
+    for (const auto& [formulation, rho_factor] : internal::AttemptSequence(options_.formulation)) {
+      if (status == Termination::kNonFiniteValues || error <= options_.tolerance) break;
+      if (summary_->attempts++ > 0) {  // restart on u = W r + q of the best iterate
+        MultiplyW(*r, &u);
+        u += problem_.q;
+      }
+      summary_->formulation_final = formulation;
+      status = Iterate(formulation, rho_factor, r, &u, &error);
+      if (status == Termination::kConverged || status == Termination::kMaxIterations ||
+          status == Termination::kTimeLimit)
+        break;
+    }
+    summary_->final_error = error;
+    if (error <= options_.tolerance) status = Termination::kConverged;
+    summary_->termination = status;
+    std::ostringstream message;
+    message << "natural-map error " << error << (status == Termination::kConverged ? " <= " : " > ")
+            << "tolerance " << options_.tolerance << " after " << summary_->iterations
+            << " Newton steps, " << summary_->krylov_iterations << " GMRES iterations, "
+            << summary_->attempts << " attempts";
+    if (status != Termination::kConverged) message << "; last ended: " << ToString(status);
+    summary_->message = message.str();
+  }
+
+ private:
+  /// rho per contact from the given diagonal (internal::RhoFromDiagonal).
+  void ComputeRho() {
+    const double largest = problem_.diagonal.size() ? problem_.diagonal.maxCoeff() : 0.0;
+    rho_.resize(nc_);
+    for (int a = 0; a < nc_; ++a)
+      rho_[a] = internal::RhoFromDiagonal(d_, problem_.diagonal.data() + d_ * a, largest > 0.0 ? 1.0 / largest : 1.0);
+  }
+
+  void MultiplyW(const Vector& r, Vector* Wr) {
+    problem_.apply_W(r, Wr);
+    ++summary_->operator_applications;
+  }
+
+  double Error(const Vector& r, const Vector& u) const {
+    return NaturalMapResidual(d_, problem_.mu, r, u) / (1.0 + problem_.q.norm());
+  }
+
+  /// Phi(r, u) of the attempt's formulation into *phi, with the blocks A_, B_; returns psi.
+  double Evaluate(const Vector& r, const Vector& u, Vector* phi) {
+    phi->resize(r.size());
+    const double scale = options_.rho_scale * rho_factor_;
+    for (int a = 0; a < nc_; ++a)
+      internal::EvaluateLaw(formulation_, d_, problem_.mu(a), rho_[a], scale, r.data() + d_ * a,
+                            u.data() + d_ * a, phi->data() + d_ * a, &A_[a], &B_[a]);
+    return 0.5 * phi->squaredNorm();
+  }
+
+  /// The shift delta = regularization max(1, max |J_aa|) of solver.cpp (J's diagonal taken
+  /// as that of A + B D), and the inverse blocks of the preconditioner A_a + B_a D_a + delta I.
+  void Precondition() {
+    double largest = 1.0;
+    std::vector<Block> P(static_cast<size_t>(nc_));
+    for (int a = 0; a < nc_; ++a) {
+      Block D = Block::Identity();
+      for (int i = 0; i < d_; ++i) D(i, i) = problem_.diagonal(d_ * a + i);
+      P[a] = A_[a] + B_[a] * D;
+      for (int i = 0; i < d_; ++i) largest = std::max(largest, std::abs(P[a](i, i)));
+    }
+    delta_ = options_.regularization * largest;
+    for (int a = 0; a < nc_; ++a) {
+      P[a] += delta_ * Block::Identity();
+      if (d_ == 2) P[a](2, 2) = 1.0;
+      Eigen::FullPivLU<Block> lu(P[a]);
+      P_inverse_[a] = lu.isInvertible() ? Block(lu.inverse()) : Block(Block::Identity());
+    }
+  }
+
+  /// y = P^-1 x.
+  void ApplyPreconditioner(const Vector& x, Vector* y) const {
+    y->resize(x.size());
+    for (int a = 0; a < nc_; ++a) {
+      Eigen::Vector3d xa = Eigen::Vector3d::Zero();
+      for (int i = 0; i < d_; ++i) xa(i) = x(d_ * a + i);
+      const Eigen::Vector3d ya = P_inverse_[a] * xa;
+      for (int i = 0; i < d_; ++i) (*y)(d_ * a + i) = ya(i);
+    }
+  }
+
+  /// y = (J + delta I) x = A x + B (W x) + delta x.
+  void ApplyJacobian(const Vector& x, Vector* y) {
+    MultiplyW(x, &Wx_);
+    y->resize(x.size());
+    for (int a = 0; a < nc_; ++a) {
+      Eigen::Vector3d xa = Eigen::Vector3d::Zero(), wa = Eigen::Vector3d::Zero();
+      for (int i = 0; i < d_; ++i) {
+        xa(i) = x(d_ * a + i);
+        wa(i) = Wx_(d_ * a + i);
+      }
+      const Eigen::Vector3d ya = A_[a] * xa + B_[a] * wa + delta_ * xa;
+      for (int i = 0; i < d_; ++i) (*y)(d_ * a + i) = ya(i);
+    }
+  }
+
+  /// Right-preconditioned restarted GMRES (modified Gram-Schmidt, Givens rotations) for
+  /// (J + delta I) d = b from d = 0, until ||b - (J + delta I) d|| <= eta ||b|| or
+  /// krylov_max_iterations. Returns the relative residual reached.
+  double Gmres(const Vector& b, double eta, Vector* d) {
+    const Eigen::Index n = b.size();
+    d->setZero(n);
+    const double b_norm = b.norm();
+    if (b_norm == 0.0) return 0.0;
+    Vector residual = b, w, z;
+    double relative = 1.0;
+    int used = 0;
+    while (used < options_.krylov_max_iterations) {
+      const int m = std::min(kRestart, options_.krylov_max_iterations - used);
+      const double beta = residual.norm();
+      Eigen::MatrixXd V(n, m + 1), H = Eigen::MatrixXd::Zero(m + 1, m);
+      Eigen::VectorXd g = Eigen::VectorXd::Zero(m + 1), cs(m), sn(m);
+      V.col(0) = residual / beta;
+      g(0) = beta;
+      int k = 0;
+      for (; k < m; ++k) {
+        ApplyPreconditioner(V.col(k), &z);
+        ApplyJacobian(z, &w);
+        for (int i = 0; i <= k; ++i) {
+          H(i, k) = V.col(i).dot(w);
+          w -= H(i, k) * V.col(i);
+        }
+        H(k + 1, k) = w.norm();
+        if (H(k + 1, k) > 0.0) V.col(k + 1) = w / H(k + 1, k);
+        for (int i = 0; i < k; ++i) {  // earlier rotations on the new column
+          const double t = cs(i) * H(i, k) + sn(i) * H(i + 1, k);
+          H(i + 1, k) = -sn(i) * H(i, k) + cs(i) * H(i + 1, k);
+          H(i, k) = t;
+        }
+        const double h = std::hypot(H(k, k), H(k + 1, k));
+        cs(k) = h > 0.0 ? H(k, k) / h : 1.0;
+        sn(k) = h > 0.0 ? H(k + 1, k) / h : 0.0;
+        H(k, k) = h;
+        H(k + 1, k) = 0.0;
+        g(k + 1) = -sn(k) * g(k);
+        g(k) *= cs(k);
+        ++used;
+        ++summary_->krylov_iterations;
+        relative = std::abs(g(k + 1)) / b_norm;
+        if (relative <= eta || H(k, k) == 0.0) {
+          ++k;
+          break;
+        }
+      }
+      // d += P^-1 V_k y, H_k y = g_k (upper triangular).
+      const Eigen::VectorXd y =
+          H.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
+      ApplyPreconditioner(V.leftCols(k) * y, &z);
+      *d += z;
+      if (relative <= eta) break;
+      ApplyJacobian(*d, &w);  // true residual for the restart
+      residual = b - w;
+      relative = residual.norm() / b_norm;
+      if (relative <= eta) break;
+    }
+    return relative;
+  }
+
+  /// One attempt: the Newton loop from (r, u = W r + q) with error *error; keeps the best
+  /// iterate in *r_best, *error_best.
+  Termination Iterate(Formulation formulation, double rho_factor, Vector* r_best, Vector* u,
+                      double* error_best) {
+    formulation_ = formulation;
+    rho_factor_ = rho_factor;
+    Vector r = *r_best, phi, trial_phi, direction, Wd, trial_r, trial_u;
+    double psi = Evaluate(r, *u, &phi);
+    const double phi0 = std::sqrt(2.0 * psi);
+    std::deque<double> recent_psi{psi};
+    double stall_reference = *error_best;
+    int since_progress = 0;
+    while (*error_best > options_.tolerance) {
+      if (summary_->iterations >= options_.max_iterations) return Termination::kMaxIterations;
+      if (options_.max_time_s > 0.0 &&
+          std::chrono::duration<double>(Clock::now() - start_).count() > options_.max_time_s)
+        return Termination::kTimeLimit;
+      Precondition();
+      const double phi_norm = std::sqrt(2.0 * psi);
+      const double eta = std::min(options_.newton_residual, phi0 > 0.0 ? phi_norm / phi0 : 1.0);
+      const double reached = Gmres(-phi, eta, &direction);
+      if (!(reached < 1.0) || !direction.allFinite()) {
+        ++summary_->linear_solver_failures;
+        return Termination::kLinearSolverFailure;
+      }
+      MultiplyW(direction, &Wd);
+      // Nonmonotone Armijo: psi(r + t d) <= max(recent psi) - 2 beta t psi(r).
+      const double reference = *std::max_element(recent_psi.begin(), recent_psi.end());
+      double t = 1.0, trial_psi = 0.0;
+      bool accepted = false;
+      for (int i = 0; i <= options_.max_backtracks; ++i, t *= 0.5) {
+        trial_r = r + t * direction;
+        trial_u = *u + t * Wd;
+        trial_psi = Evaluate(trial_r, trial_u, &trial_phi);
+        if (std::isfinite(trial_psi) && trial_psi <= reference - 2.0 * options_.armijo_beta * t * psi) {
+          accepted = true;
+          break;
+        }
+        ++summary_->backtracks;
+      }
+      if (!accepted) return Termination::kLineSearchFailure;
+      r.swap(trial_r);
+      u->swap(trial_u);
+      phi.swap(trial_phi);
+      psi = trial_psi;
+      recent_psi.push_back(psi);
+      if (static_cast<int>(recent_psi.size()) > options_.nonmonotone_window) recent_psi.pop_front();
+      ++summary_->iterations;
+      double error = Error(r, *u);
+      if (error <= options_.tolerance) {  // confirm on u = W r + q, not the updated u
+        MultiplyW(r, u);
+        *u += problem_.q;
+        error = Error(r, *u);
+        psi = Evaluate(r, *u, &phi);
+      }
+      if (!std::isfinite(error)) return Termination::kNonFiniteValues;
+      if (options_.log_to_stderr)
+        std::fprintf(stderr, "fc-op %4d error %.3e psi %.3e step %.3g eta %.2g GMRES %.2e\n",
+                     summary_->iterations, error, psi, t, eta, reached);
+      if (error < *error_best) {
+        *error_best = error;
+        *r_best = r;
+      }
+      if (error <= 0.5 * stall_reference) {
+        stall_reference = error;
+        since_progress = 0;
+      } else if (++since_progress >= options_.stall_window) {
+        return Termination::kStalled;
+      }
+    }
+    return Termination::kConverged;
+  }
+
+  const Options& options_;
+  const OperatorProblem& problem_;
+  Summary* summary_;
+  int d_, nc_;
+  std::vector<Block> A_, B_, P_inverse_;
+  std::vector<internal::Rho> rho_;
+  Formulation formulation_ = Formulation::kAlartCurnier;
+  double rho_factor_ = 1.0;
+  double delta_ = 0.0;
+  Vector Wx_;
+  Clock::time_point start_;
+};
+
+}  // namespace
+
+void Solve(const Options& options, const OperatorProblem& problem, Vector* r, Summary* summary) {
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument("ncp::fc::Options: " + why);
+  problem.Validate();
+  if (!r || !summary) throw std::invalid_argument("ncp::fc::Solve: r and summary must not be null");
+  if (r->size() == 0) r->setZero(problem.size());
+  if (r->size() != problem.size())
+    throw std::invalid_argument("ncp::fc::Solve: start point must have " + std::to_string(problem.size()) +
+                                " entries, got " + std::to_string(r->size()));
+  if (!r->allFinite()) throw std::invalid_argument("ncp::fc::Solve: start point not finite");
+  *summary = Summary();
+  summary->formulation_requested = summary->formulation_final = options.formulation;
+  summary->num_contacts = problem.num_contacts;
+  summary->iterations = summary->gauss_seidel_sweeps = summary->backtracks = 0;
+  summary->linear_solver_failures = summary->levenberg_marquardt_steps = 0;
+  summary->symbolic_factorizations = summary->krylov_iterations = summary->operator_applications = 0;
+  summary->attempts = 0;
+  const auto start = Clock::now();
+  OperatorNewton(options, problem, summary).Run(r);
+  summary->total_time_s = std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+}  // namespace ncp::fc
