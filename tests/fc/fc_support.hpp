@@ -9,7 +9,7 @@
 
 namespace ncp::fc::test {
 
-/// FrictionContact3D_1c of Siconos' test data (see ../shared/data/fc3d/README.md).
+/// FrictionContact3D_1c of Siconos' test data (see data/fc3d/README.md).
 inline FrictionProblem OneContactProblem() {
   FrictionProblem p;
   p.dimension = 3;
