@@ -213,7 +213,7 @@ class NewtonSolver {
   /// descent direction of psi: grad psi' d = phi' (J d + phi) - ||phi||^2 < 0. Otherwise
   /// the Levenberg-Marquardt direction (J'J + m I) d = -J' phi, m = max(||phi||,
   /// regularization) (Yamashita & Fukushima 2001), a descent direction for any m > 0.
-  /// Measured on ../shared/data/fc3d: one shifted factorization per step instead of J
+  /// Measured on data/fc3d: one shifted factorization per step instead of J
   /// first and J + delta I after a failure took Capsules-i101-404 from 111 steps, 0.45 s
   /// to 104 steps, 0.27 s, with the same steps on the other 14 problems. false: both
   /// failed.

@@ -72,7 +72,7 @@ struct Options {
   double max_time_s = 0.0;
   /// Projected Gauss-Seidel sweeps (local Alart-Curnier Newton per contact, Jean-Moreau
   /// NSGS) from the start point before the first Newton step; stops early at tolerance.
-  /// Off by default: on ../shared/data/fc3d, 10 sweeps cut BoxesStack1 from 18 to 4
+  /// Off by default: on data/fc3d, 10 sweeps cut BoxesStack1 from 18 to 4
   /// Newton steps but left the hybrid unable to finish Capsules-i101-404 (error 5.9e-6).
   int gauss_seidel_sweeps = 0;
   /// Multiplies the per-contact rho of the formulations (see Formulation).
@@ -85,7 +85,7 @@ struct Options {
   /// Largest i tried for the step t = 2^-i.
   int max_backtracks = 40;
   /// An attempt stalls when its best error has not halved over this many steps. 15: on
-  /// ../shared/data/fc3d, Capsules-i101-404 (AC stalls from r = 0, FB then solves it)
+  /// data/fc3d, Capsules-i101-404 (AC stalls from r = 0, FB then solves it)
   /// took 41 / 26 / 21 steps with 30 / 15 / 10, and 10 also switched OneObject-i1028-138
   /// away from an AC run that converges.
   int stall_window = 15;
