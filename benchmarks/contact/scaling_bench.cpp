@@ -8,12 +8,17 @@
 // step on, the bottom face is pressed onto the floor (and slides on it with f_c = 0.5). No
 // Dirichlet condition. dt = 0.3 h / c_p (c_p = sqrt((lambda + 2 mu) / rho)), below dt_crit
 // of both masses (RunDynamics checks it).
-// Two series:
+// Three series:
 //   cube:   n x n x n cells, n = 6 ... 69 (10^3 ... 1.03 x 10^6 dofs);
 //   column: a fixed contact face of 14 x 14 cells and 7 ... 448 cells in height: the
-//           interior grows, the contact set does not (the condensed step's target).
-// Methods: full and condensed with the consistent mass, explicit with the lumped mass; each
-// frictionless and with f_c = 0.5. Every case runs in its own child process (fork), so its
+//           interior grows, the contact set does not (the condensed step's target);
+//   face:   a slab of n x n x --face-layers cells, n = 9 ... 99 (10^2 ... 10^4 contact
+//           nodes), consistent mass, f_c = --face-friction (0.3): the contact face grows
+//           with the body (the sparse step's target). Per case also one sparse Cholesky
+//           factorization of M (CHOLMOD, analysis included) and one solve with it, timed in
+//           the same process after the run, and the step's time in units of them.
+// Methods: full, condensed and sparse with the consistent mass, explicit with the lumped
+// mass; cube and column each frictionless and with f_c = 0.5. Every case runs in its own child process (fork), so its
 // peak resident memory (ru_maxrss) is its own, and a case over --time-limit is killed.
 //
 // Per case: dofs, contact nodes, model build time (mesh, K, M, contact frames), RunDynamics
@@ -37,6 +42,7 @@
 #include <contact/mesh_generation.hpp>
 #include <contact/obstacle.hpp>
 #include <contact/scene.hpp>
+#include <Eigen/CholmodSupport>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -59,9 +65,9 @@ double SecondsSince(Clock::time_point start) {
 }
 
 struct Case {
-  std::string series;  // "cube" or "column"
+  std::string series;  // "cube", "column" or "face"
   int n = 0, nz = 0;   // cells n x n x nz
-  std::string method;  // full, condensed, explicit
+  std::string method;  // full, condensed, sparse, explicit
   double friction = 0.0;
   long long Dofs() const { return 3LL * (n + 1) * (n + 1) * (nz + 1); }
 };
@@ -73,12 +79,32 @@ struct Row {
   int contact_nodes = 0, steps = 0;
   double build_s = 0, setup_s = 0, first_step_s = 0, step_s = 0, solve_s = 0, newton_per_step = 0;
   double matvec_s = 0, ratio = 0, peak_mb = 0, dt = 0;
+  double factor_s = 0, mass_solve_s = 0, step_over_factor = 0;  // Cholesky of M (face series)
 };
 
 contact::StepMethod MethodOf(const std::string& m) {
   if (m == "full") return contact::StepMethod::kFull;
   if (m == "explicit") return contact::StepMethod::kExplicit;
+  if (m == "sparse") return contact::StepMethod::kSparse;
   return contact::StepMethod::kCondensed;
+}
+
+// One sparse Cholesky factorization of M (CHOLMOD's choice of simplicial or supernodal,
+// symbolic analysis included) and one solve with it, the fastest of 3 each.
+void TimeMassFactorization(const Eigen::SparseMatrix<double>& M, Row* row) {
+  row->factor_s = row->mass_solve_s = std::numeric_limits<double>::infinity();
+  const Eigen::VectorXd b = Eigen::VectorXd::Ones(M.rows());
+  Eigen::VectorXd x;
+  for (int i = 0; i < 3; ++i) {
+    Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower> cholesky;
+    auto t = Clock::now();
+    cholesky.compute(M);
+    row->factor_s = std::min(row->factor_s, SecondsSince(t));
+    t = Clock::now();
+    x = cholesky.solve(b);
+    row->mass_solve_s = std::min(row->mass_solve_s, SecondsSince(t));
+  }
+  row->step_over_factor = row->step_s / row->factor_s;
 }
 
 // Runs one case in this process and returns its row (without the peak memory).
@@ -91,8 +117,8 @@ Row RunCase(const Case& c, int steps, double tolerance) {
   scene.source = "contact-scaling-bench";
   scene.dim = 3;
   contact::BoxMeshOptions box;
-  const double h = 1.0 / c.n;
-  box.size = {1.0, 1.0, h * c.nz};
+  const double h = (c.series == "face" ? 5.0 : 1.0) / c.n;  // face: a 5 m x 5 m slab
+  box.size = {h * c.n, h * c.n, h * c.nz};
   box.cells = {c.n, c.n, c.nz};
   box.side_roles[contact::Side::kZMin] = contact::BoundaryRole::kContact;
   scene.box = box;
@@ -101,6 +127,8 @@ Row RunCase(const Case& c, int steps, double tolerance) {
   scene.body_force = Eigen::VectorXd::Zero(3);
   scene.obstacle = std::make_shared<contact::HalfSpace>(contact::HalfSpace::ObstacleBelow(3, 2, 0.0));
   scene.friction_coefficient = c.friction;
+  if (c.method == "sparse" || c.series == "face")  // implicit Coulomb (the sparse step's only form)
+    scene.dynamics.friction_formulation = contact::FrictionFormulation::kCoulombFc;
   const double E = scene.material.youngs_modulus, nu = scene.material.poisson_ratio;
   const double c_p = std::sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / scene.material.density);
   scene.dynamics.dt = 0.3 * h / c_p;
@@ -143,6 +171,7 @@ Row RunCase(const Case& c, int steps, double tolerance) {
   row.solve_s = s.steps > 1 ? later_solve / (s.steps - 1) : 0.0;
   row.newton_per_step = s.steps > 0 ? static_cast<double>(newton) / s.steps : 0.0;
   row.ratio = row.step_s / row.matvec_s;
+  if (c.series == "face") TimeMassFactorization(built.model.M, &row);
   return row;
 }
 
@@ -155,7 +184,8 @@ std::string Csv(const std::string& text) {
 
 const char* kHeader =
     "series,n,nz,method,friction,dofs,contact_nodes,dt,status,steps,build_s,setup_s,"
-    "first_step_s,step_s,solve_s,newton_per_step,matvec_s,step_over_matvec,peak_mb,message";
+    "first_step_s,step_s,solve_s,newton_per_step,matvec_s,step_over_matvec,peak_mb,"
+    "factor_s,mass_solve_s,step_over_factor,message";
 
 std::string ToCsv(const Row& r) {
   std::ostringstream o;
@@ -164,7 +194,7 @@ std::string ToCsv(const Row& r) {
     << r.dofs << ',' << r.contact_nodes << ',' << r.dt << ',' << r.status << ',' << r.steps << ','
     << r.build_s << ',' << r.setup_s << ',' << r.first_step_s << ',' << r.step_s << ','
     << r.solve_s << ',' << r.newton_per_step << ',' << r.matvec_s << ',' << r.ratio << ',' << r.peak_mb << ','
-    << Csv(r.message);
+    << r.factor_s << ',' << r.mass_solve_s << ',' << r.step_over_factor << ',' << Csv(r.message);
   return o.str();
 }
 
@@ -222,7 +252,7 @@ Row RunIsolated(const Case& c, int steps, double tolerance, int time_limit) {
   std::vector<std::string> f;
   std::stringstream ss(text.substr(0, text.find('\n')));
   for (std::string item; std::getline(ss, item, ',');) f.push_back(item);
-  if (f.size() < 20) {
+  if (f.size() < 23) {
     row.status = "error";
     row.message = "malformed row from the child: " + text;
     return row;
@@ -240,7 +270,10 @@ Row RunIsolated(const Case& c, int steps, double tolerance, int time_limit) {
   row.newton_per_step = std::stod(f[15]);
   row.matvec_s = std::stod(f[16]);
   row.ratio = std::stod(f[17]);
-  row.message = f[19];
+  row.factor_s = std::stod(f[19]);
+  row.mass_solve_s = std::stod(f[20]);
+  row.step_over_factor = std::stod(f[21]);
+  row.message = f[22];
   row.peak_mb = peak_mb;
   return row;
 }
@@ -256,13 +289,16 @@ int main(int argc, char** argv) {
       ("max-dofs", "largest body [dofs]", cxxopts::value<double>()->default_value("1.1e6"))
       ("full-max-dofs", "largest body for the full step", cxxopts::value<double>()->default_value("4e4"))
       ("condensed-max-unknowns", "largest condensed contact system (contact nodes frictionless, "
-       "6 x nodes with friction: its dense LU costs O(unknowns^3) per Newton iteration)",
+       "3 x nodes with friction: its dense LU costs O(unknowns^3) per Newton iteration)",
        cxxopts::value<int>()->default_value("1500"))
       ("steps", "time steps per case", cxxopts::value<int>()->default_value("20"))
-      ("tolerance", "Newton tolerance [m]", cxxopts::value<double>()->default_value("1e-12"))
+      ("tolerance", "relative tolerance of each step in its own scales (DynamicOptions: ncp.tolerance; the library default)", cxxopts::value<double>()->default_value("1e-10"))
       ("time-limit", "seconds per case (the child is killed after)", cxxopts::value<int>()->default_value("900"))
-      ("series", "cube, column or both", cxxopts::value<std::string>()->default_value("both"))
-      ("methods", "step methods to run", cxxopts::value<std::vector<std::string>>()->default_value("full,condensed,explicit"))
+      ("series", "cube, column, face or all", cxxopts::value<std::string>()->default_value("all"))
+      ("methods", "step methods to run (full, condensed, sparse, explicit; the face series "
+       "runs only condensed and sparse)", cxxopts::value<std::vector<std::string>>()->default_value("full,condensed,sparse,explicit"))
+      ("face-layers", "cells through the slab of the face series", cxxopts::value<int>()->default_value("8"))
+      ("face-friction", "f_c of the face series", cxxopts::value<double>()->default_value("0.3"))
       ("frictions", "friction coefficients to run", cxxopts::value<std::vector<double>>()->default_value("0,0.5"))
       ("quick", "small sizes and 3 steps (smoke test)")
       ("h,help", "show this help");
@@ -288,8 +324,8 @@ int main(int argc, char** argv) {
   const auto methods = args["methods"].as<std::vector<std::string>>();
   const auto frictions = args["frictions"].as<std::vector<double>>();
   for (const std::string& m : methods)
-    if (m != "full" && m != "condensed" && m != "explicit") {
-      std::cerr << "contact-scaling-bench: unknown method '" << m << "' (full, condensed, explicit)\n";
+    if (m != "full" && m != "condensed" && m != "sparse" && m != "explicit") {
+      std::cerr << "contact-scaling-bench: unknown method '" << m << "' (full, condensed, sparse, explicit)\n";
       return 2;
     }
   for (double f : frictions)
@@ -297,8 +333,14 @@ int main(int argc, char** argv) {
       std::cerr << "contact-scaling-bench: friction coefficients must be >= 0\n";
       return 2;
     }
-  if (series != "cube" && series != "column" && series != "both") {
-    std::cerr << "contact-scaling-bench: --series must be cube, column or both\n";
+  if (series != "cube" && series != "column" && series != "face" && series != "all") {
+    std::cerr << "contact-scaling-bench: --series must be cube, column, face or all\n";
+    return 2;
+  }
+  const int face_layers = args["face-layers"].as<int>();
+  const double face_friction = args["face-friction"].as<double>();
+  if (face_layers < 1 || !(face_friction >= 0.0)) {
+    std::cerr << "contact-scaling-bench: --face-layers >= 1 and --face-friction >= 0 needed\n";
     return 2;
   }
   if (!(max_dofs > 0) || steps < 2 || time_limit < 1) {
@@ -311,10 +353,11 @@ int main(int argc, char** argv) {
   std::vector<Row> skipped;
   auto add = [&](const std::string& name, int n, int nz) {
     for (const std::string& method : methods)
-      for (double friction : frictions) {
+      for (double friction : name == "face" ? std::vector<double>{face_friction} : frictions) {
+        if (name == "face" && method != "condensed" && method != "sparse") continue;
         Case c{name, n, nz, method, friction};
         if (c.Dofs() > max_dofs) continue;
-        const int unknowns = (n + 1) * (n + 1) * (friction > 0 ? 6 : 1);
+        const int unknowns = (n + 1) * (n + 1) * (friction > 0 ? 3 : 1);
         std::string reason;
         if (c.method == "full" && c.Dofs() > full_max)
           reason = "full step limited to --full-max-dofs";
@@ -333,11 +376,14 @@ int main(int argc, char** argv) {
         }
       }
   };
-  if (series != "column")
+  if (series == "cube" || series == "all")
     for (int n : quick ? std::vector<int>{3, 5} : std::vector<int>{6, 9, 14, 21, 31, 46, 69}) add("cube", n, n);
-  if (series != "cube")
+  if (series == "column" || series == "all")
     for (int nz : quick ? std::vector<int>{2, 4} : std::vector<int>{7, 14, 28, 56, 112, 224, 448})
       add("column", quick ? 3 : 14, nz);
+  if (series == "face" || series == "all")
+    for (int n : quick ? std::vector<int>{4, 6} : std::vector<int>{9, 14, 21, 31, 46, 69, 99})
+      add("face", n, quick ? 2 : face_layers);
 
   std::ofstream csv;
   if (args.count("csv")) {
@@ -352,17 +398,18 @@ int main(int argc, char** argv) {
     if (csv) csv << ToCsv(r) << "\n";
   std::printf("# %zu cases, %d steps each (%zu skipped); times in seconds, memory in MB\n",
               cases.size(), steps, skipped.size());
-  std::printf("%-6s %4s %4s %-9s %4s %9s %6s %-10s %8s %8s %10s %10s %7s %10s %8s %8s\n", "series",
+  std::printf("%-6s %4s %4s %-9s %4s %9s %6s %-10s %8s %8s %10s %10s %7s %10s %8s %8s %9s %9s %9s\n", "series",
               "n", "nz", "method", "f_c", "dofs", "nodes", "status", "build", "setup", "step", "solve",
-              "newton", "K x", "step/Kx", "peak_MB");
+              "newton", "K x", "step/Kx", "peak_MB", "chol(M)", "solve(M)", "step/chol");
   std::vector<Row> rows;
   for (const Case& c : cases) {
     const Row r = RunIsolated(c, steps, tolerance, time_limit);
     rows.push_back(r);
-    std::printf("%-6s %4d %4d %-9s %4.1f %9lld %6d %-10s %8.3f %8.3f %10.3e %10.3e %7.2f %10.3e %8.2f %8.0f\n",
+    std::printf("%-6s %4d %4d %-9s %4.1f %9lld %6d %-10s %8.3f %8.3f %10.3e %10.3e %7.2f %10.3e %8.2f %8.0f %9.3e %9.3e %9.3f\n",
                 c.series.c_str(), c.n, c.nz, c.method.c_str(), c.friction, r.dofs, r.contact_nodes,
                 r.status.substr(0, 10).c_str(), r.build_s, r.setup_s, r.step_s, r.solve_s,
-                r.newton_per_step, r.matvec_s, r.ratio, r.peak_mb);
+                r.newton_per_step, r.matvec_s, r.ratio, r.peak_mb, r.factor_s, r.mass_solve_s,
+                r.step_over_factor);
     if (r.status != "completed") std::printf("       %s\n", r.message.c_str());
     std::fflush(stdout);
     if (csv) csv << ToCsv(r) << "\n" << std::flush;

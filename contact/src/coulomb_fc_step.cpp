@@ -38,7 +38,7 @@ class CoulombFcStep : public StepAlgorithm {
     if (matrix_free)
       coulomb_ = std::make_unique<CoulombStep>(
           model.dim, [this](const Eigen::VectorXd& F, Eigen::VectorXd* x) { delassus_.Apply(F, x); },
-          delassus_.LumpedDiagonal(), delassus_.condensed_nodes(), options.friction_coefficient,
+          delassus_.ProbedDiagonal(), delassus_.condensed_nodes(), options.friction_coefficient,
           FcOptions(options));
     else
       coulomb_ = std::make_unique<CoulombStep>(model.dim, delassus_.W(), delassus_.condensed_nodes(),

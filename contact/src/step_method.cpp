@@ -23,7 +23,9 @@ StepMethod ResolveStepMethod(const DynamicModel& model, const DynamicOptions& op
                                 "(coulomb-fc) only, not eq. 94; use the condensed or full step for eq. 94");
   if (options.step_method != StepMethod::kAuto) return options.step_method;
   if (friction && options.friction_formulation == FrictionFormulation::kEq94) return StepMethod::kCondensed;
-  const size_t unknowns = model.contact_nodes.size() * static_cast<size_t>(model.dim);
+  // The size of the condensed step's dense system: dim unknowns per contact node with
+  // friction, one (the normal) without.
+  const size_t unknowns = model.contact_nodes.size() * static_cast<size_t>(friction ? model.dim : 1);
   return unknowns > static_cast<size_t>(kAutoSparseUnknowns) ? StepMethod::kSparse : StepMethod::kCondensed;
 }
 

@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
   cli.add_options()("scene", "scene file (TOML)", cxxopts::value<std::string>())(
       "json", "print one JSON summary object on stdout")(
       "solver", "override solver.method: fb, min, penalized-fb, ipopt", cxxopts::value<std::string>())(
-      "step", "override solver.step: condensed, full, explicit", cxxopts::value<std::string>())(
+      "step", "override solver.step: auto, condensed, sparse, full, explicit", cxxopts::value<std::string>())(
       "dt", "override time.dt [s]", cxxopts::value<std::string>())(
       "end-time", "override time.end_time [s]", cxxopts::value<std::string>())(
       "friction", "override friction.coefficient", cxxopts::value<std::string>())(

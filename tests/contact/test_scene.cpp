@@ -154,7 +154,12 @@ TEST_CASE("Scene overrides are validated like values of the file", "[scene][erro
   CHECK(LoadScene(path, {{"solver.friction", "\"eq94\""}}).dynamics.friction_formulation ==
         FrictionFormulation::kEq94);
   CHECK_THROWS_WITH(LoadScene(path, {{"solver.friction", "\"coulomb-fc\""}, {"solver.step", "\"full\""}}),
-                    Catch::Contains("needs solver.step = \"condensed\""));
+                    Catch::Contains("needs solver.step = \"auto\", \"condensed\" or \"sparse\""));
+  // solver.step: auto by default; the sparse step refuses eq. 94
+  CHECK(LoadScene(path).dynamics.step_method == StepMethod::kAuto);
+  CHECK(LoadScene(path, {{"solver.step", "\"sparse\""}}).dynamics.step_method == StepMethod::kSparse);
+  CHECK_THROWS_WITH(LoadScene(path, {{"solver.friction", "\"eq94\""}, {"solver.step", "\"sparse\""}}),
+                    Catch::Contains("solves implicit Coulomb only"));
   CHECK_THROWS_WITH(LoadScene(path, {{"solver.friction", "\"coulomb\""}}),
                     Catch::Contains("'solver.friction' must be one of"));
 }

@@ -100,13 +100,14 @@ enum class StepMethod {
                ///< (ncp/fc/operator_problem.hpp). No set-up beyond the factor of M, memory
                ///< linear in the contact set; cost per Newton step (GMRES iterations + 2)
                ///< solves with M.
-  kAuto,       ///< kCondensed up to kAutoSparseUnknowns contact unknowns (dim per contact
-               ///< node), kSparse above; kCondensed whenever the friction formulation is
-               ///< kEq94 (DynamicSummary::step_method tells which ran)
+  kAuto,       ///< kCondensed up to kAutoSparseUnknowns unknowns of its dense system (dim
+               ///< per contact node with friction, 1 without), kSparse above; kCondensed
+               ///< whenever the friction formulation is kEq94 (DynamicSummary::step_method
+               ///< tells which ran)
 };
-/// The crossover of StepMethod::kAuto, in contact unknowns (dim per contact node): measured
-/// by contact-scaling-bench (benchmarks/results/contact/scaling/README.md).
-constexpr int kAutoSparseUnknowns = 1500;
+/// The crossover of StepMethod::kAuto in unknowns of the condensed system: measured by
+/// contact-scaling-bench's face series (benchmarks/results/contact/scaling/README.md).
+constexpr int kAutoSparseUnknowns = 600;
 const char* ToString(StepMethod m);
 
 /// How a step with friction (f_c > 0) poses Coulomb's law (condensed step only for kCoulombFc).

@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <sstream>
 
 #include "ncp/fc/error.hpp"
 
@@ -175,6 +176,17 @@ void EvaluateLaw(Formulation formulation, int d, double mu, const Rho& rho, doub
     NaturalMapLaw(d, mu, scale * rho.nm, r, u, phi, A, B);
   else
     FischerBurmeisterLaw(d, mu, r, u, phi, A, B);
+}
+
+std::string ErrorReport(const Options& options, bool converged, double error) {
+  std::ostringstream out;
+  out << "natural-map error " << error;
+  if (converged && error > options.tolerance)
+    out << " <= acceptable tolerance " << options.acceptable_tolerance << " (round-off floor; tolerance "
+        << options.tolerance << ")";
+  else
+    out << (converged ? " <= " : " > ") << "tolerance " << options.tolerance;
+  return out.str();
 }
 
 std::vector<std::pair<Formulation, double>> AttemptSequence(Formulation formulation) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -55,5 +56,15 @@ void EvaluateLaw(Formulation formulation, int d, double mu, const Rho& rho, doub
 /// The attempts of a solve: {(formulation, rho factor)}; kHybrid's sequence (solver.hpp)
 /// or the one formulation asked for.
 std::vector<std::pair<Formulation, double>> AttemptSequence(Formulation formulation);
+
+/// The end of a Newton attempt at natural-map error `error` (the previous iterate's:
+/// `previous`): error <= tolerance, or error <= acceptable_tolerance without halving
+/// (Options::acceptable_tolerance).
+inline bool Converged(const Options& options, double error, double previous) {
+  return error <= options.tolerance || (error <= options.acceptable_tolerance && error > 0.5 * previous);
+}
+/// "natural-map error e <= tolerance t" (or "<= acceptable tolerance a (round-off floor)",
+/// or "> tolerance t").
+std::string ErrorReport(const Options& options, bool converged, double error);
 
 }  // namespace ncp::fc::internal

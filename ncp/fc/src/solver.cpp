@@ -70,6 +70,7 @@ bool Options::IsValid(std::string* error) const {
   };
   if (!(tolerance > 0.0)) return fail("tolerance must be > 0");
   if (max_iterations < 0) return fail("max_iterations must be >= 0");
+  if (!(acceptable_tolerance >= 0.0)) return fail("acceptable_tolerance must be >= 0");
   if (!(max_time_s >= 0.0)) return fail("max_time_s must be >= 0");
   if (!(rho_scale > 0.0) || !std::isfinite(rho_scale))
     return fail("rho_scale must be > 0");
@@ -249,7 +250,7 @@ class NewtonSolver {
     double psi = Evaluate(formulation, rho_factor, r, &phi);
     if (!std::isfinite(psi)) return Termination::kNonFiniteValues;
     std::deque<double> recent_psi{psi};
-    double stall_reference = best_error_;
+    double stall_reference = best_error_, previous_error = best_error_;
     int since_progress = 0;
     while (true) {
       if (summary_->iterations >= options_.max_iterations)
@@ -287,7 +288,8 @@ class NewtonSolver {
         best_error_ = error;
         best_r_ = r;
       }
-      if (error <= options_.tolerance) return Termination::kConverged;
+      if (internal::Converged(options_, error, previous_error)) return Termination::kConverged;
+      previous_error = error;
       if (error <= 0.5 * stall_reference) {
         stall_reference = error;
         since_progress = 0;
@@ -313,9 +315,8 @@ class NewtonSolver {
 
   std::string Message(Termination status) const {
     std::ostringstream out;
-    out << "natural-map error " << summary_->final_error
-        << (status == Termination::kConverged ? " <= " : " > ") << "tolerance "
-        << options_.tolerance << " after " << summary_->iterations << " Newton steps";
+    out << internal::ErrorReport(options_, status == Termination::kConverged, summary_->final_error)
+        << " after " << summary_->iterations << " Newton steps";
     if (status != Termination::kConverged)
       out << "; last attempt ended: " << ToString(status);
     return out.str();

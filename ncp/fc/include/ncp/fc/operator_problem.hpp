@@ -9,9 +9,10 @@
 /// Phi(r, W r + q) = 0 with J = A + B W, but the Newton equation (J + delta I) d = -Phi is solved by GMRES, right
 /// preconditioned by the block-diagonal matrix of blocks A_a + B_a D_a + delta I
 /// (D_a = diag(W_aa) as given by the caller), to the relative residual
-///     eta_k = min(Options::newton_residual, ||Phi_k|| / ||Phi_0||)
+///     eta_k = min(Options::newton_residual, max(||Phi_k|| / ||Phi_0||, 0.1 tol / e_k))
 /// (inexact Newton with a forcing term that goes to zero with Phi: superlinear, Eisenstat
-/// and Walker 1996). ||J d + Phi|| <= eta_k ||Phi|| < ||Phi|| makes d a descent direction
+/// and Walker 1996; never finer than a tenth of the tolerance relative to the current
+/// natural-map error e_k). ||J d + Phi|| <= eta_k ||Phi|| < ||Phi|| makes d a descent direction
 /// of psi = ||Phi||^2 / 2; the nonmonotone Armijo search of solver.hpp follows, with
 /// W (r + t d) = W r + t W d (one product per Newton step, none per backtrack).
 /// Converged on the natural-map error of error.hpp (same measure and tolerance as the

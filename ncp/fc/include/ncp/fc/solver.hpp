@@ -45,7 +45,8 @@ enum class Formulation {
 
 enum class Termination {
   kNotSolved,            ///< Solve() has not run (Summary default)
-  kConverged,            ///< NaturalMapError(r) <= Options::tolerance
+  kConverged,            ///< NaturalMapError(r) <= Options::tolerance (or at its
+                         ///< round-off floor below Options::acceptable_tolerance)
   kMaxIterations,        ///< Options::max_iterations Newton steps in total
   kTimeLimit,            ///< Options::max_time_s elapsed
   kLineSearchFailure,    ///< no step 2^-i, i <= max_backtracks, met the Armijo test (last
@@ -66,6 +67,12 @@ struct Options {
   /// Converged when NaturalMapError(r) = ||r - P_C(r - u_hat)||_2 / (1 + ||q||_2) <=
   /// tolerance.
   double tolerance = 1e-8;
+  /// Round-off floor (0: off; else > tolerance): a Newton step that reaches an error at
+  /// most acceptable_tolerance without halving the previous one ends the solve as
+  /// converged - the error has hit the round-off of W r + q and `tolerance` is out of
+  /// reach. For callers that ask for more than they require (contact's step asks 1e-5 of
+  /// its tolerance and requires the tolerance).
+  double acceptable_tolerance = 0.0;
   /// Newton steps in total, over all attempts of the hybrid.
   int max_iterations = 500;
   /// Wall-clock limit in seconds (0: none); checked once per iteration.
