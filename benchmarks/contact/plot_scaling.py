@@ -8,6 +8,9 @@ step method and friction coefficient, the fitted exponent in the legend; the dot
 line is one product K x. Right panel: the step time in units of K x.
 scaling_column.png: the column series (fixed 14 x 14 contact face, growing height): time
 per step and Newton iterations per step against dofs.
+scaling_face.png: the face series (slab with a growing contact face, f_c = 0.3): time per
+step and one Cholesky factorization of M against contact nodes (log-log, fitted exponent),
+the step in units of that factorization, and Newton iterations per step.
 """
 import argparse
 import csv
@@ -20,7 +23,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-STYLE = {"full": ("C3", "s"), "condensed": ("C0", "o"), "explicit": ("C2", "^")}
+STYLE = {"full": ("C3", "s"), "condensed": ("C0", "o"), "explicit": ("C2", "^"), "sparse": ("C1", "D")}
 
 
 def slope(xs, ys):
@@ -111,6 +114,36 @@ def plot_column(rows, out):
     save(fig, out, "scaling_column.png")
 
 
+def plot_face(rows, out):
+    g = groups(rows, "face")
+    if not g:
+        return
+    fig, (ax, ax2, ax3) = plt.subplots(1, 3, figsize=(15, 4.6))
+    factor = {}
+    for (method, fc), rs in sorted(g.items()):
+        color, marker = STYLE[method]
+        x = [int(r["contact_nodes"]) for r in rs]
+        y = [float(r["step_s"]) for r in rs]
+        p = slope(x, y) if len(x) >= 3 else math.nan
+        label = f"{method}, f_c = {fc:g}" + (f" (p = {p:.2f})" if not math.isnan(p) else "")
+        ax.loglog(x, y, "-", color=color, marker=marker, label=label)
+        ax2.semilogx(x, [float(r["step_over_factor"]) for r in rs], "-", color=color, marker=marker,
+                     label=label)
+        ax3.semilogx(x, [float(r["newton_per_step"]) for r in rs], "-", color=color, marker=marker,
+                     label=label)
+        for r in rs:
+            factor.setdefault(int(r["contact_nodes"]), float(r["factor_s"]))
+    xs = sorted(factor)
+    ys = [factor[x] for x in xs]
+    ax.loglog(xs, ys, "k:", label=f"one Cholesky of M (p = {slope(xs, ys):.2f})")
+    finish(ax, "contact nodes", "time per step [s]", "slab on a plane, consistent mass")
+    ax2.axhline(5.0, color="k", lw=0.8, ls=":")
+    ax2.text(xs[0], 5.2, "target: 5 Cholesky factorizations of M", fontsize=7)
+    finish(ax2, "contact nodes", "time per step / one Cholesky of M")
+    finish(ax3, "contact nodes", "Newton iterations per step")
+    save(fig, out, "scaling_face.png")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     parser.add_argument("csv")
@@ -121,6 +154,7 @@ def main():
     rows = load(args.csv)
     plot_cube(rows, out)
     plot_column(rows, out)
+    plot_face(rows, out)
 
 
 if __name__ == "__main__":

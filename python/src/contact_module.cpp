@@ -226,6 +226,7 @@ py::dict RunScene(const contact::Scene& scene, int every, bool contact_history,
   py::dict sum = SummaryColumns().Scalars(summary);
   sum["status"] = std::string(contact::ToString(summary.status));
   sum["message"] = summary.message;
+  sum["step_method"] = std::string(contact::ToString(summary.step_method));  // auto resolved
   out["summary"] = sum;
   out["records"] = StepColumns().Arrays(summary.records);
   std::vector<std::string> statuses;

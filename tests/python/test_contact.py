@@ -42,6 +42,7 @@ def test_records_match_contact_sim(runs, key):
     result, d = runs[key]
     steps = read_csv(d / "steps.csv")
     assert result.completed and result.summary["steps"] == steps["step"].size
+    assert result.summary["step_method"] == "condensed"  # auto: a small contact set
     np.testing.assert_allclose(result.times, steps["time"], rtol=1e-9)
     for py_name, csv_name in [("kinetic", "kinetic_energy"), ("strain", "strain_energy"),
                               ("external_work", "external_work"), ("normal_force_sum", "normal_force_sum"),
