@@ -4,7 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <string>
 
+#include "ncp/fc/io.hpp"
 #include "ncp/fc/problem.hpp"
 
 namespace ncp::fc::test {
@@ -47,6 +50,19 @@ inline double CoulombViolation(const FrictionProblem& p, const Eigen::VectorXd& 
                       std::abs(ra.dot(uhat)) / (1.0 + uhat.norm())});
   }
   return worst / (1.0 + p.q.norm());
+}
+
+/// Calls f(problem) for every .dat and .hdf5 problem of NCP_FC_DATA_DIR; returns their number.
+template <class F>
+int ForEachDataProblem(F f) {
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(NCP_FC_DATA_DIR)) {
+    const std::string ext = entry.path().extension().string();
+    if (ext != ".dat" && ext != ".hdf5") continue;
+    ++files;
+    f(ReadProblem(entry.path().string()));
+  }
+  return files;
 }
 
 }  // namespace ncp::fc::test

@@ -47,12 +47,8 @@ TEST_CASE("matrix-free: the published solution of FrictionContact3D_1c", "[fc][o
 
 TEST_CASE("matrix-free: every data problem, exact and skewed diagonal", "[fc][operator][data]") {
   const double skew = GENERATE(1.0, 3.0);
-  int solved = 0, files = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(NCP_FC_DATA_DIR)) {
-    const std::string ext = entry.path().extension().string();
-    if (ext != ".dat" && ext != ".hdf5") continue;
-    ++files;
-    const FrictionProblem p = ReadProblem(entry.path().string());
+  int solved = 0;
+  const int files = test::ForEachDataProblem([&](const FrictionProblem& p) {
     Options options;
     options.max_iterations = 300;
     Eigen::VectorXd r;
@@ -68,7 +64,7 @@ TEST_CASE("matrix-free: every data problem, exact and skewed diagonal", "[fc][op
     } else {
       CHECK(summary.final_error > options.tolerance);
     }
-  }
+  });
   REQUIRE(files >= 15);
   // exact diagonal: all, like the matrix hybrid; a diagonal off by 3 (rho and the
   // preconditioner) loses the two BoxesStack problems (measured), where Siconos' own

@@ -35,12 +35,8 @@ TEST_CASE("the published solution of FrictionContact3D_1c", "[fc][solver]") {
 TEST_CASE("every data problem, every formulation", "[fc][solver][data]") {
   const Formulation f = GENERATE(Formulation::kAlartCurnier, Formulation::kNaturalMap,
                                  Formulation::kFischerBurmeister, Formulation::kHybrid);
-  int solved = 0, files = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(NCP_FC_DATA_DIR)) {
-    const std::string ext = entry.path().extension().string();
-    if (ext != ".dat" && ext != ".hdf5") continue;
-    ++files;
-    const FrictionProblem p = ReadProblem(entry.path().string());
+  int solved = 0;
+  const int files = test::ForEachDataProblem([&](const FrictionProblem& p) {
     Options options;
     options.formulation = f;
     options.max_iterations = 300;
@@ -57,7 +53,7 @@ TEST_CASE("every data problem, every formulation", "[fc][solver][data]") {
     } else {
       CHECK(summary.final_error > options.tolerance);
     }
-  }
+  });
   REQUIRE(files >= 15);
   // the hybrid default solves all of them (README's table); each single formulation most
   if (f == Formulation::kHybrid)

@@ -63,6 +63,39 @@ std::vector<std::pair<Formulation, double>> AttemptSequence(Formulation formulat
 inline bool Converged(const Options& options, double error, double previous) {
   return error <= options.tolerance || (error <= options.acceptable_tolerance && error > 0.5 * previous);
 }
+/// The bookkeeping of one Newton attempt after each of its steps: the best iterate,
+/// convergence (Converged) and stalling (the error not halved within
+/// Options::stall_window steps).
+class AttemptProgress {
+ public:
+  AttemptProgress(const Options& options, double start_error)
+      : options_(options), stall_reference_(start_error), previous_(start_error) {}
+  /// After a step to r with natural-map error `error`: r into *best_r if it is the best so
+  /// far; returns kConverged, kStalled, or kNotSolved to go on.
+  Termination Update(double error, const Vector& r, double* best_error, Vector* best_r) {
+    if (error < *best_error) {
+      *best_error = error;
+      *best_r = r;
+    }
+    if (Converged(options_, error, previous_)) return Termination::kConverged;
+    previous_ = error;
+    if (error <= 0.5 * stall_reference_) {
+      stall_reference_ = error;
+      since_progress_ = 0;
+    } else if (++since_progress_ >= options_.stall_window) {
+      return Termination::kStalled;
+    }
+    return Termination::kNotSolved;
+  }
+  /// The error of the previous step (the start's before the first).
+  double previous_error() const { return previous_; }
+
+ private:
+  const Options& options_;
+  double stall_reference_, previous_;
+  int since_progress_ = 0;
+};
+
 /// "natural-map error e <= tolerance t" (or "<= acceptable tolerance a (round-off floor)",
 /// or "> tolerance t").
 std::string ErrorReport(const Options& options, bool converged, double error);

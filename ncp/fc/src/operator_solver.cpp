@@ -230,8 +230,7 @@ class OperatorNewton {
     double psi = Evaluate(r, *u, &phi);
     const double phi0 = std::sqrt(2.0 * psi);
     std::deque<double> recent_psi{psi};
-    double stall_reference = *error_best, previous_error = *error_best;
-    int since_progress = 0;
+    internal::AttemptProgress progress(options_, *error_best);
     while (true) {
       if (summary_->iterations >= options_.max_iterations) return Termination::kMaxIterations;
       if (options_.max_time_s > 0.0 &&
@@ -242,7 +241,8 @@ class OperatorNewton {
       // Forcing term: superlinear, but no finer than the error asks - a tenth of the
       // tolerance relative to the current error (the last Newton steps of a solve to 1e-15
       // otherwise took two thirds of all GMRES iterations).
-      const double needed = previous_error > 0.0 ? 0.1 * options_.tolerance / previous_error : 0.0;
+      const double needed =
+          progress.previous_error() > 0.0 ? 0.1 * options_.tolerance / progress.previous_error() : 0.0;
       const double eta = std::min(options_.newton_residual,
                                   std::max(phi0 > 0.0 ? phi_norm / phi0 : 1.0, needed));
       const double reached = Gmres(-phi, eta, &direction);
@@ -274,7 +274,7 @@ class OperatorNewton {
       if (static_cast<int>(recent_psi.size()) > options_.nonmonotone_window) recent_psi.pop_front();
       ++summary_->iterations;
       double error = Error(r, *u);
-      if (internal::Converged(options_, error, previous_error)) {  // confirm on u = W r + q
+      if (internal::Converged(options_, error, progress.previous_error())) {  // confirm on u = W r + q
         MultiplyW(r, u);
         *u += problem_.q;
         error = Error(r, *u);
@@ -285,18 +285,8 @@ class OperatorNewton {
         std::fprintf(stderr, "fc-op %4d %-13s error %.3e psi %.3e step %.3g eta %.2g GMRES %.2e (%d iterations in all)\n",
                      summary_->iterations, ToString(formulation_), error, psi, t, eta, reached,
                      summary_->krylov_iterations);
-      if (error < *error_best) {
-        *error_best = error;
-        *r_best = r;
-      }
-      if (internal::Converged(options_, error, previous_error)) return Termination::kConverged;
-      previous_error = error;
-      if (error <= 0.5 * stall_reference) {
-        stall_reference = error;
-        since_progress = 0;
-      } else if (++since_progress >= options_.stall_window) {
-        return Termination::kStalled;
-      }
+      const Termination status = progress.Update(error, r, error_best, r_best);
+      if (status != Termination::kNotSolved) return status;
     }
   }
 

@@ -250,8 +250,7 @@ class NewtonSolver {
     double psi = Evaluate(formulation, rho_factor, r, &phi);
     if (!std::isfinite(psi)) return Termination::kNonFiniteValues;
     std::deque<double> recent_psi{psi};
-    double stall_reference = best_error_, previous_error = best_error_;
-    int since_progress = 0;
+    internal::AttemptProgress progress(options_, best_error_);
     while (true) {
       if (summary_->iterations >= options_.max_iterations)
         return Termination::kMaxIterations;
@@ -284,18 +283,8 @@ class NewtonSolver {
       const double error = NaturalMapError(problem_, r);
       if (!std::isfinite(error)) return Termination::kNonFiniteValues;
       Record(formulation, error, psi, t);
-      if (error < best_error_) {
-        best_error_ = error;
-        best_r_ = r;
-      }
-      if (internal::Converged(options_, error, previous_error)) return Termination::kConverged;
-      previous_error = error;
-      if (error <= 0.5 * stall_reference) {
-        stall_reference = error;
-        since_progress = 0;
-      } else if (++since_progress >= options_.stall_window) {
-        return Termination::kStalled;
-      }
+      const Termination status = progress.Update(error, r, &best_error_, &best_r_);
+      if (status != Termination::kNotSolved) return status;
     }
   }
 
