@@ -199,3 +199,25 @@ TEST_CASE("The sparse step refuses the thesis friction formulation", "[contact][
   CHECK_THROWS_WITH(internal::MakeStepAlgorithm(built.model, options, &mass, 1.0),
                     Catch::Contains("implicit Coulomb (coulomb-fc) only"));
 }
+
+TEST_CASE("auto: the condensed step for small contact sets, the sparse one above the crossover",
+          "[contact][dynamics][step_method]") {
+  DynamicModel model;
+  model.dim = 3;
+  DynamicOptions options;  // step_method = kAuto by default
+  REQUIRE(options.step_method == StepMethod::kAuto);
+  const int nodes_at_crossover = kAutoSparseUnknowns / 3;  // with friction: 3 unknowns a node
+  model.contact_nodes.resize(static_cast<size_t>(nodes_at_crossover));
+  options.friction_coefficient = 0.3;
+  CHECK(internal::ResolveStepMethod(model, options) == StepMethod::kCondensed);
+  model.contact_nodes.resize(static_cast<size_t>(nodes_at_crossover + 1));
+  CHECK(internal::ResolveStepMethod(model, options) == StepMethod::kSparse);
+  options.friction_formulation = FrictionFormulation::kEq94;  // only the condensed step has it
+  CHECK(internal::ResolveStepMethod(model, options) == StepMethod::kCondensed);
+  options.friction_coefficient = 0.0;  // frictionless: one unknown a node
+  CHECK(internal::ResolveStepMethod(model, options) == StepMethod::kCondensed);
+  model.contact_nodes.resize(static_cast<size_t>(kAutoSparseUnknowns + 1));
+  CHECK(internal::ResolveStepMethod(model, options) == StepMethod::kSparse);
+  options.step_method = StepMethod::kFull;  // an explicit choice stays
+  CHECK(internal::ResolveStepMethod(model, options) == StepMethod::kFull);
+}
