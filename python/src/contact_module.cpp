@@ -262,6 +262,14 @@ PYBIND11_MODULE(_contact, m) {
       .def_readonly("source", &contact::Scene::source, "the file it was read from")
       .def_readonly("dim", &contact::Scene::dim)
       .def_readonly("friction_coefficient", &contact::Scene::friction_coefficient)
+      .def_property_readonly(
+          "step", [](const contact::Scene& s) { return std::string(contact::ToString(s.dynamics.step_method)); },
+          "solver.step of the file: auto, condensed, sparse, full or explicit (the method that ran: "
+          "summary['step_method'])")
+      .def_property_readonly(
+          "friction_formulation",
+          [](const contact::Scene& s) { return std::string(contact::ToString(s.dynamics.friction_formulation)); },
+          "how friction is posed: coulomb-fc (implicit Coulomb, the default) or eq94 (solver.friction)")
       .def_readwrite("stress_times", &contact::Scene::stress_times, "output times [s]")
       .def_property(
           "dt", [](const contact::Scene& s) { return s.dynamics.dt; },
