@@ -88,7 +88,8 @@ TEST_CASE("Unit invariance: SI, mm-tonne-s and bodies scaled by 1e-3 and 1e3 mov
   const std::vector<Variant> variants{
       {"condensed", "fb", false, "eq94"}, {"condensed", "min", false, "eq94"},
       {"condensed", "penalized-fb", false, "eq94"}, {"condensed", "fb", false},
-      {"full", "fb", false},      {"explicit", "", true},      {"condensed", "fb", true}};
+      {"full", "fb", false},      {"explicit", "", true},      {"condensed", "fb", true},
+      {"sparse", "", false}};
   for (const Variant& v : variants) {
     Case c = Make(2, 7e10, 0.9, v.lumped);
     c.step = v.step;

@@ -88,4 +88,41 @@ TEST_CASE("matrix-free: bad problems are refused with the reason", "[fc][operato
   op = AsOperator(test::OneContactProblem());
   op.diagonal.resize(2);
   CHECK_THROWS_WITH(Solve(options, op, &r, &summary), Catch::Contains("diagonal must have 3 entries"));
+  op = AsOperator(test::OneContactProblem());
+  Options bad;
+  bad.krylov_max_iterations = 0;
+  CHECK_THROWS_WITH(Solve(bad, op, &r, &summary), Catch::Contains("krylov_max_iterations must be >= 1"));
+  bad = Options();
+  bad.acceptable_tolerance = -1.0;
+  CHECK_THROWS_WITH(Solve(bad, op, &r, &summary), Catch::Contains("acceptable_tolerance must be >= 0"));
+}
+
+TEST_CASE("acceptable_tolerance: a solve asked for more than round-off allows ends at its floor",
+          "[fc][operator][solver]") {
+  // Asked 1e-30 (below the round-off of W r + q), accepted at 1e-10: both solvers stop as
+  // converged within a few Newton steps, at an error <= the acceptable tolerance, instead
+  // of running every attempt of the hybrid out.
+  const FrictionProblem p = ReadProblem(std::string(NCP_FC_DATA_DIR) + "/Capsules-i101-404.dat");
+  Options options;
+  options.tolerance = 1e-30;
+  options.acceptable_tolerance = 1e-10;
+  Eigen::VectorXd r;
+  Summary summary;
+  Solve(options, p, &r, &summary);
+  INFO(summary.message);
+  CHECK(summary.termination == Termination::kConverged);
+  CHECK(summary.final_error <= 1e-10);
+  CHECK(summary.final_error == NaturalMapError(p, r));
+  CHECK_THAT(summary.message, Catch::Contains("round-off floor"));
+  r.resize(0);
+  Solve(options, AsOperator(p), &r, &summary);
+  INFO(summary.message);
+  CHECK(summary.termination == Termination::kConverged);
+  CHECK(NaturalMapError(p, r) <= 1e-10);
+  // without it the same request is reported as not reached
+  options.acceptable_tolerance = 0.0;
+  options.max_iterations = 60;
+  r.resize(0);
+  Solve(options, p, &r, &summary);
+  CHECK(summary.termination != Termination::kConverged);
 }
