@@ -114,20 +114,20 @@ class OperatorNewton {
 
   /// The shift delta = regularization max(1, max |J_aa|) of solver.cpp (J's diagonal taken
   /// as that of A + B D), and the inverse blocks of the preconditioner A_a + B_a D_a + delta I.
+  /// (The blocks are formed in P_inverse_ and inverted in place.)
   void Precondition() {
     double largest = 1.0;
-    std::vector<Block> P(static_cast<size_t>(nc_));
     for (int a = 0; a < nc_; ++a) {
       Block D = Block::Identity();
       for (int i = 0; i < d_; ++i) D(i, i) = problem_.diagonal(d_ * a + i);
-      P[a] = A_[a] + B_[a] * D;
-      for (int i = 0; i < d_; ++i) largest = std::max(largest, std::abs(P[a](i, i)));
+      P_inverse_[a] = A_[a] + B_[a] * D;
+      for (int i = 0; i < d_; ++i) largest = std::max(largest, std::abs(P_inverse_[a](i, i)));
     }
     delta_ = options_.regularization * largest;
     for (int a = 0; a < nc_; ++a) {
-      P[a] += delta_ * Block::Identity();
-      if (d_ == 2) P[a](2, 2) = 1.0;
-      Eigen::FullPivLU<Block> lu(P[a]);
+      Block P = P_inverse_[a] + delta_ * Block::Identity();
+      if (d_ == 2) P(2, 2) = 1.0;
+      Eigen::FullPivLU<Block> lu(P);
       P_inverse_[a] = lu.isInvertible() ? Block(lu.inverse()) : Block(Block::Identity());
     }
   }
@@ -172,7 +172,11 @@ class OperatorNewton {
     while (used < options_.krylov_max_iterations) {
       const int m = std::min(kRestart, options_.krylov_max_iterations - used);
       const double beta = residual.norm();
-      Eigen::MatrixXd V(n, m + 1), H = Eigen::MatrixXd::Zero(m + 1, m);
+      // Workspace kept between Newton steps (sized once per problem and restart length).
+      Eigen::MatrixXd& V = krylov_basis_;
+      Eigen::MatrixXd& H = hessenberg_;
+      V.resize(n, m + 1);
+      H.setZero(m + 1, m);
       Eigen::VectorXd g = Eigen::VectorXd::Zero(m + 1), cs(m), sn(m);
       V.col(0) = residual / beta;
       g(0) = beta;
@@ -300,6 +304,7 @@ class OperatorNewton {
   double rho_factor_ = 1.0;
   double delta_ = 0.0;
   Vector Wx_;
+  Eigen::MatrixXd krylov_basis_, hessenberg_;  // GMRES workspace
   Clock::time_point start_;
 };
 
