@@ -6,6 +6,7 @@
 // (GMRES); with or without friction (f_c = 0: Signorini alone). Memory and set-up follow
 // the factor of M, not the square of the contact set.
 #include <chrono>
+#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -67,8 +68,14 @@ class CoulombFcStep : public StepAlgorithm {
     const ncp::fc::Summary& s = outcome_.summary;
     StepOutcome out;
     out.ok = ok;
-    out.status = ok ? "converged" : "natural-map residual " + std::to_string(outcome_.natural_map_residual) +
-                                        " > tolerance " + std::to_string(tolerance_) + " (scaled): " + s.message;
+    if (ok) {
+      out.status = "converged";
+    } else {
+      char buffer[96];
+      std::snprintf(buffer, sizeof buffer, "natural-map residual %.3e > tolerance %.3e (scaled): ",
+                    outcome_.natural_map_residual, tolerance_);
+      out.status = buffer + s.message;
+    }
     out.newton_iterations = s.iterations;
     out.jacobian_evaluations = s.iterations;  // one generalized Jacobian per Newton step
     out.residual_evaluations = s.iterations + s.backtracks + 1;

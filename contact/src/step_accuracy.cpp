@@ -45,7 +45,8 @@ void SetAskedAccuracy(double tolerance, const StepScales& scales, const Eigen::V
 //   complementarity: lambda_c >= 0, and lambda_c = 0 where the gap is open by more than
 //     kAccuracySlack displacement accuracies;
 //   friction: |tau_c| <= g_c, and tau_c = -g_c slip_c / |slip_c| where the node slips by more
-//     than kAccuracySlack displacement accuracies (g_c [N] the step's Tresca bound).
+//     than kAccuracySlack displacement accuracies (g_c [N] the step's Tresca bound), its
+//     direction to within the angle that the slip's own accuracy leaves (see below).
 void MeasureStepAccuracy(int dim, const std::vector<ContactNode>& nodes, const Eigen::VectorXd& r,
                          const ContactSystem::Result& contact, double force_scale,
                          const Eigen::VectorXd& u_next, const Eigen::VectorXd& bound,
@@ -78,8 +79,18 @@ void MeasureStepAccuracy(int dim, const std::vector<ContactNode>& nodes, const E
       complementarity = std::max(complementarity, lambda);
     const double g = bound.size() ? force_scale * bound(c) : 0.0;
     friction = std::max(friction, tau.norm() - g);
-    if (slip.norm() > kAccuracySlack * rec->displacement_accuracy)  // slipping: tau opposes it
-      friction = std::max(friction, (tau + g * slip / slip.norm()).norm());
+    const double slack_of_slip = kAccuracySlack * rec->displacement_accuracy;
+    if (slip.norm() > slack_of_slip) {  // slipping: tau = -g s/|s| (s = slip)
+      // Along the slip, |tau| must reach g. Across it, the slip - right to slack_of_slip in each
+      // component - fixes its direction only to within the angle slack_of_slip / |s|, so tau
+      // may lean off -s by g times that angle before it violates the law (at |s| >> the
+      // accuracy this is no allowance; at a slip just above it, tau's direction is not data).
+      const Eigen::Vector2d direction = slip / slip.norm();
+      const double along = tau.dot(direction) + g;
+      const double across = (tau - tau.dot(direction) * direction).norm();
+      const double lean = std::max(0.0, across - g * std::min(1.0, slack_of_slip / slip.norm()));
+      friction = std::max(friction, std::hypot(along, lean));
+    }
   }
   rec->equilibrium_residual = residual->lpNorm<Eigen::Infinity>();
   rec->max_penetration = std::max(0.0, penetration);

@@ -9,6 +9,7 @@
 
 #include "contact/contact_system.hpp"
 #include "coulomb_step.hpp"
+#include "step_accuracy.hpp"
 #include "ncp/solver.hpp"
 
 using Catch::Matchers::WithinAbs;
@@ -169,4 +170,44 @@ TEST_CASE("CoulombStep: bad input throws", "[coulomb_step]") {
                   std::invalid_argument);
   CHECK_THROWS_AS(step.Solve(Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(1), 0, 1, 1e-8, &out),
                   std::invalid_argument);
+}
+
+// The independent friction check of every dynamic step (step_accuracy.cpp): at a slipping
+// node tau must reach g along -slip; across the slip it may lean by g times the angle that
+// the slip's own accuracy (kAccuracySlack displacement accuracies) leaves undetermined.
+TEST_CASE("Step accuracy: friction direction judged to the accuracy of the slip", "[coulomb_step]") {
+  ContactNode node;
+  node.dofs[0] = 0, node.dofs[1] = 1, node.dofs[2] = 2;
+  node.normal = Eigen::Vector3d(0, 0, -1);
+  CompleteContactFrame(3, &node);
+  const double g = 2.0, d = 1e-12;  // bound [N], displacement accuracy [m]
+  auto friction_residual = [&](const Eigen::Vector2d& slip, const Eigen::Vector2d& tau) {
+    ContactSystem::Result contact;
+    contact.normal_force = Eigen::VectorXd::Constant(1, g / 0.5);
+    contact.tangent_force = tau;
+    contact.slip = slip;
+    contact.gap = Eigen::VectorXd::Zero(1);
+    contact::StepRecord rec;
+    rec.force_accuracy = 1e-9;
+    rec.displacement_accuracy = d;
+    // r: the nodal force that the contact forces balance exactly.
+    Eigen::VectorXd r = -contact.normal_force(0) * node.normal + tau(0) * node.tangent1 + tau(1) * node.tangent2;
+    Eigen::VectorXd residual;
+    contact::internal::MeasureStepAccuracy(3, {node}, r, contact, 1.0, Eigen::VectorXd::Zero(3),
+                                           Eigen::VectorXd::Constant(1, g), &residual, &rec);
+    CHECK(rec.equilibrium_residual < 1e-14);
+    return rec.friction_residual;
+  };
+  const double angle = 1e-3;  // tau leaning off -slip by 1 mrad
+  const Eigen::Vector2d leaning = -g * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+  // A slip of 1 mm is known to 1e-8 rad: the lean is a violation of g angle.
+  CHECK_THAT(friction_residual(Eigen::Vector2d(1e-3, 0), leaning), WithinAbs(g * angle, 1e-6 * g));
+  // A slip of 100 x 10 d is known to 10 mrad only: the same lean is no violation (what
+  // remains is the shortfall along the slip, g (1 - cos angle)).
+  CHECK_THAT(friction_residual(Eigen::Vector2d(1000 * d, 0), leaning), WithinAbs(g * (1 - std::cos(angle)), 1e-12));
+  // ... but a friction force short of g is, whatever the slip.
+  CHECK_THAT(friction_residual(Eigen::Vector2d(1000 * d, 0), Eigen::Vector2d(-0.9 * g, 0)),
+             WithinAbs(0.1 * g, 1e-12));
+  // A slip within the accuracy is a stick: only |tau| <= g counts.
+  CHECK(friction_residual(Eigen::Vector2d(5 * d, 0), Eigen::Vector2d(0, 0.5 * g)) == 0.0);
 }
