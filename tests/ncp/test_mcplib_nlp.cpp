@@ -109,8 +109,7 @@ TEST_CASE(
   TestProblem dual = ColvilleDual();
   const Vector z = dual.solutions.at(0);
   for (int i = 0; i < 15; ++i) CHECK(z(i) == Approx(x_hs[i]).margin(2e-4));
-  // HS117's objective -b'v + w'Cw + 2 d'w^3, evaluated from the data through F:
-  // at a KKT point f = b'v... computed directly below from the published data.
+  // HS117's objective -b'v + w'Cw + 2 d'w^3 at the stored point, from the published data.
   const double b[10] = {-40, -2, -0.25, -4, -4, -1, -40, -60, 5, 1};
   const double C[5][5] = {{30, -20, -10, 32, -10},
                           {-20, 39, -6, -31, 32},
