@@ -143,7 +143,7 @@ TEST_CASE("Jacobian sparsity patterns stay fixed", "[collection]") {
 
 TEST_CASE("collection entries are well formed", "[collection]") {
   std::vector<TestProblem> problems = StandardCollection();
-  CHECK(problems.size() == 14);
+  CHECK(problems.size() == 23);
   for (const TestProblem& p : problems) {
     INFO(p.name);
     const int n = p.NumVariables();

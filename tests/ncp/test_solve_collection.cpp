@@ -48,6 +48,15 @@ const KnownSolverFailure kKnownSolverFailures[] = {
     {"mathiesen-mod", "hundred", NcpFunction::kMin,
      "min: max_iterations with ||Phi||_inf ~ 3.1 (psi_min is not differentiable; the "
      "Newton direction gives no Armijo decrease at the kinks)"},
+    // The MCPLIB / GAMS problems added on 2026-11-24 (mcplib_nlp.hpp): min (not the default)
+    // fails on four of them, on every backend; FB converges on all but colvdual.
+    {"colvdual", "hs117", NcpFunction::kMin, "min: max_iterations (500)"},
+    {"colvdual", "zero", NcpFunction::kMin, "min: max_iterations (500)"},
+    {"colvnlp", "hs117", NcpFunction::kMin, "min: stationary point of psi_min (324 iterations)"},
+    {"colvnlp", "zero", NcpFunction::kMin, "min: stationary point of psi_min (79-121 iterations)"},
+    {"transmcp", "gams", NcpFunction::kMin, "min: stationary point of psi_min (215 iterations)"},
+    {"transmcp", "zero", NcpFunction::kMin, "min: stationary point of psi_min (214 iterations)"},
+    {"hansmcp", "gams", NcpFunction::kMin, "min: max_iterations (500)"},
     // obstacle{1d,2d}-bump from "zero" with min ended in line-search failures while the
     // start (u0 = 0 < obstacle) was used as given; projected onto [l, u] it converges.
 };

@@ -12,6 +12,9 @@ std::vector<TestProblem> StandardCollection() {
   problems.push_back(Hs35Lcp());
   problems.push_back(PathManualLcp());
   problems.push_back(MurtyExponentialLcp(16));
+  // MCPLIB / GAMS model library problems (mcplib_nlp.hpp, mcplib_equilibrium.hpp).
+  for (auto* family : {&McplibNlpProblems, &McplibEquilibriumProblems})
+    for (TestProblem& p : family()) problems.push_back(std::move(p));
   problems.push_back(Obstacle1D(100, ObstacleKind::kLowerBump));
   problems.push_back(Obstacle1D(100, ObstacleKind::kTwoSidedBand));
   problems.push_back(Obstacle2D(20, ObstacleKind::kLowerBump));

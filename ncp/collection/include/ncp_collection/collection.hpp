@@ -7,6 +7,8 @@
 
 #include "ncp_collection/affine_function.hpp"
 #include "ncp_collection/checks.hpp"
+#include "ncp_collection/mcplib_equilibrium.hpp"
+#include "ncp_collection/mcplib_nlp.hpp"
 #include "ncp_collection/mixed_examples.hpp"
 #include "ncp_collection/obstacle.hpp"
 #include "ncp_collection/random_lcp.hpp"
