@@ -4,24 +4,18 @@
 #include "ncp_collection/mcplib_equilibrium.hpp"
 
 #include <cmath>
-#include <limits>
 #include <memory>
 #include <utility>
 #include <vector>
 
 #include "dense_function.hpp"
+#include "problem_building.hpp"
 
 namespace ncp::collection {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-Vector Vec(std::initializer_list<double> values) {
-  Vector v(static_cast<Eigen::Index>(values.size()));
-  Eigen::Index i = 0;
-  for (double value : values) v(i++) = value;
-  return v;
-}
+using internal::kInf;
+using internal::Vec;
 
 // ---- nash: Harker's 10-firm Nash-Cournot oligopoly ------------------------------------
 // F. H. Murphy, H. D. Sherali and A. L. Soyster, Math. Programming 24 (1982) 92-106;

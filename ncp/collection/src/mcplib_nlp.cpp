@@ -10,32 +10,21 @@
 #include "ncp_collection/mcplib_nlp.hpp"
 
 #include <cmath>
-#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "dense_function.hpp"
+#include "problem_building.hpp"
 #include "ncp_collection/affine_function.hpp"
 
 namespace ncp::collection {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-Vector Vec(std::initializer_list<double> values) {
-  Vector v(static_cast<Eigen::Index>(values.size()));
-  Eigen::Index i = 0;
-  for (double value : values) v(i++) = value;
-  return v;
-}
-
-void MakeStandardNcp(TestProblem* p) {
-  const int n = p->NumVariables();
-  p->lower = Vector::Zero(n);
-  p->upper = Vector::Constant(n, kInf);
-}
+using internal::kInf;
+using internal::MakeStandardNcp;
+using internal::Vec;
 
 // A function written on a "full" variable vector z of which some components are fixed
 // (GAMS .fx): the fixed components and the equations matched to them are removed.

@@ -3,31 +3,19 @@
 #include "ncp_collection/small_problems.hpp"
 
 #include <cmath>
-#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
 
 #include "dense_function.hpp"
+#include "problem_building.hpp"
 #include "ncp_collection/affine_function.hpp"
 
 namespace ncp::collection {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-Vector Vec(std::initializer_list<double> values) {
-  Vector v(static_cast<Eigen::Index>(values.size()));
-  Eigen::Index i = 0;
-  for (double value : values) v(i++) = value;
-  return v;
-}
-
-void MakeStandardNcp(TestProblem* p) {
-  const int n = p->NumVariables();
-  p->lower = Vector::Zero(n);
-  p->upper = Vector::Constant(n, kInf);
-}
+using internal::MakeStandardNcp;
+using internal::Vec;
 
 // The 8 starting points of the MCPLIB runs of kojshin and josephy (the AMPL versions of
 // MCPLIB, kojshin.mod / josephy run file, `param xinit`, columns 1..8).
