@@ -25,6 +25,18 @@ namespace {
 
 using Triplet = Eigen::Triplet<double, int>;
 
+/// x <- mid(l, u, x), the Euclidean projection onto the box; returns how many
+/// components moved.
+int ProjectOntoBox(const Vector& lower, const Vector& upper, Vector* x) {
+  int moved = 0;
+  for (Eigen::Index i = 0; i < x->size(); ++i) {
+    const double projected = std::max(lower(i), std::min(upper(i), (*x)(i)));
+    if (projected != (*x)(i)) ++moved;
+    (*x)(i) = projected;
+  }
+  return moved;
+}
+
 class BoxMcpAsMixed final : public MixedProblem {
  public:
   BoxMcpAsMixed(SquareFunction& F, const Vector& lower, const Vector& upper)
@@ -141,6 +153,15 @@ class BoxMcpAsMixed final : public MixedProblem {
     return true;
   }
 
+  /// The point a restart continues from (Options::merit_restarts): x projected onto
+  /// [l, u], slacks recomputed. The FB iterates may leave the box; a point where the merit
+  /// function is stuck outside it is generally not stationary once projected.
+  bool RestartPoint(Vector* y) override {
+    Vector x = y->head(n_);
+    ProjectOntoBox(lower_, upper_, &x);
+    return InitialSlacks(x, y);
+  }
+
   /// Start point of the slacks: the positive and negative parts of F at x0.
   bool InitialSlacks(const Vector& x0, Vector* y) {
     y->setZero(NumVariables());
@@ -208,18 +229,6 @@ Vector NormalizeBound(const Vector& bound, double infinite_bound) {
     else if (bound(i) <= -infinite_bound) normalized(i) = -kInf;
   }
   return normalized;
-}
-
-/// x <- mid(l, u, x), the Euclidean projection onto the box; returns how many
-/// components moved.
-int ProjectOntoBox(const Vector& lower, const Vector& upper, Vector* x) {
-  int moved = 0;
-  for (Eigen::Index i = 0; i < x->size(); ++i) {
-    const double projected = std::max(lower(i), std::min(upper(i), (*x)(i)));
-    if (projected != (*x)(i)) ++moved;
-    (*x)(i) = projected;
-  }
-  return moved;
 }
 
 }  // namespace

@@ -105,6 +105,7 @@ Options Options::Algorithm1() {
   options.nonmonotone_memory = 1;
   options.regularized_direction = false;
   options.gradient_fallback = true;
+  options.merit_restarts = 0;
   return options;
 }
 
@@ -127,6 +128,8 @@ bool Options::IsValid(std::string* error) const {
   if (nonmonotone_memory < 1 || nonmonotone_memory > 1000)
     return fail("Options::nonmonotone_memory must lie in [1, 1000], got " +
                 std::to_string(nonmonotone_memory));
+  if (merit_restarts < 0 || merit_restarts > 1000)
+    return fail("Options::merit_restarts must lie in [0, 1000], got " + std::to_string(merit_restarts));
   if (max_backtracks < 0 || max_backtracks > 1000)
     return fail("Options::max_backtracks must lie in [0, 1000], got " +
                 std::to_string(max_backtracks));
@@ -172,6 +175,7 @@ std::string Summary::BriefReport() const {
   out << ToString(termination) << ": " << iterations << " iterations, " << jacobian_evaluations
       << " Jacobian / " << residual_evaluations << " residual evaluations, ||Phi||_inf = "
       << Fmt("%.3e", final_phi_inf) << ", " << Fmt("%.3g", total_time_s) << " s";
+  if (merit_restarts > 0) out << ", " << merit_restarts << " merit restarts";
   return out.str();
 }
 
@@ -190,6 +194,7 @@ std::string Summary::FullReport() const {
       << "  residual evaluations     " << residual_evaluations << "\n"
       << "  gradient steps           " << gradient_steps << "\n"
       << "  regularized (LM) steps   " << regularized_steps << "\n"
+      << "  merit restarts           " << merit_restarts << "\n"
       << "  linear solver failures   " << linear_solver_failures << "\n"
       << "  descent test failures    " << descent_test_failures << "\n"
       << "  backtracks               " << backtracks << "\n"
@@ -390,7 +395,7 @@ class Solver::Iteration {
 
   void Run() {
     if (!Start()) return;
-    for (int k = 0;; ++k) {
+    for (int k = 0;;) {
       phi_inf_ = w_.phi.lpNorm<Eigen::Infinity>();
       psi_ = 0.5 * w_.phi.squaredNorm();
       converged_ = phi_inf_ <= threshold_;
@@ -399,10 +404,19 @@ class Solver::Iteration {
       degenerate_count_ = 0;
       pattern_changed_ = false;
       if (have_jacobian_ && !EvaluateJacobian(k)) return;
-      if (!Report(k) || TestStop(k)) return;
+      if (!Report(k)) return;
+      if (TestStop(k)) {
+        if (Restart(k)) continue;
+        return;
+      }
       const Direction direction = ChooseDirection(k);
-      if (finished_ || !LineSearch(k, direction)) return;
+      if (finished_) return;
+      if (!LineSearch(k, direction)) {
+        if (Restart(k)) continue;
+        return;
+      }
       Accept(direction);
+      ++k;
     }
   }
 
@@ -430,6 +444,9 @@ class Solver::Iteration {
     w_.weighted = SetWeights(problem_, x_, m_, p_, o_.tolerance, &w_.scales, &w_.we, &w_.wa, &w_.wb);
     s_.weighted_residual = w_.weighted;
     threshold_ = o_.tolerance;  // on ||Phi||_inf, weighted (relative) or not
+    function_ = o_.ncp_function;
+    restarts_left_ = o_.merit_restarts;
+    first_k_ = 0;
 
     if (!Evaluate(x_, &w_.E, &w_.A, &w_.B, &w_.phi)) {
       w_.phi.setConstant(std::numeric_limits<double>::quiet_NaN());
@@ -457,7 +474,7 @@ class Solver::Iteration {
     s_.ncp_function = o_.ncp_function;
     s_.linear_solver_requested = o_.linear_solver;
     s_.iterations = s_.jacobian_evaluations = s_.residual_evaluations = 0;
-    s_.gradient_steps = s_.regularized_steps = 0;
+    s_.gradient_steps = s_.regularized_steps = s_.merit_restarts = 0;
     s_.linear_solver_failures = s_.descent_test_failures = s_.backtracks = 0;
     s_.projected_start_components = 0;
     s_.evaluation_time_s = s_.linear_solver_time_s = 0.0;
@@ -479,7 +496,7 @@ class Solver::Iteration {
     }
     phi->head(m_) = *E;
     for (int j = 0; j < p_; ++j)
-      (*phi)(m_ + j) = internal::PhiValue(o_.ncp_function, o_.penalized_fb_lambda, (*A)(j), (*B)(j));
+      (*phi)(m_ + j) = internal::PhiValue(function_, o_.penalized_fb_lambda, (*A)(j), (*B)(j));
     return true;
   }
 
@@ -518,7 +535,7 @@ class Solver::Iteration {
   // (DFK 1996, eq. 27; thesis 3.1).
   void PhiPartials() {
     degenerate_count_ = 0;
-    const bool fb_family = o_.ncp_function != NcpFunction::kMin;
+    const bool fb_family = function_ != NcpFunction::kMin;
     auto degenerate = [&](int j) {
       return fb_family && std::hypot(w_.A(j), w_.B(j)) <= o_.degenerate_tolerance;
     };
@@ -537,7 +554,7 @@ class Solver::Iteration {
     for (int j = 0; j < p_; ++j) {
       const bool gamma = degenerate(j);
       const internal::PhiPartials dp = internal::PhiDerivatives(
-          o_.ncp_function, o_.penalized_fb_lambda, w_.A(j), w_.B(j), gamma,
+          function_, o_.penalized_fb_lambda, w_.A(j), w_.B(j), gamma,
           gamma ? w_.za(j) : 0.0, gamma ? w_.zb(j) : 0.0, o_.min_tie_takes_b);
       w_.da(j) = dp.da;
       w_.db(j) = dp.db;
@@ -609,8 +626,8 @@ class Solver::Iteration {
   // smallest psi is psi(x^k); a nonmonotone one may raise psi in between.
   bool Stagnated(int k) {
     const size_t window = static_cast<size_t>(o_.stagnation_window);
-    const size_t kk = static_cast<size_t>(k);
-    best_psi_ = k == 0 ? psi_ : std::min(best_psi_, psi_);
+    const size_t kk = static_cast<size_t>(k - first_k_);
+    best_psi_ = k == first_k_ ? psi_ : std::min(best_psi_, psi_);
     w_.psi_ring[kk % (window + 1)] = best_psi_;
     const double best_window_ago = w_.psi_ring[(kk + 1) % (window + 1)];  // at k - window
     if (window == 0 || kk < window ||
@@ -747,9 +764,10 @@ class Solver::Iteration {
   // decreases the reference (else the iteration would stall at round-off level).
   bool LineSearch(int k, Direction direction) {
     const size_t memory = w_.psi_memory.size();
-    w_.psi_memory[static_cast<size_t>(k) % memory] = psi_;
+    const size_t kk = static_cast<size_t>(k - first_k_);
+    w_.psi_memory[kk % memory] = psi_;
     double reference = psi_;
-    for (size_t j = 0; j < std::min(memory, static_cast<size_t>(k) + 1); ++j)
+    for (size_t j = 0; j < std::min(memory, kk + 1); ++j)
       reference = std::max(reference, w_.psi_memory[j]);
 
     double t = 1.0;
@@ -817,6 +835,30 @@ class Solver::Iteration {
                       : std::string()));
   }
 
+  // ---- restart strategy (Options::merit_restarts) -----------------------------------
+  // An FB-family solve that ended at a non-solution stationary point of psi or in a failed
+  // line search continues with the other member of the family from the problem's restart
+  // point (MixedProblem::RestartPoint: x^k itself, or for a box MCP x^k projected onto the
+  // box): Phi, psi, the nonmonotone memory and the stagnation window start afresh.
+  bool Restart(int k) {
+    const bool stuck = s_.termination == TerminationType::kStationaryPoint ||
+                       s_.termination == TerminationType::kLineSearchFailure;
+    if (!stuck || restarts_left_ == 0 || function_ == NcpFunction::kMin) return false;
+    function_ = function_ == NcpFunction::kFischerBurmeister ? NcpFunction::kPenalizedFischerBurmeister
+                                                             : NcpFunction::kFischerBurmeister;
+    if (!problem_.RestartPoint(&x_) || x_.size() != n_) return false;
+    if (!Evaluate(x_, &w_.E, &w_.A, &w_.B, &w_.phi) || !AllFinite(w_.phi)) return false;
+    --restarts_left_;
+    ++s_.merit_restarts;
+    if (o_.keep_trace && !s_.trace.empty()) s_.trace.pop_back();  // iterate k is reported anew
+    finished_ = false;
+    s_.termination = TerminationType::kNotSolved;
+    first_k_ = k;
+    if (o_.log_to_stderr)
+      std::fprintf(stderr, "restart %d at iteration %d with %s\n", s_.merit_restarts, k, ToString(function_));
+    return true;
+  }
+
   // ---- step 4: x^{k+1} = x^k + t d ---------------------------------------------------
   void Accept(Direction direction) {
     x_.swap(w_.x_trial);
@@ -836,6 +878,8 @@ class Solver::Iteration {
     finished_ = true;
     s_.termination = type;
     s_.message = message;
+    if (s_.merit_restarts > 0)
+      s_.message += " (after " + std::to_string(s_.merit_restarts) + " restarts switching FB <-> penalized FB)";
     s_.final_phi_inf = w_.phi.lpNorm<Eigen::Infinity>();
     s_.final_psi = 0.5 * w_.phi.squaredNorm();
     s_.symbolic_factorizations = w_.linear_solver->symbolic_factorizations() - symbolic_before_;
@@ -852,6 +896,8 @@ class Solver::Iteration {
   LinearSolverType resolved_ = LinearSolverType::kAuto;
   int symbolic_before_ = 0;
   double threshold_ = 0.0;
+  NcpFunction function_ = NcpFunction::kFischerBurmeister;  // the current merit (restarts switch it)
+  int restarts_left_ = 0, first_k_ = 0;                      // first_k_: iterate of the last (re)start
   int trials_ = 0, non_finite_trials_ = 0, failed_trials_ = 0;  // of the last line search
   IterationRecord record_;
   // Iterate k.

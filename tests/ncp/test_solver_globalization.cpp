@@ -8,6 +8,7 @@
 
 #include "ncp/solver.hpp"
 #include "ncp_collection/checks.hpp"
+#include "ncp_collection/mcplib_nlp.hpp"
 #include "ncp_collection/small_problems.hpp"
 #include "solve_support.hpp"
 
@@ -182,6 +183,7 @@ TEST_CASE("Options::Algorithm1 keeps the thesis's published constants", "[solver
   CHECK(a.armijo_beta == 1e-4);  // eq. (23)
   CHECK(a.nonmonotone_memory == 1);  // monotone
   CHECK_FALSE(a.regularized_direction);
+  CHECK(a.merit_restarts == 0);  // -grad psi is the only fallback
   CHECK(a.gradient_fallback);
   std::string error;
   CHECK(a.IsValid(&error));
@@ -240,4 +242,46 @@ TEST_CASE("singular Newton matrix: the Levenberg-Marquardt direction comes befor
   REQUIRE(summary.termination == TerminationType::kConverged);
   CHECK(ncp::collection::NaturalResidual(F, Vector::Zero(2), Vector::Constant(2, kInf), x) <= 1e-8);
   CHECK(x(1) == Approx(2.0).epsilon(1e-8));
+}
+
+TEST_CASE("colvdual: FB stalls at a stationary point of psi_FB, the merit restarts solve it",
+          "[solver][globalization][restart]") {
+  ncp::collection::TestProblem problem = ncp::collection::ColvilleDual();
+  for (const auto& start : problem.starts) {
+    ncp::Options without;
+    without.merit_restarts = 0;
+    const ncp::test::Run stalled = ncp::test::SolveFrom(problem, start.x, without);
+    INFO(start.label << ", no restarts: " << stalled.summary.BriefReport());
+    // Measured: stationary-point after ~60 iterations, ||Phi||_inf ~ 0.14.
+    CHECK(stalled.summary.termination == TerminationType::kStationaryPoint);
+    CHECK(stalled.natural_residual > 1e-2);
+
+    ncp::Options options;  // defaults: FB, merit_restarts = 6
+    options.keep_trace = true;
+    const ncp::test::Run run = ncp::test::SolveFrom(problem, start.x, options);
+    INFO(start.label << ", default: " << run.summary.FullReport());
+    REQUIRE(run.summary.termination == TerminationType::kConverged);
+    CHECK(run.summary.merit_restarts >= 1);
+    CHECK(run.summary.merit_restarts <= options.merit_restarts);
+    CHECK(run.summary.message.find("restarts") != std::string::npos);
+    CHECK(run.summary.trace.size() == static_cast<size_t>(run.summary.iterations) + 1);
+    CHECK(run.natural_residual <= 1e-8);
+    CHECK(ncp::test::DistanceToNearest(run.x, problem.solutions) <= 1e-6);
+  }
+}
+
+TEST_CASE("merit restarts: the min function and Algorithm 1 never restart", "[solver][globalization][restart]") {
+  ncp::collection::TestProblem problem = ncp::collection::ColvilleDual();
+  ncp::Options min_options;
+  min_options.ncp_function = NcpFunction::kMin;
+  const ncp::test::Run with_min = ncp::test::SolveFrom(problem, problem.starts[0].x, min_options);
+  CHECK(with_min.summary.merit_restarts == 0);
+  const ncp::test::Run thesis = ncp::test::SolveFrom(problem, problem.starts[0].x, ncp::Options::Algorithm1());
+  CHECK(thesis.summary.merit_restarts == 0);
+  CHECK_FALSE(thesis.summary.IsSolutionUsable());
+  ncp::Options bad;
+  bad.merit_restarts = -1;
+  std::string error;
+  CHECK_FALSE(bad.IsValid(&error));
+  CHECK(error.find("merit_restarts") != std::string::npos);
 }

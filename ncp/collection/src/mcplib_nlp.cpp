@@ -463,14 +463,11 @@ TestProblem ColvilleDual() {
       "z = (x_1..x_15 of HS117, multipliers u_1..u_5); the MCPLIB .gms file was not "
       "available: this is the KKT system of the published NLP (n = 20 as in MCPLIB); "
       "'hs117' is HS's start with u = 0, 'zero' is added here (not from a source). "
-      "Observed with this solver (not documented in the literature): FB stalls at a "
-      "stationary point of psi from both starts, min hits max_iterations";
-  const std::string reason =
-      "observed with this library's default solver (FB, nonmonotone Armijo): stops at a "
-      "stationary point of psi_FB with ||Phi||_inf ~ 0.14 (the Lagrangian is nonconvex "
-      "in (w, u)); not a failure documented in the literature";
-  p.expected_failures = {{"hs117", {NcpFunction::kFischerBurmeister}, reason},
-                         {"zero", {NcpFunction::kFischerBurmeister}, reason}};
+      "Observed with this solver (not documented in the literature): plain FB and "
+      "penalized FB stall at stationary points of their merit functions (||Phi||_inf ~ "
+      "0.14; the Lagrangian is nonconvex in (w, u)) from both starts; the default restarts "
+      "(Options::merit_restarts: switch FB <-> penalized FB from the point projected onto "
+      "the box) solve it. min hits max_iterations";
   return p;
 }
 

@@ -71,6 +71,14 @@ class MixedProblem {
     (void)scales;
     return false;
   }
+
+  /// Optional: the point a restart (Options::merit_restarts) continues from, given in *x
+  /// the point where the solve got stuck. Default: x unchanged. The box MCP entry projects
+  /// x onto [l, u]. Return false if no restart should be made.
+  virtual bool RestartPoint(Vector* x) {
+    (void)x;
+    return true;
+  }
 };
 
 }  // namespace ncp
