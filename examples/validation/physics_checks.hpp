@@ -6,7 +6,9 @@
 ///   - FreeFall:  a block released at rest h above a floor: no contact force in flight above
 ///                1e-6 m g, first contact within one step of sqrt(2h/g);
 ///   - Incline:   1 degree either side of atan(mu): slides with a = g (sin - mu cos) within 1%,
-///                or sticks with slip below 1e-9 m;
+///                or sticks: slip after the load is on below a tenth of the block's
+///                elastic shear deformation rho g sin(theta) H^2 / (2 G) (an absolute
+///                length would not hold for every E and size; see Incline in the .cpp);
 ///   - Sliding:   a block thrown along the floor stops after v0 / (mu g) within 1%;
 ///   - BarImpact: an elastic bar (nu = 0) hits a wall: contact lasts 2L/c within 1%.
 /// The scenes are sized from the time step so that a run takes a few hundred steps (the

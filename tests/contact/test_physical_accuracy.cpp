@@ -55,16 +55,15 @@ TEST_CASE("Default settings: elastic bar impact lasts 2L/c within 1%", "[physics
 
 TEST_CASE("Default settings: a block on an incline 1 degree either side of atan(mu)",
           "[physics][incline]") {
-  // Sticking is checked on the stiff block: the soft one (E = 1e6 Pa, strain 1e-3 under its
-  // weight) creeps ~1e-7 m after the ramp as its ringing makes the 6% margin run out at
-  // instants (README, "Stopping rules"; contact-physics-check lists it).
+  // Sticking: slip after the ramp below a tenth of the block's elastic shear deformation
+  // (the soft block's ringing lets nodes slip ~7e-3 of it; README, "Stopping rules").
   for (bool lumped : {true, false})
-    for (double fraction : {0.1, 0.95}) {
-      const Case soft = Make(2, 1e6, fraction, lumped), stiff = Make(2, 2e11, fraction, lumped);
-      Require(Incline(soft, +1.0), soft);
-      Require(Incline(stiff, +1.0), stiff);
-      Require(Incline(stiff, -1.0), stiff);
-    }
+    for (double fraction : {0.1, 0.95})
+      for (double E : {1e6, 2e11}) {
+        const Case c = Make(2, E, fraction, lumped);
+        Require(Incline(c, +1.0), c);
+        Require(Incline(c, -1.0), c);
+      }
 }
 
 TEST_CASE("Default settings: a thrown block stops after v0 / (mu g) within 1%", "[physics][sliding]") {
