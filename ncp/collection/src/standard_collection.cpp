@@ -12,8 +12,11 @@ std::vector<TestProblem> StandardCollection() {
   problems.push_back(Hs35Lcp());
   problems.push_back(PathManualLcp());
   problems.push_back(MurtyExponentialLcp(16));
-  // MCPLIB / GAMS model library problems (mcplib_nlp.hpp, mcplib_equilibrium.hpp).
-  for (auto* family : {&McplibNlpProblems, &McplibEquilibriumProblems})
+  // MCPLIB / GAMS model library problems (mcplib_nlp.hpp, mcplib_equilibrium.hpp,
+  // gams_equilibrium.hpp) and the COPS grid problems of the GAMS model library
+  // (cops_bound_constrained.hpp, 25 x 25 interior nodes).
+  for (auto* family : {&McplibNlpProblems, &McplibEquilibriumProblems,
+                       &GamsEquilibriumProblems, &CopsBoundConstrainedProblems})
     for (TestProblem& p : family()) problems.push_back(std::move(p));
   problems.push_back(Obstacle1D(100, ObstacleKind::kLowerBump));
   problems.push_back(Obstacle1D(100, ObstacleKind::kTwoSidedBand));

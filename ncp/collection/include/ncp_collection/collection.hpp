@@ -7,6 +7,8 @@
 
 #include "ncp_collection/affine_function.hpp"
 #include "ncp_collection/checks.hpp"
+#include "ncp_collection/cops_bound_constrained.hpp"
+#include "ncp_collection/gams_equilibrium.hpp"
 #include "ncp_collection/mcplib_equilibrium.hpp"
 #include "ncp_collection/mcplib_nlp.hpp"
 #include "ncp_collection/mixed_examples.hpp"
@@ -18,6 +20,8 @@
 namespace ncp::collection {
 
 /// kojshin, josephy, mathiesen-mod, nash5, billups, hs35-lcp, path-lcp, explcp-16,
+/// colvdual, colvnlp, transmcp, harkmcp, scarfmcp, hansmcp, two3mcp, wallmcp, nash,
+/// vonthmcp, mr5mcp, oligomcp, jbearing-25x25, torsion-25x25, minsurf-25x25,
 /// obstacle1d-bump-100, obstacle1d-band-100, obstacle2d-bump-20x20,
 /// obstacle2d-band-20x20, random-plcp-200, random-plcp-degenerate-200.
 std::vector<TestProblem> StandardCollection();
