@@ -284,7 +284,8 @@ Outcome Incline(const Case& c, double degrees) {
     // limit lets contact nodes slip at instants of its ringing, a motion proportional to
     // delta (measured: ~7e-3 delta for E = 1e6 to 2e11 Pa, converged in dt, the same at
     // tolerance 1e-14), which the rigid-body closed form does not contain. Sliding 1 degree
-    // steeper would move the block ~1e4 to 1e5 times this limit over the same window.
+    // steeper would move the block ~1e4 to 6e4 times this limit over the same window (estimate:
+    // 0.5 g (sin - mu cos) t^2 over the observation window).
     const Body block = Block(c, 0.0);
     const double shear_modulus = c.young_modulus / (2.0 * (1.0 + block.poisson)), height = block.size[1];
     const double delta = rho_g * std::sin(theta) * height * height / (2.0 * shear_modulus);

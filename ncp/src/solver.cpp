@@ -844,10 +844,22 @@ class Solver::Iteration {
     const bool stuck = s_.termination == TerminationType::kStationaryPoint ||
                        s_.termination == TerminationType::kLineSearchFailure;
     if (!stuck || restarts_left_ == 0 || function_ == NcpFunction::kMin) return false;
+    // The restart point and its Phi go to the trial buffers, so that a failed restart
+    // leaves x^k, Phi(x^k) and the merit function of the finished solve untouched.
+    const NcpFunction stuck_function = function_;
     function_ = function_ == NcpFunction::kFischerBurmeister ? NcpFunction::kPenalizedFischerBurmeister
                                                              : NcpFunction::kFischerBurmeister;
-    if (!problem_.RestartPoint(&x_) || x_.size() != n_) return false;
-    if (!Evaluate(x_, &w_.E, &w_.A, &w_.B, &w_.phi) || !AllFinite(w_.phi)) return false;
+    w_.x_trial = x_;
+    if (!problem_.RestartPoint(&w_.x_trial) || w_.x_trial.size() != n_ ||
+        !Evaluate(w_.x_trial, &w_.Et, &w_.At, &w_.Bt, &w_.phi_trial) || !AllFinite(w_.phi_trial)) {
+      function_ = stuck_function;
+      return false;
+    }
+    x_.swap(w_.x_trial);
+    w_.E.swap(w_.Et);
+    w_.A.swap(w_.At);
+    w_.B.swap(w_.Bt);
+    w_.phi.swap(w_.phi_trial);
     --restarts_left_;
     ++s_.merit_restarts;
     if (o_.keep_trace && !s_.trace.empty()) s_.trace.pop_back();  // iterate k is reported anew

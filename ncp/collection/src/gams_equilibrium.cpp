@@ -473,9 +473,10 @@ TestProblem VonThunenMcp() {
   gams.segment(V::kIp, V::kRegions).setZero();
   p.starts = {{"gams", gams}};
   // Computed here: this library's FB with the nonmonotone memory raised to 10, no
-  // stagnation stop and tolerance 1e-13 reaches it from "gams" in 486 iterations (from
-  // 6 of 7 perturbed starts too, all to the same point within 2e-14); the default
-  // options do not (test_solve_collection). The test recomputes its natural residual.
+  // stagnation stop, no merit restarts and tolerance 1e-13 reaches it from "gams" in 486
+  // iterations (from 6 of 7 perturbed starts too, all to the same point within 2e-14);
+  // the default options (merit restarts) reach it in 94 (test_solve_collection). The test
+  // recomputes its natural residual.
   // Entries below 1e-20 set to 0.
   p.solutions = {internal::Vec({
 #include "gams_vonthmcp_solution.inc"
@@ -483,9 +484,10 @@ TestProblem VonThunenMcp() {
   p.notes =
       "x = (cst (12x4, region-major), y (12x4), ip (12), pk (12), wp, p (4)); the worker "
       "wage wl = 1 (numeraire, wl.fx in the .gms) is eliminated with its equation mkt_l; "
-      "a known hard problem: with default options FB stops at a stationary point of psi "
-      "and min at max_iterations from the .gms start (observed here); the stored "
-      "solution was computed with FB and nonmonotone memory 10";
+      "a known hard problem: from the .gms start FB without merit restarts stops at a "
+      "stationary point of psi (77 iterations) and min at max_iterations (observed here); "
+      "the default FB converges through one merit restart; the stored solution was "
+      "computed with FB and nonmonotone memory 10";
   return p;
 }
 
