@@ -23,6 +23,9 @@
 //
 // Usage: ncp-bench [--quick] [--csv FILE] [--json] [--time-limit S]
 //                  [--tolerances 1e-8,1e-10] [--dense-max-n N] [--peer-max-n N] [--max-n N]
+//                  [--small-timing FILE] [--skip-table]
+// --small-timing adds the side-by-side time per iteration against Siconos on the problems
+// with n <= 10 (small_timing.hpp) and writes it to FILE; --skip-table runs only that.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -43,6 +46,7 @@
 #include "ncp_bench_config.hpp"
 #include "ncp_collection/collection.hpp"
 #include "siconos_peer.hpp"
+#include "small_timing.hpp"
 
 namespace {
 
@@ -71,7 +75,15 @@ struct Settings {
   /// Scalable-family members with more unknowns are skipped (a single sparse
   /// factorization cannot be interrupted by the time limit).
   long max_n = 100000;
+  /// Side-by-side timing of the problems with n <= kSmallTimingMaxN into this CSV.
+  std::string small_timing_path;
+  bool skip_table = false;
 };
+
+/// The "small problems" of the per-iteration comparison (issue 13 item 4).
+constexpr int kSmallTimingMaxN = 10;
+/// Tolerance of the per-iteration comparison (ncp's and Siconos' own stopping tests).
+constexpr double kSmallTimingTolerance = 1e-10;
 
 /// One problem of the benchmark: a collection problem or a member of a scalable family.
 struct BenchProblem {
@@ -378,11 +390,30 @@ std::string JsonObject(const Row& r) {
   return s.str();
 }
 
+/// The side-by-side small-problem timing (small_timing.hpp) over the collection problems
+/// with n <= kSmallTimingMaxN, written to settings.small_timing_path.
+bool RunSmallTiming(const Settings& settings, const std::vector<BenchProblem>& problems,
+                    std::ostream& log) {
+  std::vector<ncp_bench::SmallTimingCase> cases;
+  for (const BenchProblem& b : problems) {
+    if (b.family != "collection" || b.problem.NumVariables() > kSmallTimingMaxN) continue;
+    for (const ncp::collection::StartPoint& start : b.problem.starts)
+      cases.push_back({b.problem.name, start.label, &b.peer, start.x});
+  }
+  std::ofstream out(settings.small_timing_path);
+  if (!out) {
+    std::fprintf(stderr, "ncp-bench: cannot write %s\n", settings.small_timing_path.c_str());
+    return false;
+  }
+  ncp_bench::WriteSmallTimingCsv(ncp_bench::TimeSmallProblems(cases, kSmallTimingTolerance, log), out);
+  return true;
+}
+
 [[noreturn]] void Usage(const char* message) {
   std::fprintf(stderr,
                "ncp-bench: %s\nusage: ncp-bench [--quick] [--csv FILE] [--json] "
                "[--time-limit S] [--tolerances T1,T2,...] [--dense-max-n N] "
-               "[--peer-max-n N] [--max-n N]\n",
+               "[--peer-max-n N] [--max-n N] [--small-timing FILE] [--skip-table]\n",
                message);
   std::exit(2);
 }
@@ -420,6 +451,10 @@ Settings ParseArguments(int argc, char** argv) {
     } else if (arg == "--max-n") {
       s.max_n = std::atol(value().c_str());
       if (s.max_n < 1) Usage("--max-n must be >= 1");
+    } else if (arg == "--small-timing") {
+      s.small_timing_path = value();
+    } else if (arg == "--skip-table") {
+      s.skip_table = true;
     } else if (arg == "--help" || arg == "-h") {
       Usage("help");
     } else {
@@ -427,6 +462,7 @@ Settings ParseArguments(int argc, char** argv) {
     }
   }
   if (s.quick && !s.tolerances_given) s.tolerances = {1e-8};
+  if (s.skip_table && s.small_timing_path.empty()) Usage("--skip-table needs --small-timing FILE");
   return s;
 }
 
@@ -455,7 +491,9 @@ int main(int argc, char** argv) {
   const std::vector<SolverConfig> configs = SolverConfigs();
   std::vector<Row> rows;
   char line[256];
+  if (!settings.small_timing_path.empty() && !RunSmallTiming(settings, problems, log)) return 1;
   for (BenchProblem& b : problems) {
+    if (settings.skip_table) break;
     for (const ncp::collection::StartPoint& start : b.problem.starts) {
       for (const SolverConfig& config : configs) {
         for (double tolerance : settings.tolerances) {

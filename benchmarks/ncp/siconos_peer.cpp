@@ -88,52 +88,61 @@ bool MakeVariableMap(const ncp::Vector& l, const ncp::Vector& u, VariableMap* ma
   return true;
 }
 
+/// x_i = offset_k + sign_k z_k into *x (sized n).
+void ToOriginal(const VariableMap& map, const double* z, ncp::Vector* x) {
+  for (size_t k = 0; k < map.original.size(); ++k)
+    (*x)[map.original[k]] = map.offset[k] + map.sign[k] * z[k];
+}
+
 ncp::Vector ToOriginal(const VariableMap& map, const double* z) {
   ncp::Vector x(map.original.size());
-  for (size_t k = 0; k < map.original.size(); ++k)
-    x[map.original[k]] = map.offset[k] + map.sign[k] * z[k];
+  ToOriginal(map, z, &x);
   return x;
 }
 
-/// The environment handed to Siconos' MCP callbacks.
+/// The environment handed to Siconos' MCP callbacks. Sized once per run, so that the
+/// callbacks allocate nothing (the peer is timed per iteration on small problems).
 struct McpEnvironment {
   ncp::SquareFunction* F = nullptr;
   const VariableMap* map = nullptr;
   int residual_evaluations = 0;
   int jacobian_evaluations = 0;
-  ncp::Vector Fx;
+  ncp::Vector x, Fx;
   ncp::SparseMatrix J;
+  std::vector<int> position;  ///< k for every original index i
   /// Siconos cannot be interrupted; past this deadline the callbacks return NaN, which
   /// ends its Newton iteration within a few evaluations (the run is then a time_limit).
+  /// time_point::max(): no limit (the clock is then not read).
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 
-  bool PastDeadline() const { return std::chrono::steady_clock::now() > deadline; }
+  bool PastDeadline() const {
+    return deadline != std::chrono::steady_clock::time_point::max() &&
+           std::chrono::steady_clock::now() > deadline;
+  }
 };
 
 void ComputeMcpFunction(void* env, int n, double* z, double* w) {
   auto* e = static_cast<McpEnvironment*>(env);
   ++e->residual_evaluations;
-  const ncp::Vector x = ToOriginal(*e->map, z);
-  e->Fx.resize(n);
+  ToOriginal(*e->map, z, &e->x);
   // Siconos' callbacks cannot report failure: a non-evaluable point becomes NaN.
-  if (e->PastDeadline() || !e->F->Evaluate(x, &e->Fx)) e->Fx.setConstant(std::numeric_limits<double>::quiet_NaN());
+  if (e->PastDeadline() || !e->F->Evaluate(e->x, &e->Fx)) e->Fx.setConstant(std::numeric_limits<double>::quiet_NaN());
   for (int k = 0; k < n; ++k) w[k] = e->map->sign[k] * e->Fx[e->map->original[k]];
 }
 
 void ComputeMcpJacobian(void* env, int n, double* z, NumericsMatrix* nabla) {
   auto* e = static_cast<McpEnvironment*>(env);
   ++e->jacobian_evaluations;
-  const ncp::Vector x = ToOriginal(*e->map, z);
+  ToOriginal(*e->map, z, &e->x);
   double* dense = nabla->matrix0;  // column-major n x n
   std::fill(dense, dense + static_cast<size_t>(n) * n, 0.0);
-  if (e->PastDeadline() || !e->F->Jacobian(x, &e->J)) {
+  if (e->PastDeadline() || !e->F->Jacobian(e->x, &e->J)) {
     std::fill(dense, dense + static_cast<size_t>(n) * n,
               std::numeric_limits<double>::quiet_NaN());
     return;
   }
   // d(sign_k F_i)/dz_k' = sign_k J_{i i'} sign_k'.
-  std::vector<int> position(n);
-  for (int k = 0; k < n; ++k) position[e->map->original[k]] = k;
+  const std::vector<int>& position = e->position;
   for (int col = 0; col < e->J.outerSize(); ++col) {
     for (ncp::SparseMatrix::InnerIterator it(e->J, col); it; ++it) {
       const int kr = position[it.row()], kc = position[it.col()];
@@ -206,8 +215,13 @@ PeerResult RunPeer(PeerMethod method, const PeerProblem& problem, const ncp::Vec
     McpEnvironment env;
     env.F = problem.F;
     env.map = &map;
-    env.deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                               std::chrono::duration<double>(time_limit_s));
+    env.x.resize(n);
+    env.Fx.resize(n);
+    env.position.resize(static_cast<size_t>(n));
+    for (int k = 0; k < n; ++k) env.position[static_cast<size_t>(map.original[static_cast<size_t>(k)])] = k;
+    if (std::isfinite(time_limit_s))
+      env.deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                 std::chrono::duration<double>(time_limit_s));
     MixedComplementarityProblem mcp{};
     mcp.n1 = map.num_equations;
     mcp.n2 = n - map.num_equations;

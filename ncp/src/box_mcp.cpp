@@ -37,10 +37,31 @@ int ProjectOntoBox(const Vector& lower, const Vector& upper, Vector* x) {
   return moved;
 }
 
+/// Bounds with |b| >= infinite_bound are infinite (GAMS and PATH write "no bound" as
+/// +-1e20); a lower bound >= infinite_bound becomes +inf (an empty box, rejected later).
+double NormalizeBound(double bound, double infinite_bound) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  return bound >= infinite_bound ? kInf : bound <= -infinite_bound ? -kInf : bound;
+}
+
+}  // namespace
+
+/// The box MCP as a mixed problem; the Solver keeps it between solves (Matches: same size
+/// and bounds; F is bound anew by Rebind) so that a problem solved again reuses its Jacobian
+/// structure (checked against F's pattern at every Jacobian) and allocates nothing.
 class BoxMcpAsMixed final : public MixedProblem {
  public:
-  BoxMcpAsMixed(SquareFunction& F, const Vector& lower, const Vector& upper)
-      : F_(F), n_(F.NumVariables()), lower_(lower), upper_(upper) {
+  /// lower and upper as given (sizes checked by the caller); bounds with |b| >=
+  /// infinite_bound are stored as infinite.
+  BoxMcpAsMixed(SquareFunction& F, const Vector& lower_given, const Vector& upper_given,
+                double infinite_bound)
+      : F_(&F), n_(F.NumVariables()), lower_(n_), upper_(n_), infinite_bound_(infinite_bound) {
+    for (int i = 0; i < n_; ++i) {
+      lower_(i) = NormalizeBound(lower_given(i), infinite_bound);
+      upper_(i) = NormalizeBound(upper_given(i), infinite_bound);
+    }
+    const Vector& lower = lower_;
+    const Vector& upper = upper_;
     // Equations first: free, fixed, two-sided; then pairs.
     std::vector<int> two_sided;
     for (int i = 0; i < n_; ++i) {
@@ -62,7 +83,25 @@ class BoxMcpAsMixed final : public MixedProblem {
       pairs_.push_back({Kind::kUpperSlack, two_sided[static_cast<size_t>(k)], k});
     }
     Fx_.resize(n_);
+    x_.resize(n_);
   }
+
+  /// Same number of variables and the same bounds (after NormalizeBound) as this one was
+  /// built for: the mixed form's rows depend on nothing else.
+  bool Matches(const SquareFunction& F, const Vector& lower, const Vector& upper,
+               double infinite_bound) const {
+    if (F.NumVariables() != n_ || infinite_bound != infinite_bound_) return false;
+    for (int i = 0; i < n_; ++i)
+      if (!SameBound(NormalizeBound(lower(i), infinite_bound), lower_(i)) ||
+          !SameBound(NormalizeBound(upper(i), infinite_bound), upper_(i)))
+        return false;
+    return true;
+  }
+  void Rebind(SquareFunction& F) { F_ = &F; }
+  const Vector& lower() const { return lower_; }
+  const Vector& upper() const { return upper_; }
+  /// The unknowns [x; slacks] of the mixed form, kept for the next solve.
+  Vector& unknowns() { return y_; }
 
   int NumVariables() const override { return n_ + 2 * num_slacks_; }
   int NumEquations() const override { return static_cast<int>(equations_.size()); }
@@ -75,7 +114,7 @@ class BoxMcpAsMixed final : public MixedProblem {
   int num_slacks() const { return num_slacks_; }
 
   bool Evaluate(const Vector& y, Vector* E, Vector* A, Vector* B) override {
-    if (!F_.Evaluate(y.head(n_), &Fx_)) return false;
+    if (!F_->Evaluate(XPart(y), &Fx_)) return false;
     if (Fx_.size() != n_)
       throw std::invalid_argument("ncp: SquareFunction::Evaluate returned size " +
                                   std::to_string(Fx_.size()) + ", expected " + std::to_string(n_));
@@ -105,51 +144,19 @@ class BoxMcpAsMixed final : public MixedProblem {
     return true;
   }
 
+  /// [JE; JA; JB] of the mixed form. The pattern follows F's: while F' keeps its pattern and
+  /// the solver hands back the matrices it got last time, only the values are written (no
+  /// allocation); otherwise the structure is built again (BuildStructure).
   bool Jacobian(const Vector& y, SparseMatrix* JE, SparseMatrix* JA, SparseMatrix* JB) override {
-    if (!F_.Jacobian(y.head(n_), &JF_)) return false;
+    if (!F_->Jacobian(XPart(y), &JF_)) return false;
     if (JF_.rows() != n_ || JF_.cols() != n_)
       throw std::invalid_argument("ncp: SquareFunction::Jacobian returned " +
                                   std::to_string(JF_.rows()) + " x " + std::to_string(JF_.cols()) +
                                   ", expected " + std::to_string(n_) + " x " + std::to_string(n_));
-    // Rows of F' are needed; a row-major copy gives them in O(nnz).
-    Eigen::SparseMatrix<double, Eigen::RowMajor, int> rows(JF_);
-    auto add_row = [&](std::vector<Triplet>& t, int out_row, int f_row, double sign) {
-      for (decltype(rows)::InnerIterator it(rows, f_row); it; ++it)
-        t.emplace_back(out_row, static_cast<int>(it.col()), sign * it.value());
-    };
-    te_.clear();
-    ta_.clear();
-    tb_.clear();
-    for (size_t e = 0; e < equations_.size(); ++e) {
-      const Row& r = equations_[e];
-      const int row = static_cast<int>(e);
-      if (r.kind == Kind::kFree) add_row(te_, row, r.index, 1.0);
-      else if (r.kind == Kind::kFixed) te_.emplace_back(row, r.index, 1.0);
-      else {
-        add_row(te_, row, r.index, 1.0);
-        te_.emplace_back(row, n_ + r.slack, -1.0);
-        te_.emplace_back(row, n_ + num_slacks_ + r.slack, 1.0);
-      }
-    }
-    for (size_t j = 0; j < pairs_.size(); ++j) {
-      const Row& r = pairs_[j];
-      const int row = static_cast<int>(j);
-      switch (r.kind) {
-        case Kind::kLower: ta_.emplace_back(row, r.index, 1.0); add_row(tb_, row, r.index, 1.0); break;
-        case Kind::kUpper: ta_.emplace_back(row, r.index, -1.0); add_row(tb_, row, r.index, -1.0); break;
-        case Kind::kLowerSlack:
-          ta_.emplace_back(row, r.index, 1.0);
-          tb_.emplace_back(row, n_ + r.slack, 1.0);
-          break;
-        default:
-          ta_.emplace_back(row, r.index, -1.0);
-          tb_.emplace_back(row, n_ + num_slacks_ + r.slack, 1.0);
-          break;
-      }
-    }
-    JE->setFromTriplets(te_.begin(), te_.end());
-    JA->setFromTriplets(ta_.begin(), ta_.end());
-    JB->setFromTriplets(tb_.begin(), tb_.end());
+    JF_.makeCompressed();
+    SparseMatrix* out[3] = {JE, JA, JB};
+    if (!StructureMatches(out)) BuildStructure(out);
+    FillValues(out);
     return true;
   }
 
@@ -162,12 +169,112 @@ class BoxMcpAsMixed final : public MixedProblem {
     return InitialSlacks(x, y);
   }
 
+  /// True when JF_ has the pattern the structure was built for and each output still has
+  /// the pattern it was given (the solver scales values in place, never the pattern).
+  bool StructureMatches(SparseMatrix* const out[3]) const {
+    if (!structure_built_ || !SamePattern(JF_, jf_outer_, jf_inner_)) return false;
+    for (int s = 0; s < 3; ++s)
+      if (!out[s]->isCompressed() || !SamePattern(*out[s], out_outer_[s], out_inner_[s])) return false;
+    return true;
+  }
+
+  static bool SamePattern(const SparseMatrix& S, const std::vector<int>& outer,
+                          const std::vector<int>& inner) {
+    const auto cols = static_cast<size_t>(S.cols());
+    const auto nnz = static_cast<size_t>(S.nonZeros());
+    return outer.size() == cols + 1 && inner.size() == nnz &&
+           std::equal(S.outerIndexPtr(), S.outerIndexPtr() + cols + 1, outer.begin()) &&
+           std::equal(S.innerIndexPtr(), S.innerIndexPtr() + nnz, inner.begin());
+  }
+
+  /// The rows of the mixed form (file comment) as triplets, then a map from each stored entry
+  /// of F' to the entry of JE or JB it becomes (with the sign of the row), and the constant
+  /// entries (+-1 of bounds and slacks) kept apart. The triplet values encode the source:
+  /// k + 1 for entry k of F', -(c + 1) for constant c. No two sources share an entry (F' rows
+  /// fill columns < n, slacks columns >= n, bound rows hold no F' row).
+  void BuildStructure(SparseMatrix* const out[3]) {
+    // Entries of F' grouped by row, with their columns.
+    const auto nnz = static_cast<size_t>(JF_.nonZeros());
+    std::vector<std::vector<std::pair<int, int>>> row_entries(static_cast<size_t>(n_));  // (k, col)
+    for (int c = 0; c < n_; ++c)
+      for (int k = JF_.outerIndexPtr()[c]; k < JF_.outerIndexPtr()[c + 1]; ++k)
+        row_entries[static_cast<size_t>(JF_.innerIndexPtr()[k])].emplace_back(k, c);
+    std::vector<Triplet> t[3];
+    entry_sign_.assign(nnz, 0.0);
+    constants_.clear();
+    auto add_row = [&](int s, int out_row, int f_row, double sign) {
+      for (const auto& [k, col] : row_entries[static_cast<size_t>(f_row)]) {
+        t[s].emplace_back(out_row, col, static_cast<double>(k + 1));
+        entry_sign_[static_cast<size_t>(k)] = sign;
+      }
+    };
+    auto add_constant = [&](int s, int out_row, int col, double value) {
+      constants_.push_back(value);
+      t[s].emplace_back(out_row, col, -static_cast<double>(constants_.size()));
+    };
+    for (size_t e = 0; e < equations_.size(); ++e) {
+      const Row& r = equations_[e];
+      const int row = static_cast<int>(e);
+      if (r.kind == Kind::kFree) add_row(0, row, r.index, 1.0);
+      else if (r.kind == Kind::kFixed) add_constant(0, row, r.index, 1.0);
+      else {
+        add_row(0, row, r.index, 1.0);
+        add_constant(0, row, n_ + r.slack, -1.0);
+        add_constant(0, row, n_ + num_slacks_ + r.slack, 1.0);
+      }
+    }
+    for (size_t j = 0; j < pairs_.size(); ++j) {
+      const Row& r = pairs_[j];
+      const int row = static_cast<int>(j);
+      switch (r.kind) {
+        case Kind::kLower: add_constant(1, row, r.index, 1.0); add_row(2, row, r.index, 1.0); break;
+        case Kind::kUpper: add_constant(1, row, r.index, -1.0); add_row(2, row, r.index, -1.0); break;
+        case Kind::kLowerSlack:
+          add_constant(1, row, r.index, 1.0);
+          add_constant(2, row, n_ + r.slack, 1.0);
+          break;
+        default:
+          add_constant(1, row, r.index, -1.0);
+          add_constant(2, row, n_ + num_slacks_ + r.slack, 1.0);
+          break;
+      }
+    }
+    entry_target_.assign(nnz, {-1, -1});
+    for (int s = 0; s < 3; ++s) {
+      SparseMatrix& S = *out[s];
+      S.setFromTriplets(t[s].begin(), t[s].end());
+      S.makeCompressed();
+      constant_slots_[s].clear();
+      for (int q = 0; q < static_cast<int>(S.nonZeros()); ++q) {
+        const double code = S.valuePtr()[q];
+        if (code >= 1.0) entry_target_[static_cast<size_t>(code) - 1] = {s, q};
+        else constant_slots_[s].push_back({q, constants_[static_cast<size_t>(-code) - 1]});
+      }
+      out_outer_[s].assign(S.outerIndexPtr(), S.outerIndexPtr() + S.cols() + 1);
+      out_inner_[s].assign(S.innerIndexPtr(), S.innerIndexPtr() + S.nonZeros());
+    }
+    jf_outer_.assign(JF_.outerIndexPtr(), JF_.outerIndexPtr() + n_ + 1);
+    jf_inner_.assign(JF_.innerIndexPtr(), JF_.innerIndexPtr() + JF_.nonZeros());
+    structure_built_ = true;
+  }
+
+  /// Values of JE, JA, JB from F' through the map of BuildStructure.
+  void FillValues(SparseMatrix* const out[3]) const {
+    for (int s = 0; s < 3; ++s)
+      for (const ConstantSlot& slot : constant_slots_[s]) out[s]->valuePtr()[slot.position] = slot.value;
+    const double* values = JF_.valuePtr();
+    for (size_t k = 0; k < entry_target_.size(); ++k) {
+      const Target& target = entry_target_[k];
+      if (target.matrix >= 0) out[target.matrix]->valuePtr()[target.position] = entry_sign_[k] * values[k];
+    }
+  }
+
   /// Start point of the slacks: the positive and negative parts of F at x0.
   bool InitialSlacks(const Vector& x0, Vector* y) {
     y->setZero(NumVariables());
     y->head(n_) = x0;
     if (num_slacks_ == 0) return true;
-    if (!F_.Evaluate(x0, &Fx_) || !Fx_.allFinite()) return false;
+    if (!F_->Evaluate(x0, &Fx_) || !Fx_.allFinite()) return false;
     for (const Row& r : equations_) {
       if (r.kind != Kind::kSlackSplit) continue;
       (*y)(n_ + r.slack) = std::max(Fx_(r.index), 0.0);
@@ -183,16 +290,42 @@ class BoxMcpAsMixed final : public MixedProblem {
     int index;  // variable i of the box MCP
     int slack;  // k for two-sided variables, else -1
   };
-  SquareFunction& F_;
+  /// x of the unknowns y = [x; slacks], without a temporary.
+  const Vector& XPart(const Vector& y) {
+    if (num_slacks_ == 0) return y;
+    x_ = y.head(n_);
+    return x_;
+  }
+
+  static bool SameBound(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+
+  SquareFunction* F_;
   int n_;
-  Vector lower_, upper_, Fx_;
+  Vector lower_, upper_, Fx_, x_, y_;
+  double infinite_bound_;
   SparseMatrix JF_;
   std::vector<Row> equations_, pairs_;
-  std::vector<Triplet> te_, ta_, tb_;
   int num_slacks_ = 0;
+  // The Jacobian structure (BuildStructure): patterns it was built for, where each entry of
+  // F' goes (matrix 0/1/2 = JE/JA/JB, value position; -1: nowhere, a fixed variable's row)
+  // with its sign, and the constant entries.
+  struct Target {
+    int matrix, position;
+  };
+  struct ConstantSlot {
+    int position;
+    double value;
+  };
+  bool structure_built_ = false;
+  std::vector<int> jf_outer_, jf_inner_, out_outer_[3], out_inner_[3];
+  std::vector<Target> entry_target_;
+  std::vector<double> entry_sign_, constants_;
+  std::vector<ConstantSlot> constant_slots_[3];
 };
 
-void CheckBounds(int n, const Vector& lower, const Vector& upper, const Vector& x) {
+namespace {
+
+void CheckSizes(int n, const Vector& lower, const Vector& upper, const Vector& x) {
   auto size_error = [&](const char* what, Eigen::Index got) {
     throw std::invalid_argument(std::string("ncp::Solver::Solve (box MCP): ") + what +
                                 " has size " + std::to_string(got) +
@@ -201,50 +334,48 @@ void CheckBounds(int n, const Vector& lower, const Vector& upper, const Vector& 
   if (lower.size() != n) size_error("lower", lower.size());
   if (upper.size() != n) size_error("upper", upper.size());
   if (x.size() != n) size_error("the start point", x.size());
-  for (int i = 0; i < n; ++i) {
+}
+
+/// Bounds (normalized) and start point; the message is built only for the first bad entry.
+void CheckBounds(const Vector& lower, const Vector& upper, const Vector& x) {
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    const bool nan = std::isnan(lower(i)) || std::isnan(upper(i));
+    const bool crossed = lower(i) > upper(i);
+    const bool empty = lower(i) == std::numeric_limits<double>::infinity() ||
+                       upper(i) == -std::numeric_limits<double>::infinity();
+    const bool bad_start = !std::isfinite(x(i));
+    if (!(nan || crossed || empty || bad_start)) continue;
     const std::string at = "[" + std::to_string(i) + "]";
-    if (std::isnan(lower(i)) || std::isnan(upper(i)))
-      throw std::invalid_argument("ncp::Solver::Solve (box MCP): bound" + at + " is NaN");
-    if (lower(i) > upper(i))
+    if (nan) throw std::invalid_argument("ncp::Solver::Solve (box MCP): bound" + at + " is NaN");
+    if (crossed)
       throw std::invalid_argument("ncp::Solver::Solve (box MCP): lower" + at + " = " +
                                   std::to_string(lower(i)) + " > upper" + at + " = " +
                                   std::to_string(upper(i)));
-    if (lower(i) == std::numeric_limits<double>::infinity() ||
-        upper(i) == -std::numeric_limits<double>::infinity())
+    if (empty)
       throw std::invalid_argument("ncp::Solver::Solve (box MCP): empty box at" + at +
                                   " (lower = +inf or upper = -inf)");
-    if (!std::isfinite(x(i)))
-      throw std::invalid_argument("ncp::Solver::Solve: start point x" + at + " = " +
-                                  std::to_string(x(i)) + " is not finite");
+    throw std::invalid_argument("ncp::Solver::Solve: start point x" + at + " = " +
+                                std::to_string(x(i)) + " is not finite");
   }
-}
-
-/// Bounds with |b| >= infinite_bound become +-inf (GAMS/PATH write "no bound" as
-/// +-1e20); a lower bound >= infinite_bound becomes +inf (an empty box, rejected later).
-Vector NormalizeBound(const Vector& bound, double infinite_bound) {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  Vector normalized = bound;
-  for (Eigen::Index i = 0; i < bound.size(); ++i) {
-    if (bound(i) >= infinite_bound) normalized(i) = kInf;
-    else if (bound(i) <= -infinite_bound) normalized(i) = -kInf;
-  }
-  return normalized;
 }
 
 }  // namespace
 
-void SolveBoxMcp(Solver& solver, SquareFunction& F, const Vector& lower_in,
+void BoxMcpDeleter::operator()(BoxMcpAsMixed* p) const { delete p; }
+
+void SolveBoxMcp(Solver& solver, BoxMcpCache* cache, SquareFunction& F, const Vector& lower_in,
                  const Vector& upper_in, Vector* x, Summary* summary) {
   if (x == nullptr || summary == nullptr)
     throw std::invalid_argument("ncp::Solver::Solve: x and summary must not be null");
   const Options& options = solver.options();
-  const double infinite_bound = options.infinite_bound;
-  const Vector lower = NormalizeBound(lower_in, infinite_bound);
-  const Vector upper = NormalizeBound(upper_in, infinite_bound);
-  CheckBounds(F.NumVariables(), lower, upper, *x);
-  const int projected = options.project_start_point ? ProjectOntoBox(lower, upper, x) : 0;
-  BoxMcpAsMixed mixed(F, lower, upper);
-  Vector y;
+  CheckSizes(F.NumVariables(), lower_in, upper_in, *x);
+  if (!*cache || !(*cache)->Matches(F, lower_in, upper_in, options.infinite_bound))
+    cache->reset(new BoxMcpAsMixed(F, lower_in, upper_in, options.infinite_bound));
+  BoxMcpAsMixed& mixed = **cache;
+  mixed.Rebind(F);
+  CheckBounds(mixed.lower(), mixed.upper(), *x);
+  const int projected = options.project_start_point ? ProjectOntoBox(mixed.lower(), mixed.upper(), x) : 0;
+  Vector& y = mixed.unknowns();
   if (!mixed.InitialSlacks(*x, &y)) {
     *summary = Summary();
     summary->termination = TerminationType::kEvaluationFailure;
