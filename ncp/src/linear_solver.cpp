@@ -9,59 +9,57 @@
 #include <stdexcept>
 
 namespace ncp::internal {
+
+bool DenseLU::Factorize(const DenseMatrix& A) {
+  full_pivoting_ = A.rows() <= kFullPivotingLimit;
+  if (full_pivoting_) {
+    full_.compute(A);
+    return full_.isInvertible();
+  }
+  partial_.compute(A);
+  // FullPivLU's test on the pivots of U: |u_ii| > n eps max_i |u_ii| (no allocation,
+  // unlike PartialPivLU::rcond()).
+  const auto pivots = partial_.matrixLU().diagonal().cwiseAbs();
+  const double largest = pivots.maxCoeff();
+  return std::isfinite(largest) && largest > 0.0 &&
+         pivots.minCoeff() > static_cast<double>(A.rows()) * std::numeric_limits<double>::epsilon() * largest;
+}
+
+void DenseLU::Solve(const Vector& rhs, Vector* x) {
+  // Full: P A Q = L U, x = Q U^-1 L^-1 P rhs. Partial: P A = L U, x = U^-1 L^-1 P rhs.
+  const DenseMatrix& LU = full_pivoting_ ? full_.matrixLU() : partial_.matrixLU();
+  permuted_.noalias() = (full_pivoting_ ? full_.permutationP() : partial_.permutationP()) * rhs;
+  LU.triangularView<Eigen::UnitLower>().solveInPlace(permuted_);
+  LU.triangularView<Eigen::Upper>().solveInPlace(permuted_);
+  if (full_pivoting_) x->noalias() = full_.permutationQ() * permuted_;
+  else *x = permuted_;
+}
+
 namespace {
 
-/// Dense LU of the densified Jacobian. Up to kFullPivotingLimit unknowns with full pivoting
-/// (rank-revealing: singular when the numerical rank is below n); above, with partial
-/// pivoting (blocked, an order of magnitude faster at n = 1000), singular when a pivot of
-/// U is below n eps times the largest. Allocates only when n
-/// changes; the solves run in place.
+/// DenseLU behind the sparse interface: the matrix is densified first.
 class DenseLUSolver final : public LinearSolver {
  public:
-  static constexpr Eigen::Index kFullPivotingLimit = 100;
-
   bool Analyze(const SparseMatrix& J, bool /*pattern_changed*/) override {
-    rows_ = static_cast<double>(J.rows());
+    rows_ = J.rows();
     return true;
   }
-  /// LU of an n x n matrix: 2/3 n^3 flops (Golub and Van Loan, 4th ed., sec. 3.2.5).
-  double PredictedFactorizationFlops() const override { return 2.0 / 3.0 * rows_ * rows_ * rows_; }
-  /// Eigen::PartialPivLU, n = 2000: 0.415 s for 5.3e9 flops.
-  double TypicalFlopRate() const override { return 1.3e10; }
+  double PredictedFactorizationFlops() const override { return DenseLU::PredictedFlops(rows_); }
+  double TypicalFlopRate() const override { return DenseLU::kTypicalFlopRate; }
   bool Factorize(const SparseMatrix& J) override {
     dense_ = J;
-    full_pivoting_ = J.rows() <= kFullPivotingLimit;
-    if (full_pivoting_) {
-      full_.compute(dense_);
-      return full_.isInvertible();
-    }
-    partial_.compute(dense_);
-    // FullPivLU's test on the pivots of U: |u_ii| > n eps max_i |u_ii| (no allocation,
-    // unlike PartialPivLU::rcond()).
-    const auto pivots = partial_.matrixLU().diagonal().cwiseAbs();
-    const double largest = pivots.maxCoeff();
-    return std::isfinite(largest) && largest > 0.0 &&
-           pivots.minCoeff() > static_cast<double>(J.rows()) * std::numeric_limits<double>::epsilon() * largest;
+    return lu_.Factorize(dense_);
   }
-  /// Full: P J Q = L U, x = Q U^-1 L^-1 P rhs. Partial: P J = L U, x = U^-1 L^-1 P rhs.
   bool Solve(const Vector& rhs, Vector* x) override {
-    const DenseMatrix& LU = full_pivoting_ ? full_.matrixLU() : partial_.matrixLU();
-    permuted_.noalias() = (full_pivoting_ ? full_.permutationP() : partial_.permutationP()) * rhs;
-    LU.triangularView<Eigen::UnitLower>().solveInPlace(permuted_);
-    LU.triangularView<Eigen::Upper>().solveInPlace(permuted_);
-    if (full_pivoting_) x->noalias() = full_.permutationQ() * permuted_;
-    else *x = permuted_;
+    lu_.Solve(rhs, x);
     return true;
   }
   LinearSolverType type() const override { return LinearSolverType::kDenseLU; }
 
  private:
   DenseMatrix dense_;
-  double rows_ = 0.0;
-  bool full_pivoting_ = true;
-  Eigen::FullPivLU<DenseMatrix> full_;
-  Eigen::PartialPivLU<DenseMatrix> partial_;
-  Vector permuted_;
+  Eigen::Index rows_ = 0;
+  DenseLU lu_;
 };
 
 /// Eigen::UmfPackLU with the flop estimate of UMFPACK's symbolic analysis exposed

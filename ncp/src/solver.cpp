@@ -220,6 +220,12 @@ struct Solver::Workspace {
   std::unique_ptr<internal::LinearSolver> linear_solver;
   // The last box MCP in mixed form, reused when the same F and bounds come again.
   internal::BoxMcpCache box_mcp;
+  // The backend of the last solve; dense: J is the dense Jd and dense_lu factorizes it (the
+  // light path of small problems: no pattern bookkeeping, no sparse matrix, no allocation).
+  LinearSolverType backend = LinearSolverType::kAuto;
+  bool dense = false;
+  DenseMatrix Jd;
+  internal::DenseLU dense_lu;
 
   // Cached patterns of the user's JE, JA, JB; a change triggers a new symbolic analysis.
   std::vector<int> pattern[3][2];
@@ -309,6 +315,32 @@ struct Solver::Workspace {
     }
     have_pattern = true;
     return true;
+  }
+
+  /// Jd = [JE; diag(da) JA + diag(db) JB], dense.
+  void FillDenseJacobian(int m) {
+    const Eigen::Index n = JE.cols();
+    Jd.resize(n, n);
+    Jd.setZero();
+    const SparseMatrix* sources[3] = {&JE, &JA, &JB};
+    const Vector* scale[3] = {nullptr, &da, &db};
+    for (int s = 0; s < 3; ++s) {
+      const int row_offset = s == 0 ? 0 : m;
+      for (int c = 0; c < sources[s]->outerSize(); ++c)
+        for (SparseMatrix::InnerIterator it(*sources[s], c); it; ++it)
+          Jd(it.row() + row_offset, c) += scale[s] ? (*scale[s])(it.row()) * it.value() : it.value();
+    }
+  }
+
+  /// out = J v on the backend's form of J.
+  void MultiplyJacobian(const Vector& v, Vector* out) const {
+    if (dense) out->noalias() = Jd * v;
+    else out->noalias() = J * v;
+  }
+  /// out = J' v.
+  void MultiplyJacobianTransposed(const Vector& v, Vector* out) const {
+    if (dense) out->noalias() = Jd.transpose() * v;
+    else out->noalias() = J.transpose() * v;
   }
 
   /// J values = [JE; diag(da) JA + diag(db) JB] on the cached pattern.
@@ -428,13 +460,15 @@ class Solver::Iteration {
     resolved_ = o_.linear_solver;
     if (resolved_ == LinearSolverType::kAuto)
       resolved_ = n_ <= o_.dense_threshold ? LinearSolverType::kDenseLU : LinearSolverType::kUmfpack;
-    if (!w_.linear_solver || w_.linear_solver->type() != resolved_) {
-      w_.linear_solver = internal::MakeLinearSolver(resolved_);
+    if (w_.backend != resolved_) {
+      w_.backend = resolved_;
+      w_.dense = resolved_ == LinearSolverType::kDenseLU;
+      w_.linear_solver = w_.dense ? nullptr : internal::MakeLinearSolver(resolved_);
       w_.regularized_solver.reset();  // made on first use (Options::regularized_direction)
       w_.have_pattern = false;
       w_.measured_flop_rate = 0.0;
     }
-    symbolic_before_ = w_.linear_solver->symbolic_factorizations();
+    symbolic_before_ = SymbolicFactorizations();
     s_.linear_solver_used = resolved_;
     w_.Resize(n_, m_);
 
@@ -522,9 +556,13 @@ class Solver::Iteration {
       return false;
     }
     PhiPartials();
-    pattern_changed_ = w_.UpdatePattern(m_);
-    w_.FillJacobian();
-    w_.grad.noalias() = w_.J.transpose() * w_.phi;  // grad psi = J' Phi (eq. 24)
+    if (w_.dense) {
+      w_.FillDenseJacobian(m_);
+    } else {
+      pattern_changed_ = w_.UpdatePattern(m_);
+      w_.FillJacobian();
+    }
+    w_.MultiplyJacobianTransposed(w_.phi, &w_.grad);  // grad psi = J' Phi (eq. 24)
     return true;
   }
 
@@ -689,16 +727,14 @@ class Solver::Iteration {
   bool NewtonDirection(int k) {
     const auto t0 = Clock::now();
     w_.newton_rhs = -w_.phi;
-    bool solved = w_.linear_solver->Analyze(w_.J, pattern_changed_);
-    if (solved) {
-      if (!FactorizationFits(*w_.linear_solver, k)) return false;
-      solved = TimedFactorize(*w_.linear_solver, w_.J);
-    }
-    solved = solved && w_.linear_solver->Solve(w_.newton_rhs, &w_.d) && AllFinite(w_.d);
+    bool solved = FactorizeJacobian(k);
+    if (w_.dense && solved) w_.dense_lu.Solve(w_.newton_rhs, &w_.d);
+    else solved = solved && w_.linear_solver->Solve(w_.newton_rhs, &w_.d);
+    solved = solved && AllFinite(w_.d);
     if (solved) {
       // Guard against a numerically singular factorization that "succeeded": the
       // computed d must satisfy J d = -Phi to a small relative residual.
-      w_.newton_residual.noalias() = w_.J * w_.d;
+      w_.MultiplyJacobian(w_.d, &w_.newton_residual);
       const double jd_inf = w_.newton_residual.lpNorm<Eigen::Infinity>();
       w_.newton_residual += w_.phi;
       solved = w_.newton_residual.lpNorm<Eigen::Infinity>() <= 1e-6 * (phi_inf_ + jd_inf);
@@ -707,14 +743,30 @@ class Solver::Iteration {
     return solved;
   }
 
-  // Predicted time of the numeric factorization = flops / rate (Options::max_seconds,
-  // factorization_flop_rate); false (and the solve finished) when it exceeds the time left.
-  bool FactorizationFits(const internal::LinearSolver& solver, int k) {
+  // Symbolic analysis (sparse backends), the time check, the numeric factorization of J.
+  bool FactorizeJacobian(int k) {
+    if (w_.dense) {
+      const double flops = internal::DenseLU::PredictedFlops(n_);
+      return FactorizationFits(flops, internal::DenseLU::kTypicalFlopRate, k) &&
+             TimedFactorize(flops, [&] { return w_.dense_lu.Factorize(w_.Jd); });
+    }
+    internal::LinearSolver& solver = *w_.linear_solver;
+    if (!solver.Analyze(w_.J, pattern_changed_)) return false;
     const double flops = solver.PredictedFactorizationFlops();
+    return FactorizationFits(flops, solver.TypicalFlopRate(), k) &&
+           TimedFactorize(flops, [&] { return solver.Factorize(w_.J); });
+  }
+
+  int SymbolicFactorizations() const { return w_.dense ? 0 : w_.linear_solver->symbolic_factorizations(); }
+
+  // Predicted time of the numeric factorization = flops / rate (Options::max_seconds,
+  // factorization_flop_rate; typical_rate: the backend's before one was timed); false (and
+  // the solve finished) when it exceeds the time left.
+  bool FactorizationFits(double flops, double typical_rate, int k) {
     s_.predicted_factorization_flops = flops;
     const double rate = w_.measured_flop_rate > 0.0      ? w_.measured_flop_rate
                         : o_.factorization_flop_rate > 0.0 ? o_.factorization_flop_rate
-                                                           : solver.TypicalFlopRate();
+                                                           : typical_rate;
     const double left = o_.max_seconds - Seconds(start_);
     if (!std::isfinite(o_.max_seconds) || !(flops / rate > left)) return true;
     Finish(TerminationType::kTimeLimit,
@@ -726,12 +778,13 @@ class Solver::Iteration {
     return false;
   }
 
-  // The measured rate only serves FactorizationFits: timed under a finite max_seconds.
-  bool TimedFactorize(internal::LinearSolver& solver, const SparseMatrix& matrix) {
-    if (!std::isfinite(o_.max_seconds)) return solver.Factorize(matrix);
-    const double flops = solver.PredictedFactorizationFlops();
+  // factorize() returns false when singular. The measured rate (flops / seconds) only
+  // serves FactorizationFits: timed under a finite max_seconds.
+  template <class Factorize>
+  bool TimedFactorize(double flops, Factorize&& factorize) {
+    if (!std::isfinite(o_.max_seconds)) return factorize();
     const auto t0 = Clock::now();
-    const bool ok = solver.Factorize(matrix);
+    const bool ok = factorize();
     const double seconds = Seconds(t0);
     if (std::isfinite(flops) && flops > 0.0 && seconds > 0.0) w_.measured_flop_rate = flops / seconds;
     return ok;
@@ -748,6 +801,7 @@ class Solver::Iteration {
       w_.identity.resize(n_, n_);
       w_.identity.setIdentity();
     }
+    if (w_.dense) w_.J = w_.Jd.sparseView();  // (the option's sparse form; off by default)
     w_.normal_matrix = SparseMatrix(w_.J.transpose()) * w_.J;
     w_.normal_matrix += mu * w_.identity;
     w_.normal_matrix.makeCompressed();
@@ -758,7 +812,9 @@ class Solver::Iteration {
     w_.newton_rhs = -w_.grad;
     bool solved = w_.regularized_solver->Analyze(w_.normal_matrix, changed);
     w_.regularized_analyzed = solved;
-    solved = solved && TimedFactorize(*w_.regularized_solver, w_.normal_matrix) &&
+    internal::LinearSolver& solver = *w_.regularized_solver;
+    solved = solved &&
+             TimedFactorize(solver.PredictedFactorizationFlops(), [&] { return solver.Factorize(w_.normal_matrix); }) &&
              w_.regularized_solver->Solve(w_.newton_rhs, &w_.d) && AllFinite(w_.d);
     s_.linear_solver_time_s += Seconds(t0);
     return solved;
@@ -903,7 +959,7 @@ class Solver::Iteration {
       s_.message += " (after " + std::to_string(s_.merit_restarts) + " restarts switching FB <-> penalized FB)";
     s_.final_phi_inf = w_.phi.lpNorm<Eigen::Infinity>();
     s_.final_psi = 0.5 * w_.phi.squaredNorm();
-    s_.symbolic_factorizations = w_.linear_solver->symbolic_factorizations() - symbolic_before_;
+    s_.symbolic_factorizations = SymbolicFactorizations() - symbolic_before_;
     s_.total_time_s = Seconds(start_);
   }
 
