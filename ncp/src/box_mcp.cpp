@@ -20,6 +20,8 @@
 #include <string>
 #include <vector>
 
+#include "sparse_pattern.hpp"
+
 namespace ncp::internal {
 namespace {
 
@@ -164,27 +166,18 @@ class BoxMcpAsMixed final : public MixedProblem {
   /// [l, u], slacks recomputed. The FB iterates may leave the box; a point where the merit
   /// function is stuck outside it is generally not stationary once projected.
   bool RestartPoint(Vector* y) override {
-    Vector x = y->head(n_);
-    ProjectOntoBox(lower_, upper_, &x);
-    return InitialSlacks(x, y);
+    x_ = y->head(n_);
+    ProjectOntoBox(lower_, upper_, &x_);
+    return InitialSlacks(x_, y);
   }
 
   /// True when JF_ has the pattern the structure was built for and each output still has
   /// the pattern it was given (the solver scales values in place, never the pattern).
   bool StructureMatches(SparseMatrix* const out[3]) const {
-    if (!structure_built_ || !SamePattern(JF_, jf_outer_, jf_inner_)) return false;
+    if (!structure_built_ || !jf_pattern_.Matches(JF_)) return false;
     for (int s = 0; s < 3; ++s)
-      if (!out[s]->isCompressed() || !SamePattern(*out[s], out_outer_[s], out_inner_[s])) return false;
+      if (!out_pattern_[s].Matches(*out[s])) return false;
     return true;
-  }
-
-  static bool SamePattern(const SparseMatrix& S, const std::vector<int>& outer,
-                          const std::vector<int>& inner) {
-    const auto cols = static_cast<size_t>(S.cols());
-    const auto nnz = static_cast<size_t>(S.nonZeros());
-    return outer.size() == cols + 1 && inner.size() == nnz &&
-           std::equal(S.outerIndexPtr(), S.outerIndexPtr() + cols + 1, outer.begin()) &&
-           std::equal(S.innerIndexPtr(), S.innerIndexPtr() + nnz, inner.begin());
   }
 
   /// The rows of the mixed form (file comment) as triplets, then a map from each stored entry
@@ -250,11 +243,9 @@ class BoxMcpAsMixed final : public MixedProblem {
         if (code >= 1.0) entry_target_[static_cast<size_t>(code) - 1] = {s, q};
         else constant_slots_[s].push_back({q, constants_[static_cast<size_t>(-code) - 1]});
       }
-      out_outer_[s].assign(S.outerIndexPtr(), S.outerIndexPtr() + S.cols() + 1);
-      out_inner_[s].assign(S.innerIndexPtr(), S.innerIndexPtr() + S.nonZeros());
+      out_pattern_[s].Store(S);
     }
-    jf_outer_.assign(JF_.outerIndexPtr(), JF_.outerIndexPtr() + n_ + 1);
-    jf_inner_.assign(JF_.innerIndexPtr(), JF_.innerIndexPtr() + JF_.nonZeros());
+    jf_pattern_.Store(JF_);
     structure_built_ = true;
   }
 
@@ -317,7 +308,7 @@ class BoxMcpAsMixed final : public MixedProblem {
     double value;
   };
   bool structure_built_ = false;
-  std::vector<int> jf_outer_, jf_inner_, out_outer_[3], out_inner_[3];
+  SparsePattern jf_pattern_, out_pattern_[3];
   std::vector<Target> entry_target_;
   std::vector<double> entry_sign_, constants_;
   std::vector<ConstantSlot> constant_slots_[3];

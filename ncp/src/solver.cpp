@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "linear_solver.hpp"
+#include "sparse_pattern.hpp"
 #include "box_mcp.hpp"
 #include "ncp_function_internal.hpp"
 
@@ -228,7 +229,7 @@ struct Solver::Workspace {
   internal::DenseLU dense_lu;
 
   // Cached patterns of the user's JE, JA, JB; a change triggers a new symbolic analysis.
-  std::vector<int> pattern[3][2];
+  internal::SparsePattern pattern[3];
   bool have_pattern = false;
 
   // J = [JE; diag(da) JA + diag(db) JB], pattern = union; map[s][k] is where the k-th
@@ -267,21 +268,12 @@ struct Solver::Workspace {
     if (JB.rows() != p || JB.cols() != n) JB.resize(p, n);
   }
 
-  static bool SamePattern(const SparseMatrix& S, const std::vector<int>& outer,
-                          const std::vector<int>& inner) {
-    const auto cols = static_cast<size_t>(S.cols());
-    const auto nnz = static_cast<size_t>(S.nonZeros());
-    return outer.size() == cols + 1 && inner.size() == nnz &&
-           std::equal(S.outerIndexPtr(), S.outerIndexPtr() + cols + 1, outer.begin()) &&
-           std::equal(S.innerIndexPtr(), S.innerIndexPtr() + nnz, inner.begin());
-  }
-
   /// Returns true when the pattern differs from the cached one (and rebuilds J's pattern).
   bool UpdatePattern(int m) {
     const SparseMatrix* sources[3] = {&JE, &JA, &JB};
     bool same = have_pattern;
     for (int s = 0; s < 3 && same; ++s)
-      same = SamePattern(*sources[s], pattern[s][0], pattern[s][1]);
+      same = pattern[s].Matches(*sources[s]);
     if (same) return false;
 
     const Eigen::Index n = JE.cols();
@@ -293,8 +285,7 @@ struct Solver::Workspace {
       for (int c = 0; c < S.outerSize(); ++c)
         for (SparseMatrix::InnerIterator it(S, c); it; ++it)
           triplets.emplace_back(static_cast<int>(it.row()) + row_offset, c, 0.0);
-      pattern[s][0].assign(S.outerIndexPtr(), S.outerIndexPtr() + S.cols() + 1);
-      pattern[s][1].assign(S.innerIndexPtr(), S.innerIndexPtr() + S.nonZeros());
+      pattern[s].Store(S);
     }
     J.resize(n, n);
     J.setFromTriplets(triplets.begin(), triplets.end());
@@ -317,19 +308,29 @@ struct Solver::Workspace {
     return true;
   }
 
-  /// Jd = [JE; diag(da) JA + diag(db) JB], dense.
+  /// Calls add(s, k, row, col, value) for the k-th stored entry of source s (JE, JA, JB) as
+  /// an entry of J = [JE; diag(da) JA + diag(db) JB]: row of J, value scaled by da or db.
+  template <class Add>
+  void ForEachJacobianEntry(int m, Add&& add) const {
+    const SparseMatrix* sources[3] = {&JE, &JA, &JB};
+    const Vector* scale[3] = {nullptr, &da, &db};
+    for (int s = 0; s < 3; ++s) {
+      const SparseMatrix& S = *sources[s];
+      const int row_offset = s == 0 ? 0 : m;
+      int k = 0;
+      for (int c = 0; c < S.outerSize(); ++c)
+        for (SparseMatrix::InnerIterator it(S, c); it; ++it, ++k)
+          add(s, k, static_cast<int>(it.row()) + row_offset, c,
+              scale[s] ? (*scale[s])(it.row()) * it.value() : it.value());
+    }
+  }
+
+  /// Jd = J, dense (the light path).
   void FillDenseJacobian(int m) {
     const Eigen::Index n = JE.cols();
     Jd.resize(n, n);
     Jd.setZero();
-    const SparseMatrix* sources[3] = {&JE, &JA, &JB};
-    const Vector* scale[3] = {nullptr, &da, &db};
-    for (int s = 0; s < 3; ++s) {
-      const int row_offset = s == 0 ? 0 : m;
-      for (int c = 0; c < sources[s]->outerSize(); ++c)
-        for (SparseMatrix::InnerIterator it(*sources[s], c); it; ++it)
-          Jd(it.row() + row_offset, c) += scale[s] ? (*scale[s])(it.row()) * it.value() : it.value();
-    }
+    ForEachJacobianEntry(m, [&](int, int, int row, int col, double value) { Jd(row, col) += value; });
   }
 
   /// out = J v on the backend's form of J.
@@ -344,18 +345,10 @@ struct Solver::Workspace {
   }
 
   /// J values = [JE; diag(da) JA + diag(db) JB] on the cached pattern.
-  void FillJacobian() {
+  void FillJacobian(int m) {
     double* values = J.valuePtr();
     std::fill(values, values + J.nonZeros(), 0.0);
-    const SparseMatrix* sources[3] = {&JE, &JA, &JB};
-    const Vector* scale[3] = {nullptr, &da, &db};
-    for (int s = 0; s < 3; ++s) {
-      const SparseMatrix& S = *sources[s];
-      size_t k = 0;
-      for (int c = 0; c < S.outerSize(); ++c)
-        for (SparseMatrix::InnerIterator it(S, c); it; ++it, ++k)
-          values[map[s][k]] += scale[s] ? (*scale[s])(it.row()) * it.value() : it.value();
-    }
+    ForEachJacobianEntry(m, [&](int s, int k, int, int, double value) { values[map[s][k]] += value; });
   }
 };
 
@@ -560,7 +553,7 @@ class Solver::Iteration {
       w_.FillDenseJacobian(m_);
     } else {
       pattern_changed_ = w_.UpdatePattern(m_);
-      w_.FillJacobian();
+      w_.FillJacobian(m_);
     }
     w_.MultiplyJacobianTransposed(w_.phi, &w_.grad);  // grad psi = J' Phi (eq. 24)
     return true;
@@ -727,10 +720,7 @@ class Solver::Iteration {
   bool NewtonDirection(int k) {
     const auto t0 = Clock::now();
     w_.newton_rhs = -w_.phi;
-    bool solved = FactorizeJacobian(k);
-    if (w_.dense && solved) w_.dense_lu.Solve(w_.newton_rhs, &w_.d);
-    else solved = solved && w_.linear_solver->Solve(w_.newton_rhs, &w_.d);
-    solved = solved && AllFinite(w_.d);
+    bool solved = FactorizeJacobian(k) && SolveFactorized(w_.newton_rhs, &w_.d) && AllFinite(w_.d);
     if (solved) {
       // Guard against a numerically singular factorization that "succeeded": the
       // computed d must satisfy J d = -Phi to a small relative residual.
@@ -755,6 +745,13 @@ class Solver::Iteration {
     const double flops = solver.PredictedFactorizationFlops();
     return FactorizationFits(flops, solver.TypicalFlopRate(), k) &&
            TimedFactorize(flops, [&] { return solver.Factorize(w_.J); });
+  }
+
+  // x = J^-1 rhs with the factorization of FactorizeJacobian.
+  bool SolveFactorized(const Vector& rhs, Vector* x) {
+    if (!w_.dense) return w_.linear_solver->Solve(rhs, x);
+    w_.dense_lu.Solve(rhs, x);
+    return true;
   }
 
   int SymbolicFactorizations() const { return w_.dense ? 0 : w_.linear_solver->symbolic_factorizations(); }

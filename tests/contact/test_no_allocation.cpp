@@ -34,6 +34,7 @@
 #include "contact/obstacle.hpp"
 #include "contact/scene.hpp"
 #include "ncp/solver.hpp"
+#include "ncp_collection/small_problems.hpp"
 
 // ---------------------------------------------------------------------------------------
 // Allocation log.
@@ -349,46 +350,13 @@ TEST_CASE("ncp::Solver on a frictional contact problem: no allocation in the ite
 // The light path of small box MCPs (issue 13 item 4): a Solver kept between solves.
 // ---------------------------------------------------------------------------------------
 
-namespace {
-
-// Kojima and Shindo's NCP (MCPLIB kojshin, n = 4), F and its Jacobian written into a fixed
-// dense pattern (the values only, after the first call).
-class KojimaShindo final : public ncp::SquareFunction {
- public:
-  int NumVariables() const override { return 4; }
-  bool Evaluate(const ncp::Vector& x, ncp::Vector* F) override {
-    (*F)(0) = 3 * x(0) * x(0) + 2 * x(0) * x(1) + 2 * x(1) * x(1) + x(2) + 3 * x(3) - 6;
-    (*F)(1) = 2 * x(0) * x(0) + x(0) + x(1) * x(1) + 10 * x(2) + 2 * x(3) - 2;
-    (*F)(2) = 3 * x(0) * x(0) + x(0) * x(1) + 2 * x(1) * x(1) + 2 * x(2) + 9 * x(3) - 9;
-    (*F)(3) = x(0) * x(0) + 3 * x(1) * x(1) + 2 * x(2) + 3 * x(3) - 3;
-    return true;
-  }
-  bool Jacobian(const ncp::Vector& x, ncp::SparseMatrix* J) override {
-    const double d[4][4] = {{6 * x(0) + 2 * x(1), 2 * x(0) + 4 * x(1), 1, 3},
-                            {4 * x(0) + 1, 2 * x(1), 10, 2},
-                            {6 * x(0) + x(1), x(0) + 4 * x(1), 2, 9},
-                            {2 * x(0), 6 * x(1), 2, 3}};
-    if (J->nonZeros() != 16) {
-      J->resize(4, 4);
-      std::vector<Eigen::Triplet<double, int>> t;
-      for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) t.emplace_back(r, c, d[r][c]);
-      J->setFromTriplets(t.begin(), t.end());
-      return true;
-    }
-    for (int c = 0; c < 4; ++c)
-      for (int r = 0; r < 4; ++r) J->valuePtr()[4 * c + r] = d[r][c];
-    return true;
-  }
-};
-
-}  // namespace
-
 TEST_CASE("ncp box MCP, n = 4, a Solver kept between solves: no allocation per iteration",
           "[ncp][allocation]") {
-  KojimaShindo F;
-  const ncp::Vector lower = ncp::Vector::Zero(4);
-  const ncp::Vector upper = ncp::Vector::Constant(4, std::numeric_limits<double>::infinity());
+  // Kojima and Shindo's NCP (MCPLIB kojshin), whose Jacobian fills a fixed dense pattern.
+  ncp::collection::TestProblem kojshin = ncp::collection::KojimaShindo();
+  ncp::SquareFunction& F = *kojshin.F;
+  const ncp::Vector& lower = kojshin.lower;
+  const ncp::Vector& upper = kojshin.upper;
   std::vector<long> marks;
   marks.reserve(1000);
   ncp::Options options;  // defaults: FB, kAuto = dense LU at n = 4
@@ -398,7 +366,7 @@ TEST_CASE("ncp box MCP, n = 4, a Solver kept between solves: no allocation per i
   };
   ncp::Solver solver(options);
   ncp::Summary summary;
-  ncp::Vector x = ncp::Vector::Zero(4);
+  ncp::Vector x = kojshin.starts.front().x;
   solver.Solve(F, lower, upper, &x, &summary);  // warm-up: workspace, mixed form, J's pattern
   REQUIRE(summary.IsSolutionUsable());
   CHECK(summary.linear_solver_used == ncp::LinearSolverType::kDenseLU);
@@ -413,11 +381,16 @@ TEST_CASE("ncp box MCP, n = 4, a Solver kept between solves: no allocation per i
     INFO(summary.message);
     REQUIRE(summary.IsSolutionUsable());
     REQUIRE(marks.size() == static_cast<size_t>(summary.iterations) + 1);
-    // The solution, checked independently: min(x, F(x)) = 0 (one of Kojima-Shindo's two
-    // solutions, (1, 0, 3, 0) or (sqrt(6)/2, 0, 0, 1/2)).
+    // The solution: min(x, F(x)) = 0 recomputed, and one of Kojima-Shindo's two known
+    // solutions, (1, 0, 3, 0) and (sqrt(6)/2, 0, 0, 1/2).
     ncp::Vector Fx(4);
     F.Evaluate(x, &Fx);
     CHECK(x.cwiseMin(Fx).cwiseAbs().maxCoeff() <= 1e-9);
+    double distance = std::numeric_limits<double>::infinity();
+    for (const ncp::Vector& known : kojshin.solutions)
+      distance = std::min(distance, (x - known).lpNorm<Eigen::Infinity>());
+    CHECK(kojshin.solutions.size() == 2);
+    CHECK(distance <= 1e-8);
     // Nothing before the first iterate, nothing in any iteration, only the termination
     // message at the end.
     INFO("start:" << log.DescribeOurs(0, marks.front()));
