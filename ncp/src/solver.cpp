@@ -117,6 +117,8 @@ bool Options::IsValid(std::string* error) const {
   };
   if (!(tolerance >= 0.0) || !std::isfinite(tolerance))
     return fail("Options::tolerance must be finite and >= 0, got " + Fmt("%g", tolerance));
+  if (!(roundoff_ulps >= 0.0) || !std::isfinite(roundoff_ulps))
+    return fail("Options::roundoff_ulps must be finite and >= 0, got " + Fmt("%g", roundoff_ulps));
   if (max_iterations < 0)
     return fail("Options::max_iterations must be >= 0, got " + std::to_string(max_iterations));
   if (!(descent_rho > 0.0))
@@ -202,7 +204,8 @@ std::string Summary::FullReport() const {
       << "  symbolic factorizations  " << symbolic_factorizations << "\n"
       << "  start components moved   " << projected_start_components << "\n"
       << "  ||Phi||_inf initial      " << Fmt("%.6e", initial_phi_inf) << "\n"
-      << "  ||Phi||_inf final        " << Fmt("%.6e", final_phi_inf) << "\n"
+      << "  ||Phi||_inf final        " << Fmt("%.6e", final_phi_inf)
+      << (roundoff_limited ? " (at the round-off floor)" : "") << "\n"
       << "  psi final                " << Fmt("%.6e", final_psi) << "\n"
       << "  time total / eval / lin  " << Fmt("%.6f", total_time_s) << " / "
       << Fmt("%.6f", evaluation_time_s) << " / " << Fmt("%.6f", linear_solver_time_s) << " s\n";
@@ -244,6 +247,8 @@ struct Solver::Workspace {
   Vector we, wa, wb;
   Vector E, A, B, Et, At, Bt;  // current point and trial point
   Vector phi, phi_trial, grad, d, x_trial, da, db, z, za, zb, newton_rhs, newton_residual;
+  // Round-off floor (Options::roundoff_ulps): |x| and |J_E||x|, |J_A||x|, |J_B||x|.
+  Vector abs_x, sensitivity_e, sensitivity_a, sensitivity_b;
   // flop/s of the last timed numeric factorization (0: none timed yet).
   double measured_flop_rate = 0.0;
   // Levenberg-Marquardt system J'J + mu I, its own solver and pattern bookkeeping.
@@ -260,8 +265,11 @@ struct Solver::Workspace {
   void Resize(int n, int m) {
     const int p = n - m;
     for (Vector* v : {&E, &Et}) v->setZero(m);
-    for (Vector* v : {&A, &B, &At, &Bt, &da, &db, &za, &zb}) v->setZero(p);
-    for (Vector* v : {&phi, &phi_trial, &grad, &d, &x_trial, &z, &newton_rhs, &newton_residual})
+    for (Vector* v : {&A, &B, &At, &Bt, &da, &db, &za, &zb, &sensitivity_a, &sensitivity_b})
+      v->setZero(p);
+    sensitivity_e.setZero(m);
+    for (Vector* v : {&phi, &phi_trial, &grad, &d, &x_trial, &z, &newton_rhs, &newton_residual,
+                      &abs_x})
       v->setZero(n);
     if (JE.rows() != m || JE.cols() != n) JE.resize(m, n);
     if (JA.rows() != p || JA.cols() != n) JA.resize(p, n);
@@ -337,6 +345,21 @@ struct Solver::Workspace {
   void MultiplyJacobian(const Vector& v, Vector* out) const {
     if (dense) out->noalias() = Jd * v;
     else out->noalias() = J * v;
+  }
+  /// max_i (|J||v|)_i: the size of the terms that sum to J v (round-off in J v is relative
+  /// to it, not to |J v|).
+  double AbsProductNorm(const Vector& v, Vector* scratch) const {
+    if (dense) {  // (a loop: the product of two abs-expressions would allocate temporaries)
+      scratch->setZero();
+      for (Eigen::Index c = 0; c < Jd.cols(); ++c)
+        for (Eigen::Index r = 0; r < Jd.rows(); ++r) (*scratch)(r) += std::abs(Jd(r, c)) * std::abs(v(c));
+    } else {
+      scratch->setZero();
+      for (int c = 0; c < J.outerSize(); ++c)
+        for (SparseMatrix::InnerIterator it(J, c); it; ++it)
+          (*scratch)(it.row()) += std::abs(it.value()) * std::abs(v(c));
+    }
+    return scratch->lpNorm<Eigen::Infinity>();
   }
   /// out = J' v.
   void MultiplyJacobianTransposed(const Vector& v, Vector* out) const {
@@ -422,11 +445,13 @@ class Solver::Iteration {
       phi_inf_ = w_.phi.lpNorm<Eigen::Infinity>();
       psi_ = 0.5 * w_.phi.squaredNorm();
       converged_ = phi_inf_ <= threshold_;
+      roundoff_limited_ = false;
       have_jacobian_ = !converged_ && k < o_.max_iterations;
       jacobian_ok_ = true;
       degenerate_count_ = 0;
       pattern_changed_ = false;
       if (have_jacobian_ && !EvaluateJacobian(k)) return;
+      if (have_jacobian_ && jacobian_ok_) converged_ = roundoff_limited_ = WithinRoundoffFloor();
       if (!Report(k)) return;
       if (TestStop(k)) {
         if (Restart(k)) continue;
@@ -593,6 +618,37 @@ class Solver::Iteration {
     }
   }
 
+  // ---- the round-off floor of the test (Options::roundoff_ulps) ----------------------
+  // Moving x to a neighbouring double (x_j (1 + delta_j), |delta_j| <= eps) changes row i of
+  // Phi by up to eps r_i with r = |J_E||x| for equations and |da| |J_A||x| + |db| |J_B||x|
+  // for pairs (to first order; J_E, J_A, J_B weighted like the rows). No x closer to the
+  // solution is representable below that, so a row within tolerance + roundoff_ulps eps r_i
+  // is as converged as double precision allows. Needs J at x^k (EvaluateJacobian).
+  bool WithinRoundoffFloor() {
+    if (o_.roundoff_ulps == 0.0) return false;
+    const double ulps = o_.roundoff_ulps * std::numeric_limits<double>::epsilon();
+    w_.abs_x = x_.cwiseAbs();
+    AbsTimes(w_.JE, w_.abs_x, &w_.sensitivity_e);
+    AbsTimes(w_.JA, w_.abs_x, &w_.sensitivity_a);
+    AbsTimes(w_.JB, w_.abs_x, &w_.sensitivity_b);
+    for (int i = 0; i < m_; ++i)
+      if (std::abs(w_.phi(i)) > threshold_ + ulps * w_.sensitivity_e(i)) return false;
+    for (int j = 0; j < p_; ++j) {
+      const double r = std::abs(w_.da(j)) * w_.sensitivity_a(j) +
+                       std::abs(w_.db(j)) * w_.sensitivity_b(j);
+      if (std::abs(w_.phi(m_ + j)) > threshold_ + ulps * r) return false;
+    }
+    return true;
+  }
+
+  // *out = |S| v for v >= 0 (no temporary matrix).
+  static void AbsTimes(const SparseMatrix& S, const Vector& v, Vector* out) {
+    out->setZero();
+    for (int c = 0; c < S.outerSize(); ++c)
+      for (SparseMatrix::InnerIterator it(S, c); it; ++it)
+        (*out)(it.row()) += std::abs(it.value()) * v(c);
+  }
+
   // ---- trace, log, callback for iterate k; false when the callback stopped ----------
   bool Report(int k) {
     record_.iteration = k;
@@ -620,13 +676,18 @@ class Solver::Iteration {
   // ---- step 1 and the safeguards; true when the solve ends here ----------------------
   bool TestStop(int k) {
     if (converged_) {
-      Finish(TerminationType::kConverged,
-             (w_.weighted ? "every row within floor + " + Fmt("%.1e", o_.tolerance) +
-                                " x scale in its own units (relative ||Phi||_inf = " +
-                                Fmt("%.3e", phi_inf_) + ")"
-                          : "||Phi||_inf = " + Fmt("%.3e", phi_inf_) + " <= " +
-                                Fmt("%.3e", o_.tolerance)) +
-                 " after " + std::to_string(k) + " iterations");
+      s_.roundoff_limited = roundoff_limited_;
+      std::string what =
+          w_.weighted ? "every row within floor + " + Fmt("%.1e", o_.tolerance) +
+                            " x scale in its own units (relative ||Phi||_inf = " +
+                            Fmt("%.3e", phi_inf_) + ")"
+                      : "||Phi||_inf = " + Fmt("%.3e", phi_inf_) + " <= " + Fmt("%.3e", o_.tolerance);
+      if (roundoff_limited_)
+        what = (w_.weighted ? "relative ||Phi||_inf = " : "||Phi||_inf = ") + Fmt("%.3e", phi_inf_) +
+               " > tolerance " + Fmt("%.1e", o_.tolerance) + ", at the round-off floor: every row within " +
+               "the tolerance + " + Fmt("%g", o_.roundoff_ulps) +
+               " ulps of its sensitivity |J||x| (double precision resolves no more at this x)";
+      Finish(TerminationType::kConverged, what + " after " + std::to_string(k) + " iterations");
       return true;
     }
     if (k >= o_.max_iterations) {
@@ -722,12 +783,15 @@ class Solver::Iteration {
     w_.newton_rhs = -w_.phi;
     bool solved = FactorizeJacobian(k) && SolveFactorized(w_.newton_rhs, &w_.d) && AllFinite(w_.d);
     if (solved) {
-      // Guard against a numerically singular factorization that "succeeded": the
-      // computed d must satisfy J d = -Phi to a small relative residual.
+      // Guard against an unstable factorization that "succeeded": the computed d must
+      // solve J d = -Phi to a small normwise backward error, ||J d + Phi|| <= 1e-6 (||Phi|| +
+      // || |J||d| ||) (Rigal and Gaches 1967; Higham 2002, Thm. 7.1). The terms |J||d|, not
+      // |J d|, set the scale: rows of size h^-2 (fine grids) leave a residual of eps |J||d|
+      // in any backward-stable solve, far above 1e-6 ||Phi|| once h^-2 eps ~ 1e-6.
+      const double terms_inf = w_.AbsProductNorm(w_.d, &w_.newton_residual);
       w_.MultiplyJacobian(w_.d, &w_.newton_residual);
-      const double jd_inf = w_.newton_residual.lpNorm<Eigen::Infinity>();
       w_.newton_residual += w_.phi;
-      solved = w_.newton_residual.lpNorm<Eigen::Infinity>() <= 1e-6 * (phi_inf_ + jd_inf);
+      solved = w_.newton_residual.lpNorm<Eigen::Infinity>() <= 1e-6 * (phi_inf_ + terms_inf);
     }
     s_.linear_solver_time_s += Seconds(t0);
     return solved;
@@ -979,6 +1043,7 @@ class Solver::Iteration {
   double phi_inf_ = 0.0, psi_ = 0.0, grad_inf_ = 0.0, slope_ = 0.0, step_ = 0.0;
   int backtracks_ = 0, degenerate_count_ = 0;
   bool converged_ = false, have_jacobian_ = false, jacobian_ok_ = true;
+  bool roundoff_limited_ = false;  // converged_ by the round-off floor, not by the tolerance
   bool pattern_changed_ = false, finished_ = false;
 };
 

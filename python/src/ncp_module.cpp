@@ -189,6 +189,8 @@ void BindOptions(py::module_& m) {
       ("merit_restarts", &Options::merit_restarts, "stuck FB-family solve: restart with the other member (FB <-> penalized FB), at most this often")
       ("infinite_bound", &Options::infinite_bound, "box MCP: |bound| >= this is infinite")
       ("project_start_point", &Options::project_start_point, "box MCP: project the start point onto [l, u]")
+      ("roundoff_ulps", &Options::roundoff_ulps,
+       "converged also when every row is within tolerance + this many ulps of its |J||x| (0: off)")
       ("max_iterations", &Options::max_iterations, "stop with MAX_ITERATIONS after this many steps")
       ("descent_rho", &Options::descent_rho, "Newton step kept if grad psi'd <= -rho ||d||^p (eq. 22)")
       ("descent_p", &Options::descent_p, "p of the descent test (eq. 22)")
@@ -260,6 +262,7 @@ void BindSummary(py::module_& m) {
       ("projected_start_components", &Summary::projected_start_components, "start components moved onto [l, u]")
       ("predicted_factorization_flops", &Summary::predicted_factorization_flops, "largest predicted factorization cost [flop]")
       ("weighted_residual", &Summary::weighted_residual, "residuals are relative to the problem's own scales")
+      ("roundoff_limited", &Summary::roundoff_limited, "converged at the round-off floor, above the tolerance")
       ("symbolic_factorizations", &Summary::symbolic_factorizations, "sparse analyses")
       ("initial_phi_inf", &Summary::initial_phi_inf, "||Phi(x^0)||_inf")
       ("final_phi_inf", &Summary::final_phi_inf, "||Phi(x)||_inf at the returned x")

@@ -11,7 +11,9 @@
 // free boundary. The tests therefore assert what holds and record what does not.
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -135,4 +137,83 @@ TEST_CASE("1D bump obstacle, FB from zero projected onto the obstacle (recorded)
   CheckAllConvergedWithinFactor(SolveOnGrids(1, {100, 1000}, ObstacleKind::kLowerBump,
                                              NcpFunction::kFischerBurmeister, true),
                                 2.0);
+}
+
+// Fine grids put the rows' round-off (eps h^-2 |u|) above the default tolerance 1e-10. The
+// solver then stops at the round-off floor (Options::roundoff_ulps) and says so; the floor
+// is recomputed here from the FB function's partials and |A||u|, independently of the
+// solver's bookkeeping.
+TEST_CASE("1D bump obstacle, n = 1e4, default tolerance: converged at the round-off floor",
+          "[solver][obstacle][roundoff]") {
+  const int n = 10000;
+  TestProblem p = Obstacle1D(n, ObstacleKind::kLowerBump);
+  ncp::Options options = MakeOptions(NcpFunction::kFischerBurmeister, LinearSolverType::kKlu);
+  options.project_start_point = false;  // u = 0 below the obstacle (see SolveOnGrids)
+  REQUIRE(options.tolerance == 1e-10);
+  const Run run = SolveFrom(p, p.starts[0].x, options);
+  const ncp::Summary& s = run.summary;
+  INFO(s.FullReport());
+  REQUIRE(s.termination == TerminationType::kConverged);
+  CHECK(s.roundoff_limited);
+  CHECK(s.final_phi_inf > options.tolerance);  // the tolerance itself was not reachable
+  CHECK(s.message.find("round-off floor") != std::string::npos);
+
+  // Row by row: |phi_FB(a, b)| <= tol + 10 eps (|phi_a| |u_i| + |phi_b| (|A||u|)_i),
+  // a = u - psi, b = F(u), phi_a = 1 - a / r, phi_b = 1 - b / r, r = |(a, b)|.
+  ncp::Vector F(n);
+  ncp::SparseMatrix A;
+  REQUIRE(p.F->Evaluate(run.x, &F));
+  REQUIRE(p.F->Jacobian(run.x, &A));
+  const ncp::Vector terms = A.cwiseAbs() * run.x.cwiseAbs();
+  const double eps = std::numeric_limits<double>::epsilon();
+  double largest_floor = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double a = run.x(i) - p.lower(i), b = F(i), r = std::hypot(a, b);
+    const double phi = a + b - r;
+    const double da = r > 0 ? std::abs(1 - a / r) : 1.0, db = r > 0 ? std::abs(1 - b / r) : 1.0;
+    const double floor = 10 * eps * (da * std::abs(run.x(i)) + db * terms(i));
+    largest_floor = std::max(largest_floor, floor);
+    INFO("row " << i << ": a = " << a << ", b = " << b << ", floor " << floor);
+    REQUIRE(std::abs(phi) <= options.tolerance + floor);
+  }
+  // The floor is that of the grid, 10 eps h^-2 |u| (2 |u| <= 1 times the diagonal 2 h^-2),
+  // no looser: at h = 1e-4 about 2e-6.
+  CHECK(largest_floor <= 10 * eps * 2.0 * (n + 1.0) * (n + 1.0) * 1.0);
+  // And the membrane is the continuous one to the discretization error O(h^2).
+  double error = 0.0;
+  for (int i = 0; i < n; ++i)
+    error = std::max(error, std::abs(run.x(i) - ExactLowerBump1D((i + 1.0) / (n + 1))));
+  CHECK(error <= 1e-6);
+
+  // Without the floor the same tolerance is not claimed unless it was really reached.
+  options.roundoff_ulps = 0.0;
+  options.max_iterations = 60;
+  const Run strict = SolveFrom(p, p.starts[0].x, options);
+  INFO(strict.summary.BriefReport());
+  CHECK_FALSE(strict.summary.roundoff_limited);
+  if (strict.summary.termination == TerminationType::kConverged)
+    CHECK(strict.summary.final_phi_inf <= options.tolerance);
+}
+
+// The guard on the Newton solve compares ||J d + Phi|| with the terms |J||d| (normwise
+// backward error), not with ||Phi||: on this grid the rows are h^-2 ~ 9e10 and any solve
+// leaves a residual ~ eps |J||d| ~ 1e-6 > 1e-6 ||Phi||. Measured before the change: the
+// first direction rejected as a linear-solver failure, the gradient step then failed the
+// line search (line-search-failure at iteration 0, after 6 restarts).
+TEST_CASE("1D bump obstacle, n = 3e5: the first Newton step is accepted",
+          "[solver][obstacle][roundoff]") {
+  const int n = 300000;
+  TestProblem p = Obstacle1D(n, ObstacleKind::kLowerBump);
+  ncp::Options options = MakeOptions(NcpFunction::kFischerBurmeister, LinearSolverType::kKlu);
+  options.project_start_point = false;
+  options.max_iterations = 1;
+  options.keep_trace = true;
+  const Run run = SolveFrom(p, p.starts[0].x, options);
+  const ncp::Summary& s = run.summary;
+  INFO(s.FullReport());
+  CHECK(s.iterations == 1);
+  CHECK(s.linear_solver_failures == 0);
+  CHECK(s.gradient_steps == 0);
+  REQUIRE(!s.trace.empty());
+  CHECK(s.final_psi < s.trace.front().psi);  // the Newton step decreased psi
 }

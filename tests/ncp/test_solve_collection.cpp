@@ -129,6 +129,9 @@ TEST_CASE("every collection problem from every start, FB and min, every backend"
           continue;
         }
         CHECK(run.summary.termination == TerminationType::kConverged);
+        // Every problem here resolves the default 1e-10 in double precision, so the
+        // round-off floor of the test (Options::roundoff_ulps) never decides.
+        CHECK_FALSE(run.summary.roundoff_limited);
         CHECK(run.natural_residual <= kResidualTolerance);
         if (p.isolated_solutions && !p.solutions.empty() &&
             run.summary.IsSolutionUsable()) {

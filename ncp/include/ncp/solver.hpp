@@ -68,6 +68,15 @@ struct Options {
   /// of the rows. For a problem that states its own scales (MixedProblem::Scales) tolerance is
   /// relative instead: row i must satisfy |row_i| <= floor_i + tolerance * scale_i.
   double tolerance = 1e-10;
+  /// Round-off floor of the test, in ulps: x^k is also converged when every row of Phi is
+  /// within tolerance + roundoff_ulps * eps * r_i, r_i the change of row i caused by moving
+  /// every x_j by one relative unit, r = |J_E||x| for an equation and
+  /// |dphi/dA| |J_A||x| + |dphi/dB| |J_B||x| for a pair (eps = 2.2e-16; weighted rows use the
+  /// weighted Jacobians). That is where a tolerance below what double precision resolves at
+  /// x (e.g. rows scaled by h^-2 on a fine grid: eps h^-2 |u| > 1e-10) stops; the Summary
+  /// then says so (Summary::roundoff_limited). Applies only where the rows' own accuracy ends,
+  /// so a problem whose rows resolve the tolerance is tested exactly as before. 0 = off.
+  double roundoff_ulps = 10.0;
   /// Stop with kMaxIterations after this many Newton/gradient steps.
   int max_iterations = 500;
   /// Stop with kTimeLimit when the wall time since Solve() began exceeds this [s]. Checked
@@ -179,6 +188,10 @@ struct Summary {
   /// then of the relative system (rows divided by scale + floor / tolerance; converged when
   /// <= tolerance).
   bool weighted_residual = false;
+  /// kConverged although ||Phi||_inf > tolerance: every row was within tolerance + its
+  /// round-off floor (Options::roundoff_ulps); the tolerance asked for more digits than
+  /// double precision carries at x.
+  bool roundoff_limited = false;
   double initial_phi_inf = -1.0;  ///< ||Phi(x^0)||_inf
   double final_phi_inf = -1.0;    ///< ||Phi(x)||_inf at the returned x
   double final_psi = -1.0;        ///< psi at the returned x
