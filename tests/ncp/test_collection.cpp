@@ -305,6 +305,35 @@ TEST_CASE("obstacle problems have the documented sizes and bounds", "[collection
   CHECK_THROWS_AS(Obstacle2D(0), std::invalid_argument);
 }
 
+TEST_CASE("obstacle problems in the gap variable are the same problems shifted by l",
+          "[collection]") {
+  for (ObstacleKind kind : {ObstacleKind::kLowerBump, ObstacleKind::kTwoSidedBand}) {
+    for (int dimension : {1, 2}) {
+      TestProblem height = dimension == 1 ? Obstacle1D(40, kind) : Obstacle2D(6, kind);
+      TestProblem gap = dimension == 1 ? Obstacle1D(40, kind, ObstacleVariable::kGap)
+                                       : Obstacle2D(6, kind, ObstacleVariable::kGap);
+      const int n = height.NumVariables();
+      INFO(gap.name);
+      REQUIRE(gap.NumVariables() == n);
+      CHECK(gap.name == height.name + "-gap");
+      CHECK(gap.lower == Vector::Zero(n));
+      CHECK(gap.upper == height.upper - height.lower);
+      REQUIRE(gap.starts.size() == height.starts.size());
+      for (size_t s = 0; s < gap.starts.size(); ++s)
+        CHECK(gap.starts[s].x == height.starts[s].x - height.lower);
+      // G(w) = F(w + l) at sample points, to the round-off of F (h^-2 ~ 1700 or 49).
+      Vector w = Vector::LinSpaced(n, 0.0, 0.3), G(n), F(n);
+      REQUIRE(gap.F->Evaluate(w, &G));
+      REQUIRE(height.F->Evaluate(w + height.lower, &F));
+      CHECK((G - F).lpNorm<Eigen::Infinity>() <= 1e-11);
+      SparseMatrix JG, JF;
+      REQUIRE(gap.F->Jacobian(w, &JG));
+      REQUIRE(height.F->Jacobian(w + height.lower, &JF));
+      CHECK((JG - JF).norm() == 0.0);
+    }
+  }
+}
+
 TEST_CASE("COPS grid problems: F is the gradient of the objective of the .gms",
           "[collection]") {
   // A small grid with interior_x != interior_y, so that swapped indices would show.

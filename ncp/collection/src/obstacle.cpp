@@ -136,22 +136,35 @@ class GridObstacleFunction : public SquareFunction {
 };
 
 TestProblem Assemble(std::string name, int dimension, int m, SparseMatrix A, Vector load,
-                     Vector lower, Vector upper, ObstacleKind kind) {
+                     Vector lower, Vector upper, ObstacleKind kind, ObstacleVariable variable) {
   TestProblem p;
   p.name = std::move(name);
   const int n = static_cast<int>(load.size());
+  // Starts in the height u; for the gap w = u - l they are shifted below.
+  std::vector<StartPoint> starts = {{"zero", Vector::Zero(n)}};
+  starts.push_back(kind == ObstacleKind::kLowerBump
+                       ? StartPoint{"obstacle", lower.cwiseMax(0.0)}
+                       : StartPoint{"ceiling", upper});
+  if (variable == ObstacleVariable::kGap) {
+    // A (w + l) - f = A w - (f - A l); A l - f evaluated stencil-wise, once.
+    Vector residual_at_lower(n);
+    GridObstacleFunction(dimension, m, A, load).Evaluate(lower, &residual_at_lower);
+    load = -residual_at_lower;
+    upper -= lower;  // +inf stays +inf
+    for (StartPoint& start : starts) start.x -= lower;
+    lower.setZero();
+    p.name += "-gap";
+  }
   p.F =
       std::make_unique<GridObstacleFunction>(dimension, m, std::move(A), std::move(load));
   p.lower = std::move(lower);
   p.upper = std::move(upper);
-  p.starts.push_back({"zero", Vector::Zero(n)});
+  p.starts = std::move(starts);
   if (kind == ObstacleKind::kLowerBump) {
-    p.starts.push_back({"obstacle", p.lower.cwiseMax(0.0)});
     p.notes =
         "membrane over the bump psi = 1/2 - 8|x - c|^2, f = 0; LCP in u - psi; "
         "unique solution (A is an M-matrix), not known in closed form on the grid";
   } else {
-    p.starts.push_back({"ceiling", p.upper});
     p.notes =
         "two-sided obstacle -0.1 <= u <= 0.1 with a sign-changing load; both bounds "
         "active; unique solution (A is an M-matrix)";
@@ -171,7 +184,7 @@ const char* ToString(ObstacleKind kind) {
   return "unknown";
 }
 
-TestProblem Obstacle1D(int n, ObstacleKind kind) {
+TestProblem Obstacle1D(int n, ObstacleKind kind, ObstacleVariable variable) {
   CheckSize("Obstacle1D", n, n);
   const double h = 1.0 / (n + 1);
   Vector load(n), lower(n), upper(n);
@@ -189,14 +202,14 @@ TestProblem Obstacle1D(int n, ObstacleKind kind) {
   }
   TestProblem p = Assemble(
       std::string("obstacle1d-") + ToString(kind) + "-" + std::to_string(n), 1, n,
-      Laplacian1D(n), std::move(load), std::move(lower), std::move(upper), kind);
+      Laplacian1D(n), std::move(load), std::move(lower), std::move(upper), kind, variable);
   p.source =
       "membrane obstacle problem (Kinderlehrer and Stampacchia 1980, ch. II), "
       "3-point finite differences on (0,1)";
   return p;
 }
 
-TestProblem Obstacle2D(int m, ObstacleKind kind) {
+TestProblem Obstacle2D(int m, ObstacleKind kind, ObstacleVariable variable) {
   CheckSize("Obstacle2D", m, static_cast<long long>(m) * m);
   const int n = m * m;
   const double h = 1.0 / (m + 1);
@@ -220,7 +233,7 @@ TestProblem Obstacle2D(int m, ObstacleKind kind) {
   TestProblem p = Assemble(std::string("obstacle2d-") + ToString(kind) + "-" +
                                std::to_string(m) + "x" + std::to_string(m),
                            2, m, Laplacian2D(m), std::move(load), std::move(lower),
-                           std::move(upper), kind);
+                           std::move(upper), kind, variable);
   p.source =
       "membrane obstacle problem (Kinderlehrer and Stampacchia 1980, ch. II), "
       "5-point finite differences on (0,1)^2";

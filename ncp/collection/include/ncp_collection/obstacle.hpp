@@ -26,13 +26,28 @@ enum class ObstacleKind {
 
 const char* ToString(ObstacleKind kind);
 
+/// The unknown the problem is written in.
+enum class ObstacleVariable {
+  /// The membrane's height u: l <= u <= r perp A u - f.
+  kHeight,
+  /// The gap to the lower obstacle w = u - l: 0 <= w <= r - l perp A w - (f - A l), with
+  /// A l - f computed once. The same solution shifted, but better conditioned in floating
+  /// point: an iterate w is stored to eps |w|, which vanishes on the contact set, where u
+  /// is stored to eps |u|; the rows' round-off eps h^-2 |u| (above 1e-10 from h ~ 1e-3 on)
+  /// becomes eps h^-2 |w|.
+  kGap,
+};
+
 /// 1D: n interior nodes, h = 1 / (n + 1). Starts "zero" and "obstacle" (kLowerBump,
-/// u0 = max(psi, 0)) or "ceiling" (kTwoSidedBand, u0 = 0.1).
-TestProblem Obstacle1D(int n, ObstacleKind kind = ObstacleKind::kLowerBump);
+/// u0 = max(psi, 0)) or "ceiling" (kTwoSidedBand, u0 = 0.1), given in the chosen variable
+/// (kGap: w0 = u0 - l; name suffix "-gap").
+TestProblem Obstacle1D(int n, ObstacleKind kind = ObstacleKind::kLowerBump,
+                       ObstacleVariable variable = ObstacleVariable::kHeight);
 
 /// 2D: m x m interior nodes, h = 1 / (m + 1), n = m^2 unknowns in lexicographic order
 /// (index i + m j for the node (x_i, y_j)). Same starts as the 1D problem.
-TestProblem Obstacle2D(int m, ObstacleKind kind = ObstacleKind::kLowerBump);
+TestProblem Obstacle2D(int m, ObstacleKind kind = ObstacleKind::kLowerBump,
+                       ObstacleVariable variable = ObstacleVariable::kHeight);
 
 /// The exact solution of the continuous 1D kLowerBump problem at x in [0, 1].
 double ExactLowerBump1D(double x);
