@@ -97,32 +97,47 @@ double TypicalRate(const KLUWithInfo&) { return 2.2e9; }
 double FlopsEstimate(const UmfPackLUWithInfo& lu) { return lu.FlopsEstimate(); }
 double FlopsEstimate(const KLUWithInfo& lu) { return lu.FlopsEstimate(); }
 
+/// Whether analyzePattern succeeded. Eigen::SparseLU's analyzePattern has no failure mode
+/// and does not set info(), which still holds the last factorization's result (or is
+/// uninitialized): read after a singular factorization it reported every later analysis as
+/// failed, and a Solver kept across problems with SparseLU then never took a Newton step.
+template <typename Decomposition>
+bool AnalysisSucceeded(const Decomposition& lu) {
+  return lu.info() == Eigen::Success;
+}
+bool AnalysisSucceeded(const Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>>&) {
+  return true;
+}
+
 /// Any Eigen sparse LU with analyzePattern / factorize / solve / info.
 template <typename Decomposition, LinearSolverType kType>
 class SparseSolver final : public LinearSolver {
  public:
+  // A new pattern gets a new decomposition object, so that nothing of the previous
+  // matrix's factorization survives into the new one.
   bool Analyze(const SparseMatrix& J, bool pattern_changed) override {
     if (pattern_changed || !analyzed_) {
-      lu_.analyzePattern(J);
+      lu_ = std::make_unique<Decomposition>();
+      lu_->analyzePattern(J);
       ++symbolic_factorizations_;
-      analyzed_ = lu_.info() == Eigen::Success;
+      analyzed_ = AnalysisSucceeded(*lu_);
     }
     return analyzed_;
   }
-  double PredictedFactorizationFlops() const override { return FlopsEstimate(lu_); }
-  double TypicalFlopRate() const override { return TypicalRate(lu_); }
+  double PredictedFactorizationFlops() const override { return FlopsEstimate(*lu_); }
+  double TypicalFlopRate() const override { return TypicalRate(*lu_); }
   bool Factorize(const SparseMatrix& J) override {
-    lu_.factorize(J);
-    return lu_.info() == Eigen::Success;
+    lu_->factorize(J);
+    return lu_->info() == Eigen::Success;
   }
   bool Solve(const Vector& rhs, Vector* x) override {
-    *x = lu_.solve(rhs);
-    return lu_.info() == Eigen::Success;
+    *x = lu_->solve(rhs);
+    return lu_->info() == Eigen::Success;
   }
   LinearSolverType type() const override { return kType; }
 
  private:
-  Decomposition lu_;
+  std::unique_ptr<Decomposition> lu_;  // made by Analyze
   bool analyzed_ = false;
 };
 

@@ -1065,17 +1065,58 @@ void Solver::SolveNcp(SquareFunction& F, Vector* x, Summary* summary) {
         summary);
 }
 
+void Solver::set_options(const Options& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw std::invalid_argument("ncp::Solver: " + error);
+  options_ = options;
+}
+
+namespace {
+
+// The one-shot calls of small problems (n <= kPooledMaxVariables) borrow a Solver kept per
+// thread, so that only the first call builds the workspace (~110 allocations, a few us: half
+// the time of a small solve); everything a solve depends on is re-derived in Start() or
+// checked (backend, box-MCP bounds, Jacobian pattern), so a borrowed workspace gives the
+// same iterates as a fresh one. A call made while the thread's Solver is busy (from inside F)
+// or for a larger problem, whose workspace should not outlive the call, gets a fresh Solver.
+constexpr int kPooledMaxVariables = 100;
+
+struct PooledSolver {
+  std::unique_ptr<Solver> solver;
+  bool busy = false;
+};
+
+template <typename SolveCall>
+void SolveOnce(const Options& options, int n, SolveCall&& call) {
+  thread_local PooledSolver pool;
+  if (pool.busy || n > kPooledMaxVariables) {
+    Solver solver(options);
+    call(solver);
+    return;
+  }
+  if (pool.solver) pool.solver->set_options(options);
+  else pool.solver = std::make_unique<Solver>(options);
+  struct Borrow {  // released on return and on an exception
+    bool& busy;
+    explicit Borrow(bool& b) : busy(b) { busy = true; }
+    ~Borrow() { busy = false; }
+  } borrow(pool.busy);
+  call(*pool.solver);
+}
+
+}  // namespace
+
 void Solve(const Options& options, MixedProblem& problem, Vector* x, Summary* summary) {
-  Solver(options).Solve(problem, x, summary);
+  SolveOnce(options, problem.NumVariables(), [&](Solver& s) { s.Solve(problem, x, summary); });
 }
 
 void Solve(const Options& options, SquareFunction& F, const Vector& lower, const Vector& upper,
            Vector* x, Summary* summary) {
-  Solver(options).Solve(F, lower, upper, x, summary);
+  SolveOnce(options, F.NumVariables(), [&](Solver& s) { s.Solve(F, lower, upper, x, summary); });
 }
 
 void SolveNcp(const Options& options, SquareFunction& F, Vector* x, Summary* summary) {
-  Solver(options).SolveNcp(F, x, summary);
+  SolveOnce(options, F.NumVariables(), [&](Solver& s) { s.SolveNcp(F, x, summary); });
 }
 
 }  // namespace ncp

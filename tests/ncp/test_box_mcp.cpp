@@ -167,3 +167,96 @@ TEST_CASE("a start point outside [l, u] is projected onto the box", "[box_mcp]")
     CHECK(run.summary.message.find("projected") == std::string::npos);
   }
 }
+
+// The one-shot ncp::Solve borrows a Solver kept per thread for n <= 100: every result must
+// be the one a fresh Solver gives, whatever was solved before on the same thread.
+TEST_CASE("one-shot solves of small problems equal fresh-Solver solves, in any order",
+          "[box_mcp][one_shot]") {
+  std::vector<TestProblem> problems = StandardCollection();
+  for (ncp::LinearSolverType backend :
+       {ncp::LinearSolverType::kAuto, ncp::LinearSolverType::kSparseLU,
+        ncp::LinearSolverType::kKlu}) {
+    for (int pass = 0; pass < 2; ++pass) {  // the second pass meets a used workspace
+      for (TestProblem& p : problems) {
+        if (p.NumVariables() > 100) continue;
+        for (NcpFunction function : {NcpFunction::kFischerBurmeister, NcpFunction::kMin}) {
+          ncp::Options options = MakeOptions(function, backend);
+          const Vector& x0 = p.starts.back().x;
+          Vector x_once = x0, x_fresh = x0;
+          ncp::Summary once, fresh;
+          ncp::Solve(options, *p.F, p.lower, p.upper, &x_once, &once);
+          ncp::Solver(options).Solve(*p.F, p.lower, p.upper, &x_fresh, &fresh);
+          INFO(p.name << " " << ncp::ToString(function) << " " << ncp::ToString(backend)
+                      << " pass " << pass << ": " << once.BriefReport() << " / "
+                      << fresh.BriefReport());
+          CHECK(once.termination == fresh.termination);
+          CHECK(once.iterations == fresh.iterations);
+          CHECK(once.residual_evaluations == fresh.residual_evaluations);
+          CHECK((x_once - x_fresh).lpNorm<Eigen::Infinity>() == 0.0);
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("a one-shot solve called from inside F of another one-shot solve",
+          "[box_mcp][one_shot]") {
+  // Outer: x >= 0 perp F(x) = x - c with c = y(x) + 1 found by an inner solve of
+  // y >= 0 perp y - 2 (so y = 2, c = 3, x = 3).
+  int inner_calls = 0;
+  ncp::DenseSquareFunction outer(
+      1,
+      [&](const Vector& x, Vector* F) {
+        ncp::DenseSquareFunction inner(
+            1, [](const Vector& y, Vector* G) { (*G)(0) = y(0) - 2.0; return true; },
+            [](const Vector&, ncp::DenseMatrix* J) { (*J)(0, 0) = 1.0; return true; });
+        Vector y = Vector::Zero(1);
+        ncp::Summary s;
+        ncp::SolveNcp(ncp::Options(), inner, &y, &s);
+        ++inner_calls;
+        if (!s.IsSolutionUsable()) return false;
+        (*F)(0) = x(0) - (y(0) + 1.0);
+        return true;
+      },
+      [](const Vector&, ncp::DenseMatrix* J) { (*J)(0, 0) = 1.0; return true; });
+  Vector x = Vector::Zero(1);
+  ncp::Summary summary;
+  ncp::SolveNcp(ncp::Options(), outer, &x, &summary);
+  INFO(summary.FullReport());
+  REQUIRE(summary.IsSolutionUsable());
+  CHECK(std::abs(x(0) - 3.0) <= 1e-9);
+  CHECK(inner_calls == summary.residual_evaluations);
+}
+
+// Eigen::SparseLU's analyzePattern does not set info(): read after a singular
+// factorization it made every later analysis "fail", so a kept Solver never took a Newton
+// step again once the pattern changed.
+TEST_CASE("a kept SparseLU Solver works after a singular factorization and a new pattern",
+          "[box_mcp][one_shot]") {
+  ncp::Options options;
+  options.linear_solver = ncp::LinearSolverType::kSparseLU;
+  ncp::Solver solver(options);
+  // Two free variables, F(x) = (x0 + x1 - 1, x0 + x1 - 3): J = [1 1; 1 1] is singular
+  // everywhere, every factorization fails (and there is no solution).
+  ncp::DenseSquareFunction singular(
+      2,
+      [](const Vector& x, Vector* F) {
+        (*F)(0) = x(0) + x(1) - 1.0;
+        (*F)(1) = x(0) + x(1) - 3.0;
+        return true;
+      },
+      [](const Vector&, ncp::DenseMatrix* J) { J->setOnes(); return true; });
+  const double inf = std::numeric_limits<double>::infinity();
+  Vector x = Vector::Zero(2);
+  ncp::Summary summary;
+  solver.Solve(singular, Vector::Constant(2, -inf), Vector::Constant(2, inf), &x, &summary);
+  INFO(summary.FullReport());
+  CHECK_FALSE(summary.IsSolutionUsable());
+  CHECK(summary.linear_solver_failures >= 1);
+  TestProblem kojshin = KojimaShindo();
+  x = kojshin.starts.front().x;
+  solver.Solve(*kojshin.F, kojshin.lower, kojshin.upper, &x, &summary);
+  INFO(summary.FullReport());
+  CHECK(summary.IsSolutionUsable());
+  CHECK(summary.linear_solver_failures == 0);
+}

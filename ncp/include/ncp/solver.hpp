@@ -222,6 +222,9 @@ class Solver {
   Solver& operator=(Solver&&) noexcept;
 
   const Options& options() const { return options_; }
+  /// New options for the next solves; the workspace (symbolic factorization, box MCP form)
+  /// is kept. Throws std::invalid_argument like the constructor.
+  void set_options(const Options& options);
 
   /// Mixed problem; *x holds the start point on entry and the last iterate on return.
   void Solve(MixedProblem& problem, Vector* x, Summary* summary);
@@ -240,7 +243,9 @@ class Solver {
   std::unique_ptr<Workspace> workspace_;
 };
 
-/// One-shot conveniences (a fresh Solver each call).
+/// One-shot conveniences. Problems with n <= 100 borrow a Solver kept per thread (the
+/// workspace is built once, not in every call; results are those of a fresh Solver); larger
+/// problems and calls nested inside a running one-shot solve use a fresh Solver.
 void Solve(const Options& options, MixedProblem& problem, Vector* x, Summary* summary);
 void Solve(const Options& options, SquareFunction& F, const Vector& lower,
            const Vector& upper, Vector* x, Summary* summary);
