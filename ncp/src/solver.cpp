@@ -246,9 +246,11 @@ struct Solver::Workspace {
   ResidualScales scales;
   Vector we, wa, wb;
   Vector E, A, B, Et, At, Bt;  // current point and trial point
-  Vector phi, phi_trial, grad, d, x_trial, da, db, z, za, zb, newton_rhs, newton_residual;
-  // Round-off floor (Options::roundoff_ulps): |x| and |J_E||x|, |J_A||x|, |J_B||x|.
-  Vector abs_x, sensitivity_e, sensitivity_a, sensitivity_b;
+  Vector phi, phi_trial, grad, d, x_trial, da, db, z, za, zb, newton_rhs, newton_residual,
+      newton_terms;
+  // Round-off floor (Options::roundoff_ulps): row i of |J||x| summed entry by entry, i.e.
+  // |J_E||x| for an equation and |da| |J_A||x| + |db| |J_B||x| for a pair.
+  Vector sensitivity;
   // flop/s of the last timed numeric factorization (0: none timed yet).
   double measured_flop_rate = 0.0;
   // Levenberg-Marquardt system J'J + mu I, its own solver and pattern bookkeeping.
@@ -265,11 +267,9 @@ struct Solver::Workspace {
   void Resize(int n, int m) {
     const int p = n - m;
     for (Vector* v : {&E, &Et}) v->setZero(m);
-    for (Vector* v : {&A, &B, &At, &Bt, &da, &db, &za, &zb, &sensitivity_a, &sensitivity_b})
-      v->setZero(p);
-    sensitivity_e.setZero(m);
+    for (Vector* v : {&A, &B, &At, &Bt, &da, &db, &za, &zb}) v->setZero(p);
     for (Vector* v : {&phi, &phi_trial, &grad, &d, &x_trial, &z, &newton_rhs, &newton_residual,
-                      &abs_x})
+                      &newton_terms, &sensitivity})
       v->setZero(n);
     if (JE.rows() != m || JE.cols() != n) JE.resize(m, n);
     if (JA.rows() != p || JA.cols() != n) JA.resize(p, n);
@@ -333,45 +333,52 @@ struct Solver::Workspace {
     }
   }
 
-  /// Jd = J, dense (the light path).
-  void FillDenseJacobian(int m) {
+  /// Jd = J, dense (the light path); sensitivity = |J||x| row by row (with the partials
+  /// da, db inside, the round-off floor's r; see WithinRoundoffFloor).
+  void FillDenseJacobian(int m, const Vector& x) {
     const Eigen::Index n = JE.cols();
     Jd.resize(n, n);
     Jd.setZero();
-    ForEachJacobianEntry(m, [&](int, int, int row, int col, double value) { Jd(row, col) += value; });
+    sensitivity.setZero();
+    ForEachJacobianEntry(m, [&](int, int, int row, int col, double value) {
+      Jd(row, col) += value;
+      sensitivity(row) += std::abs(value) * std::abs(x(col));
+    });
   }
 
-  /// out = J v on the backend's form of J.
-  void MultiplyJacobian(const Vector& v, Vector* out) const {
-    if (dense) out->noalias() = Jd * v;
-    else out->noalias() = J * v;
-  }
-  /// max_i (|J||v|)_i: the size of the terms that sum to J v (round-off in J v is relative
-  /// to it, not to |J v|).
-  double AbsProductNorm(const Vector& v, Vector* scratch) const {
-    if (dense) {  // (a loop: the product of two abs-expressions would allocate temporaries)
-      scratch->setZero();
-      for (Eigen::Index c = 0; c < Jd.cols(); ++c)
-        for (Eigen::Index r = 0; r < Jd.rows(); ++r) (*scratch)(r) += std::abs(Jd(r, c)) * std::abs(v(c));
-    } else {
-      scratch->setZero();
-      for (int c = 0; c < J.outerSize(); ++c)
-        for (SparseMatrix::InnerIterator it(J, c); it; ++it)
-          (*scratch)(it.row()) += std::abs(it.value()) * std::abs(v(c));
-    }
-    return scratch->lpNorm<Eigen::Infinity>();
-  }
   /// out = J' v.
   void MultiplyJacobianTransposed(const Vector& v, Vector* out) const {
     if (dense) out->noalias() = Jd.transpose() * v;
     else out->noalias() = J.transpose() * v;
   }
+  /// *residual = J v + b and returns max_i (|J||v|)_i, the size of the terms summed in J v
+  /// (its round-off is relative to that, not to |J v|); one pass over J.
+  double ResidualAndTerms(const Vector& v, const Vector& b, Vector* residual, Vector* terms) const {
+    *residual = b;
+    terms->setZero();
+    auto add = [&](Eigen::Index row, Eigen::Index col, double value) {
+      (*residual)(row) += value * v(col);
+      (*terms)(row) += std::abs(value * v(col));
+    };
+    if (dense) {
+      for (Eigen::Index c = 0; c < Jd.cols(); ++c)
+        for (Eigen::Index r = 0; r < Jd.rows(); ++r) add(r, c, Jd(r, c));
+    } else {
+      for (int c = 0; c < J.outerSize(); ++c)
+        for (SparseMatrix::InnerIterator it(J, c); it; ++it) add(it.row(), c, it.value());
+    }
+    return terms->lpNorm<Eigen::Infinity>();
+  }
 
-  /// J values = [JE; diag(da) JA + diag(db) JB] on the cached pattern.
-  void FillJacobian(int m) {
+  /// J values = [JE; diag(da) JA + diag(db) JB] on the cached pattern; sensitivity as above.
+  void FillJacobian(int m, const Vector& x) {
     double* values = J.valuePtr();
     std::fill(values, values + J.nonZeros(), 0.0);
-    ForEachJacobianEntry(m, [&](int s, int k, int, int, double value) { values[map[s][k]] += value; });
+    sensitivity.setZero();
+    ForEachJacobianEntry(m, [&](int s, int k, int row, int col, double value) {
+      values[map[s][k]] += value;
+      sensitivity(row) += std::abs(value) * std::abs(x(col));
+    });
   }
 };
 
@@ -575,10 +582,10 @@ class Solver::Iteration {
     }
     PhiPartials();
     if (w_.dense) {
-      w_.FillDenseJacobian(m_);
+      w_.FillDenseJacobian(m_, x_);
     } else {
       pattern_changed_ = w_.UpdatePattern(m_);
-      w_.FillJacobian(m_);
+      w_.FillJacobian(m_, x_);
     }
     w_.MultiplyJacobianTransposed(w_.phi, &w_.grad);  // grad psi = J' Phi (eq. 24)
     return true;
@@ -624,29 +631,13 @@ class Solver::Iteration {
   // for pairs (to first order; J_E, J_A, J_B weighted like the rows). No x closer to the
   // solution is representable below that, so a row within tolerance + roundoff_ulps eps r_i
   // is as converged as double precision allows. Needs J at x^k (EvaluateJacobian).
+  // (r = Workspace::sensitivity, summed while J was filled: no extra pass over J.)
   bool WithinRoundoffFloor() {
     if (o_.roundoff_ulps == 0.0) return false;
     const double ulps = o_.roundoff_ulps * std::numeric_limits<double>::epsilon();
-    w_.abs_x = x_.cwiseAbs();
-    AbsTimes(w_.JE, w_.abs_x, &w_.sensitivity_e);
-    AbsTimes(w_.JA, w_.abs_x, &w_.sensitivity_a);
-    AbsTimes(w_.JB, w_.abs_x, &w_.sensitivity_b);
-    for (int i = 0; i < m_; ++i)
-      if (std::abs(w_.phi(i)) > threshold_ + ulps * w_.sensitivity_e(i)) return false;
-    for (int j = 0; j < p_; ++j) {
-      const double r = std::abs(w_.da(j)) * w_.sensitivity_a(j) +
-                       std::abs(w_.db(j)) * w_.sensitivity_b(j);
-      if (std::abs(w_.phi(m_ + j)) > threshold_ + ulps * r) return false;
-    }
+    for (int i = 0; i < n_; ++i)
+      if (std::abs(w_.phi(i)) > threshold_ + ulps * w_.sensitivity(i)) return false;
     return true;
-  }
-
-  // *out = |S| v for v >= 0 (no temporary matrix).
-  static void AbsTimes(const SparseMatrix& S, const Vector& v, Vector* out) {
-    out->setZero();
-    for (int c = 0; c < S.outerSize(); ++c)
-      for (SparseMatrix::InnerIterator it(S, c); it; ++it)
-        (*out)(it.row()) += std::abs(it.value()) * v(c);
   }
 
   // ---- trace, log, callback for iterate k; false when the callback stopped ----------
@@ -788,9 +779,7 @@ class Solver::Iteration {
       // || |J||d| ||) (Rigal and Gaches 1967; Higham 2002, Thm. 7.1). The terms |J||d|, not
       // |J d|, set the scale: rows of size h^-2 (fine grids) leave a residual of eps |J||d|
       // in any backward-stable solve, far above 1e-6 ||Phi|| once h^-2 eps ~ 1e-6.
-      const double terms_inf = w_.AbsProductNorm(w_.d, &w_.newton_residual);
-      w_.MultiplyJacobian(w_.d, &w_.newton_residual);
-      w_.newton_residual += w_.phi;
+      const double terms_inf = w_.ResidualAndTerms(w_.d, w_.phi, &w_.newton_residual, &w_.newton_terms);
       solved = w_.newton_residual.lpNorm<Eigen::Infinity>() <= 1e-6 * (phi_inf_ + terms_inf);
     }
     s_.linear_solver_time_s += Seconds(t0);
