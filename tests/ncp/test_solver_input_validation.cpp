@@ -111,6 +111,16 @@ TEST_CASE("invalid options are rejected before any work", "[solver][validation]"
     o.infinite_bound = 0.0;
     cases.push_back({"infinite_bound", o});
   }
+  {
+    ncp::Options o;
+    o.roundoff_ulps = -1.0;
+    cases.push_back({"roundoff_ulps", o});
+  }
+  {
+    ncp::Options o;
+    o.roundoff_ulps = std::numeric_limits<double>::quiet_NaN();
+    cases.push_back({"roundoff_ulps", o});
+  }
   for (const Case& c : cases) {
     INFO(c.field);
     std::string error;
@@ -119,6 +129,10 @@ TEST_CASE("invalid options are rejected before any work", "[solver][validation]"
     CHECK_THROWS_AS(ncp::SolveNcp(c.options, *p.F, &x, &summary), std::invalid_argument);
     CHECK_THROWS_WITH(ncp::SolveNcp(c.options, *p.F, &x, &summary), Contains(c.field));
     CHECK_THROWS_WITH(ncp::Solver(c.options), Contains(c.field));
+    // set_options rejects it too and keeps the Solver's valid options.
+    ncp::Solver kept;
+    CHECK_THROWS_WITH(kept.set_options(c.options), Contains(c.field));
+    CHECK(kept.options().IsValid(&error));
   }
   std::string error;
   CHECK(ncp::Options().IsValid(&error));

@@ -464,10 +464,9 @@ TestProblem VonThunenMcp() {
       "GAMS model library vonthmcp.gms (SEQ=136), general-equilibrium variant of the von "
       "Thunen model (Rowse, Mackinnon, Samuelson, and von Thunen)";
   p.F = std::make_unique<V>();
-  p.lower = Vector::Zero(V::kSize);
+  internal::MakeStandardNcp(&p);
   p.lower.segment(V::kPk, V::kRegions).setConstant(0.001);
   p.lower.segment(V::kP, V::kCrops).setConstant(0.1);
-  p.upper = Vector::Constant(V::kSize, kInf);
   // .gms levels: cst = y = pk = wp = p = 1, ip = 0 (wl = 1 is eliminated).
   Vector gams = Vector::Ones(V::kSize);
   gams.segment(V::kIp, V::kRegions).setZero();
@@ -500,8 +499,7 @@ TestProblem Mr5Mcp() {
       "GAMS model library mr5mcp.gms (SEQ=134), multi-region growth model on the data of "
       "Global 2100: Manne and Richels, Buying Greenhouse Insurance (MIT Press 1992)";
   p.F = std::make_unique<M>(data);
-  p.lower = Vector::Zero(M::kSize);
-  p.upper = Vector::Constant(M::kSize, kInf);
+  internal::MakeStandardNcp(&p);  // and positive lower bounds below
   Vector start(M::kSize);
   for (int q = 0; q < M::kT; ++q) {
     const int t = q + 1;

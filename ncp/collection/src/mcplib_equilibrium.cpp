@@ -14,7 +14,6 @@
 namespace ncp::collection {
 namespace {
 
-using internal::kInf;
 using internal::Vec;
 
 // ---- nash: Harker's 10-firm Nash-Cournot oligopoly ------------------------------------
@@ -93,8 +92,7 @@ TestProblem Nash10() {
       "library NASH (SEQ=269), read in github Rhh98/GAMS-MIRO oligopoly/nashemp.gms; F as "
       "in netlib ampl/models/compl/nash.mod";
   p.F = std::make_unique<Nash10Function>();
-  p.lower = Vector::Zero(10);
-  p.upper = Vector::Constant(10, kInf);
+  internal::MakeStandardNcp(&p);
   p.starts = {{"gams", Vector::Ones(10)}, {"tens", Vector::Constant(10, 10.0)}};
   // Computed with this library (FB, default options, both starts agree to 1e-15) and
   // checked by the natural residual in tests/ncp/test_mcplib_equilibrium.cpp (no
