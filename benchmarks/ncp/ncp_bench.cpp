@@ -136,6 +136,7 @@ const char* ShortName(ncp::LinearSolverType t) {
     case ncp::LinearSolverType::kSparseLU: return "sparselu";
     case ncp::LinearSolverType::kUmfpack: return "umfpack";
     case ncp::LinearSolverType::kKlu: return "klu";
+    case ncp::LinearSolverType::kCholmod: return "cholmod";
     case ncp::LinearSolverType::kAuto: return "auto";
   }
   return "?";

@@ -57,9 +57,13 @@ class LinearSolver {
   virtual bool Solve(const Vector& rhs, Vector* x) = 0;
   virtual LinearSolverType type() const = 0;
   int symbolic_factorizations() const { return symbolic_factorizations_; }
+  /// kCholmod: factorizations handed to the LU fallback (J not symmetrizable or not
+  /// positive definite); 0 for the other backends.
+  int fallbacks() const { return fallbacks_; }
 
  protected:
   int symbolic_factorizations_ = 0;
+  int fallbacks_ = 0;
 };
 
 /// kAuto must be resolved by the caller.

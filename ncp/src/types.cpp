@@ -18,6 +18,7 @@ const char* ToString(LinearSolverType t) {
     case LinearSolverType::kSparseLU: return "sparse-lu";
     case LinearSolverType::kUmfpack: return "umfpack";
     case LinearSolverType::kKlu: return "klu";
+    case LinearSolverType::kCholmod: return "cholmod";
   }
   return "unknown";
 }

@@ -264,6 +264,7 @@ void BindSummary(py::module_& m) {
       ("weighted_residual", &Summary::weighted_residual, "residuals are relative to the problem's own scales")
       ("roundoff_limited", &Summary::roundoff_limited, "converged at the round-off floor, above the tolerance")
       ("symbolic_factorizations", &Summary::symbolic_factorizations, "sparse analyses")
+      ("cholesky_fallbacks", &Summary::cholesky_fallbacks, "cholmod backend: Newton matrices factored by UMFPACK instead")
       ("initial_phi_inf", &Summary::initial_phi_inf, "||Phi(x^0)||_inf")
       ("final_phi_inf", &Summary::final_phi_inf, "||Phi(x)||_inf at the returned x")
       ("final_psi", &Summary::final_psi, "psi at the returned x")
@@ -343,11 +344,11 @@ void BindReference(py::module_& m) {
 PYBIND11_MODULE(_ncp, m) {
   m.doc() =
       "Semismooth Newton for complementarity problems (C++ core of the ncp package)";
-  bindings::BindEnum(m, "NcpFunction", ncp::NcpFunction::kPenalizedFischerBurmeister,
+  bindings::BindEnum(m, "NcpFunction", ncp::kLastNcpFunction,
                      "NCP function phi(a, b)");
-  bindings::BindEnum(m, "LinearSolverType", ncp::LinearSolverType::kKlu,
+  bindings::BindEnum(m, "LinearSolverType", ncp::kLastLinearSolverType,
                      "linear solver of J d = -Phi");
-  bindings::BindEnum(m, "TerminationType", ncp::TerminationType::kUserAbort,
+  bindings::BindEnum(m, "TerminationType", ncp::kLastTerminationType,
                      "why a solve stopped");
   BindOptions(m);
   BindSummary(m);

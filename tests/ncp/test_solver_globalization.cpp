@@ -7,6 +7,7 @@
 #include <string>
 
 #include "ncp/solver.hpp"
+#include "ncp_collection/affine_function.hpp"
 #include "ncp_collection/checks.hpp"
 #include "ncp_collection/mcplib_nlp.hpp"
 #include "ncp_collection/small_problems.hpp"
@@ -284,4 +285,25 @@ TEST_CASE("merit restarts: the min function and Algorithm 1 never restart", "[so
   std::string error;
   CHECK_FALSE(bad.IsValid(&error));
   CHECK(error.find("merit_restarts") != std::string::npos);
+}
+
+// A step is "too small" only when it moves no component: x1 ~ 1e8 and x2 ~ 1e-9 in their
+// own units, the last correction of x2 (1e-9) is below eps ||x||_inf (2.2e-8) but changes
+// x2 completely. The line search used to stop on t ||d||_inf <= eps ||x||_inf and ended in
+// a line-search failure at ||Phi|| = 2e-9 (the 2D obstacle at 10^6 unknowns failed so).
+TEST_CASE("the line search judges a step component by component, not by ||x||_inf",
+          "[solver][globalization]") {
+  SparseMatrix M(2, 2);
+  M.setIdentity();
+  ncp::collection::AffineFunction F(M, Vector((Vector(2) << -1e8, -1e-9).finished()));
+  const Vector lower = Vector::Zero(2), upper = Vector::Constant(2, kInf);
+  Vector x = (Vector(2) << 1e8, 0.0).finished();  // x1 solved, x2 = 0 < 1e-9: Phi_2 = 2e-9
+  ncp::Options options;
+  options.tolerance = 1e-14;
+  ncp::Summary summary;
+  ncp::Solve(options, F, lower, upper, &x, &summary);
+  INFO(summary.FullReport());
+  REQUIRE(summary.termination == TerminationType::kConverged);
+  CHECK(std::abs(x(0) - 1e8) == 0.0);
+  CHECK(std::abs(x(1) - 1e-9) <= 1e-14);
 }

@@ -152,7 +152,7 @@ TEST_CASE("options out of range name the value and the accepted range", "[solver
       {[] { ncp::Options o; o.ncp_function = static_cast<ncp::NcpFunction>(7); return o; }(),
        "Options::ncp_function must be an NcpFunction (0..2), got 7"},
       {[] { ncp::Options o; o.linear_solver = static_cast<ncp::LinearSolverType>(-1); return o; }(),
-       "Options::linear_solver must be a LinearSolverType (0..4), got -1"},
+       "Options::linear_solver must be a LinearSolverType (0..5), got -1"},
   };
   for (const auto& [options, message] : cases) {
     std::string error;

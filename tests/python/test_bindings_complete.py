@@ -53,3 +53,16 @@ def test_every_contact_record_and_summary_field_is_returned():
     missing = (set(struct_fields("contact/include/contact/dynamics.hpp", "DynamicSummary")) - special
                - set(contact.SUMMARY_FIELDS))
     assert not missing, f"add to SummaryColumns in python/src/contact_module.cpp: {sorted(missing)}"
+
+
+@pytest.mark.parametrize("enum", ["NcpFunction", "LinearSolverType", "TerminationType"])
+def test_every_enumerator_is_bound(enum):
+    """Each enumerator of ncp/types.hpp has its Python value (a binding that stopped one
+    short once left TerminationType.TIME_LIMIT out)."""
+    with open(os.path.join(ROOT, "ncp/include/ncp/types.hpp")) as f:
+        text = f.read()
+    body = re.search(r"^enum class " + enum + r" \{\n(.*?)^\};", text, re.S | re.M).group(1)
+    body = re.sub(r"//[^\n]*", "", body)
+    enumerators = re.findall(r"^\s*k(\w+),", body, re.M)
+    bound = getattr(ncp, enum).__members__
+    assert len(bound) == len(enumerators), f"{enum}: C++ {enumerators}, Python {sorted(bound)}"

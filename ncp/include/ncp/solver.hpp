@@ -180,6 +180,9 @@ struct Summary {
   int descent_test_failures = -1;    ///< Newton directions rejected by eq. (22)
   int backtracks = -1;               ///< total halvings in the line search
   int symbolic_factorizations = -1;  ///< sparse analyses (1 if the pattern never changed)
+  /// LinearSolverType::kCholmod: Newton matrices factored by UMFPACK's LU instead because
+  /// they were not symmetrizable or not positive definite (0 for the other backends).
+  int cholesky_fallbacks = -1;
   /// Box MCP: components of the start point outside [l, u] moved onto the nearer bound
   /// (x0_i <- mid(l_i, u_i, x0_i)); 0 for a mixed problem.
   int projected_start_components = -1;

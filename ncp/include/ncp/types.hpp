@@ -32,7 +32,19 @@ enum class LinearSolverType {
   kSparseLU,  ///< Eigen::SparseLU (supernodal, COLAMD ordering)
   kUmfpack,   ///< SuiteSparse UMFPACK through Eigen::UmfPackLU
   kKlu,       ///< SuiteSparse KLU through Eigen::KLU
+  /// SuiteSparse CHOLMOD Cholesky of the Newton matrix made symmetric: rows that fix their
+  /// variable alone (d_i = rhs_i / J_ii) are eliminated and the others scaled by s_i > 0 with
+  /// s_i J_ij = s_j J_ji (relative 1e-10). A box MCP with a symmetric positive definite F'
+  /// and one-sided bounds (obstacle problems, convex bound-constrained minimization) gives
+  /// S J = diag(da / db) + F' for the FB, min and penalized FB functions: positive definite,
+  /// about 2.5x faster to factor than UMFPACK's LU on a 2D grid. A Newton matrix that is not
+  /// symmetrizable, or not positive definite, is factored by UMFPACK instead
+  /// (Summary::cholesky_fallbacks).
+  kCholmod,
 };
+/// The last enumerator of each enumeration (range checks, bindings).
+constexpr NcpFunction kLastNcpFunction = NcpFunction::kPenalizedFischerBurmeister;
+constexpr LinearSolverType kLastLinearSolverType = LinearSolverType::kCholmod;
 
 /// Why a solve stopped. Only kConverged means the returned x solves the problem.
 enum class TerminationType {
@@ -50,6 +62,7 @@ enum class TerminationType {
   kTimeLimit,            ///< Options::max_seconds reached, or a factorization predicted
                          ///< to take longer than the time left was not started
 };
+constexpr TerminationType kLastTerminationType = TerminationType::kTimeLimit;
 
 const char* ToString(NcpFunction f);
 const char* ToString(LinearSolverType t);
