@@ -21,12 +21,12 @@ int main(int argc, char** argv) {
   if (markdown) {
     std::printf(
         "| problem | n | start | function | status | iterations | Jacobian evals | "
-        "residual "
-        "evals | ||Phi||_inf | natural residual | documented failure |\n"
-        "|---|---|---|---|---|---|---|---|---|---|---|\n");
+        "residual evals | merit restarts | ||Phi||_inf | natural residual | documented "
+        "failure |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   } else {
-    std::printf("%-26s %6s %-9s %-19s %-20s %5s %5s %6s %10s %10s\n", "problem", "n",
-                "start", "function", "status", "iter", "jac", "res", "|Phi|inf",
+    std::printf("%-26s %6s %-9s %-19s %-20s %5s %5s %6s %4s %10s %10s\n", "problem", "n",
+                "start", "function", "status", "iter", "jac", "res", "rst", "|Phi|inf",
                 "nat.res");
   }
   int runs = 0, converged = 0, false_claims = 0, expected = 0;
@@ -48,18 +48,20 @@ int main(int argc, char** argv) {
         if (summary.IsSolutionUsable() && !(residual <= 1e-8)) ++false_claims;
         if (documented) ++expected;
         if (markdown) {
-          std::printf("| %s | %d | %s | %s | %s | %d | %d | %d | %.2e | %.2e | %s |\n",
+          std::printf("| %s | %d | %s | %s | %s | %d | %d | %d | %d | %.2e | %.2e | %s |\n",
                       p.name.c_str(), p.NumVariables(), start.label.c_str(),
                       ncp::ToString(function), ncp::ToString(summary.termination),
                       summary.iterations, summary.jacobian_evaluations,
-                      summary.residual_evaluations, summary.final_phi_inf, residual,
+                      summary.residual_evaluations, summary.merit_restarts,
+                      summary.final_phi_inf, residual,
                       documented ? "yes" : "");
         } else {
-          std::printf("%-26s %6d %-9s %-19s %-20s %5d %5d %6d %10.3e %10.3e%s\n",
+          std::printf("%-26s %6d %-9s %-19s %-20s %5d %5d %6d %4d %10.3e %10.3e%s\n",
                       p.name.c_str(), p.NumVariables(), start.label.c_str(),
                       ncp::ToString(function), ncp::ToString(summary.termination),
                       summary.iterations, summary.jacobian_evaluations,
-                      summary.residual_evaluations, summary.final_phi_inf, residual,
+                      summary.residual_evaluations, summary.merit_restarts,
+                      summary.final_phi_inf, residual,
                       documented ? "  (documented failure)" : "");
         }
       }

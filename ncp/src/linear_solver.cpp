@@ -166,9 +166,11 @@ class SymmetrizedCholesky final : public LinearSolver {
   /// Relative mismatch of s_i J_ij and s_j J_ji accepted as round-off: the scales are
   /// products along paths of the graph (2D grid of 10^6 nodes: ~2000 factors, ~1e-13).
   static constexpr double kSymmetryTolerance = 1e-10;
-  /// CHOLMOD supernodal LL' on a 2D 5-point grid of 10^6 nodes: Common->fl = 2.2e10 (its
-  /// LL' flop count) in 2.5 s on the development machine.
-  static constexpr double kTypicalFlopRate = 8.0e9;
+  /// Common->fl (CHOLMOD's LL' flop count) per second, 2D 5-point Laplacian on the
+  /// development machine: 1.82e10 flops in 1.9-2.1 s at 10^6 nodes (~9e9 flop/s), 4.7e8 in
+  /// 0.14-0.17 s at 9e4 (~3e9); between the two, so that small factorizations are not
+  /// predicted far too short.
+  static constexpr double kTypicalFlopRate = 5.0e9;
 
   bool Analyze(const SparseMatrix& J, bool pattern_changed) override {
     if (analyzed_ && !pattern_changed) return analysis_ok_;
