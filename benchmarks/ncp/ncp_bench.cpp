@@ -168,6 +168,7 @@ std::vector<SolverConfig> SolverConfigs() {
   }
   ours(F::kFischerBurmeister, L::kKlu);
   ours(F::kFischerBurmeister, L::kSparseLU);
+  ours(F::kFischerBurmeister, L::kCholmod);
   if (ncp_bench::PeerAvailable()) {
     using P = ncp_bench::PeerMethod;
     for (P p : {P::kMcpNewtonFb, P::kMcpNewtonMin, P::kLcpLemke, P::kLcpNewtonFb,
