@@ -5,8 +5,8 @@
 #include <Eigen/LU>
 #include <Eigen/SparseLU>
 #include <Eigen/UmfPackSupport>
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -197,14 +197,15 @@ class SymmetrizedCholesky final : public LinearSolver {
     analysis_ok_ = cholesky_->cholmod().status >= CHOLMOD_OK;
     return analysis_ok_;
   }
+  // The prediction is the Cholesky's while it is tried, the LU's once the pattern went to it.
   double PredictedFactorizationFlops() const override {
-    return symmetric_pattern_ ? cholesky_->cholmod().fl : fallback_->PredictedFactorizationFlops();
+    return TriesCholesky() ? cholesky_->cholmod().fl : fallback_->PredictedFactorizationFlops();
   }
   double TypicalFlopRate() const override {
-    return symmetric_pattern_ ? kTypicalFlopRate : fallback_->TypicalFlopRate();
+    return TriesCholesky() ? kTypicalFlopRate : fallback_->TypicalFlopRate();
   }
   bool Factorize(const SparseMatrix& J) override {
-    use_fallback_ = !symmetric_pattern_ || indefinite_ || !Symmetrize(J);
+    use_fallback_ = !TriesCholesky() || !Symmetrize(J);
     if (!use_fallback_) {
       cholesky_->factorize(K_);
       // Not positive definite: LU from here on while the pattern stays, so that a problem
@@ -243,6 +244,9 @@ class SymmetrizedCholesky final : public LinearSolver {
   LinearSolverType type() const override { return LinearSolverType::kCholmod; }
 
  private:
+  // The pattern is symmetric and no K of it was found indefinite (then the LU is analysed).
+  bool TriesCholesky() const { return symmetric_pattern_ && !indefinite_; }
+
   LinearSolver& Fallback() {
     if (!fallback_) fallback_ = std::make_unique<UmfpackSolver>();
     return *fallback_;
@@ -271,8 +275,8 @@ class SymmetrizedCholesky final : public LinearSolver {
     return true;
   }
 
-  /// Steps 1-2 of the class comment and K's values; false when J has no positive
-  /// symmetrizing scaling.
+  /// Steps 1-2 of the class comment and K's values; false when J has no symmetrizing
+  /// scaling.
   bool Symmetrize(const SparseMatrix& J) {
     const int n = static_cast<int>(J.cols());
     const int* outer = J.outerIndexPtr();

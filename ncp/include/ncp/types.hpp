@@ -33,11 +33,12 @@ enum class LinearSolverType {
   kUmfpack,   ///< SuiteSparse UMFPACK through Eigen::UmfPackLU
   kKlu,       ///< SuiteSparse KLU through Eigen::KLU
   /// SuiteSparse CHOLMOD Cholesky of the Newton matrix made symmetric: rows that fix their
-  /// variable alone (d_i = rhs_i / J_ii) are eliminated and the others scaled by s_i > 0 with
-  /// s_i J_ij = s_j J_ji (relative 1e-10). A box MCP with a symmetric positive definite F'
-  /// and one-sided bounds (obstacle problems, convex bound-constrained minimization) gives
-  /// S J = diag(da / db) + F' for the FB, min and penalized FB functions: positive definite,
-  /// about 2.5x faster to factor than UMFPACK's LU on a 2D grid. A Newton matrix that is not
+  /// variable alone (d_i = rhs_i / J_ii) are eliminated and the others scaled by s_i (one
+  /// sign per connected block) with s_i J_ij = s_j J_ji (relative 1e-10). A box MCP with a
+  /// symmetric positive definite F' and one-sided bounds (obstacle problems, convex
+  /// bound-constrained minimization) gives S J = diag(da / db) + F' for the FB, min and
+  /// penalized FB functions: positive definite, about 2x faster to factor than UMFPACK's LU
+  /// on a 2D grid (10^6 unknowns: 1.9-2.1 s against 4.1 s). A Newton matrix that is not
   /// symmetrizable, or not positive definite, is factored by UMFPACK instead
   /// (Summary::cholesky_fallbacks).
   kCholmod,
