@@ -1,4 +1,4 @@
-// The step methods behind internal::StepAlgorithm (contact/src/step_method.hpp), each solving
+// The step methods behind internal::StepAlgorithm (contact/src/step/step_method.hpp), each solving
 // the same step through the interface: every result is checked against the step's equations,
 // recomputed here from the model (S du + q = contact forces, Signorini, Tresca), and the
 // methods against each other. A new step method joins the GENERATE lists below.
@@ -12,7 +12,7 @@
 #include "contact/scene.hpp"
 #include "mass_inverse.hpp"
 #include "step_accuracy.hpp"
-#include "step_method.hpp"
+#include "step/step_method.hpp"
 
 namespace {
 

@@ -18,7 +18,7 @@
 #include <string>
 
 #include "contact/convex_qp.hpp"
-#include "contact/dynamics.hpp"
+#include "contact/dynamics_types.hpp"
 #include "mass_inverse.hpp"
 #include "step_accuracy.hpp"
 
@@ -56,7 +56,7 @@ class StepAlgorithm {
 };
 
 /// The method that runs: options.step_method, or for kAuto condensed or sparse by the
-/// size of the contact set (dynamics.hpp). Throws std::invalid_argument for the sparse
+/// size of the contact set (contact/dynamics_types.hpp). Throws std::invalid_argument for the sparse
 /// step with friction formulation eq. 94.
 StepMethod ResolveStepMethod(const DynamicModel& model, const DynamicOptions& options);
 

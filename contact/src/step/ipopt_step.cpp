@@ -2,7 +2,7 @@
 // itself, which DynamicOptions::compare_with_ipopt solves next to another step method.
 #include <chrono>
 
-#include "step_method.hpp"
+#include "step/step_method.hpp"
 
 namespace contact::internal {
 

@@ -1,4 +1,4 @@
-#include "step_method.hpp"
+#include "step/step_method.hpp"
 
 #include <stdexcept>
 
