@@ -59,9 +59,9 @@ void Validate(const DynamicModel& model, const DynamicOptions& options) {
   if (!(options.friction_coefficient >= 0.0))
     throw std::invalid_argument(who + "friction_coefficient must be >= 0, got " +
                                 std::to_string(options.friction_coefficient));
-  if ((options.solver == StepSolver::kIpopt || options.compare_with_ipopt) &&
+  if ((options.step_method == StepMethod::kIpopt || options.compare_with_ipopt) &&
       options.friction_coefficient > 0.0)
-    throw std::invalid_argument(who + "the Ipopt step solver handles frictionless contact only "
+    throw std::invalid_argument(who + "the Ipopt step handles frictionless contact only "
                                       "(friction_coefficient = " +
                                 std::to_string(options.friction_coefficient) + ")");
   if (!internal::IsSymmetric(model.K, 1e-12) || !internal::IsSymmetric(model.M, 1e-12))
@@ -168,10 +168,9 @@ class CentralDifferences {
         method_(internal::MakeStepAlgorithm(model, options, mass, m_max_)),
         energy_(state->u, state->u_previous, state->Ku, state->Mdu_previous, dt_) {
     // The frictionless reference of compare_with_ipopt, next to any other step method.
-    if (options.compare_with_ipopt && options.solver != StepSolver::kIpopt)
+    if (options.compare_with_ipopt && options.step_method != StepMethod::kIpopt)
       reference_ = std::make_unique<internal::IpoptQp>(model, m_max_, options.ncp.tolerance);
-    summary->step_method = options.solver == StepSolver::kIpopt ? options.step_method
-                                                                 : internal::ResolveStepMethod(model, options);
+    summary->step_method = internal::ResolveStepMethod(model, options);
     gap0_.resize(static_cast<Eigen::Index>(model.contact_nodes.size()));
     for (size_t c = 0; c < model.contact_nodes.size(); ++c)
       gap0_(static_cast<Eigen::Index>(c)) = model.contact_nodes[c].gap;

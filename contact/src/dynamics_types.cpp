@@ -6,7 +6,7 @@ namespace contact {
 
 const char* ToString(FrictionFormulation f) {
   switch (f) {
-    case FrictionFormulation::kEq94: return "eq94";
+    case FrictionFormulation::kLaggedBound: return "lagged-bound";
     case FrictionFormulation::kCoulombFc: return "coulomb-fc";
   }
   return "unknown";
@@ -18,17 +18,8 @@ const char* ToString(StepMethod m) {
     case StepMethod::kCondensed: return "condensed";
     case StepMethod::kExplicit: return "explicit";
     case StepMethod::kSparse: return "sparse";
+    case StepMethod::kIpopt: return "ipopt";
     case StepMethod::kAuto: return "auto";
-  }
-  return "unknown";
-}
-
-const char* ToString(StepSolver s) {
-  switch (s) {
-    case StepSolver::kFischerBurmeister: return "fb";
-    case StepSolver::kMin: return "min";
-    case StepSolver::kPenalizedFischerBurmeister: return "penalized-fb";
-    case StepSolver::kIpopt: return "ipopt";
   }
   return "unknown";
 }

@@ -1,7 +1,9 @@
 // contact-sim: runs a dynamic contact scene file and reports what it did.
 //
-//   contact-sim SCENE.toml [--json] [--solver fb|min|penalized-fb|ipopt] [--step condensed|full|explicit] [--dt S]
-//                          [--friction F] [--end-time S] [--output DIR] [--quiet]
+//   contact-sim SCENE.toml [--json] [--step auto|condensed|sparse|full|explicit|ipopt]
+//                          [--ncp-function fb|min|penalized-fb] [--dt S] [--friction F]
+//                          [--friction-formulation lagged-bound|coulomb-fc] [--end-time S]
+//                          [--output DIR] [--quiet]
 #include <cxxopts.hpp>
 #include <cstdio>
 #include <iostream>
@@ -26,12 +28,13 @@ cxxopts::Options MakeCli() {
   cxxopts::Options cli("contact-sim", "Elastodynamic contact of a body with a rigid obstacle");
   cli.add_options()("scene", "scene file (TOML)", cxxopts::value<std::string>())(
       "json", "print one JSON summary object on stdout")(
-      "solver", "override solver.method: fb, min, penalized-fb, ipopt", cxxopts::value<std::string>())(
-      "step", "override solver.step: auto, condensed, sparse, full, explicit", cxxopts::value<std::string>())(
+      "step", "override solver.step: auto, condensed, sparse, full, explicit, ipopt", cxxopts::value<std::string>())(
+      "ncp-function", "override solver.ncp_function: fb, min, penalized-fb", cxxopts::value<std::string>())(
+      "solver", "replaced by --ncp-function and --step ipopt", cxxopts::value<std::string>())(
       "dt", "override time.dt [s]", cxxopts::value<std::string>())(
       "end-time", "override time.end_time [s]", cxxopts::value<std::string>())(
       "friction", "override friction.coefficient", cxxopts::value<std::string>())(
-      "friction-formulation", "override solver.friction: eq94, coulomb-fc", cxxopts::value<std::string>())(
+      "friction-formulation", "override solver.friction: lagged-bound, coulomb-fc", cxxopts::value<std::string>())(
       "tolerance", "override solver.tolerance", cxxopts::value<std::string>())(
       "output", "override output.directory", cxxopts::value<std::string>())(
       "no-output", "write no files")("quiet", "no progress lines on stderr")(
@@ -45,7 +48,7 @@ cxxopts::Options MakeCli() {
 /// file's values (same ranges).
 contact::SceneOverrides OverridesOf(const cxxopts::ParseResult& args) {
   contact::SceneOverrides overrides;
-  const std::pair<const char*, const char*> string_options[] = {{"solver", "solver.method"},
+  const std::pair<const char*, const char*> string_options[] = {{"ncp-function", "solver.ncp_function"},
                                                                 {"step", "solver.step"},
                                                                 {"friction-formulation", "solver.friction"}};
   for (const auto& [option, key] : string_options)
@@ -98,7 +101,7 @@ nlohmann::json JsonSummary(const contact::Scene& scene, const contact::SceneResu
   j["dt"] = scene.dynamics.dt;
   j["dt_crit"] = s.critical_time_step;
   j["friction_coefficient"] = scene.friction_coefficient;
-  j["solver"] = contact::ToString(scene.dynamics.solver);
+  j["ncp_function"] = ncp::ToString(scene.dynamics.ncp.ncp_function);
   j["step_method"] = contact::ToString(s.step_method);  // auto resolved
   j["friction_formulation"] = contact::ToString(scene.dynamics.friction_formulation);
   j["tolerance"] = scene.dynamics.ncp.tolerance;
@@ -125,6 +128,11 @@ int main(int argc, char** argv) {
   if (args.count("help")) {
     std::cout << cli.help() << std::endl;
     return 0;
+  }
+  if (args.count("solver")) {
+    std::cerr << "contact-sim: usage error: --solver was replaced: --ncp-function fb|min|penalized-fb "
+                 "for the semismooth Newton steps, --step ipopt for Ipopt\n";
+    return 2;
   }
   if (!args.count("scene")) {
     std::cerr << "contact-sim: usage error: no scene file given\n" << cli.help() << std::endl;

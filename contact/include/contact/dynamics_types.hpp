@@ -22,14 +22,6 @@ struct CriticalTimeStep {
   int iterations = 0;
   bool converged = false;
 };
-enum class StepSolver {
-  kFischerBurmeister,           ///< semismooth Newton with phi_FB (default)
-  kMin,                         ///< semismooth Newton with phi_min
-  kPenalizedFischerBurmeister,  ///< semismooth Newton with CCK's penalized FB
-  kIpopt,                       ///< per-step convex QP by Ipopt (frictionless only)
-};
-const char* ToString(StepSolver s);
-
 /// The discretized body on its free dofs.
 struct DynamicModel {
   int dim = 0;
@@ -40,9 +32,12 @@ struct DynamicModel {
   std::vector<ContactNode> contact_nodes;
 };
 
-/// How each step's complementarity system is posed. (Each method is one class behind the
-/// internal interface contact/src/step/step_method.hpp, chosen by MakeStepAlgorithm; a new
-/// method is a new file there and one value here.)
+/// How each step's complementarity system is posed and solved: the one choice of the step
+/// solver. The semismooth Newton methods (kFull, kCondensed with the lagged bound) take the
+/// NCP function and their settings from DynamicOptions::ncp; with friction, kCondensed and
+/// kSparse pose it as DynamicOptions::friction_formulation says. (Each method is one class
+/// behind the internal interface contact/src/step/step_method.hpp, chosen by
+/// MakeStepAlgorithm; a new method is a new file there and one value here.)
 enum class StepMethod {
   kFull,       ///< over all free dofs, as the thesis (eq. 82, 90, 94)
   kCondensed,  ///< over the contact unknowns only: the other dofs are eliminated exactly
@@ -65,10 +60,14 @@ enum class StepMethod {
                ///< (ncp/fc/operator_problem.hpp). No set-up beyond the factor of M, memory
                ///< linear in the contact set; cost per Newton step (GMRES iterations + 2)
                ///< solves with M.
+  kIpopt,      ///< frictionless only: the step as the convex QP over all free dofs
+               ///< (min 1/2 du' S du + q' du subject to the linearized non-penetration),
+               ///< solved by Ipopt's interior-point method (Waechter and Biegler 2006); the
+               ///< reference solver of compare_with_ipopt
   kAuto,       ///< kCondensed up to kAutoSparseUnknowns unknowns of its dense system (dim
                ///< per contact node with friction, 1 without), kSparse above; kCondensed
-               ///< whenever the friction formulation is kEq94 (DynamicSummary::step_method
-               ///< tells which ran)
+               ///< whenever the friction formulation is kLaggedBound
+               ///< (DynamicSummary::step_method tells which ran)
 };
 /// The crossover of StepMethod::kAuto in unknowns of the condensed system: measured by
 /// contact-scaling-bench's face series (benchmarks/results/contact/scaling/README.md).
@@ -77,12 +76,12 @@ const char* ToString(StepMethod m);
 
 /// How a step with friction (f_c > 0) poses Coulomb's law (condensed step only for kCoulombFc).
 enum class FrictionFormulation {
-  kEq94,       ///< the thesis: Tresca with the lagged bound g_c = f_c lambda_c^k of the
-               ///< previous step (eq. 70) in the mixed NCP of eq. 94 (direction unknowns),
-               ///< solved by ncp with `solver`
-  kCoulombFc,  ///< implicit Coulomb |tau_c| <= f_c lambda_c^{k+1} as the local frictional
-               ///< contact problem in Delassus form u = E W E' r + q (contact/src/
-               ///< coulomb_step.hpp), solved by ncp::fc's hybrid semismooth Newton
+  kLaggedBound,  ///< the thesis: Tresca with the lagged bound g_c = f_c lambda_c^k of the
+                 ///< previous step (eq. 70) in the mixed NCP of eq. 94 (direction unknowns),
+                 ///< solved by ncp with DynamicOptions::ncp
+  kCoulombFc,    ///< implicit Coulomb |tau_c| <= f_c lambda_c^{k+1} as the local frictional
+                 ///< contact problem in Delassus form u = E W E' r + q (contact/src/step/
+                 ///< coulomb_step.hpp), solved by ncp::fc's hybrid semismooth Newton
 };
 const char* ToString(FrictionFormulation f);
 
@@ -147,15 +146,17 @@ struct DynamicOptions {
   double start_time = 0.0;  ///< t_0 [s]
   double end_time = 0.0;    ///< run until t >= end_time (within dt/1000) [s]
   double friction_coefficient = 0.0;  ///< f_c (0 = frictionless)
-  StepSolver solver = StepSolver::kFischerBurmeister;
-  StepMethod step_method = StepMethod::kAuto;  ///< kFull for the thesis formulation
+  /// How each step is posed and solved; kFull for the thesis formulation.
+  StepMethod step_method = StepMethod::kAuto;
   /// With friction and the condensed step (the full and explicit steps always use the lagged
-  /// bound). kCoulombFc ignores `solver` and `ncp` except ncp.tolerance, ncp.max_iterations
-  /// and ncp.log_to_stderr. Default kCoulombFc: measured more robust (README, "Coulomb
-  /// friction in Delassus form").
+  /// bound; the sparse step only kCoulombFc). kCoulombFc uses of `ncp` only ncp.tolerance,
+  /// ncp.max_iterations and ncp.log_to_stderr. Default kCoulombFc: implicit Coulomb is the
+  /// law itself, not a fixed point on it (README, "Coulomb friction in Delassus form").
   FrictionFormulation friction_formulation = FrictionFormulation::kCoulombFc;
-  /// Semismooth Newton settings. `tolerance` is relative to the step's force and displacement
-  /// scales (see kAccuracySlack above). Default min tie: a touching node counts as closed.
+  /// Semismooth Newton settings of the Newton-based step methods, ncp.ncp_function among
+  /// them (Fischer-Burmeister by default, or min, or penalized FB). `tolerance` is relative
+  /// to the step's force and displacement scales (see kAccuracySlack above), and also Ipopt's
+  /// (kIpopt, compare_with_ipopt). Default min tie: a touching node counts as closed.
   ncp::Options ncp = ContactNcpOptions();
   InitialState initial_state = InitialState::kStaticEquilibrium;
   Eigen::VectorXd u0, v0;   ///< for kPrescribed (free dofs) [m], [m/s]

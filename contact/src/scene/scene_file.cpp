@@ -261,15 +261,49 @@ void ReadTime(const Table& t, Scene* s) {
   t.RejectUnknownKeys();
 }
 
-/// [solver]: how each step is posed and solved, its tolerance and checks.
+/// Keys and values of [solver] that were renamed: an old scene file fails with a message
+/// that says what to write instead.
+void RejectRenamedSolverKeys(const Table& v) {
+  std::string key, fixes;  // the first renamed key, and what to write for each
+  const toml::value* at = nullptr;
+  if (v.Has("method")) {
+    const toml::value& old = v.Get("method");
+    const std::string value = old.is_string() ? old.as_string().str : "";
+    key = "method", at = &old;
+    fixes = value == "ipopt" ? "= \"ipopt\" is now a step method: write solver.step = \"ipopt\""
+                             : "was renamed: write solver.ncp_function = \"" +
+                                   (value.empty() ? std::string("fb") : value) +
+                                   "\" (fb, min or penalized-fb; Ipopt is solver.step = \"ipopt\")";
+  }
+  if (v.Has("friction") && v.Get("friction").is_string() && v.Get("friction").as_string().str == "eq94") {
+    const std::string fix = "= \"eq94\" was renamed: write solver.friction = \"lagged-bound\" (Tresca "
+                            "with the previous step's bound f_c lambda^k, thesis eq. 94)";
+    if (key.empty()) key = "friction", at = &v.Get("friction"), fixes = fix;
+    else fixes += "; and 'solver.friction' " + fix;
+  }
+  if (!key.empty()) v.Fail(key, fixes, at);
+}
+
+/// [solver]: how each step is posed and solved (step, friction), the Newton settings
+/// (ncp_function, tolerance, max_iterations, linear_solver) and the checks.
 void ReadSolver(const Table& v, Scene* s) {
-  const std::string method = v.Choice("method", {"fb", "min", "penalized-fb", "ipopt"}, "fb");
-  s->dynamics.solver = method == "min" ? StepSolver::kMin
-                      : method == "penalized-fb" ? StepSolver::kPenalizedFischerBurmeister
-                      : method == "ipopt" ? StepSolver::kIpopt : StepSolver::kFischerBurmeister;
-  if (s->dynamics.solver == StepSolver::kIpopt && s->friction_coefficient > 0)
-    v.Fail("method", "= \"ipopt\" solves frictionless steps only, but friction.coefficient = " +
-                         std::to_string(s->friction_coefficient));
+  RejectRenamedSolverKeys(v);
+  const std::string step = v.Choice("step", {"auto", "condensed", "sparse", "full", "explicit", "ipopt"}, "auto");
+  s->dynamics.step_method = step == "full"        ? StepMethod::kFull
+                            : step == "explicit"  ? StepMethod::kExplicit
+                            : step == "sparse"    ? StepMethod::kSparse
+                            : step == "condensed" ? StepMethod::kCondensed
+                            : step == "ipopt"     ? StepMethod::kIpopt
+                                                  : StepMethod::kAuto;
+  if (s->dynamics.step_method == StepMethod::kExplicit && s->mass != MassKind::kLumped)
+    v.Fail("step", "= \"explicit\" needs material.mass = \"lumped\"");
+  if (s->dynamics.step_method == StepMethod::kIpopt && s->friction_coefficient > 0)
+    v.Fail("step", "= \"ipopt\" solves frictionless steps only, but friction.coefficient = " +
+                       std::to_string(s->friction_coefficient));
+  const std::string function = v.Choice("ncp_function", {"fb", "min", "penalized-fb"}, "fb");
+  s->dynamics.ncp.ncp_function = function == "min"            ? ncp::NcpFunction::kMin
+                                 : function == "penalized-fb" ? ncp::NcpFunction::kPenalizedFischerBurmeister
+                                                              : ncp::NcpFunction::kFischerBurmeister;
   s->dynamics.ncp.tolerance = v.Number("tolerance", kRelativeTolerance, 1e-10);
   s->dynamics.ncp.max_iterations = v.Integer("max_iterations", kIterations, 500);
   const std::string ls = v.Choice("linear_solver", {"auto", "dense", "sparse-lu", "umfpack", "klu"}, "auto");
@@ -277,25 +311,17 @@ void ReadSolver(const Table& v, Scene* s) {
                                  : ls == "sparse-lu" ? ncp::LinearSolverType::kSparseLU
                                  : ls == "umfpack" ? ncp::LinearSolverType::kUmfpack
                                  : ls == "klu" ? ncp::LinearSolverType::kKlu : ncp::LinearSolverType::kAuto;
-  const std::string step = v.Choice("step", {"auto", "condensed", "sparse", "full", "explicit"}, "auto");
-  s->dynamics.step_method = step == "full"        ? StepMethod::kFull
-                           : step == "explicit"  ? StepMethod::kExplicit
-                           : step == "sparse"    ? StepMethod::kSparse
-                           : step == "condensed" ? StepMethod::kCondensed
-                                                 : StepMethod::kAuto;
-  if (s->dynamics.step_method == StepMethod::kExplicit && s->mass != MassKind::kLumped)
-    v.Fail("step", "= \"explicit\" needs material.mass = \"lumped\"");
-  const std::string friction = v.Choice("friction", {"default", "eq94", "coulomb-fc"}, "default");
+  const std::string friction = v.Choice("friction", {"default", "lagged-bound", "coulomb-fc"}, "default");
   if (friction != "default")
     s->dynamics.friction_formulation =
-        friction == "eq94" ? FrictionFormulation::kEq94 : FrictionFormulation::kCoulombFc;
+        friction == "lagged-bound" ? FrictionFormulation::kLaggedBound : FrictionFormulation::kCoulombFc;
   const StepMethod chosen = s->dynamics.step_method;
   if (friction == "coulomb-fc" && chosen != StepMethod::kCondensed && chosen != StepMethod::kSparse && chosen != StepMethod::kAuto)
     v.Fail("friction", "= \"coulomb-fc\" needs solver.step = \"auto\", \"condensed\" or \"sparse\", got \"" +
                            step + "\"");
-  if (friction == "eq94" && chosen == StepMethod::kSparse)
-    v.Fail("friction", "= \"eq94\" needs solver.step = \"auto\", \"condensed\" or \"full\" (the sparse step "
-                       "solves implicit Coulomb only), got \"sparse\"");
+  if (friction == "lagged-bound" && chosen == StepMethod::kSparse)
+    v.Fail("friction", "= \"lagged-bound\" needs solver.step = \"auto\", \"condensed\" or \"full\" (the "
+                       "sparse step solves implicit Coulomb only), got \"sparse\"");
   s->dynamics.ncp.log_to_stderr = v.Boolean("log_iterations", false);
   s->dynamics.compare_with_ipopt = v.Boolean("compare_with_ipopt", false);
   if (s->dynamics.compare_with_ipopt && s->friction_coefficient > 0)
