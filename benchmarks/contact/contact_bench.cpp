@@ -54,7 +54,9 @@
 namespace {
 
 using contact::DynamicStatus;
-using contact::StepSolver;
+/// The per-step solvers compared: semismooth Newton with one NCP function, or Ipopt's QP
+/// (StepMethod::kIpopt). The names are the "solver" column of the results.
+enum class StepSolver { kFischerBurmeister, kMin, kPenalizedFischerBurmeister, kIpopt };
 
 enum class ErrorKind { kBarImpact, kSlidingBlock, kIncline, kReference };
 
@@ -89,7 +91,29 @@ struct Track {
   double recomputed_residual = 0.0, max_penetration = 0.0;
 };
 
-const char* SolverName(StepSolver s) { return contact::ToString(s); }
+const char* SolverName(StepSolver s) {
+  switch (s) {
+    case StepSolver::kFischerBurmeister: return "fb";
+    case StepSolver::kMin: return "min";
+    case StepSolver::kPenalizedFischerBurmeister: return "penalized-fb";
+    case StepSolver::kIpopt: return "ipopt";
+  }
+  return "unknown";
+}
+
+/// Ipopt: the Ipopt step method; else the scene's step method with the NCP function.
+void UseSolver(StepSolver s, contact::DynamicOptions* options) {
+  switch (s) {
+    case StepSolver::kIpopt: options->step_method = contact::StepMethod::kIpopt; return;
+    case StepSolver::kMin: options->ncp.ncp_function = ncp::NcpFunction::kMin; return;
+    case StepSolver::kPenalizedFischerBurmeister:
+      options->ncp.ncp_function = ncp::NcpFunction::kPenalizedFischerBurmeister;
+      return;
+    case StepSolver::kFischerBurmeister:
+      options->ncp.ncp_function = ncp::NcpFunction::kFischerBurmeister;
+      return;
+  }
+}
 
 std::string Status(const contact::DynamicSummary& s) {
   switch (s.status) {
@@ -182,7 +206,7 @@ Row RunOne(const Built& b, const RunSettings& rs, Track* track) {
   }
   const contact::DynamicModel& model = b.model.model;
   contact::DynamicOptions options = b.model.options;
-  options.solver = rs.solver;
+  UseSolver(rs.solver, &options);
   options.dt = rs.dt;
   options.friction_coefficient = rs.friction;
   options.allow_unstable_time_step = rs.dt > b.dt_crit;

@@ -4,7 +4,7 @@
 
 #include <Eigen/SparseCore>
 
-#include "contact/dynamics.hpp"
+#include "contact/dynamics_types.hpp"
 #include "mass_inverse.hpp"
 
 namespace contact::internal {

@@ -15,7 +15,7 @@
 #include <Eigen/SparseCore>
 #include <vector>
 
-#include "contact/dynamics.hpp"
+#include "contact/dynamics_types.hpp"
 #include "mass_inverse.hpp"
 
 namespace contact::internal {

@@ -1,5 +1,5 @@
 // The central-difference time integrator (contact/dynamics.hpp). The step methods live
-// behind internal::StepAlgorithm (step_method.hpp, one file each), the critical step in
+// behind internal::StepAlgorithm (step/step_method.hpp, one file each), the critical step in
 // critical_time_step.cpp, the accuracy measures in step_accuracy.cpp and the energy
 // bookkeeping in energy_balance.cpp; this file holds the time loop.
 #include "contact/dynamics.hpp"
@@ -18,7 +18,7 @@
 #include "mass_inverse.hpp"
 #include "parallel.hpp"
 #include "step_accuracy.hpp"
-#include "step_method.hpp"
+#include "step/step_method.hpp"
 #include "text_format.hpp"
 
 namespace contact {
@@ -59,9 +59,9 @@ void Validate(const DynamicModel& model, const DynamicOptions& options) {
   if (!(options.friction_coefficient >= 0.0))
     throw std::invalid_argument(who + "friction_coefficient must be >= 0, got " +
                                 std::to_string(options.friction_coefficient));
-  if ((options.solver == StepSolver::kIpopt || options.compare_with_ipopt) &&
+  if ((options.step_method == StepMethod::kIpopt || options.compare_with_ipopt) &&
       options.friction_coefficient > 0.0)
-    throw std::invalid_argument(who + "the Ipopt step solver handles frictionless contact only "
+    throw std::invalid_argument(who + "the Ipopt step handles frictionless contact only "
                                       "(friction_coefficient = " +
                                 std::to_string(options.friction_coefficient) + ")");
   if (!internal::IsSymmetric(model.K, 1e-12) || !internal::IsSymmetric(model.M, 1e-12))
@@ -168,10 +168,9 @@ class CentralDifferences {
         method_(internal::MakeStepAlgorithm(model, options, mass, m_max_)),
         energy_(state->u, state->u_previous, state->Ku, state->Mdu_previous, dt_) {
     // The frictionless reference of compare_with_ipopt, next to any other step method.
-    if (options.compare_with_ipopt && options.solver != StepSolver::kIpopt)
+    if (options.compare_with_ipopt && options.step_method != StepMethod::kIpopt)
       reference_ = std::make_unique<internal::IpoptQp>(model, m_max_, options.ncp.tolerance);
-    summary->step_method = options.solver == StepSolver::kIpopt ? options.step_method
-                                                                 : internal::ResolveStepMethod(model, options);
+    summary->step_method = internal::ResolveStepMethod(model, options);
     gap0_.resize(static_cast<Eigen::Index>(model.contact_nodes.size()));
     for (size_t c = 0; c < model.contact_nodes.size(); ++c)
       gap0_(static_cast<Eigen::Index>(c)) = model.contact_nodes[c].gap;
@@ -207,7 +206,7 @@ class CentralDifferences {
 
  private:
   // Q^k = M (u^{k-1} - u^k) / dt^2 + K u^k - f^k (eq. 73), q = Q^k dt^2 / m_max (eq. 81), the
-  // Tresca bounds f_c lambda^k (eq. 70), and the step's scales (dynamics.hpp).
+  // Tresca bounds f_c lambda^k (eq. 70), and the step's scales (dynamics_types.hpp, kAccuracySlack).
   internal::StepScales LoadStep(long k) {
     State& s = state_;
     model_.load(options_.start_time + static_cast<double>(k) * dt_, &s.f);
@@ -369,35 +368,6 @@ void SymmetricMultiply(const Eigen::SparseMatrix<double>& A, const Eigen::Vector
   if (A.rows() != A.cols() || x.size() != A.cols())
     throw std::invalid_argument("SymmetricMultiply: A must be square with as many columns as x has entries");
   internal::SymmetricMultiply(A, x, y);
-}
-
-const char* ToString(FrictionFormulation f) {
-  switch (f) {
-    case FrictionFormulation::kEq94: return "eq94";
-    case FrictionFormulation::kCoulombFc: return "coulomb-fc";
-  }
-  return "unknown";
-}
-
-const char* ToString(StepMethod m) {
-  switch (m) {
-    case StepMethod::kFull: return "full";
-    case StepMethod::kCondensed: return "condensed";
-    case StepMethod::kExplicit: return "explicit";
-    case StepMethod::kSparse: return "sparse";
-    case StepMethod::kAuto: return "auto";
-  }
-  return "unknown";
-}
-
-const char* ToString(StepSolver s) {
-  switch (s) {
-    case StepSolver::kFischerBurmeister: return "fb";
-    case StepSolver::kMin: return "min";
-    case StepSolver::kPenalizedFischerBurmeister: return "penalized-fb";
-    case StepSolver::kIpopt: return "ipopt";
-  }
-  return "unknown";
 }
 
 const char* ToString(DynamicStatus s) {

@@ -9,7 +9,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "contact/dynamics.hpp"
+#include "contact/dynamics_types.hpp"
 
 namespace contact::internal {
 

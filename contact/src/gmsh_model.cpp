@@ -50,6 +50,149 @@ std::string DescribeGmshType(int gmsh_type) {
          std::to_string(order) + ", " + std::to_string(num_nodes) + " nodes)";
 }
 
+/// The one supported volume element type among gmsh's element blocks of dimension dim
+/// (index into types); throws on unsupported, mixed or missing elements.
+std::size_t ChooseVolumeElements(const std::string& source, int dim, const std::vector<int>& types,
+                                 const std::vector<std::vector<std::size_t>>& element_tags) {
+  int chosen = -1;
+  for (std::size_t t = 0; t < types.size(); ++t) {
+    if (element_tags[t].empty()) continue;
+    const bool supported =
+        dim == 2 ? (types[t] == kGmshTriangle3 || types[t] == kGmshQuadrilateral4)
+                 : (types[t] == kGmshTetrahedron4 || types[t] == kGmshHexahedron8);
+    if (!supported)
+      throw std::invalid_argument(source + ": unsupported element type " +
+                                  DescribeGmshType(types[t]) + " (" +
+                                  std::to_string(element_tags[t].size()) +
+                                  " elements); supported are linear 3-node triangles and "
+                                  "4-node quadrilaterals in "
+                                  "2D, 4-node tetrahedra and 8-node hexahedra in 3D");
+    if (chosen >= 0)
+      throw std::invalid_argument(source + ": unsupported mixed element types " +
+                                  DescribeGmshType(types[chosen]) + " and " +
+                                  DescribeGmshType(types[t]) +
+                                  "; expected a single element type");
+    chosen = static_cast<int>(t);
+  }
+  if (chosen < 0)
+    throw std::invalid_argument(source + ": contains no " + std::to_string(dim) +
+                                "D elements");
+  return static_cast<std::size_t>(chosen);
+}
+
+ElementType ElementTypeOfGmsh(int gmsh_type) {
+  switch (gmsh_type) {
+    case kGmshTriangle3:
+      return ElementType::kTriangle3;
+    case kGmshQuadrilateral4:
+      return ElementType::kQuadrilateral4;
+    case kGmshTetrahedron4:
+      return ElementType::kTetrahedron4;
+    default:
+      return ElementType::kHexahedron8;
+  }
+}
+
+/// The nodes of the volume elements into mesh->nodes, numbered 0, 1, ... by increasing gmsh
+/// tag; returns tag -> node index. A 2D mesh must lie in the plane z = 0.
+std::map<std::size_t, int> ReadElementNodes(const std::string& source,
+                                            const std::vector<std::size_t>& element_nodes,
+                                            Mesh* mesh) {
+  const int dim = mesh->dim;
+  std::vector<std::size_t> node_tags;
+  std::vector<double> coordinates, parametric;
+  gmsh::model::mesh::getNodes(node_tags, coordinates, parametric, -1, -1, false, false);
+  // Tags may be sparse (any value up to 2^64 - 1): maps sized by the number of nodes, never
+  // by the largest tag. Sorted, so that nodes are numbered by increasing tag.
+  std::map<std::size_t, std::size_t> position_of_tag;  // tag -> position in node_tags
+  for (std::size_t k = 0; k < node_tags.size(); ++k) position_of_tag[node_tags[k]] = k;
+  std::map<std::size_t, int> index_of_tag;  // tag -> node index, for the nodes of elements
+  for (const std::size_t tag : element_nodes) {
+    if (!position_of_tag.count(tag))
+      throw std::invalid_argument(source + ": element refers to missing node tag " +
+                                  std::to_string(tag));
+    index_of_tag[tag] = 0;
+  }
+  if (index_of_tag.size() > static_cast<std::size_t>(std::numeric_limits<int>::max() / dim))
+    throw std::invalid_argument(source + ": " + std::to_string(index_of_tag.size()) +
+                                " nodes exceed the int index range of the dofs");
+  int num_nodes = 0;
+  for (auto& [tag, index] : index_of_tag) index = num_nodes++;
+  mesh->nodes.resize(dim, num_nodes);
+  double max_abs_z = 0, extent = 0;
+  for (const auto& [tag, node] : index_of_tag) {
+    const double* x = &coordinates[3 * position_of_tag.at(tag)];
+    for (int k = 0; k < dim; ++k) {
+      mesh->nodes(k, node) = x[k];
+      extent = std::max(extent, std::abs(x[k]));
+    }
+    max_abs_z = std::max(max_abs_z, std::abs(x[2]));
+  }
+  if (dim == 2 && max_abs_z > 1e-10 * std::max(1.0, extent))
+    throw std::invalid_argument(
+        source + ": a 2D mesh must lie in the plane z = 0, got |z| up to " +
+        std::to_string(max_abs_z));
+  return index_of_tag;
+}
+
+/// The facets of one physical group of dimension dim - 1 as node indices appended to
+/// *connectivity; every facet must have the facet type of the elements and nodes of them.
+void AppendGroupFacets(const std::string& source, const Mesh& mesh, int group_dim, int group_tag,
+                       const std::string& name, const std::map<std::size_t, int>& index_of_tag,
+                       std::vector<int>* connectivity) {
+  const FacetType facet_type = FacetTypeOf(mesh.element_type);
+  std::vector<int> entities;
+  gmsh::model::getEntitiesForPhysicalGroup(group_dim, group_tag, entities);
+  for (const int entity : entities) {
+    std::vector<int> facet_types;
+    std::vector<std::vector<std::size_t>> facet_tags, facet_node_tags;
+    gmsh::model::mesh::getElements(facet_types, facet_tags, facet_node_tags, group_dim,
+                                   entity);
+    for (std::size_t t = 0; t < facet_types.size(); ++t) {
+      if (facet_tags[t].empty()) continue;
+      if (facet_types[t] != GmshType(facet_type))
+        throw std::invalid_argument(
+            source + ": boundary group '" + name + "' has unsupported facet type " +
+            DescribeGmshType(facet_types[t]) + "; " + ToString(mesh.element_type) +
+            " elements need facets of type " + DescribeGmshType(GmshType(facet_type)));
+      for (const std::size_t tag : facet_node_tags[t]) {
+        if (!index_of_tag.count(tag))
+          throw std::invalid_argument(source + ": boundary group '" + name +
+                                      "' uses node tag " + std::to_string(tag) +
+                                      ", which belongs to no " + std::to_string(mesh.dim) +
+                                      "D element");
+        connectivity->push_back(index_of_tag.at(tag));
+      }
+    }
+  }
+}
+
+/// Boundary groups: the physical groups of dimension dim - 1, merged by name (a group
+/// without a name is named by its tag).
+void ReadBoundaryGroups(const std::string& source, const std::map<std::size_t, int>& index_of_tag,
+                        Mesh* mesh) {
+  const FacetType facet_type = FacetTypeOf(mesh->element_type);
+  const int facet_nodes = NodesPerFacet(facet_type);
+  gmsh::vectorpair groups;
+  gmsh::model::getPhysicalGroups(groups, mesh->dim - 1);
+  std::map<std::string, std::vector<int>> connectivity_by_name;
+  for (const auto& [group_dim, group_tag] : groups) {
+    std::string name;
+    gmsh::model::getPhysicalName(group_dim, group_tag, name);
+    if (name.empty()) name = std::to_string(group_tag);
+    AppendGroupFacets(source, *mesh, group_dim, group_tag, name, index_of_tag,
+                      &connectivity_by_name[name]);
+  }
+  for (const auto& [name, connectivity] : connectivity_by_name) {
+    BoundaryFacets facets;
+    facets.type = facet_type;
+    facets.connectivity = Eigen::Map<const Eigen::MatrixXi>(
+        connectivity.data(), facet_nodes,
+        static_cast<Eigen::Index>(connectivity.size()) / facet_nodes);
+    mesh->boundary_groups[name] = std::move(facets);
+  }
+}
+
 }  // namespace
 
 GmshSession::GmshSession(const std::string& model_name) {
@@ -98,83 +241,15 @@ Mesh ExtractGmshMesh(const std::string& source) {
                                 std::to_string(dim));
   mesh.dim = dim;
 
-  // Volume elements: exactly one supported type.
   std::vector<int> types;
   std::vector<std::vector<std::size_t>> element_tags, element_nodes;
   gmsh::model::mesh::getElements(types, element_tags, element_nodes, dim, -1);
-  int chosen = -1;
-  for (std::size_t t = 0; t < types.size(); ++t) {
-    if (element_tags[t].empty()) continue;
-    const bool supported =
-        dim == 2 ? (types[t] == kGmshTriangle3 || types[t] == kGmshQuadrilateral4)
-                 : (types[t] == kGmshTetrahedron4 || types[t] == kGmshHexahedron8);
-    if (!supported)
-      throw std::invalid_argument(source + ": unsupported element type " +
-                                  DescribeGmshType(types[t]) + " (" +
-                                  std::to_string(element_tags[t].size()) +
-                                  " elements); supported are linear 3-node triangles and "
-                                  "4-node quadrilaterals in "
-                                  "2D, 4-node tetrahedra and 8-node hexahedra in 3D");
-    if (chosen >= 0)
-      throw std::invalid_argument(source + ": unsupported mixed element types " +
-                                  DescribeGmshType(types[chosen]) + " and " +
-                                  DescribeGmshType(types[t]) +
-                                  "; expected a single element type");
-    chosen = static_cast<int>(t);
-  }
-  if (chosen < 0)
-    throw std::invalid_argument(source + ": contains no " + std::to_string(dim) +
-                                "D elements");
-  switch (types[chosen]) {
-    case kGmshTriangle3:
-      mesh.element_type = ElementType::kTriangle3;
-      break;
-    case kGmshQuadrilateral4:
-      mesh.element_type = ElementType::kQuadrilateral4;
-      break;
-    case kGmshTetrahedron4:
-      mesh.element_type = ElementType::kTetrahedron4;
-      break;
-    default:
-      mesh.element_type = ElementType::kHexahedron8;
-  }
+  const std::size_t chosen = ChooseVolumeElements(source, dim, types, element_tags);
+  mesh.element_type = ElementTypeOfGmsh(types[chosen]);
   const int nen = NodesPerElement(mesh.element_type);
 
-  // Nodes: those of the volume elements, compact by increasing gmsh tag.
-  std::vector<std::size_t> node_tags;
-  std::vector<double> coordinates, parametric;
-  gmsh::model::mesh::getNodes(node_tags, coordinates, parametric, -1, -1, false, false);
-  // Tags may be sparse (any value up to 2^64 - 1): maps sized by the number of nodes, never
-  // by the largest tag. Sorted, so that nodes are numbered by increasing tag.
-  std::map<std::size_t, std::size_t> position_of_tag;  // tag -> position in node_tags
-  for (std::size_t k = 0; k < node_tags.size(); ++k) position_of_tag[node_tags[k]] = k;
-  std::map<std::size_t, int> index_of_tag;  // tag -> node index, for the nodes of elements
-  for (const std::size_t tag : element_nodes[chosen]) {
-    if (!position_of_tag.count(tag))
-      throw std::invalid_argument(source + ": element refers to missing node tag " +
-                                  std::to_string(tag));
-    index_of_tag[tag] = 0;
-  }
-  if (index_of_tag.size() > static_cast<std::size_t>(std::numeric_limits<int>::max() / dim))
-    throw std::invalid_argument(source + ": " + std::to_string(index_of_tag.size()) +
-                                " nodes exceed the int index range of the dofs");
-  int num_nodes = 0;
-  for (auto& [tag, index] : index_of_tag) index = num_nodes++;
-  mesh.nodes.resize(dim, num_nodes);
-  double max_abs_z = 0, extent = 0;
-  for (const auto& [tag, node] : index_of_tag) {
-    const double* x = &coordinates[3 * position_of_tag.at(tag)];
-    for (int k = 0; k < dim; ++k) {
-      mesh.nodes(k, node) = x[k];
-      extent = std::max(extent, std::abs(x[k]));
-    }
-    max_abs_z = std::max(max_abs_z, std::abs(x[2]));
-  }
-  if (dim == 2 && max_abs_z > 1e-10 * std::max(1.0, extent))
-    throw std::invalid_argument(
-        source + ": a 2D mesh must lie in the plane z = 0, got |z| up to " +
-        std::to_string(max_abs_z));
-
+  const std::map<std::size_t, int> index_of_tag =
+      ReadElementNodes(source, element_nodes[chosen], &mesh);
   const std::size_t num_elements = element_tags[chosen].size();
   mesh.elements.resize(nen, static_cast<Eigen::Index>(num_elements));
   for (std::size_t e = 0; e < num_elements; ++e)
@@ -182,50 +257,7 @@ Mesh ExtractGmshMesh(const std::string& source) {
       mesh.elements(a, e) = index_of_tag.at(element_nodes[chosen][nen * e + a]);
   mesh.element_tags = element_tags[chosen];
 
-  // Boundary groups: physical groups of dimension dim - 1, merged by name.
-  const FacetType facet_type = FacetTypeOf(mesh.element_type);
-  const int facet_nodes = NodesPerFacet(facet_type);
-  gmsh::vectorpair groups;
-  gmsh::model::getPhysicalGroups(groups, dim - 1);
-  std::map<std::string, std::vector<int>> connectivity_by_name;
-  for (const auto& [group_dim, group_tag] : groups) {
-    std::string name;
-    gmsh::model::getPhysicalName(group_dim, group_tag, name);
-    if (name.empty()) name = std::to_string(group_tag);
-    std::vector<int>& connectivity = connectivity_by_name[name];
-    std::vector<int> entities;
-    gmsh::model::getEntitiesForPhysicalGroup(group_dim, group_tag, entities);
-    for (const int entity : entities) {
-      std::vector<int> facet_types;
-      std::vector<std::vector<std::size_t>> facet_tags, facet_node_tags;
-      gmsh::model::mesh::getElements(facet_types, facet_tags, facet_node_tags, group_dim,
-                                     entity);
-      for (std::size_t t = 0; t < facet_types.size(); ++t) {
-        if (facet_tags[t].empty()) continue;
-        if (facet_types[t] != GmshType(facet_type))
-          throw std::invalid_argument(
-              source + ": boundary group '" + name + "' has unsupported facet type " +
-              DescribeGmshType(facet_types[t]) + "; " + ToString(mesh.element_type) +
-              " elements need facets of type " + DescribeGmshType(GmshType(facet_type)));
-        for (const std::size_t tag : facet_node_tags[t]) {
-          if (!index_of_tag.count(tag))
-            throw std::invalid_argument(source + ": boundary group '" + name +
-                                        "' uses node tag " + std::to_string(tag) +
-                                        ", which belongs to no " + std::to_string(dim) +
-                                        "D element");
-          connectivity.push_back(index_of_tag.at(tag));
-        }
-      }
-    }
-  }
-  for (const auto& [name, connectivity] : connectivity_by_name) {
-    BoundaryFacets facets;
-    facets.type = facet_type;
-    facets.connectivity = Eigen::Map<const Eigen::MatrixXi>(
-        connectivity.data(), facet_nodes,
-        static_cast<Eigen::Index>(connectivity.size()) / facet_nodes);
-    mesh.boundary_groups[name] = std::move(facets);
-  }
+  ReadBoundaryGroups(source, index_of_tag, &mesh);
   return mesh;
 }
 

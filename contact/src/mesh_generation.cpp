@@ -3,6 +3,7 @@
 #include <gmsh.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -322,6 +323,103 @@ Mesh MakeBoxMesh(const BoxMeshOptions& options) {
   return mesh;
 }
 
+namespace {
+
+/// The node numbering of a structured nx x ny x nz grid of hexahedra: node (i, j, k) is
+/// i + (nx + 1) (j + (ny + 1) k), element (i, j, k) is i + nx (j + ny k).
+struct StructuredGrid {
+  int nx, ny, nz;
+  int Node(int i, int j, int k) const { return i + (nx + 1) * (j + (ny + 1) * k); }
+};
+
+/// Node (i, j, k) at origin + size * (i / nx, j / ny, k / nz).
+void PlaceGridNodes(const BoxMeshOptions& options, const StructuredGrid& g, Mesh* mesh) {
+  for (int k = 0; k <= g.nz; ++k)
+    for (int j = 0; j <= g.ny; ++j)
+      for (int i = 0; i <= g.nx; ++i) {
+        const int n = g.Node(i, j, k);
+        mesh->nodes(0, n) = options.origin[0] + options.size[0] * i / g.nx;
+        mesh->nodes(1, n) = options.origin[1] + options.size[1] * j / g.ny;
+        mesh->nodes(2, n) = options.origin[2] + options.size[2] * k / g.nz;
+      }
+}
+
+/// The hexahedra in gmsh's node order (bottom face counterclockwise seen from +z, then the
+/// top face), tagged 1, 2, ...
+void ConnectGridHexahedra(const StructuredGrid& g, Mesh* mesh) {
+  for (int k = 0; k < g.nz; ++k)
+    for (int j = 0; j < g.ny; ++j)
+      for (int i = 0; i < g.nx; ++i) {
+        const int e = i + g.nx * (j + g.ny * k);
+        mesh->elements.col(e) << g.Node(i, j, k), g.Node(i + 1, j, k), g.Node(i + 1, j + 1, k),
+            g.Node(i, j + 1, k), g.Node(i, j, k + 1), g.Node(i + 1, j, k + 1),
+            g.Node(i + 1, j + 1, k + 1), g.Node(i, j + 1, k + 1);
+        mesh->element_tags[e] = static_cast<std::size_t>(e) + 1;
+      }
+}
+
+/// The quadrilaterals of a side (a plane i = const, or j, k), ordered so that the normal by
+/// the right-hand rule points out of the box.
+std::vector<std::array<int, 4>> SideQuadrilaterals(const StructuredGrid& g, Side side) {
+  std::vector<std::array<int, 4>> quads;
+  switch (side) {
+    case Side::kXMin:
+    case Side::kXMax: {
+      const int i = side == Side::kXMin ? 0 : g.nx;
+      for (int k = 0; k < g.nz; ++k)
+        for (int j = 0; j < g.ny; ++j) {
+          std::array<int, 4> q = {g.Node(i, j, k), g.Node(i, j + 1, k), g.Node(i, j + 1, k + 1),
+                                  g.Node(i, j, k + 1)};  // y then z: normal +x
+          if (side == Side::kXMin) std::swap(q[1], q[3]);
+          quads.push_back(q);
+        }
+      break;
+    }
+    case Side::kYMin:
+    case Side::kYMax: {
+      const int j = side == Side::kYMin ? 0 : g.ny;
+      for (int k = 0; k < g.nz; ++k)
+        for (int i = 0; i < g.nx; ++i) {
+          std::array<int, 4> q = {g.Node(i, j, k), g.Node(i, j, k + 1), g.Node(i + 1, j, k + 1),
+                                  g.Node(i + 1, j, k)};  // z then x: normal +y
+          if (side == Side::kYMin) std::swap(q[1], q[3]);
+          quads.push_back(q);
+        }
+      break;
+    }
+    case Side::kZMin:
+    case Side::kZMax: {
+      const int k = side == Side::kZMin ? 0 : g.nz;
+      for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i) {
+          std::array<int, 4> q = {g.Node(i, j, k), g.Node(i + 1, j, k), g.Node(i + 1, j + 1, k),
+                                  g.Node(i, j + 1, k)};  // x then y: normal +z
+          if (side == Side::kZMin) std::swap(q[1], q[3]);
+          quads.push_back(q);
+        }
+      break;
+    }
+  }
+  return quads;
+}
+
+/// The side quadrilaterals into the boundary group of each side's role.
+void AddGridSideGroups(const std::map<Side, BoundaryRole>& side_roles, const StructuredGrid& g,
+                       Mesh* mesh) {
+  for (const auto& [side, role] : side_roles) {
+    if (role == BoundaryRole::kNone) continue;
+    BoundaryFacets& group = mesh->boundary_groups[GroupName(role)];
+    group.type = FacetType::kQuadrilateral4;
+    const auto quads = SideQuadrilaterals(g, side);
+    const Eigen::Index old = group.connectivity.cols();
+    group.connectivity.conservativeResize(4, old + static_cast<Eigen::Index>(quads.size()));
+    for (std::size_t f = 0; f < quads.size(); ++f)
+      for (int a = 0; a < 4; ++a) group.connectivity(a, old + f) = quads[f][a];
+  }
+}
+
+}  // namespace
+
 Mesh MakeStructuredBoxMesh(const BoxMeshOptions& options) {
   const char* who = "MakeStructuredBoxMesh";
   CheckGeometry<3>(who, options.origin, options.size, options.cells);
@@ -332,96 +430,21 @@ Mesh MakeStructuredBoxMesh(const BoxMeshOptions& options) {
         ToString(options.element_type) +
         (options.topology == MeshTopology::kStructured ? std::string(" (structured)")
                                                        : std::string(" (unstructured)")));
-  const auto [nx, ny, nz] = options.cells;
-  const long long num_nodes = static_cast<long long>(nx + 1) * (ny + 1) * (nz + 1);
-  const long long num_elements = static_cast<long long>(nx) * ny * nz;
+  const StructuredGrid grid{options.cells[0], options.cells[1], options.cells[2]};
+  const long long num_nodes = static_cast<long long>(grid.nx + 1) * (grid.ny + 1) * (grid.nz + 1);
+  const long long num_elements = static_cast<long long>(grid.nx) * grid.ny * grid.nz;
   if (3 * num_nodes > std::numeric_limits<int>::max())
     throw std::invalid_argument(std::string(who) + ": too many dofs for int indices: " +
                                 std::to_string(3 * num_nodes));
-  auto node = [&](int i, int j, int k) { return i + (nx + 1) * (j + (ny + 1) * k); };
-
   Mesh mesh;
   mesh.dim = 3;
   mesh.element_type = ElementType::kHexahedron8;
   mesh.nodes.resize(3, num_nodes);
-  for (int k = 0; k <= nz; ++k)
-    for (int j = 0; j <= ny; ++j)
-      for (int i = 0; i <= nx; ++i) {
-        const int n = node(i, j, k);
-        mesh.nodes(0, n) = options.origin[0] + options.size[0] * i / nx;
-        mesh.nodes(1, n) = options.origin[1] + options.size[1] * j / ny;
-        mesh.nodes(2, n) = options.origin[2] + options.size[2] * k / nz;
-      }
+  PlaceGridNodes(options, grid, &mesh);
   mesh.elements.resize(8, num_elements);
   mesh.element_tags.resize(num_elements);
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        const int e = i + nx * (j + ny * k);
-        mesh.elements.col(e) << node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k),
-            node(i, j + 1, k), node(i, j, k + 1), node(i + 1, j, k + 1),
-            node(i + 1, j + 1, k + 1), node(i, j + 1, k + 1);
-        mesh.element_tags[e] = static_cast<std::size_t>(e) + 1;
-      }
-
-  // Side facets: the quadrilaterals of a plane i = const (or j, k), ordered so that the
-  // normal by the right-hand rule points out of the box.
-  auto side_facets = [&](Side side) {
-    std::vector<std::array<int, 4>> quads;
-    switch (side) {
-      case Side::kXMin:
-      case Side::kXMax: {
-        const int i = side == Side::kXMin ? 0 : nx;
-        for (int k = 0; k < nz; ++k)
-          for (int j = 0; j < ny; ++j) {
-            std::array<int, 4> q = {node(i, j, k), node(i, j + 1, k),
-                                    node(i, j + 1, k + 1),
-                                    node(i, j, k + 1)};  // y then z: normal +x
-            if (side == Side::kXMin) std::swap(q[1], q[3]);
-            quads.push_back(q);
-          }
-        break;
-      }
-      case Side::kYMin:
-      case Side::kYMax: {
-        const int j = side == Side::kYMin ? 0 : ny;
-        for (int k = 0; k < nz; ++k)
-          for (int i = 0; i < nx; ++i) {
-            std::array<int, 4> q = {node(i, j, k), node(i, j, k + 1),
-                                    node(i + 1, j, k + 1),
-                                    node(i + 1, j, k)};  // z then x: normal +y
-            if (side == Side::kYMin) std::swap(q[1], q[3]);
-            quads.push_back(q);
-          }
-        break;
-      }
-      case Side::kZMin:
-      case Side::kZMax: {
-        const int k = side == Side::kZMin ? 0 : nz;
-        for (int j = 0; j < ny; ++j)
-          for (int i = 0; i < nx; ++i) {
-            std::array<int, 4> q = {node(i, j, k), node(i + 1, j, k),
-                                    node(i + 1, j + 1, k),
-                                    node(i, j + 1, k)};  // x then y: normal +z
-            if (side == Side::kZMin) std::swap(q[1], q[3]);
-            quads.push_back(q);
-          }
-        break;
-      }
-    }
-    return quads;
-  };
-  for (const auto& [side, role] : options.side_roles) {
-    if (role == BoundaryRole::kNone) continue;
-    BoundaryFacets& group = mesh.boundary_groups[GroupName(role)];
-    group.type = FacetType::kQuadrilateral4;
-    const auto quads = side_facets(side);
-    const Eigen::Index old = group.connectivity.cols();
-    group.connectivity.conservativeResize(4,
-                                          old + static_cast<Eigen::Index>(quads.size()));
-    for (std::size_t f = 0; f < quads.size(); ++f)
-      for (int a = 0; a < 4; ++a) group.connectivity(a, old + f) = quads[f][a];
-  }
+  ConnectGridHexahedra(grid, &mesh);
+  AddGridSideGroups(options.side_roles, grid, &mesh);
   return mesh;
 }
 

@@ -16,13 +16,9 @@ double MaxDiagonal(const Eigen::SparseMatrix<double>& K) {
   return k;
 }
 
-}  // namespace
-
-StaticContactResult SolveStaticContact(int dim, const Eigen::SparseMatrix<double>& K,
-                                       const Eigen::VectorXd& f,
-                                       const std::vector<ContactNode>& nodes,
-                                       const StaticContactOptions& options) {
-  const auto num_nodes = static_cast<Eigen::Index>(nodes.size());
+/// Throws std::invalid_argument on a Tresca bound of the wrong size, negative or not finite,
+/// or a negative Coulomb coefficient.
+void CheckFrictionOptions(Eigen::Index num_nodes, const StaticContactOptions& options) {
   if (options.friction == FrictionLaw::kTresca && options.tresca_bound.size() != num_nodes)
     throw std::invalid_argument("SolveStaticContact: tresca_bound needs one value per contact node (" +
                                 std::to_string(num_nodes) + "), got " +
@@ -36,6 +32,41 @@ StaticContactResult SolveStaticContact(int dim, const Eigen::SparseMatrix<double
   if (options.friction == FrictionLaw::kCoulomb && !(options.friction_coefficient >= 0.0))
     throw std::invalid_argument("SolveStaticContact: friction_coefficient must be >= 0, got " +
                                 std::to_string(options.friction_coefficient));
+}
+
+/// Scales in system units (forces / k, displacements): the largest nodal load or Tresca
+/// bound (bound in system units), and at least the displacement it causes at the stiffest
+/// dof or the largest initial penetration - every row is solved to ncp.tolerance of them
+/// (plus round-off).
+struct StaticScales {
+  double force, displacement;
+};
+StaticScales ComputeScales(const Eigen::VectorXd& f, const Eigen::VectorXd& bound, double k,
+                           const std::vector<ContactNode>& nodes) {
+  double force = std::max(f.lpNorm<Eigen::Infinity>(), bound.size() ? k * bound.lpNorm<Eigen::Infinity>() : 0.0) / k;
+  double displacement = force;
+  for (const ContactNode& node : nodes) displacement = std::max(displacement, -node.gap);
+  if (force == 0.0) force = displacement;
+  if (force == 0.0) force = displacement = 1.0;  // no load, no penetration: u = 0
+  return {force, displacement};
+}
+
+/// The solution of one solve in newtons and metres (k: the stiffness scale of S = K / k).
+void StoreSolution(const ContactSystem::Result& r, double k, StaticContactResult* result) {
+  result->u = r.x;
+  result->normal_force = k * r.normal_force;
+  result->tangent_force = k * r.tangent_force;
+  result->gap = r.gap;
+}
+
+}  // namespace
+
+StaticContactResult SolveStaticContact(int dim, const Eigen::SparseMatrix<double>& K,
+                                       const Eigen::VectorXd& f,
+                                       const std::vector<ContactNode>& nodes,
+                                       const StaticContactOptions& options) {
+  const auto num_nodes = static_cast<Eigen::Index>(nodes.size());
+  CheckFrictionOptions(num_nodes, options);
   const double k = MaxDiagonal(K);
   const Eigen::SparseMatrix<double> S = K / k;
   const Eigen::VectorXd q = -f / k;
@@ -50,27 +81,17 @@ StaticContactResult SolveStaticContact(int dim, const Eigen::SparseMatrix<double
   Eigen::VectorXd lambda_previous = Eigen::VectorXd::Zero(num_nodes);
   const int rounds = options.friction == FrictionLaw::kCoulomb ? options.max_fixed_point_iterations : 1;
   ContactSystem system(dim, S, nodes);
-  // Scales in system units (forces / k, displacements): the largest nodal load or Tresca
-  // bound, and at least the displacement it causes at the stiffest dof or the largest initial
-  // penetration - every row is solved to ncp.tolerance of them (plus round-off).
-  double force = std::max(f.lpNorm<Eigen::Infinity>(), bound.size() ? k * bound.lpNorm<Eigen::Infinity>() : 0.0) / k;
-  double displacement = force;
-  for (const ContactNode& node : nodes) displacement = std::max(displacement, -node.gap);
-  if (force == 0.0) force = displacement;
-  if (force == 0.0) force = displacement = 1.0;  // no load, no penetration: u = 0
+  const StaticScales scales = ComputeScales(f, bound, k, nodes);
   for (int round = 0; round < rounds; ++round) {
     system.Update(q, zero,
                   options.friction == FrictionLaw::kFrictionless ? Eigen::VectorXd() : bound);
-    system.SetResidualScales(force, displacement);
+    system.SetResidualScales(scales.force, scales.displacement);
     ncp::Vector z = system.StartPoint(guess);
     solver.Solve(system, &z, &result.last_summary);
     result.newton_iterations += result.last_summary.iterations;
     result.fixed_point_iterations = round + 1;
     const ContactSystem::Result r = system.Extract(z);
-    result.u = r.x;
-    result.normal_force = k * r.normal_force;
-    result.tangent_force = k * r.tangent_force;
-    result.gap = r.gap;
+    StoreSolution(r, k, &result);
     if (!result.last_summary.IsSolutionUsable()) {
       result.converged = false;
       result.message = "complementarity solve failed: " + result.last_summary.message;

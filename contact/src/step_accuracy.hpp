@@ -1,11 +1,11 @@
 // The accuracy of a dynamic step in physical units: the scales it is solved against and what
-// it reached, recomputed from the state (contact/dynamics.hpp, kAccuracySlack).
+// it reached, recomputed from the state (contact/dynamics_types.hpp, kAccuracySlack).
 #pragma once
 
 #include <Eigen/Core>
 #include <vector>
 
-#include "contact/dynamics.hpp"
+#include "contact/dynamics_types.hpp"
 
 namespace contact::internal {
 
@@ -16,7 +16,7 @@ struct StepScales {
 };
 
 /// F = max(|f^k|_inf, |K u^k|_inf, |r^k|_inf) and D = max(|u^k - u^{k-1}|_inf, F dt^2 / m_max,
-/// max_c -gap_c) with the fallbacks of dynamics.hpp (contact_force_max = |r^k|_inf [N]).
+/// max_c -gap_c) with the fallbacks of dynamics_types.hpp (kAccuracySlack) (contact_force_max = |r^k|_inf [N]).
 StepScales ComputeStepScales(const Eigen::VectorXd& f, const Eigen::VectorXd& Ku,
                              double contact_force_max, const Eigen::VectorXd& du_previous,
                              const std::vector<ContactNode>& nodes, const Eigen::VectorXd& u,

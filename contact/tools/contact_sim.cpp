@@ -1,7 +1,9 @@
 // contact-sim: runs a dynamic contact scene file and reports what it did.
 //
-//   contact-sim SCENE.toml [--json] [--solver fb|min|penalized-fb|ipopt] [--step condensed|full|explicit] [--dt S]
-//                          [--friction F] [--end-time S] [--output DIR] [--quiet]
+//   contact-sim SCENE.toml [--json] [--step auto|condensed|sparse|full|explicit|ipopt]
+//                          [--ncp-function fb|min|penalized-fb] [--dt S] [--friction F]
+//                          [--friction-formulation lagged-bound|coulomb-fc] [--end-time S]
+//                          [--output DIR] [--quiet]
 #include <cxxopts.hpp>
 #include <cstdio>
 #include <iostream>
@@ -21,28 +23,101 @@ std::string TomlString(const std::string& s) {
   return out + "\"";
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+/// The command line; "scene" is the positional argument.
+cxxopts::Options MakeCli() {
   cxxopts::Options cli("contact-sim", "Elastodynamic contact of a body with a rigid obstacle");
   cli.add_options()("scene", "scene file (TOML)", cxxopts::value<std::string>())(
       "json", "print one JSON summary object on stdout")(
-      "solver", "override solver.method: fb, min, penalized-fb, ipopt", cxxopts::value<std::string>())(
-      "step", "override solver.step: auto, condensed, sparse, full, explicit", cxxopts::value<std::string>())(
+      "step", "override solver.step: auto, condensed, sparse, full, explicit, ipopt", cxxopts::value<std::string>())(
+      "ncp-function", "override solver.ncp_function: fb, min, penalized-fb", cxxopts::value<std::string>())(
+      "solver", "replaced by --ncp-function and --step ipopt", cxxopts::value<std::string>())(
       "dt", "override time.dt [s]", cxxopts::value<std::string>())(
       "end-time", "override time.end_time [s]", cxxopts::value<std::string>())(
       "friction", "override friction.coefficient", cxxopts::value<std::string>())(
-      "friction-formulation", "override solver.friction: eq94, coulomb-fc", cxxopts::value<std::string>())(
+      "friction-formulation", "override solver.friction: lagged-bound, coulomb-fc", cxxopts::value<std::string>())(
       "tolerance", "override solver.tolerance", cxxopts::value<std::string>())(
       "output", "override output.directory", cxxopts::value<std::string>())(
       "no-output", "write no files")("quiet", "no progress lines on stderr")(
       "h,help", "show this help");
   cli.parse_positional({"scene"});
   cli.positional_help("SCENE.toml");
-  // Exit codes: 0 completed, 1 refused input (scene, mesh, option value) or a run that did
-  // not complete, 2 usage error (unknown option, missing scene, option without its value).
-  contact::Scene scene;
-  bool json = false, quiet = false;
+  return cli;
+}
+
+/// The options that replace values of the scene file, as TOML literals validated with the
+/// file's values (same ranges).
+contact::SceneOverrides OverridesOf(const cxxopts::ParseResult& args) {
+  contact::SceneOverrides overrides;
+  const std::pair<const char*, const char*> string_options[] = {{"ncp-function", "solver.ncp_function"},
+                                                                {"step", "solver.step"},
+                                                                {"friction-formulation", "solver.friction"}};
+  for (const auto& [option, key] : string_options)
+    if (args.count(option)) overrides.emplace_back(key, TomlString(args[option].as<std::string>()));
+  const std::pair<const char*, const char*> number_options[] = {
+      {"dt", "time.dt"}, {"end-time", "time.end_time"}, {"friction", "friction.coefficient"},
+      {"tolerance", "solver.tolerance"}};
+  for (const auto& [option, key] : number_options)
+    if (args.count(option)) overrides.emplace_back(key, args[option].as<std::string>());
+  return overrides;
+}
+
+/// The human-readable summary (the thesis's table columns dt, f_c, k_sim, N_Jac, N_func,
+/// t_comp, then the accuracy and energy balance of the run).
+void PrintReport(std::FILE* table, const contact::Scene& scene, const contact::SceneResult& r) {
+  const contact::DynamicSummary& s = r.summary;
+  std::fprintf(table, "%s: %s (%s)\n", scene.name.c_str(), contact::ToString(s.status), s.message.c_str());
+  std::fprintf(table, "  %d dofs (%d free), %d elements, %d contact nodes, dt_crit = %.4g s\n", r.num_dofs,
+               r.num_free_dofs, r.num_elements, r.num_contact_nodes, s.critical_time_step);
+  std::fprintf(table, "  %-10s %-6s %-7s %-8s %-8s %-10s\n", "dt", "f_c", "k_sim", "N_Jac", "N_func", "t_comp[s]");
+  std::fprintf(table, "  %-10g %-6g %-7d %-8ld %-8ld %-10.4f\n", scene.dynamics.dt, scene.friction_coefficient,
+               s.steps, s.jacobian_evaluations, s.residual_evaluations, s.seconds);
+  std::fprintf(table,
+               "  accuracy over all steps: equilibrium residual %.3e N, penetration %.3e m, contact "
+               "residual %.3e N, friction-law violation %.3e N (%d steps outside %g x their accuracy)\n",
+               s.max_equilibrium_residual, s.max_penetration, s.max_complementarity_residual,
+               s.max_friction_residual, s.inaccurate_steps, contact::kAccuracySlack);
+  std::fprintf(table, "  energy balance error %.3e J\n", s.energy_balance_error);
+}
+
+/// The --json summary object.
+nlohmann::json JsonSummary(const contact::Scene& scene, const contact::SceneResult& r) {
+  const contact::DynamicSummary& s = r.summary;
+  nlohmann::json j;
+  j["scene"] = scene.name;
+  j["status"] = contact::ToString(s.status);
+  j["message"] = s.message;
+  j["steps"] = s.steps;
+  j["newton_iterations"] = s.newton_iterations;
+  j["jacobian_evals"] = s.jacobian_evaluations;
+  j["residual_evals"] = s.residual_evaluations;
+  j["friction_restarts"] = s.friction_restarts;
+  j["seconds"] = s.seconds;
+  j["max_penetration"] = s.max_penetration;
+  j["max_equilibrium_residual"] = s.max_equilibrium_residual;
+  j["max_complementarity_residual"] = s.max_complementarity_residual;
+  j["max_friction_residual"] = s.max_friction_residual;
+  j["inaccurate_steps"] = s.inaccurate_steps;
+  j["energy_balance_error"] = s.energy_balance_error;
+  j["dt"] = scene.dynamics.dt;
+  j["dt_crit"] = s.critical_time_step;
+  j["friction_coefficient"] = scene.friction_coefficient;
+  j["ncp_function"] = ncp::ToString(scene.dynamics.ncp.ncp_function);
+  j["step_method"] = contact::ToString(s.step_method);  // auto resolved
+  j["friction_formulation"] = contact::ToString(scene.dynamics.friction_formulation);
+  j["tolerance"] = scene.dynamics.ncp.tolerance;
+  j["dofs"] = r.num_dofs;
+  j["free_dofs"] = r.num_free_dofs;
+  j["contact_nodes"] = r.num_contact_nodes;
+  if (s.max_ipopt_relative_difference >= 0) j["max_ipopt_relative_difference"] = s.max_ipopt_relative_difference;
+  return j;
+}
+
+}  // namespace
+
+// Exit codes: 0 completed, 1 refused input (scene, mesh, option value) or a run that did not
+// complete, 2 usage error (unknown option, missing scene, option without its value).
+int main(int argc, char** argv) {
+  cxxopts::Options cli = MakeCli();
   cxxopts::ParseResult args;
   try {
     args = cli.parse(argc, argv);
@@ -54,27 +129,20 @@ int main(int argc, char** argv) {
     std::cout << cli.help() << std::endl;
     return 0;
   }
+  if (args.count("solver")) {
+    std::cerr << "contact-sim: usage error: --solver was replaced: --ncp-function fb|min|penalized-fb "
+                 "for the semismooth Newton steps, --step ipopt for Ipopt\n";
+    return 2;
+  }
   if (!args.count("scene")) {
     std::cerr << "contact-sim: usage error: no scene file given\n" << cli.help() << std::endl;
     return 2;
   }
-  json = args.count("json") > 0;
-  quiet = args.count("quiet") > 0;
+  const bool json = args.count("json") > 0, quiet = args.count("quiet") > 0;
+  contact::Scene scene;
   contact::SceneResult r;
   try {
-    // The overrides are TOML literals validated with the file's values (same ranges).
-    contact::SceneOverrides overrides;
-    const std::pair<const char*, const char*> string_options[] = {{"solver", "solver.method"},
-                                                                  {"step", "solver.step"},
-                                                                  {"friction-formulation", "solver.friction"}};
-    for (const auto& [option, key] : string_options)
-      if (args.count(option)) overrides.emplace_back(key, TomlString(args[option].as<std::string>()));
-    const std::pair<const char*, const char*> number_options[] = {
-        {"dt", "time.dt"}, {"end-time", "time.end_time"}, {"friction", "friction.coefficient"},
-        {"tolerance", "solver.tolerance"}};
-    for (const auto& [option, key] : number_options)
-      if (args.count(option)) overrides.emplace_back(key, args[option].as<std::string>());
-    scene = contact::LoadScene(args["scene"].as<std::string>(), overrides);
+    scene = contact::LoadScene(args["scene"].as<std::string>(), OverridesOf(args));
     if (args.count("output")) scene.output_directory = args["output"].as<std::string>();
     if (args.count("no-output")) scene.output_directory.clear();
     r = contact::RunScene(scene, !quiet);
@@ -88,49 +156,9 @@ int main(int argc, char** argv) {
   if (s.status != contact::DynamicStatus::kCompleted && (quiet || table != stderr))
     std::fprintf(stderr, "contact-sim: %s: %s (%s)\n", scene.source.c_str(), contact::ToString(s.status),
                  s.message.c_str());
-  std::fprintf(table, "%s: %s (%s)\n", scene.name.c_str(), contact::ToString(s.status), s.message.c_str());
-  std::fprintf(table, "  %d dofs (%d free), %d elements, %d contact nodes, dt_crit = %.4g s\n", r.num_dofs,
-               r.num_free_dofs, r.num_elements, r.num_contact_nodes, s.critical_time_step);
-  std::fprintf(table, "  %-10s %-6s %-7s %-8s %-8s %-10s\n", "dt", "f_c", "k_sim", "N_Jac", "N_func", "t_comp[s]");
-  std::fprintf(table, "  %-10g %-6g %-7d %-8ld %-8ld %-10.4f\n", scene.dynamics.dt, scene.friction_coefficient,
-               s.steps, s.jacobian_evaluations, s.residual_evaluations, s.seconds);
-  std::fprintf(table,
-               "  accuracy over all steps: equilibrium residual %.3e N, penetration %.3e m, contact "
-               "residual %.3e N, friction-law violation %.3e N (%d steps outside %g x their accuracy)\n",
-               s.max_equilibrium_residual, s.max_penetration, s.max_complementarity_residual,
-               s.max_friction_residual, s.inaccurate_steps, contact::kAccuracySlack);
-  std::fprintf(table, "  energy balance error %.3e J\n", s.energy_balance_error);
+  PrintReport(table, scene, r);
   if (!r.files_written.empty() && !quiet)
     std::fprintf(stderr, "  wrote %zu files into %s\n", r.files_written.size(), scene.output_directory.c_str());
-  if (json) {
-    nlohmann::json j;
-    j["scene"] = scene.name;
-    j["status"] = contact::ToString(s.status);
-    j["message"] = s.message;
-    j["steps"] = s.steps;
-    j["newton_iterations"] = s.newton_iterations;
-    j["jacobian_evals"] = s.jacobian_evaluations;
-    j["residual_evals"] = s.residual_evaluations;
-    j["friction_restarts"] = s.friction_restarts;
-    j["seconds"] = s.seconds;
-    j["max_penetration"] = s.max_penetration;
-    j["max_equilibrium_residual"] = s.max_equilibrium_residual;
-    j["max_complementarity_residual"] = s.max_complementarity_residual;
-    j["max_friction_residual"] = s.max_friction_residual;
-    j["inaccurate_steps"] = s.inaccurate_steps;
-    j["energy_balance_error"] = s.energy_balance_error;
-    j["dt"] = scene.dynamics.dt;
-    j["dt_crit"] = s.critical_time_step;
-    j["friction_coefficient"] = scene.friction_coefficient;
-    j["solver"] = contact::ToString(scene.dynamics.solver);
-    j["step_method"] = contact::ToString(s.step_method);  // auto resolved
-    j["friction_formulation"] = contact::ToString(scene.dynamics.friction_formulation);
-    j["tolerance"] = scene.dynamics.ncp.tolerance;
-    j["dofs"] = r.num_dofs;
-    j["free_dofs"] = r.num_free_dofs;
-    j["contact_nodes"] = r.num_contact_nodes;
-    if (s.max_ipopt_relative_difference >= 0) j["max_ipopt_relative_difference"] = s.max_ipopt_relative_difference;
-    std::cout << j.dump(2) << std::endl;
-  }
+  if (json) std::cout << JsonSummary(scene, r).dump(2) << std::endl;
   return s.status == contact::DynamicStatus::kCompleted ? 0 : 1;
 }

@@ -1,6 +1,6 @@
 // contact-physics-check: the closed-form checks of physics_checks.hpp over a sweep of
 // materials, time steps, mass kinds and dimensions, with default solver settings.
-//   contact-physics-check [--quick] [--csv FILE] [--step S] [--solver M] [--friction eq94|coulomb-fc] [--tolerance T]
+//   contact-physics-check [--quick] [--csv FILE] [--step S] [--solver M] [--friction lagged-bound|coulomb-fc] [--tolerance T]
 //                         [--dim 2|3] [--mass lumped|consistent]
 // Prints one line per run and a count; exit code 1 if any check failed.
 #include <cstdio>
@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
     else if (a == "--dim" && i + 1 < argc) only_dim = std::stoi(argv[++i]);
     else if (a == "--mass" && i + 1 < argc) only_mass = argv[++i];
     else {
-      std::fprintf(stderr, "usage: contact-physics-check [--quick] [--csv FILE] [--step S] [--solver M] [--friction eq94|coulomb-fc] [--tolerance T] [--dim 2|3] [--mass lumped|consistent]\n");
+      std::fprintf(stderr, "usage: contact-physics-check [--quick] [--csv FILE] [--step S] [--solver M] [--friction lagged-bound|coulomb-fc] [--tolerance T] [--dim 2|3] [--mass lumped|consistent]\n");
       return 2;
     }
   }

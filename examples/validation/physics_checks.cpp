@@ -72,8 +72,10 @@ std::string BodySections(const Case& c, const Body& b, const SceneWriter& w) {
 
 std::string SolverSection(const Case& c) {
   std::string s = "[solver]\n";
-  if (!c.solver.empty()) s += "method = \"" + c.solver + "\"\n";
-  if (!c.step.empty()) s += "step = \"" + c.step + "\"\n";
+  // c.solver "ipopt" is the Ipopt step; the others name the NCP function of the Newton steps.
+  if (c.solver == "ipopt") s += "step = \"ipopt\"\n";
+  else if (!c.step.empty()) s += "step = \"" + c.step + "\"\n";
+  if (!c.solver.empty() && c.solver != "ipopt") s += "ncp_function = \"" + c.solver + "\"\n";
   if (!c.friction_formulation.empty()) s += "friction = \"" + c.friction_formulation + "\"\n";
   if (c.tolerance > 0.0) s += "tolerance = " + Num(c.tolerance) + "\n";
   return s;

@@ -41,7 +41,7 @@ struct Case {
   double dt_fraction = 0.9;       ///< dt / dt_crit
   bool lumped = true;             ///< lumped (row-sum) or consistent mass
   std::string step = "";          ///< solver.step; "" = the default
-  std::string solver = "";        ///< solver.method; "" = the default
+  std::string solver = "";        ///< solver.ncp_function, or "ipopt" for solver.step = "ipopt"; "" = the default
   std::string friction_formulation = "";  ///< solver.friction; "" = the default
   double tolerance = 0.0;         ///< solver.tolerance; 0 = the default
   double friction = 0.3;          ///< mu (incline, sliding)

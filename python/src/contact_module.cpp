@@ -264,12 +264,12 @@ PYBIND11_MODULE(_contact, m) {
       .def_readonly("friction_coefficient", &contact::Scene::friction_coefficient)
       .def_property_readonly(
           "step", [](const contact::Scene& s) { return std::string(contact::ToString(s.dynamics.step_method)); },
-          "solver.step of the file: auto, condensed, sparse, full or explicit (the method that ran: "
+          "solver.step of the file: auto, condensed, sparse, full, explicit or ipopt (the method that ran: "
           "summary['step_method'])")
       .def_property_readonly(
           "friction_formulation",
           [](const contact::Scene& s) { return std::string(contact::ToString(s.dynamics.friction_formulation)); },
-          "how friction is posed: coulomb-fc (implicit Coulomb, the default) or eq94 (solver.friction)")
+          "how friction is posed: coulomb-fc (implicit Coulomb, the default) or lagged-bound (solver.friction)")
       .def_readwrite("stress_times", &contact::Scene::stress_times, "output times [s]")
       .def_property(
           "dt", [](const contact::Scene& s) { return s.dynamics.dt; },

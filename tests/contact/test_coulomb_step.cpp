@@ -1,4 +1,4 @@
-// CoulombStep (contact/src/coulomb_step.hpp): the condensed step's frictional contact problem
+// CoulombStep (contact/src/step/coulomb_step.hpp): the condensed step's frictional contact problem
 // solved by ncp::fc. Checked against the closed form of one node with W = w I, against the
 // thesis's eq.-94 ContactSystem (Tresca with the bound f_c lambda of the Coulomb solution:
 // a Coulomb solution is the unique Tresca solution for its own bound), by the Coulomb law
@@ -8,7 +8,7 @@
 #include <random>
 
 #include "contact/contact_system.hpp"
-#include "coulomb_step.hpp"
+#include "step/coulomb_step.hpp"
 #include "step_accuracy.hpp"
 #include "ncp/solver.hpp"
 

@@ -182,9 +182,10 @@ TEST_CASE("RunDynamics rejects inconsistent input", "[dynamics][errors]") {
   CHECK_THROWS_WITH(RunDynamics(model, o), Catch::Contains("dt must be > 0"));
   o.dt = 1e-3;
   o.friction_coefficient = 0.3;
-  o.solver = StepSolver::kIpopt;
+  const StepMethod method = o.step_method;
+  o.step_method = StepMethod::kIpopt;
   CHECK_THROWS_WITH(RunDynamics(model, o), Catch::Contains("frictionless contact only"));
-  o.solver = StepSolver::kFischerBurmeister;
+  o.step_method = method;
   o.v0 = Eigen::VectorXd::Zero(3);
   CHECK_THROWS_WITH(RunDynamics(model, o), Catch::Contains("must have size"));
   o.v0 = Eigen::VectorXd::Zero(model.K.rows());

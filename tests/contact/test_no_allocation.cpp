@@ -423,7 +423,7 @@ contact::SceneModel ThrownBlock(contact::StepMethod method) {
   // The Newton steps of ContactSystem (eq. 94). The implicit-Coulomb condensed step
   // (kCoulombFc) is not allocation-free: ncp::fc allocates in every solve (547 allocations
   // per step measured on this scene).
-  scene.dynamics.friction_formulation = FrictionFormulation::kEq94;
+  scene.dynamics.friction_formulation = FrictionFormulation::kLaggedBound;
   scene.dynamics.initial_state = InitialState::kPrescribed;
   scene.initial_velocity = Eigen::Vector2d(1.0, -1.0);
   return BuildSceneModel(scene);

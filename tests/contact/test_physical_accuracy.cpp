@@ -85,8 +85,8 @@ TEST_CASE("Unit invariance: SI, mm-tonne-s and bodies scaled by 1e-3 and 1e3 mov
     std::string friction = "";  // solver.friction ("": the default, coulomb-fc when condensed)
   };
   const std::vector<Variant> variants{
-      {"condensed", "fb", false, "eq94"}, {"condensed", "min", false, "eq94"},
-      {"condensed", "penalized-fb", false, "eq94"}, {"condensed", "fb", false},
+      {"condensed", "fb", false, "lagged-bound"}, {"condensed", "min", false, "lagged-bound"},
+      {"condensed", "penalized-fb", false, "lagged-bound"}, {"condensed", "fb", false},
       {"full", "fb", false},      {"explicit", "", true},      {"condensed", "fb", true},
       {"sparse", "", false}};
   for (const Variant& v : variants) {

@@ -146,22 +146,54 @@ TEST_CASE("Scene overrides are validated like values of the file", "[scene][erro
   CHECK_THROWS_WITH(LoadScene(path, {{"time.dt", "-3"}}),
                     Catch::Contains("command line (time.dt):1: 'time.dt' = -3 s is outside the accepted range"));
   CHECK_THROWS_WITH(LoadScene(path, {{"time.dt", "abc"}}), Catch::Contains("'time.dt' = abc is not a TOML value"));
-  CHECK_THROWS_WITH(LoadScene(path, {{"solver.method", "\"newton\""}}),
-                    Catch::Contains("'solver.method' must be one of"));
-  // solver.friction: the default (implicit Coulomb on ncp::fc), eq. 94, and only with the
-  // condensed step.
+  CHECK_THROWS_WITH(LoadScene(path, {{"solver.ncp_function", "\"newton\""}}),
+                    Catch::Contains("'solver.ncp_function' must be one of"));
+  // solver.friction: the default (implicit Coulomb on ncp::fc), the lagged bound (eq. 94),
+  // and only with the condensed step.
   CHECK(LoadScene(path).dynamics.friction_formulation == FrictionFormulation::kCoulombFc);
-  CHECK(LoadScene(path, {{"solver.friction", "\"eq94\""}}).dynamics.friction_formulation ==
-        FrictionFormulation::kEq94);
+  CHECK(LoadScene(path, {{"solver.friction", "\"lagged-bound\""}}).dynamics.friction_formulation ==
+        FrictionFormulation::kLaggedBound);
   CHECK_THROWS_WITH(LoadScene(path, {{"solver.friction", "\"coulomb-fc\""}, {"solver.step", "\"full\""}}),
                     Catch::Contains("needs solver.step = \"auto\", \"condensed\" or \"sparse\""));
-  // solver.step: auto by default; the sparse step refuses eq. 94
+  // solver.step: auto by default; the sparse step refuses the lagged bound
   CHECK(LoadScene(path).dynamics.step_method == StepMethod::kAuto);
   CHECK(LoadScene(path, {{"solver.step", "\"sparse\""}}).dynamics.step_method == StepMethod::kSparse);
-  CHECK_THROWS_WITH(LoadScene(path, {{"solver.friction", "\"eq94\""}, {"solver.step", "\"sparse\""}}),
+  CHECK_THROWS_WITH(LoadScene(path, {{"solver.friction", "\"lagged-bound\""}, {"solver.step", "\"sparse\""}}),
                     Catch::Contains("solves implicit Coulomb only"));
   CHECK_THROWS_WITH(LoadScene(path, {{"solver.friction", "\"coulomb\""}}),
                     Catch::Contains("'solver.friction' must be one of"));
+}
+
+TEST_CASE("Scene: one choice of the step solver; the NCP function of the Newton steps",
+          "[scene]") {
+  const std::string path = WriteScene("good", Block(2, 0.0));
+  // The default: semismooth Newton with Fischer-Burmeister.
+  CHECK(LoadScene(path).dynamics.ncp.ncp_function == ncp::NcpFunction::kFischerBurmeister);
+  CHECK(LoadScene(path, {{"solver.ncp_function", "\"min\""}}).dynamics.ncp.ncp_function ==
+        ncp::NcpFunction::kMin);
+  CHECK(LoadScene(path, {{"solver.ncp_function", "\"penalized-fb\""}}).dynamics.ncp.ncp_function ==
+        ncp::NcpFunction::kPenalizedFischerBurmeister);
+  // Ipopt is a step method of its own, frictionless only.
+  CHECK(LoadScene(path, {{"solver.step", "\"ipopt\""}}).dynamics.step_method == StepMethod::kIpopt);
+  CHECK_THROWS_WITH(LoadScene(path, {{"solver.step", "\"ipopt\""}, {"friction.coefficient", "0.3"}}),
+                    Catch::Contains("'solver.step' = \"ipopt\" solves frictionless steps only"));
+}
+
+TEST_CASE("Scene: renamed solver keys and values fail naming what to write", "[scene][errors]") {
+  const std::string path = WriteScene("good", Block(2, 0.0));
+  CHECK_THROWS_WITH(LoadScene(path, {{"solver.method", "\"min\""}}),
+                    Catch::Contains("'solver.method' was renamed: write solver.ncp_function = \"min\""));
+  CHECK_THROWS_WITH(LoadScene(path, {{"solver.method", "\"ipopt\""}}),
+                    Catch::Contains("write solver.step = \"ipopt\""));
+  CHECK_THROWS_WITH(LoadScene(path, {{"solver.method", "3"}}),
+                    Catch::Contains("write solver.ncp_function = \"fb\""));
+  CHECK_THROWS_WITH(LoadScene(path, {{"solver.friction", "\"eq94\""}}),
+                    Catch::Contains("'solver.friction' = \"eq94\" was renamed: write solver.friction = "
+                                    "\"lagged-bound\""));
+  // A thesis scene file of the old form: both renames in one message.
+  CHECK_THROWS_WITH(LoadScene(path, {{"solver.method", "\"fb\""}, {"solver.friction", "\"eq94\""}}),
+                    Catch::Contains("write solver.ncp_function = \"fb\"") &&
+                        Catch::Contains("write solver.friction = \"lagged-bound\""));
 }
 
 TEST_CASE("Scene errors name the key", "[scene][errors]") {
@@ -179,7 +211,7 @@ TEST_CASE("Scene errors name the key", "[scene][errors]") {
       {std::string(good).replace(good.find("density = 7800"), 14, ""), "'material.density' is missing"},
       {std::string(good).replace(good.find("\"ymin\""), 6, "\"top\""), "unknown side \"top\""},
       {std::string(good).replace(good.find("\"plane\""), 7, "\"cone\""), "'obstacle.type' must be one of"},
-      {Block(2, 0.5, "[solver]\nmethod = \"ipopt\"\n"), "solves frictionless steps only"},
+      {Block(2, 0.5, "[solver]\nstep = \"ipopt\"\n"), "solves frictionless steps only"},
       {std::string(good).replace(good.find("normal = [0.0, 1.0]"), 19, "normal = [0.0, 0.0]"),
        "'obstacle.type'"},
       {"[geometry\n", "cannot read scene file"},

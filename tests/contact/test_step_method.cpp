@@ -1,4 +1,4 @@
-// The step methods behind internal::StepAlgorithm (contact/src/step_method.hpp), each solving
+// The step methods behind internal::StepAlgorithm (contact/src/step/step_method.hpp), each solving
 // the same step through the interface: every result is checked against the step's equations,
 // recomputed here from the model (S du + q = contact forces, Signorini, Tresca), and the
 // methods against each other. A new step method joins the GENERATE lists below.
@@ -12,7 +12,7 @@
 #include "contact/scene.hpp"
 #include "mass_inverse.hpp"
 #include "step_accuracy.hpp"
-#include "step_method.hpp"
+#include "step/step_method.hpp"
 
 namespace {
 
@@ -90,13 +90,13 @@ Violation Check(const SceneModel& built, const Step& s, const ContactSystem::Res
   return v;
 }
 
-ContactSystem::Result SolveWith(StepMethod method, StepSolver solver, const SceneModel& built,
+ContactSystem::Result SolveWith(StepMethod method, ncp::NcpFunction function, const SceneModel& built,
                                 const Step& s, bool friction,
-                                FrictionFormulation formulation = FrictionFormulation::kEq94) {
+                                FrictionFormulation formulation = FrictionFormulation::kLaggedBound) {
   DynamicOptions options = built.options;
   options.friction_formulation = formulation;
   options.step_method = method;
-  options.solver = solver;
+  options.ncp.ncp_function = function;
   options.friction_coefficient = friction ? 0.3 : 0.0;
   internal::MassInverse mass(built.model.M, "test: ");
   const auto algorithm = internal::MakeStepAlgorithm(built.model, options, &mass, s.m_max);
@@ -121,23 +121,23 @@ TEST_CASE("Step methods through the interface: the step equations hold, the meth
   CAPTURE(friction);
   const Step s = MakeStep(built, friction);
   const ContactSystem::Result full =
-      SolveWith(StepMethod::kFull, StepSolver::kFischerBurmeister, built, s, friction);
+      SolveWith(StepMethod::kFull, ncp::NcpFunction::kFischerBurmeister, built, s, friction);
   const double force = s.scales.force / s.force_scale;  // system units
   const double tol = 1e-8;
   // The step is a real contact step: every contact node pushes.
   CHECK((full.normal_force.array() > 0.0).all());
-  auto [method, solver] = GENERATE(table<StepMethod, StepSolver>(
-      {{StepMethod::kFull, StepSolver::kFischerBurmeister},
-       {StepMethod::kFull, StepSolver::kMin},
-       {StepMethod::kCondensed, StepSolver::kFischerBurmeister},
-       {StepMethod::kCondensed, StepSolver::kPenalizedFischerBurmeister},
-       {StepMethod::kExplicit, StepSolver::kFischerBurmeister},
-       {StepMethod::kSparse, StepSolver::kFischerBurmeister},
-       {StepMethod::kFull, StepSolver::kIpopt}}));
-  if (solver == StepSolver::kIpopt && friction) return;  // Ipopt: frictionless only
+  auto [method, function] = GENERATE(table<StepMethod, ncp::NcpFunction>(
+      {{StepMethod::kFull, ncp::NcpFunction::kFischerBurmeister},
+       {StepMethod::kFull, ncp::NcpFunction::kMin},
+       {StepMethod::kCondensed, ncp::NcpFunction::kFischerBurmeister},
+       {StepMethod::kCondensed, ncp::NcpFunction::kPenalizedFischerBurmeister},
+       {StepMethod::kExplicit, ncp::NcpFunction::kFischerBurmeister},
+       {StepMethod::kSparse, ncp::NcpFunction::kFischerBurmeister},
+       {StepMethod::kIpopt, ncp::NcpFunction::kFischerBurmeister}}));
+  if (method == StepMethod::kIpopt && friction) return;  // Ipopt: frictionless only
   if (method == StepMethod::kSparse && friction) return;  // implicit Coulomb: next test case
-  CAPTURE(ToString(method), ToString(solver));
-  const ContactSystem::Result r = SolveWith(method, solver, built, s, friction);
+  CAPTURE(ToString(method), ncp::ToString(function));
+  const ContactSystem::Result r = SolveWith(method, function, built, s, friction);
   const Violation v = Check(built, s, r);
   CHECK(v.equilibrium <= tol * force);
   CHECK(v.signorini <= tol * std::max(force, s.scales.displacement));
@@ -163,7 +163,7 @@ TEST_CASE("Condensed step with implicit Coulomb (ncp::fc): the step equations ho
           "[contact][dynamics][step_method]") {
   const SceneModel built = PressedBlock();
   Step s = MakeStep(built, true);
-  const ContactSystem::Result r = SolveWith(StepMethod::kCondensed, StepSolver::kFischerBurmeister,
+  const ContactSystem::Result r = SolveWith(StepMethod::kCondensed, ncp::NcpFunction::kFischerBurmeister,
                                             built, s, true, FrictionFormulation::kCoulombFc);
   CHECK((r.normal_force.array() > 0.0).all());
   // A Coulomb solution is the (unique) Tresca solution for its own bound f_c lambda.
@@ -174,7 +174,7 @@ TEST_CASE("Condensed step with implicit Coulomb (ncp::fc): the step equations ho
   CHECK(v.signorini <= tol * std::max(force, s.scales.displacement));
   CHECK(v.friction <= tol * force);
   const ContactSystem::Result full =
-      SolveWith(StepMethod::kFull, StepSolver::kFischerBurmeister, built, s, true);
+      SolveWith(StepMethod::kFull, ncp::NcpFunction::kFischerBurmeister, built, s, true);
   CHECK((r.x - full.x).lpNorm<Eigen::Infinity>() <= tol * full.x.lpNorm<Eigen::Infinity>());
   CHECK((r.normal_force - full.normal_force).lpNorm<Eigen::Infinity>() <=
         tol * full.normal_force.lpNorm<Eigen::Infinity>());
@@ -183,7 +183,7 @@ TEST_CASE("Condensed step with implicit Coulomb (ncp::fc): the step equations ho
     CHECK_THAT(std::abs(r.tangent_force(0, c)), Catch::Matchers::WithinRel(0.3 * r.normal_force(c), 1e-8));
   // The sparse step (W applied, not formed) finds the same step.
   const ContactSystem::Result sparse =
-      SolveWith(StepMethod::kSparse, StepSolver::kFischerBurmeister, built, s, true, FrictionFormulation::kCoulombFc);
+      SolveWith(StepMethod::kSparse, ncp::NcpFunction::kFischerBurmeister, built, s, true, FrictionFormulation::kCoulombFc);
   CHECK((sparse.x - r.x).lpNorm<Eigen::Infinity>() <= tol * r.x.lpNorm<Eigen::Infinity>());
   CHECK((sparse.normal_force - r.normal_force).lpNorm<Eigen::Infinity>() <=
         tol * r.normal_force.lpNorm<Eigen::Infinity>());
@@ -194,7 +194,7 @@ TEST_CASE("The sparse step refuses the thesis friction formulation", "[contact][
   DynamicOptions options = built.options;
   options.step_method = StepMethod::kSparse;
   options.friction_coefficient = 0.3;
-  options.friction_formulation = FrictionFormulation::kEq94;
+  options.friction_formulation = FrictionFormulation::kLaggedBound;
   internal::MassInverse mass(built.model.M, "test: ");
   CHECK_THROWS_WITH(internal::MakeStepAlgorithm(built.model, options, &mass, 1.0),
                     Catch::Contains("implicit Coulomb (coulomb-fc) only"));
@@ -212,7 +212,7 @@ TEST_CASE("auto: the condensed step for small contact sets, the sparse one above
   CHECK(internal::ResolveStepMethod(model, options) == StepMethod::kCondensed);
   model.contact_nodes.resize(static_cast<size_t>(nodes_at_crossover + 1));
   CHECK(internal::ResolveStepMethod(model, options) == StepMethod::kSparse);
-  options.friction_formulation = FrictionFormulation::kEq94;  // only the condensed step has it
+  options.friction_formulation = FrictionFormulation::kLaggedBound;  // only the condensed step has it
   CHECK(internal::ResolveStepMethod(model, options) == StepMethod::kCondensed);
   options.friction_coefficient = 0.0;  // frictionless: one unknown a node
   CHECK(internal::ResolveStepMethod(model, options) == StepMethod::kCondensed);

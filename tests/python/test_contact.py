@@ -153,7 +153,7 @@ def test_step_method_and_friction_formulation_from_python():
     np.testing.assert_allclose(runs["sparse"].displacement, runs["condensed"].displacement, rtol=0,
                                atol=1e-9 * scale)
     scene = contact.load_scene(SCENES["flat"])
-    assert scene.step == "auto" and scene.friction_formulation == "eq94"  # pinned by the file
+    assert scene.step == "auto" and scene.friction_formulation == "lagged-bound"  # pinned by the file
 
 
 def test_every_and_progress():

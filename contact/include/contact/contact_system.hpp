@@ -82,7 +82,8 @@ RestrictionMaps MakeRestrictionMaps(int dim, int num_free_dofs, const std::vecto
 
 /// ncp::Options defaults for contact solves: min_tie_takes_b = true (the pair is
 /// (reaction, gap); at a tie the node is treated as closed) and a monotone line search
-/// (nonmonotone_memory = 1, measured better on 3D friction steps).
+/// (nonmonotone_memory = 1: eq. 23 of Algorithm 1; chosen on 3D friction steps,
+/// docs/ncp-measurements.md).
 ncp::Options ContactNcpOptions();
 
 /// Completes the tangents of a unit normal. All components free: 2D t1 = (-n_y, n_x),

@@ -74,7 +74,7 @@ struct Scene {
 };
 
 /// Values that replace those of the file: "table.key" -> a TOML literal, e.g.
-/// {"time.dt", "1e-5"}, {"solver.method", "\"min\""} (contact-sim's --dt, --solver ...).
+/// {"time.dt", "1e-5"}, {"solver.ncp_function", "\"min\""} (contact-sim's --dt, --ncp-function ...).
 using SceneOverrides = std::vector<std::pair<std::string, std::string>>;
 
 /// Reads and validates a scene file; relative paths inside are relative to the file.

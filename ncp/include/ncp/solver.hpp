@@ -58,9 +58,9 @@ inline constexpr int kMaxStagnationWindow = 1000000;
 struct Options {
   NcpFunction ncp_function = NcpFunction::kFischerBurmeister;
   /// min function at a tie A_j = B_j: take grad B_j (true) or grad A_j (false) as the
-  /// B-subdifferential element. false (x_j = 0 for a standard NCP pair (x, F)) solves more
-  /// of the collection; the contact module uses true (a touching node is closed), which
-  /// keeps the Newton matrix regular for a body held only by contact.
+  /// B-subdifferential element. false: x_j = 0 for a standard NCP pair (x, F); the contact
+  /// module uses true (a touching node is closed), which keeps the Newton matrix regular
+  /// for a body held only by contact.
   bool min_tie_takes_b = false;
   /// lambda of the penalized FB function, in (0, 1]; 1 gives plain FB (CCK 2000 use 0.95).
   double penalized_fb_lambda = 0.95;
@@ -85,9 +85,9 @@ struct Options {
   double max_seconds = std::numeric_limits<double>::infinity();
   /// Rate [flop/s] that turns the predicted flop count of a factorization (from the
   /// symbolic analysis) into a predicted time until one factorization has been timed;
-  /// afterwards the rate measured on the last factorization is used. 0 takes the rate
-  /// measured for the backend on the development machine (dense LU 1.3e10, UMFPACK 4.8e10
-  /// estimated flops/s, KLU 2.2e9; see linear_solver.cpp).
+  /// afterwards the rate measured on the last factorization is used. 0 takes the typical
+  /// rate of the backend (constants in linear_solver.cpp; their measurement:
+  /// docs/ncp-measurements.md).
   double factorization_flop_rate = 0.0;
   /// Newton direction kept only if grad psi' d <= -descent_rho ||d||_2^descent_p (eq. 22).
   double descent_rho = 1e-8;
@@ -96,25 +96,23 @@ struct Options {
   double armijo_beta = 1e-4;
   /// Armijo reference: psi(x^k) replaced by the largest psi of the last nonmonotone_memory
   /// iterates (Grippo, Lampariello and Lucidi 1986). 1 is the monotone eq. (23) of
-  /// Algorithm 1. 3 solves the most of the standard collection (121 of 126 runs, against
-  /// 120 with 1 and 5, 116 with 10), among them josephy from MCPLIB start 3 with FB.
+  /// Algorithm 1. The default 3 was chosen on the problem collection
+  /// (docs/ncp-measurements.md).
   int nonmonotone_memory = 3;
   /// Before falling back to -grad psi, try the Levenberg-Marquardt direction
-  /// (J'J + mu I) d = -J' Phi, mu = ||Phi||_2, if it passes eq. (22). Off by default: on
-  /// the standard collection it solves fewer runs (117 of 126 against 121 with memory 3;
-  /// it loses kojshin starts 1 and 3 with min). Forms J'J (allocates per iteration).
+  /// (J'J + mu I) d = -J' Phi, mu = ||Phi||_2, if it passes eq. (22) (a regularized
+  /// Gauss-Newton step, Levenberg 1944, Marquardt 1963). Off by default: it solved fewer
+  /// problems of the collection (docs/ncp-measurements.md). Forms J'J (allocates per
+  /// iteration).
   bool regularized_direction = false;
   /// Restart strategy: when a Fischer-Burmeister-family solve ends at a stationary point
   /// of psi that is not a solution (kStationaryPoint) or in a failed line search, continue
   /// from that point with the other member of the family (FB <-> penalized FB with
   /// penalized_fb_lambda), at most this many times; the iteration limit counts all. The
   /// two merit functions have different non-solution stationary points, so a point where
-  /// one is stuck is generally not one of the other. Measured on the standard collection
-  /// (29 problems, FB, penalized FB and min from every start, auto backend): 6 restarts
-  /// solve 172 of 186 runs against 167 with none (vonthmcp with FB and penalized FB,
-  /// colvdual with FB from both starts and penalized FB from one); with lambda = 0.9
-  /// instead of 0.95, 170 against 168 (vonthmcp still solved, colvdual not). colvdual's
-  /// success depends on round-off (UMFPACK and KLU stall). No effect with the min function.
+  /// one is stuck is generally not one of the other (Chen, Chen and Kanzow 2000 for the
+  /// penalized FB function). No effect with the min function. 0 turns restarts off; the
+  /// default 6 was chosen on the problem collection (docs/ncp-measurements.md).
   int merit_restarts = 6;
   /// Largest i tried in the step 2^-i; failing it ends with kLineSearchFailure.
   int max_backtracks = 60;

@@ -37,8 +37,9 @@ enum class LinearSolverType {
   /// sign per connected block) with s_i J_ij = s_j J_ji (relative 1e-10). A box MCP with a
   /// symmetric positive definite F' and one-sided bounds (obstacle problems, convex
   /// bound-constrained minimization) gives S J = diag(da / db) + F' for the FB, min and
-  /// penalized FB functions: positive definite, about 2x faster to factor than UMFPACK's LU
-  /// on a 2D grid (10^6 unknowns: 1.9-2.1 s against 4.1 s). A Newton matrix that is not
+  /// penalized FB functions: positive definite, so about half the flops of an LU of the
+  /// same fill and no pivoting (Davis, Direct Methods for Sparse Linear Systems, 2006;
+  /// timings against UMFPACK: docs/ncp-measurements.md). A Newton matrix that is not
   /// symmetrizable, or not positive definite, is factored by UMFPACK instead
   /// (Summary::cholesky_fallbacks).
   kCholmod,

@@ -1,28 +1,18 @@
-#include "step_method.hpp"
+#include "step/step_method.hpp"
 
 #include <stdexcept>
 
 namespace contact::internal {
-namespace {
-
-ncp::NcpFunction FunctionOf(StepSolver s) {
-  switch (s) {
-    case StepSolver::kMin: return ncp::NcpFunction::kMin;
-    case StepSolver::kPenalizedFischerBurmeister: return ncp::NcpFunction::kPenalizedFischerBurmeister;
-    default: return ncp::NcpFunction::kFischerBurmeister;
-  }
-}
-
-}  // namespace
 
 StepMethod ResolveStepMethod(const DynamicModel& model, const DynamicOptions& options) {
   const bool friction = options.friction_coefficient > 0.0;
   if (options.step_method == StepMethod::kSparse && friction &&
-      options.friction_formulation == FrictionFormulation::kEq94)
+      options.friction_formulation == FrictionFormulation::kLaggedBound)
     throw std::invalid_argument("contact::RunDynamics: the sparse step poses friction as implicit Coulomb "
-                                "(coulomb-fc) only, not eq. 94; use the condensed or full step for eq. 94");
+                                "(coulomb-fc) only, not with the lagged bound; use the condensed or full "
+                                "step for the lagged bound (lagged-bound)");
   if (options.step_method != StepMethod::kAuto) return options.step_method;
-  if (friction && options.friction_formulation == FrictionFormulation::kEq94) return StepMethod::kCondensed;
+  if (friction && options.friction_formulation == FrictionFormulation::kLaggedBound) return StepMethod::kCondensed;
   // The size of the condensed step's dense system: dim unknowns per contact node with
   // friction, one (the normal) without.
   const size_t unknowns = model.contact_nodes.size() * static_cast<size_t>(friction ? model.dim : 1);
@@ -32,9 +22,7 @@ StepMethod ResolveStepMethod(const DynamicModel& model, const DynamicOptions& op
 std::unique_ptr<StepAlgorithm> MakeStepAlgorithm(const DynamicModel& model,
                                                  const DynamicOptions& options,
                                                  MassInverse* mass, double m_max) {
-  if (options.solver == StepSolver::kIpopt) return MakeIpoptStep(model, m_max, options.ncp.tolerance);
   ncp::Options ncp_options = options.ncp;
-  ncp_options.ncp_function = FunctionOf(options.solver);
   const bool friction = options.friction_coefficient > 0.0;
   switch (ResolveStepMethod(model, options)) {
     case StepMethod::kFull: return MakeFullStep(model, m_max, ncp_options, friction);
@@ -47,6 +35,7 @@ std::unique_ptr<StepAlgorithm> MakeStepAlgorithm(const DynamicModel& model,
       return MakeCondensedStep(model, mass, m_max, ncp_options, friction);
     case StepMethod::kExplicit: return MakeExplicitStep(model, m_max);
     case StepMethod::kSparse: return MakeSparseStep(model, mass, m_max, options);
+    case StepMethod::kIpopt: return MakeIpoptStep(model, m_max, options.ncp.tolerance);
     case StepMethod::kAuto: break;  // resolved above
   }
   throw std::invalid_argument("contact::RunDynamics: unknown step method");

@@ -1,8 +1,8 @@
-// The frictionless step as a convex QP solved by Ipopt (StepSolver::kIpopt), and the QP
+// The frictionless step as a convex QP solved by Ipopt (StepMethod::kIpopt), and the QP
 // itself, which DynamicOptions::compare_with_ipopt solves next to another step method.
 #include <chrono>
 
-#include "step_method.hpp"
+#include "step/step_method.hpp"
 
 namespace contact::internal {
 

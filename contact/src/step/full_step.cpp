@@ -1,7 +1,7 @@
 // StepMethod::kFull: the step's ContactSystem over all free dofs, as the thesis (eq. 82, 90,
 // 94), solved by semismooth Newton.
-#include "newton_step.hpp"
-#include "step_method.hpp"
+#include "step/newton_step.hpp"
+#include "step/step_method.hpp"
 
 namespace contact::internal {
 namespace {

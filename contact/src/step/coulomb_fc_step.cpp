@@ -10,9 +10,9 @@
 #include <memory>
 #include <string>
 
-#include "coulomb_step.hpp"
+#include "step/coulomb_step.hpp"
 #include "delassus.hpp"
-#include "step_method.hpp"
+#include "step/step_method.hpp"
 
 namespace contact::internal {
 namespace {

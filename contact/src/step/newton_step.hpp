@@ -7,7 +7,7 @@
 
 #include "contact/contact_system.hpp"
 #include "ncp/solver.hpp"
-#include "step_method.hpp"
+#include "step/step_method.hpp"
 
 namespace contact::internal {
 

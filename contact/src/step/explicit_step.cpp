@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "step_method.hpp"
+#include "step/step_method.hpp"
 
 namespace contact::internal {
 namespace {

@@ -1,4 +1,4 @@
-#include "newton_step.hpp"
+#include "step/newton_step.hpp"
 
 #include <chrono>
 

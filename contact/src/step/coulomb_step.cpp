@@ -1,4 +1,4 @@
-#include "coulomb_step.hpp"
+#include "step/coulomb_step.hpp"
 
 #include <algorithm>
 #include <cmath>

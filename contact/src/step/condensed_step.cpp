@@ -5,8 +5,8 @@
 #include <stdexcept>
 
 #include "delassus.hpp"
-#include "newton_step.hpp"
-#include "step_method.hpp"
+#include "step/newton_step.hpp"
+#include "step/step_method.hpp"
 
 namespace contact::internal {
 namespace {

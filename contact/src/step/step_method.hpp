@@ -18,7 +18,7 @@
 #include <string>
 
 #include "contact/convex_qp.hpp"
-#include "contact/dynamics.hpp"
+#include "contact/dynamics_types.hpp"
 #include "mass_inverse.hpp"
 #include "step_accuracy.hpp"
 
@@ -56,12 +56,11 @@ class StepAlgorithm {
 };
 
 /// The method that runs: options.step_method, or for kAuto condensed or sparse by the
-/// size of the contact set (dynamics.hpp). Throws std::invalid_argument for the sparse
-/// step with friction formulation eq. 94.
+/// size of the contact set (contact/dynamics_types.hpp). Throws std::invalid_argument for
+/// the sparse step with friction posed with the lagged bound (FrictionFormulation::kLaggedBound).
 StepMethod ResolveStepMethod(const DynamicModel& model, const DynamicOptions& options);
 
-/// The step method of `options` (StepSolver::kIpopt: the Ipopt QP whatever step_method;
-/// else StepMethod kFull, kCondensed or kExplicit), set up for the model. `mass` (M^-1)
+/// The step method of `options` (ResolveStepMethod), set up for the model. `mass` (M^-1)
 /// must outlive the result. Throws std::invalid_argument when the method cannot take the
 /// model (explicit without a lumped mass, condensed with a singular Delassus operator).
 std::unique_ptr<StepAlgorithm> MakeStepAlgorithm(const DynamicModel& model,
@@ -70,7 +69,7 @@ std::unique_ptr<StepAlgorithm> MakeStepAlgorithm(const DynamicModel& model,
 
 /// The step methods, one per file (full_step.cpp, condensed_step.cpp, explicit_step.cpp,
 /// ipopt_step.cpp), which MakeStepAlgorithm chooses from. ncp_options: the Newton settings
-/// with the NCP function of DynamicOptions::solver.
+/// (DynamicOptions::ncp).
 std::unique_ptr<StepAlgorithm> MakeFullStep(const DynamicModel& model, double m_max,
                                             const ncp::Options& ncp_options, bool friction);
 std::unique_ptr<StepAlgorithm> MakeCondensedStep(const DynamicModel& model, MassInverse* mass,

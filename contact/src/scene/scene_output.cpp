@@ -1,0 +1,148 @@
+#include "scene/scene_output.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "contact/vtk_writer.hpp"
+
+namespace contact::internal {
+
+SceneOutput::SceneOutput(const Scene& scene, const SceneModel& built, int marked,
+                         std::vector<std::string>* files_written)
+    : scene_(scene),
+      mesh_(built.body->mesh()),
+      dofs_(built.dofs),
+      frames_(built.frames),
+      dim_(built.body->mesh().dim),
+      marked_(marked),
+      dt_(built.options.dt),
+      end_time_(built.options.end_time),
+      directory_(scene.output_directory),
+      pending_stress_times_(scene.stress_times),
+      files_written_(files_written) {
+  std::sort(pending_stress_times_.begin(), pending_stress_times_.end());
+  if (scene_.output_directory.empty()) return;
+  const std::string coords = dim_ == 2 ? "x,y" : "x,y,z";
+  const std::string tangents = dim_ == 2 ? "friction_stress" : "friction_stress_1,friction_stress_2";
+  std::filesystem::create_directories(directory_);
+  Open(steps_csv_, "steps.csv",
+       "step,time,newton_iterations,jacobian_evaluations,residual_evaluations,seconds,kinetic_energy,"
+       "strain_energy,external_work,normal_contact_work,friction_dissipation,energy_balance_error,"
+       "normal_force_sum,friction_force_sum,max_penetration,active_nodes,equilibrium_residual,"
+       "complementarity_residual,friction_residual,force_accuracy,displacement_accuracy");
+  Open(stress_csv_, "contact_stress.csv",
+       "time,node," + coords + ",normal_stress," + tangents + ",gap,normal_force");
+  if (marked_ >= 0) Open(history_csv_, "node_history.csv", "time,normal_stress,friction_stress");
+  WriteMesh();
+  Open(displacement_csv_, "displacement.csv", dim_ == 2 ? "time,node,ux,uy" : "time,node,ux,uy,uz");
+  WriteSnapshot("snapshot_00000.vtk", Eigen::VectorXd::Zero(dofs_.NumFreeDofs()));
+}
+
+void SceneOutput::WriteStep(const StepRecord& record, const Eigen::VectorXd& u,
+                            const ContactSystem::Result& contact, double force_scale) {
+  if (scene_.output_directory.empty()) return;
+  WriteStepRow(record);
+  if (marked_ >= 0) {
+    const auto [p, tau] = Stress(static_cast<size_t>(marked_), contact, force_scale);
+    history_csv_ << record.time << ',' << p << ',' << (dim_ == 2 ? tau(0) : tau.norm()) << '\n';
+  }
+  const bool last = record.time >= end_time_ - 1e-9 * dt_;
+  if (ReachedStressTime(record.time) || last) {
+    WriteDisplacement(record.time, u);
+    WriteContactStress(record.time, contact, force_scale);
+  }
+  if ((scene_.snapshot_every > 0 && record.step % scene_.snapshot_every == 0) || last) {
+    char name[64];
+    std::snprintf(name, sizeof name, "snapshot_%05d.vtk", record.step);
+    WriteSnapshot(name, u);
+  }
+}
+
+void SceneOutput::Open(std::ofstream& stream, const std::string& name, const std::string& header) {
+  const std::string path = (directory_ / name).string();
+  stream.open(path);
+  if (!stream) throw SceneError("cannot write " + path);
+  stream << header << "\n";
+  stream.precision(10);
+  files_written_->push_back(path);
+}
+
+void SceneOutput::WriteMesh() {
+  std::ofstream nodes_csv, elements_csv;
+  const std::string coords = dim_ == 2 ? "x,y" : "x,y,z";
+  Open(nodes_csv, "mesh_nodes.csv", "node," + coords + ",fixed_components,contact");
+  std::vector<char> is_contact(static_cast<size_t>(mesh_.NumNodes()), 0);
+  for (const ContactNode& c : frames_.nodes) is_contact[static_cast<size_t>(c.node)] = 1;
+  for (int i = 0; i < mesh_.NumNodes(); ++i) {
+    int fixed = 0;
+    for (int a = 0; a < dim_; ++a) fixed += dofs_.IsConstrained(dim_ * i + a) ? 1 : 0;
+    nodes_csv << i;
+    for (int a = 0; a < dim_; ++a) nodes_csv << ',' << mesh_.nodes(a, i);
+    nodes_csv << ',' << fixed << ',' << int(is_contact[static_cast<size_t>(i)]) << '\n';
+  }
+  std::string element_header = "element,type";
+  for (int a = 0; a < mesh_.elements.rows(); ++a) element_header += ",n" + std::to_string(a);
+  Open(elements_csv, "mesh_elements.csv", element_header);
+  for (int e = 0; e < mesh_.NumElements(); ++e) {
+    elements_csv << e << ',' << ToString(mesh_.element_type);
+    for (int a = 0; a < mesh_.elements.rows(); ++a) elements_csv << ',' << mesh_.elements(a, e);
+    elements_csv << '\n';
+  }
+}
+
+void SceneOutput::WriteStepRow(const StepRecord& r) {
+  steps_csv_ << r.step << ',' << r.time << ',' << r.newton_iterations << ',' << r.jacobian_evaluations << ','
+             << r.residual_evaluations << ',' << r.seconds << ',' << r.kinetic << ',' << r.strain << ','
+             << r.external_work << ',' << r.normal_contact_work << ',' << r.friction_dissipation << ','
+             << r.energy_balance_error << ',' << r.normal_force_sum << ',' << r.tangent_force_sum << ','
+             << r.max_penetration << ',' << r.active_nodes << ',' << r.equilibrium_residual << ','
+             << r.complementarity_residual << ',' << r.friction_residual << ',' << r.force_accuracy << ','
+             << r.displacement_accuracy << '\n';
+}
+
+std::pair<double, Eigen::VectorXd> SceneOutput::Stress(size_t k, const ContactSystem::Result& contact,
+                                                       double force_scale) const {
+  const double area = frames_.nodes[k].area;
+  const auto c = static_cast<Eigen::Index>(k);
+  return {force_scale * contact.normal_force(c) / area, force_scale * contact.tangent_force.col(c) / area};
+}
+
+void SceneOutput::WriteContactStress(double time, const ContactSystem::Result& contact,
+                                     double force_scale) {
+  for (size_t k = 0; k < frames_.nodes.size(); ++k) {
+    const auto [p, tau] = Stress(k, contact, force_scale);
+    const int node = frames_.nodes[k].node;
+    stress_csv_ << time << ',' << node;
+    for (int a = 0; a < dim_; ++a) stress_csv_ << ',' << mesh_.nodes(a, node);
+    stress_csv_ << ',' << p;
+    for (Eigen::Index a = 0; a < tau.size(); ++a) stress_csv_ << ',' << tau(a);
+    stress_csv_ << ',' << contact.gap(static_cast<Eigen::Index>(k)) << ','
+                << force_scale * contact.normal_force(static_cast<Eigen::Index>(k)) << '\n';
+  }
+}
+
+void SceneOutput::WriteDisplacement(double time, const Eigen::VectorXd& u_free) {
+  const Eigen::VectorXd u_full = dofs_.Expand(u_free);
+  for (int i = 0; i < mesh_.NumNodes(); ++i) {
+    displacement_csv_ << time << ',' << i;
+    for (int a = 0; a < dim_; ++a) displacement_csv_ << ',' << u_full(dim_ * i + a);
+    displacement_csv_ << '\n';
+  }
+}
+
+void SceneOutput::WriteSnapshot(const std::string& name, const Eigen::VectorXd& u_free) {
+  const std::string path = (directory_ / name).string();
+  WriteVtk(path, mesh_, {NodalVectorField("displacement", mesh_, dofs_.Expand(u_free))});
+  files_written_->push_back(path);
+}
+
+bool SceneOutput::ReachedStressTime(double time) {
+  bool reached = false;
+  while (!pending_stress_times_.empty() && time >= pending_stress_times_.front() - 0.5 * dt_) {
+    pending_stress_times_.erase(pending_stress_times_.begin());
+    reached = true;
+  }
+  return reached;
+}
+
+}  // namespace contact::internal

@@ -1,0 +1,61 @@
+// The files a scene run writes into scene.output_directory (examples/scenes/README.md): the
+// mesh once (mesh_nodes.csv, mesh_elements.csv), one row per step (steps.csv), the marked
+// node's history (node_history.csv), the contact stresses and the displacement of every node
+// at the stress times and the end (contact_stress.csv, displacement.csv), and VTK snapshots.
+#pragma once
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "contact/scene.hpp"
+
+namespace contact::internal {
+
+class SceneOutput {
+ public:
+  /// Opens the files, writes the mesh and the snapshot of the start (u = 0) and adds each
+  /// path to *files_written; writes nothing without scene.output_directory. marked: index
+  /// into built.frames.nodes of the node_history.csv node, -1 for none. `built` must
+  /// outlive this.
+  SceneOutput(const Scene& scene, const SceneModel& built, int marked,
+              std::vector<std::string>* files_written);
+
+  /// After each step (DynamicOptions::on_step): u = u^{k+1} on the free dofs [m], contact
+  /// forces in system units (times force_scale for newtons).
+  void WriteStep(const StepRecord& record, const Eigen::VectorXd& u,
+                 const ContactSystem::Result& contact, double force_scale);
+
+ private:
+  void Open(std::ofstream& stream, const std::string& name, const std::string& header);
+  /// Nodes with the number of fixed components and the contact flag (a node of Gamma_c that
+  /// keeps a free dof), and the connectivity.
+  void WriteMesh();
+  void WriteStepRow(const StepRecord& r);
+  /// Normal stress p = lambda_c / A_c and friction stress tau_c / A_c [Pa] of contact node k.
+  std::pair<double, Eigen::VectorXd> Stress(size_t k, const ContactSystem::Result& contact,
+                                            double force_scale) const;
+  void WriteContactStress(double time, const ContactSystem::Result& contact, double force_scale);
+  /// Full displacement of every node [m].
+  void WriteDisplacement(double time, const Eigen::VectorXd& u_free);
+  void WriteSnapshot(const std::string& name, const Eigen::VectorXd& u_free);
+  /// True once per stress time reached by `time` (within dt / 2), consuming it.
+  bool ReachedStressTime(double time);
+
+  const Scene& scene_;
+  const Mesh& mesh_;
+  const DofMap& dofs_;
+  const ContactFrames& frames_;
+  const int dim_;
+  const int marked_;
+  const double dt_, end_time_;
+  const std::filesystem::path directory_;
+  std::vector<double> pending_stress_times_;  // ascending
+  std::vector<std::string>* files_written_;
+  std::ofstream steps_csv_, stress_csv_, history_csv_, displacement_csv_;
+};
+
+}  // namespace contact::internal
