@@ -6,8 +6,8 @@
 # Suppressed (scripts/lsan.supp): only leaks inside libgmsh, which keeps global state
 # allocated after gmsh::finalize, and inside libfclib (blocks calloc-ed by fclib_read_local /
 # fclib_read_global are still live after fclib_delete_local / fclib_delete_global, which we call). Not run under ASan: contact_no_allocation, which replaces
-# the global allocation functions that ASan itself intercepts, and fc_install_consumer, an
-# outside CMake project built without the sanitizer flags. The Python bindings are not built
+# the global allocation functions that ASan itself intercepts, and fc_install_consumer and
+# contact_install_consumer, outside CMake projects built without the sanitizer flags. The Python bindings are not built
 # (a Python interpreter cannot load an ASan-instrumented module without LD_PRELOAD).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -29,4 +29,4 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:strict_string_checks=1:dete
 export LSAN_OPTIONS="suppressions=$PWD/scripts/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 cd build-sanitize
-ctest --output-on-failure -j "$(nproc)" -E "contact_no_allocation|fc_install_consumer" "$@"
+ctest --output-on-failure -j "$(nproc)" -E "contact_no_allocation|fc_install_consumer|contact_install_consumer" "$@"

@@ -2,7 +2,7 @@
 # Installs what is missing, builds, and runs the whole test suite with ctest.
 #   scripts/test.sh --sanitize   the same with AddressSanitizer + UBSan (scripts/sanitize.sh)
 # With CI set in the environment (CI=true, as CI services set it) both run, one after the
-# other (measured from a fresh clone: see README "Errors and limits").
+# other (measured from a fresh clone: see docs/errors-and-limits.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [[ "${1:-}" == "--sanitize" ]]; then

@@ -70,7 +70,7 @@ def main():
         }
         base = None
         for way, (t, (x, s)) in best_times(ways, args.repeat).items():
-            if not s.is_solution_usable():
+            if not s.is_solution_usable:
                 raise SystemExit(f"{name} {way}: {s.message}")
             calls = s.residual_evaluations + s.jacobian_evaluations
             if base is None:

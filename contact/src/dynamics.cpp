@@ -195,8 +195,10 @@ class CentralDifferences {
       if (!GuardEnergy(rec)) break;
       if (options_.progress && Seconds(start) - last_progress > 1.0) {
         last_progress = Seconds(start);
-        std::fprintf(stderr, "  step %d / %ld, t = %.6g s, %d Newton iterations, %.1f s\n", rec.step,
-                     num_steps, rec.time, rec.newton_iterations, last_progress);
+        const double fraction = static_cast<double>(k + 1) / static_cast<double>(num_steps);
+        std::fprintf(stderr, "  step %d / %ld, t = %.6g s, %d Newton iterations, %s\n", rec.step,
+                     num_steps, rec.time, rec.newton_iterations,
+                     internal::ProgressText(fraction, last_progress).c_str());
       }
     }
   }
@@ -278,7 +280,9 @@ class CentralDifferences {
     rec->normal_force_sum = s.lambda_next.sum();
     for (Eigen::Index c = 0; c < s.contact.tangent_force.cols(); ++c)
       rec->tangent_force_sum += force_scale_ * s.contact.tangent_force.col(c).norm();
-    rec->active_nodes = static_cast<int>((s.lambda_next.array() > 0.0).count());
+    // In contact: a normal force above the step's force accuracy [N]; below it the force is
+    // round-off of a node in flight (e.g. 3.9e-19 N after a bounce), not contact.
+    rec->active_nodes = static_cast<int>((s.lambda_next.array() > rec->force_accuracy).count());
   }
 
   // The summary's maxima and counts, the record, and the caller's on_step.

@@ -88,8 +88,8 @@ nlohmann::json JsonSummary(const contact::Scene& scene, const contact::SceneResu
   j["message"] = s.message;
   j["steps"] = s.steps;
   j["newton_iterations"] = s.newton_iterations;
-  j["jacobian_evals"] = s.jacobian_evaluations;
-  j["residual_evals"] = s.residual_evaluations;
+  j["jacobian_evaluations"] = s.jacobian_evaluations;  // the names of contact.run().summary
+  j["residual_evaluations"] = s.residual_evaluations;
   j["friction_restarts"] = s.friction_restarts;
   j["seconds"] = s.seconds;
   j["max_penetration"] = s.max_penetration;
@@ -99,7 +99,7 @@ nlohmann::json JsonSummary(const contact::Scene& scene, const contact::SceneResu
   j["inaccurate_steps"] = s.inaccurate_steps;
   j["energy_balance_error"] = s.energy_balance_error;
   j["dt"] = scene.dynamics.dt;
-  j["dt_crit"] = s.critical_time_step;
+  j["critical_time_step"] = s.critical_time_step;
   j["friction_coefficient"] = scene.friction_coefficient;
   j["ncp_function"] = ncp::ToString(scene.dynamics.ncp.ncp_function);
   j["step_method"] = contact::ToString(s.step_method);  // auto resolved

@@ -54,7 +54,7 @@ def main():
             continue
         status = r["status"]
         if status == "refused-unstable-time-step":
-            status += f" (dt_crit = {r['dt_crit']:.3g} s)"
+            status += f" (dt_crit = {r['critical_time_step']:.3g} s)"
         elif status != "completed":
             status += ": " + r["message"]
         done = r["status"] == "completed"
@@ -70,8 +70,8 @@ def main():
         fastest = min(times)
         rows.append([table, note, f"{r['dt']:g}", f"{r['friction_coefficient']:g}",
                      str(r["steps"]) if r["steps"] else "-",
-                     str(r["jacobian_evals"]) if r["steps"] else "-",
-                     str(r["residual_evals"]) if r["steps"] else "-",
+                     str(r["jacobian_evaluations"]) if r["steps"] else "-",
+                     str(r["residual_evaluations"]) if r["steps"] else "-",
                      f"{fastest:.4f}" if done else "-",
                      f"{statistics.median(times):.4f} ({len(times)})" if done else "-",
                      fmt(k), fmt(nj), fmt(nf), fmt(tc, "{:.1f}"),

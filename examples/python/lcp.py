@@ -22,7 +22,7 @@ q = np.array([-8.0, -6.0, -4.0, 3.0])
 def main():
     z, summary = ncp.solve_lcp(M, q)
     print(summary)
-    if not summary.is_solution_usable():
+    if not summary.is_solution_usable:
         raise SystemExit(f"no solution: {summary.message}")
     w = M @ z + q
     print("z =", z)

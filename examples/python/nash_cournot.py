@@ -51,7 +51,7 @@ def J(q):
 def main(start=10.0, **options):
     q, summary = ncp.solve_ncp(F, J, np.full(5, start), **options)
     print(summary)
-    if not summary.is_solution_usable():
+    if not summary.is_solution_usable:
         raise SystemExit(f"no equilibrium: {summary.message}")
     Fq = F(q)
     print("outputs q =", np.round(q, 4), " price p =", round(price(q.sum()), 4))

@@ -50,7 +50,7 @@ def main(argv=None):
         shade = plt.cm.Blues(0.3 + 0.7 * (k + 1) / len(result.output_times))
         ax_s.plot(y[order], result.normal_stress[k, order], "-o", ms=3, color=shade,
                   label=f"normal, t = {t:.3f} s" if k == len(result.output_times) - 1 else None)
-        ax_s.plot(y[order], result.tangent_stress[k, order, 0], "--", color=shade,
+        ax_s.plot(y[order], result.friction_stress[k, order, 0], "--", color=shade,
                   label="friction" if k == len(result.output_times) - 1 else None)
     ax_s.set_xlabel("y along $\\Gamma_c$ [m]")
     ax_s.set_ylabel("stress [Pa]")
@@ -59,13 +59,13 @@ def main(argv=None):
     c = result.nearest_contact_node([5.0, 0.0])
     area = result.contact_area[c]  # [m^2] per unit thickness
     ax_h.plot(result.times, result.history_normal_force[:, c] / area, label="normal")
-    ax_h.plot(result.times, result.history_tangent_force[:, c, 0] / area, label="friction")
+    ax_h.plot(result.times, result.history_friction_force[:, c, 0] / area, label="friction")
     ax_h.set_xlabel("t [s]")
     ax_h.set_ylabel("stress [Pa]")
     ax_h.set_title(f"contact node at ({result.contact_coordinates[c][0]:g}, {result.contact_coordinates[c][1]:g}) m")
     ax_h.legend(fontsize=8)
     rec = result.records
-    for name in ("kinetic", "strain", "external_work", "friction_dissipation"):
+    for name in ("kinetic_energy", "strain_energy", "external_work", "friction_dissipation"):
         ax_e.plot(result.times, rec[name], label=name.replace("_", " "))
     ax_e.set_xlabel("t [s]")
     ax_e.set_ylabel("energy [J]")

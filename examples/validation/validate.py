@@ -101,7 +101,7 @@ def bar(sim, out):
         after = times > T + 5 * dt
         v_rebound = np.polyfit(times[after], ubar[after, 0], 1)[0]
         energy_end = st["kinetic_energy"][-1] + st["strain_energy"][-1]
-        rows.append(dict(n=n, courant=courant, dt=dt, steps=s["steps"], jac=s["jacobian_evals"],
+        rows.append(dict(n=n, courant=courant, dt=dt, steps=s["steps"], jac=s["jacobian_evaluations"],
                          duration_err=(duration - T) / T, stress_err=(stress - sigma) / sigma,
                          rebound_err=(v_rebound + v0) / v0, energy_err=(energy_end - E0) / E0,
                          balance=s["energy_balance_error"] / E0, penetration=s["max_penetration"]))
@@ -166,7 +166,7 @@ def sliding(sim, out):
         slope, intercept = np.polyfit(st["time"][fit], speed[fit], 1)
         stop = -intercept / slope
         times, ubar = mean_displacement(d)
-        rows.append(dict(dt=dt, steps=s["steps"], jac=s["jacobian_evals"],
+        rows.append(dict(dt=dt, steps=s["steps"], jac=s["jacobian_evaluations"],
                          decel_err=(-slope - mu * G) / (mu * G), stop_err=(stop - t_stop) / t_stop,
                          dist_err=(ubar[-1, 0] - distance) / distance,
                          dissipation=st["friction_dissipation"][-1] / (0.5 * mass * v0**2) - 1))
@@ -220,7 +220,7 @@ def incline(sim, out):
         a = 2 * np.polyfit(times[late], ubar[late, 0], 2)[0]
         slip = ubar[-1, 0] - ubar[times >= 0.1][0, 0]
         rows.append(dict(deg=deg, tan=math.tan(th), sticks=sticks, a_exact=a_exact if not sticks else 0.0,
-                         a=a, slip=slip, steps=s["steps"], jac=s["jacobian_evals"]))
+                         a=a, slip=slip, steps=s["steps"], jac=s["jacobian_evaluations"]))
         curves[deg] = (times, ubar[:, 0], a_exact, sticks)
     fig, ax = plt.subplots(figsize=(6.5, 4.2))
     tt = np.linspace(ramp, 0.4, 200)

@@ -4,9 +4,9 @@ namespace ncp {
 
 const char* ToString(NcpFunction f) {
   switch (f) {
-    case NcpFunction::kFischerBurmeister: return "fischer-burmeister";
+    case NcpFunction::kFischerBurmeister: return "fb";
     case NcpFunction::kMin: return "min";
-    case NcpFunction::kPenalizedFischerBurmeister: return "penalized-fischer-burmeister";
+    case NcpFunction::kPenalizedFischerBurmeister: return "penalized-fb";
   }
   return "unknown";
 }
@@ -14,7 +14,7 @@ const char* ToString(NcpFunction f) {
 const char* ToString(LinearSolverType t) {
   switch (t) {
     case LinearSolverType::kAuto: return "auto";
-    case LinearSolverType::kDenseLU: return "dense-lu";
+    case LinearSolverType::kDenseLU: return "dense";
     case LinearSolverType::kSparseLU: return "sparse-lu";
     case LinearSolverType::kUmfpack: return "umfpack";
     case LinearSolverType::kKlu: return "klu";

@@ -1,12 +1,12 @@
 """Dynamic contact of an elastic body with a rigid obstacle, from Python.
 
-    scene = contact.load_scene("examples/thesis/friction_2d_flat.toml")
-    result = contact.run(scene, progress=True)
-    result.times, result.records["kinetic"], result.normal_force[-1], result.nodes
+    result = contact.run(contact.example_path("thesis/friction_2d_flat.toml"), progress=True)
+    result.times, result.records["kinetic_energy"], result.normal_force[-1], result.nodes
 
 A scene is a TOML file (keys and units: examples/scenes/README.md) or the same content as a
 nested dict (``scene_from_dict``).  ``run`` writes no files: it returns NumPy arrays.
 Units: s, m, N, Pa, J.  A bad scene raises ValueError (contact.SceneError) naming the key.
+The record names are the columns of contact-sim's steps.csv.
 """
 import math
 import os
@@ -16,11 +16,76 @@ import time as _time
 
 import numpy as np
 
-from ._contact import STEP_FIELDS, SUMMARY_FIELDS, Scene, SceneError, load_scene
+from ._contact import STEP_FIELDS, SUMMARY_FIELDS, Scene, SceneError
 from . import _contact
 
-__all__ = ["load_scene", "scene_from_dict", "run", "Result", "Scene", "SceneError", "STEP_FIELDS",
-           "SUMMARY_FIELDS"]
+__all__ = ["load_scene", "scene_from_dict", "run", "example_path", "Result", "Scene",
+           "SceneError", "STEP_FIELDS", "SUMMARY_FIELDS", "OVERRIDES"]
+
+#: Keyword overrides of ``load_scene`` and ``run`` -> scene keys (contact-sim's --dt, ...).
+OVERRIDES = {"dt": "time.dt", "end_time": "time.end_time", "friction": "friction.coefficient",
+             "tolerance": "solver.tolerance", "solver": "solver.method", "step": "solver.step",
+             "friction_formulation": "solver.friction"}
+
+#: Record names before they were made equal to the columns of steps.csv.
+_RENAMED_RECORDS = {"kinetic": "kinetic_energy", "strain": "strain_energy",
+                    "tangent_force_sum": "friction_force_sum"}
+
+
+#: Result arrays before they were named like contact_stress.csv's columns.
+_RENAMED_ARRAYS = {"tangent_force": "friction_force", "tangent_stress": "friction_stress",
+                   "history_tangent_force": "history_friction_force"}
+
+
+def _examples_dirs():
+    """Where the example scenes may be: $NCP_EXAMPLES_DIR, the installed
+    <prefix>/share/ncp/examples (this package is <prefix>/lib/pythonX.Y/dist-packages/contact),
+    and the source tree's examples/ when run from a build tree."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    dirs = [os.environ.get("NCP_EXAMPLES_DIR", ""),
+            os.path.normpath(os.path.join(here, "..", "..", "..", "..", "share", "ncp", "examples"))]
+    try:
+        from ._build_paths import SOURCE_EXAMPLES_DIR
+        dirs.append(SOURCE_EXAMPLES_DIR)
+    except ImportError:
+        pass
+    return [d for d in dirs if d and os.path.isdir(d)]
+
+
+def example_path(name):
+    """Absolute path of a shipped example, e.g. example_path("scenes/block_drop_2d.toml") or
+    example_path("thesis/friction_3d.toml"), wherever the package is used from."""
+    dirs = _examples_dirs()
+    for d in dirs:
+        path = os.path.join(d, name)
+        if os.path.exists(path):
+            return path
+    raise FileNotFoundError(f"contact: no example {name!r} in {dirs or 'any examples directory'} "
+                            "(set NCP_EXAMPLES_DIR to the repository's examples/)")
+
+
+def _override_list(overrides):
+    """[(scene key, TOML literal)] from run's / load_scene's keyword overrides."""
+    out = []
+    for name, value in overrides.items():
+        if name not in OVERRIDES:
+            raise ValueError(f"contact: unknown override {name!r}; overrides are {', '.join(OVERRIDES)}")
+        if value is not None:
+            out.append((OVERRIDES[name], _toml_value(value, OVERRIDES[name])))
+    return out
+
+
+def load_scene(path, **overrides):
+    """Reads and validates a scene file.  A relative path is relative to the working
+    directory; the shipped scenes are at example_path(...).  Keyword overrides
+    (OVERRIDES: dt, end_time, friction, tolerance, solver, step, friction_formulation)
+    pass the same checks as the file's values."""
+    path = os.fspath(path)
+    if not os.path.exists(path):
+        raise SceneError(f"cannot read scene file '{path}': no such file (relative paths are "
+                         f"relative to the working directory {os.getcwd()}; the shipped examples: "
+                         "contact.example_path(\"scenes/block_drop_2d.toml\"))")
+    return _contact.load_scene(path, _override_list(overrides))
 
 
 def _toml_value(value, key):
@@ -55,7 +120,7 @@ def _toml(d, prefix=""):
     return "\n".join(lines)
 
 
-def scene_from_dict(scene, base_dir="."):
+def scene_from_dict(scene, base_dir=".", **overrides):
     """A Scene from a nested dict with the keys of a scene file, checked exactly like a
     file.  Relative paths in it (geometry.file, output.directory) are relative to base_dir;
     the scene's name defaults to "scene-dict"."""
@@ -72,7 +137,7 @@ def scene_from_dict(scene, base_dir="."):
         f.write(text)
         path = f.name
     try:
-        return load_scene(path)
+        return load_scene(path, **overrides)
     except SceneError as e:  # name the dict, not the temporary file
         raise SceneError(str(e).replace(path, "<scene dict>")) from None
     finally:
@@ -82,22 +147,30 @@ def scene_from_dict(scene, base_dir="."):
 class Result:
     """What a run returned.  Arrays (units in brackets):
 
-    times (steps,) [s]                   records: {field: (steps,)} per StepRecord field
+    times (steps,) [s]                   records: {name: (steps,)}, the names of steps.csv's
+                                         columns (STEP_FIELDS)
     summary: dict (status, message, steps, newton_iterations, max_penetration [m], ...)
     output_times (T,) [s]                displacement (T, nodes, dim) [m]
-    normal_force (T, C) [N]              tangent_force (T, C, dim-1) [N]
-    normal_stress (T, C) [Pa]            tangent_stress (T, C, dim-1) [Pa]
+    normal_force (T, C) [N]              friction_force (T, C, dim-1) [N] along t1 (, t2)
+    normal_stress (T, C) [Pa]            friction_stress (T, C, dim-1) [Pa]
     gap (T, C) [m] (< 0: penetration)    contact_node (C,), contact_coordinates (C, dim) [m],
     contact_area (C,) [m^2]              nodes (N, dim) [m], elements (E, k), element_type
     with contact_history (every step):   history_normal_force (steps, C) [N],
-    history_tangent_force (steps, C, dim-1) [N], history_gap (steps, C) [m]
+    history_friction_force (steps, C, dim-1) [N], history_gap (steps, C) [m]
+    (the names of contact_stress.csv's columns and of the .vtu fields)
     """
 
     def __init__(self, raw):
         self.__dict__.update(raw)
+        self.records = _Records(self.records)
         self.times = self.records["time"]
         self.normal_stress = self.normal_force / self.contact_area
-        self.tangent_stress = self.tangent_force / self.contact_area[None, :, None]
+        self.friction_stress = self.friction_force / self.contact_area[None, :, None]
+
+    def __getattr__(self, name):  # only for names not set in __init__
+        if name in _RENAMED_ARRAYS:
+            raise AttributeError(f"contact.Result.{name} was renamed {_RENAMED_ARRAYS[name]}")
+        raise AttributeError(f"contact.Result has no {name!r}")
 
     def nearest_contact_node(self, point):
         """Index c (into the contact arrays) of the contact node nearest to point [m]."""
@@ -117,43 +190,82 @@ class Result:
                 f"{len(self.output_times)} output times, {len(self.contact_node)} contact nodes>")
 
 
-def _progress_bar(stream=None, width=40, interval_s=0.2):
-    """A text progress bar on `stream` (None: sys.stderr at the time of drawing), redrawn at
-    most every interval_s seconds."""
-    last = [0.0]
+class _Records(dict):
+    """{name: array}; a name used before the records were named like steps.csv's columns
+    raises KeyError naming the new one."""
+
+    def __missing__(self, key):
+        if key in _RENAMED_RECORDS:
+            raise KeyError(f"record {key!r} was renamed {_RENAMED_RECORDS[key]!r} (the steps.csv column)")
+        raise KeyError(key)
+
+
+def _duration(seconds):
+    """'42 s', '3 min 05 s', '1 h 02 min'."""
+    s = int(round(seconds))
+    if s < 60:
+        return f"{s} s"
+    if s < 3600:
+        return f"{s // 60} min {s % 60:02d} s"
+    return f"{s // 3600} h {(s % 3600) // 60:02d} min"
+
+
+def progress_text(fraction, elapsed_s):
+    """'37.5 %, 12 s elapsed, ETA 20 s': the remaining time extrapolated at the mean rate so
+    far, elapsed * (1 - fraction) / fraction (no ETA before any progress)."""
+    text = f"{100 * fraction:5.1f} %, {_duration(elapsed_s)} elapsed"
+    if fraction >= 1:
+        return text
+    if fraction > 0:
+        return text + f", ETA {_duration(elapsed_s * (1 - fraction) / fraction)}"
+    return text + ", ETA --"
+
+
+def _progress_bar(stream=None, width=30, interval_s=0.2, start_time=0.0):
+    """A text progress bar with percent, elapsed time and ETA on `stream` (None: sys.stderr
+    at the time of drawing), redrawn at most every interval_s seconds."""
+    last = [-math.inf]
+    started = _time.monotonic()
 
     def draw(step, t, end_time):
         out = stream or sys.stderr
         now = _time.monotonic()
-        done = t >= end_time * (1 - 1e-12)
+        done = t >= end_time - 1e-12 * max(abs(end_time), 1.0)
         if now - last[0] < interval_s and not done:
             return
         last[0] = now
-        fraction = min(t / end_time, 1.0) if end_time > 0 else 1.0
+        span = end_time - start_time
+        fraction = min(max((t - start_time) / span, 0.0), 1.0) if span > 0 else 1.0
         filled = int(round(width * fraction))
-        out.write(f"\r[{'#' * filled}{'.' * (width - filled)}] step {step}  t = {t:.4g} s")
+        out.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {progress_text(fraction, now - started)}"
+                  f"  step {step}, t = {t:.4g} s ")
         if done:
             out.write("\n")
         out.flush()
     return draw
 
 
-def run(scene, every=0, contact_history=True, progress=None, base_dir="."):
+def run(scene, every=0, contact_history=True, progress=None, base_dir=".", **overrides):
     """Runs a scene (a Scene, a path to a scene file, or a dict) and returns a Result.
 
     Snapshots (displacements, contact forces, gaps) are taken at the scene's stress_times,
     at every `every`-th step (0: none) and at the last step.  contact_history keeps the
     contact forces and gaps of every step (steps x contact nodes x (dim + 1) floats).
-    progress: True for a text bar on stderr, or a callable(step, time, end_time) called
-    after every step."""
+    progress: True for a text bar on stderr (percent, elapsed time, ETA), or a
+    callable(step, time, end_time) called after every step.  overrides (with a path or a
+    dict): dt, end_time, friction, tolerance, solver, step, friction_formulation, checked
+    like the scene file's values.  result.records holds the columns of steps.csv."""
     if isinstance(scene, dict):
-        scene = scene_from_dict(scene, base_dir)
+        scene = scene_from_dict(scene, base_dir, **overrides)
     elif isinstance(scene, (str, os.PathLike)):
-        scene = load_scene(os.fspath(scene))
+        scene = load_scene(scene, **overrides)
     elif not isinstance(scene, Scene):
         raise ValueError(f"contact.run: scene must be a Scene, a path or a dict, got {type(scene).__name__}")
+    elif overrides:
+        raise ValueError("contact.run: overrides need a path or a dict; set a Scene's dt, end_time "
+                         "or tolerance directly")
     if progress is True:
-        progress = _progress_bar()
+        progress = _progress_bar(start_time=scene.start_time)
     elif progress is False:
         progress = None
     return Result(_contact.run(scene, int(every), bool(contact_history), progress))

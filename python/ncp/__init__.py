@@ -1,6 +1,6 @@
 """Semismooth Newton for complementarity problems (De Luca, Facchinei and Kanzow 1996).
 
-    x, summary = ncp.solve(F, J, x0, lower=..., upper=..., tolerance=1e-10)
+    x, summary = ncp.solve(F, J, x0, lower=..., upper=..., tolerance=1e-10, ncp_function="fb")
 
 solves the box MCP  lower <= x <= upper  perp  F(x)  (a bound of +-inf or of magnitude
 >= 1e20 is infinite); ``solve_ncp`` is the standard NCP (lower = 0, upper = +inf),
@@ -9,8 +9,9 @@ E(x) = 0, 0 <= A(x) perp B(x) >= 0.  F(x) returns an array of n numbers, J(x) a
 scipy.sparse matrix or a dense ndarray (n x n); either may return None for "cannot
 evaluate at x" (the line search then shortens the step).  Keyword arguments are the
 fields of ``ncp.Options`` (C++ defaults; enums also as strings such as
-``ncp_function="min"``).  Misuse raises ValueError with the C++ message; numerical
-trouble never raises: read ``summary.termination`` / ``summary.message``.
+``ncp_function="min"``; the NCP functions are "fb", "min" and "penalized-fb", as in scene
+files).  Misuse raises ValueError with the C++ message; numerical trouble never raises:
+read ``summary.termination`` / ``summary.message`` / ``summary.is_solution_usable``.
 """
 import numpy as np
 import scipy.sparse as sp
@@ -29,11 +30,19 @@ INFINITE_BOUND = 1e20
 _ENUM_OPTIONS = {"ncp_function": NcpFunction, "linear_solver": LinearSolverType}
 
 
+#: Spellings used before the one vocabulary of scene files, contact-sim, C++ and Python.
+_RENAMED = {"fischer-burmeister": "fb", "penalized-fischer-burmeister": "penalized-fb",
+            "dense-lu": "dense"}
+
+
 def _enum_value(enum, name, value):
-    """An enum member from itself or from its C++ label ("fischer-burmeister") or name."""
+    """An enum member from itself or from its label ("fb", as in scene files and on
+    contact-sim's command line) or member name ("FB")."""
     if isinstance(value, enum):
         return value
     if isinstance(value, str):
+        if value.lower() in _RENAMED:
+            raise ValueError(f"ncp: {name}={value!r} was renamed: use {_RENAMED[value.lower()]!r}")
         for member in enum.__members__.values():
             if value.lower() in (member.label, member.name.lower()):
                 return member
@@ -101,9 +110,12 @@ def _matrix_callable(J):
 
 
 def solve(F, J, x0, lower=None, upper=None, options=None, **kwargs):
-    """Box MCP lower <= x <= upper perp F(x) from x0 (used as given, not projected).
+    """Box MCP lower <= x <= upper perp F(x) from x0.
 
-    lower defaults to -inf, upper to +inf.  Returns (x, Summary)."""
+    lower defaults to -inf, upper to +inf.  A start point outside [lower, upper] is
+    projected onto it (summary.projected_start_components counts the moved components);
+    project_start_point=False uses it as given.  Converged when ||Phi(x)||_inf <= tolerance
+    (default 1e-10).  Returns (x, Summary)."""
     x0 = _vector("x0", x0)
     n = x0.size
     opts = make_options(options, **kwargs)

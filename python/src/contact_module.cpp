@@ -77,14 +77,14 @@ const ColumnTable<StepRecord>& StepColumns() {
       ("residual_evaluations", &StepRecord::residual_evaluations)
       ("seconds", &StepRecord::seconds)
       ("solve_seconds", &StepRecord::solve_seconds)
-      ("kinetic", &StepRecord::kinetic)
-      ("strain", &StepRecord::strain)
+      ("kinetic_energy", &StepRecord::kinetic)
+      ("strain_energy", &StepRecord::strain)
       ("external_work", &StepRecord::external_work)
       ("normal_contact_work", &StepRecord::normal_contact_work)
       ("friction_dissipation", &StepRecord::friction_dissipation)
       ("energy_balance_error", &StepRecord::energy_balance_error)
       ("normal_force_sum", &StepRecord::normal_force_sum)
-      ("tangent_force_sum", &StepRecord::tangent_force_sum)
+      ("friction_force_sum", &StepRecord::tangent_force_sum)
       ("max_penetration", &StepRecord::max_penetration)
       ("active_nodes", &StepRecord::active_nodes)
       ("equilibrium_residual", &StepRecord::equilibrium_residual)
@@ -145,7 +145,7 @@ py::array Stack(const std::vector<Snapshot>& snaps, Eigen::Index rows, Eigen::In
   return a;
 }
 
-/// out[prefix + "normal_force" | "tangent_force" | "gap"]: the contact state of the
+/// out[prefix + "normal_force" | "friction_force" | "gap"]: the contact state of the
 /// snapshots as (num_times, N_c), (num_times, N_c, dim - 1) and (num_times, N_c) arrays.
 void PutContactArrays(const std::vector<Snapshot>& snaps, Eigen::Index num_contact,
                       int dim, const std::string& prefix, py::dict* out) {
@@ -154,7 +154,7 @@ void PutContactArrays(const std::vector<Snapshot>& snaps, Eigen::Index num_conta
       Stack(snaps, num_contact, 1, [](const Snapshot& s) {
         return Eigen::MatrixXd(s.normal_force);
       })[py::make_tuple(py::ellipsis(), 0)];
-  d[py::str(prefix + "tangent_force")] = Stack(
+  d[py::str(prefix + "friction_force")] = Stack(
       snaps, num_contact, dim - 1, [](const Snapshot& s) { return s.tangent_force; });
   d[py::str(prefix + "gap")] = Stack(snaps, num_contact, 1, [](const Snapshot& s) {
     return Eigen::MatrixXd(s.gap);
@@ -274,6 +274,8 @@ PYBIND11_MODULE(_contact, m) {
       .def_property(
           "dt", [](const contact::Scene& s) { return s.dynamics.dt; },
           [](contact::Scene& s, double v) { s.dynamics.dt = v; }, "time step [s]")
+      .def_property_readonly(
+          "start_time", [](const contact::Scene& s) { return s.dynamics.start_time; }, "t_0 [s]")
       .def_property(
           "end_time", [](const contact::Scene& s) { return s.dynamics.end_time; },
           [](contact::Scene& s, double v) { s.dynamics.end_time = v; }, "[s]")
@@ -288,8 +290,14 @@ PYBIND11_MODULE(_contact, m) {
              << " s friction=" << s.friction_coefficient << ">";
         return text.str();
       });
-  m.def("load_scene", [](const std::string& path) { return contact::LoadScene(path); }, py::arg("path"),
-        "Reads and validates a scene file.");
+  m.def(
+      "load_scene",
+      [](const std::string& path, const contact::SceneOverrides& overrides) {
+        return contact::LoadScene(path, overrides);
+      },
+      py::arg("path"), py::arg("overrides") = contact::SceneOverrides{},
+      "Reads and validates a scene file; overrides: [(\"time.dt\", \"1e-4\"), ...] as TOML "
+      "literals, checked like the file's own values (contact-sim's --dt etc.).");
   m.def("run", &RunScene, py::arg("scene"), py::arg("every") = 0,
         py::arg("contact_history") = true, py::arg("progress") = py::none());
   m.attr("STEP_FIELDS") = py::tuple(StepColumns().Arrays({}).attr("keys")());

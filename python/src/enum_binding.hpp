@@ -23,7 +23,7 @@ pybind11::enum_<Enum> BindEnum(pybind11::module_& m, const char* name, Enum last
     });
     e.value(label.c_str(), static_cast<Enum>(v));
   }
-  // The C++ spelling ("min", "fischer-burmeister") for messages and string arguments.
+  // The C++ spelling ("min", "fb", "penalized-fb") for messages and string arguments.
   e.def_property_readonly("label", [](Enum v) { return std::string(ToString(v)); });
   return e;
 }

@@ -275,7 +275,9 @@ void BindSummary(py::module_& m) {
   // clang-format on
   cls.def("brief_report", &Summary::BriefReport)
       .def("full_report", &Summary::FullReport)
-      .def("is_solution_usable", &Summary::IsSolutionUsable)
+      .def_property_readonly("is_solution_usable", &Summary::IsSolutionUsable,
+                             "converged (also at the round-off floor): x solves the problem "
+                             "to the tolerance")
       .def("__repr__", [](const Summary& s) {
         return "<ncp.Summary " +
                (s.termination == ncp::TerminationType::kNotSolved ? s.message

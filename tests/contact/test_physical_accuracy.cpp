@@ -56,7 +56,7 @@ TEST_CASE("Default settings: elastic bar impact lasts 2L/c within 1%", "[physics
 TEST_CASE("Default settings: a block on an incline 1 degree either side of atan(mu)",
           "[physics][incline]") {
   // Sticking: slip after the ramp below a tenth of the block's elastic shear deformation
-  // (the soft block's ringing lets nodes slip ~7e-3 of it; README, "Stopping rules").
+  // (the soft block's ringing lets nodes slip ~7e-3 of it; docs/stopping-rules.md).
   for (bool lumped : {true, false})
     for (double fraction : {0.1, 0.95})
       for (double E : {1e6, 2e11}) {

@@ -44,12 +44,13 @@ def test_records_match_contact_sim(runs, key):
     assert result.completed and result.summary["steps"] == steps["step"].size
     assert result.summary["step_method"] == "condensed"  # auto: a small contact set
     np.testing.assert_allclose(result.times, steps["time"], rtol=1e-9)
-    for py_name, csv_name in [("kinetic", "kinetic_energy"), ("strain", "strain_energy"),
-                              ("external_work", "external_work"), ("normal_force_sum", "normal_force_sum"),
-                              ("tangent_force_sum", "friction_force_sum"), ("max_penetration", "max_penetration")]:
-        scale = np.abs(steps[csv_name]).max() + 1e-300
-        np.testing.assert_allclose(result.records[py_name], steps[csv_name], rtol=1e-9, atol=1e-9 * scale,
-                                   err_msg=py_name)
+    # One vocabulary: every column of steps.csv is a record of the same name and value
+    # (seconds are wall-clock times of two different runs).
+    assert set(steps) <= set(contact.STEP_FIELDS), set(steps) - set(contact.STEP_FIELDS)
+    for name in set(steps) - {"seconds"}:
+        scale = np.abs(steps[name]).max() + 1e-300
+        np.testing.assert_allclose(result.records[name], steps[name], rtol=1e-9, atol=1e-9 * scale,
+                                   err_msg=name)
     for name in ("newton_iterations", "active_nodes"):
         np.testing.assert_array_equal(result.records[name], steps[name].astype(int))
 
@@ -63,7 +64,7 @@ def test_snapshots_match_contact_sim(runs, key):
     T, C = result.normal_force.shape
     assert stress["time"].size == T * C
     np.testing.assert_array_equal(stress["node"].reshape(T, C)[0], result.contact_node)
-    for py, name in [(result.normal_stress, "normal_stress"), (result.tangent_stress[:, :, 0], "friction_stress"),
+    for py, name in [(result.normal_stress, "normal_stress"), (result.friction_stress[:, :, 0], "friction_stress"),
                      (result.gap, "gap"), (result.normal_force, "normal_force")]:
         ref = stress[name].reshape(T, C)
         np.testing.assert_allclose(py, ref, rtol=1e-8, atol=1e-9 * np.abs(ref).max(), err_msg=name)
@@ -85,8 +86,8 @@ def test_contact_arrays_agree_with_the_step_sums(runs):
     step_of = np.searchsorted(result.times, result.output_times - 1e-12)
     np.testing.assert_allclose(result.normal_force.sum(axis=1), result.records["normal_force_sum"][step_of],
                                rtol=1e-12)
-    np.testing.assert_allclose(np.abs(result.tangent_force[:, :, 0]).sum(axis=1),
-                               result.records["tangent_force_sum"][step_of], rtol=1e-12)
+    np.testing.assert_allclose(np.abs(result.friction_force[:, :, 0]).sum(axis=1),
+                               result.records["friction_force_sum"][step_of], rtol=1e-12)
     f_max = result.normal_force.max()
     assert f_max > 1e4  # the wall pushes back [N]
     assert result.normal_force.min() >= -1e-6 * f_max
@@ -101,7 +102,7 @@ def test_contact_history_and_the_marked_node(runs):
     result, d = runs["flat"]
     steps = result.times.size
     assert result.history_normal_force.shape == (steps, result.contact_node.size)
-    assert result.history_tangent_force.shape == (steps, result.contact_node.size, 1)
+    assert result.history_friction_force.shape == (steps, result.contact_node.size, 1)
     step_of = np.searchsorted(result.times, result.output_times - 1e-12)
     np.testing.assert_array_equal(result.history_normal_force[step_of], result.normal_force)
     np.testing.assert_array_equal(result.history_gap[step_of], result.gap)
@@ -112,7 +113,7 @@ def test_contact_history_and_the_marked_node(runs):
     area = result.contact_area[c]
     np.testing.assert_allclose(result.history_normal_force[:, c] / area, history["normal_stress"], rtol=1e-8,
                                atol=1e-9 * np.abs(history["normal_stress"]).max())
-    np.testing.assert_allclose(result.history_tangent_force[:, c, 0] / area, history["friction_stress"], rtol=1e-8,
+    np.testing.assert_allclose(result.history_friction_force[:, c, 0] / area, history["friction_stress"], rtol=1e-8,
                                atol=1e-9 * np.abs(history["friction_stress"]).max())
     with pytest.raises(ValueError, match="2 coordinates"):
         result.nearest_contact_node([1.0, 2.0, 3.0])
@@ -174,7 +175,46 @@ def test_progress_bar_on_stderr(capsys):
     scene.end_time = 0.01
     contact.run(scene, progress=True)
     err = capsys.readouterr().err
-    assert "step 4" in err and "#" * 40 in err
+    assert "step 4" in err and "#" * 30 in err and "100.0 %" in err
+
+
+@pytest.mark.parametrize("fraction,elapsed,text", [
+    (0.0, 0.0, "  0.0 %, 0 s elapsed, ETA --"),
+    (0.25, 10.0, " 25.0 %, 10 s elapsed, ETA 30 s"),      # 10 s (1 - 1/4) / (1/4)
+    (0.5, 125.0, " 50.0 %, 2 min 05 s elapsed, ETA 2 min 05 s"),
+    (0.1, 400.0, " 10.0 %, 6 min 40 s elapsed, ETA 1 h 00 min"),  # 3600 s left
+    (1.0, 42.0, "100.0 %, 42 s elapsed"),
+])
+def test_progress_text_extrapolates_the_mean_rate(fraction, elapsed, text):
+    assert contact.progress_text(fraction, elapsed) == text
+
+
+def test_records_have_the_csv_names_and_old_names_say_so(runs):
+    result, _ = runs["flat"]
+    assert "kinetic_energy" in result.records and "kinetic" not in result.records
+    with pytest.raises(KeyError, match="renamed 'kinetic_energy'"):
+        result.records["kinetic"]
+    with pytest.raises(AttributeError, match="renamed friction_stress"):
+        result.tangent_stress
+
+
+def test_overrides_are_checked_like_the_file(tmp_path):
+    r = contact.run(SCENES["flat"], end_time=0.005, contact_history=False)
+    assert r.summary["steps"] == 2 and r.times[-1] == pytest.approx(0.005)
+    with pytest.raises(ValueError, match="time.end_time"):
+        contact.run(SCENES["flat"], end_time=-1.0)
+    with pytest.raises(ValueError, match="unknown override 'end'"):
+        contact.run(SCENES["flat"], end=1.0)
+
+
+def test_example_path_works_from_any_directory(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    path = contact.example_path("thesis/friction_2d_flat.toml")
+    assert os.path.isabs(path) and contact.load_scene(path).name == "thesis-6.2-friction-2d-flat"
+    with pytest.raises(ValueError, match="working directory"):
+        contact.load_scene("examples/thesis/friction_2d_flat.toml")
+    with pytest.raises(FileNotFoundError, match="no example"):
+        contact.example_path("scenes/nothing.toml")
 
 
 # ---- error paths ---------------------------------------------------------------------
@@ -208,3 +248,22 @@ def test_exception_in_progress_reaches_the_caller():
         raise KeyboardInterrupt
     with pytest.raises(KeyboardInterrupt):
         contact.run(SCENES["flat"], progress=stop)
+
+
+def test_contact_sim_json_uses_the_python_summary_names(bin_dir, tmp_path):
+    """One vocabulary: contact-sim --json has a key for every field of result.summary (the
+    Ipopt difference only when Ipopt compared), with the same integer counts."""
+    exe = os.path.join(bin_dir, "contact-sim")
+    if not os.path.exists(exe):
+        pytest.skip(f"{exe} not built (NCP_BIN_DIR)")
+    import json
+    out = subprocess.run([exe, SCENES["drop"], "--json", "--quiet", "--no-output", "--end-time", "0.002"],
+                         check=True, capture_output=True, text=True).stdout
+    j = json.loads(out)
+    r = contact.run(SCENES["drop"], end_time=0.002, contact_history=False)
+    missing = set(contact.SUMMARY_FIELDS) - {"max_ipopt_relative_difference"} - set(j)
+    assert not missing, f"contact-sim --json lacks {sorted(missing)}"
+    for name in ("steps", "newton_iterations", "jacobian_evaluations", "residual_evaluations",
+                 "inaccurate_steps", "status", "step_method"):
+        assert j[name] == r.summary[name], name
+    assert j["critical_time_step"] == pytest.approx(r.summary["critical_time_step"], rel=1e-12)

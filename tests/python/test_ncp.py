@@ -38,7 +38,7 @@ CASES = [("kojshin", "1"), ("josephy", "1"), ("nash5", "tens"), ("hs35-lcp", "ze
          ("random-plcp-200", "zero")]
 
 
-@pytest.mark.parametrize("function", ["fischer-burmeister", "min", "penalized-fischer-burmeister"])
+@pytest.mark.parametrize("function", ["fb", "min", "penalized-fb"])
 @pytest.mark.parametrize("name,start", CASES)
 def test_collection_problem_through_python_callbacks_matches_cpp(name, start, function):
     p = ncp._reference.problem(name)
@@ -48,7 +48,7 @@ def test_collection_problem_through_python_callbacks_matches_cpp(name, start, fu
     ref = ncp._reference.solve(name, x0, options)
     py = ncp.solve(p["F"], p["J"], x0, p["lower"], p["upper"], options=options)
     assert_same_solve(py, ref)
-    if py[1].is_solution_usable():
+    if py[1].is_solution_usable:
         x = py[0]
         assert natural_residual(x, p["F"](x), p["lower"], p["upper"]) <= 1e-8
 
@@ -90,7 +90,7 @@ def test_ncp_example_command_line_gives_the_python_solution(bin_dir):
     M = np.array([[4.0, -1, 0], [-1, 4, -1], [0, -1, 4]])
     q = np.array([-3.0, 1, -2])
     x, s = ncp.solve_ncp(lambda x: M @ x + q + x**3 / 10, lambda x: M + np.diag(0.3 * x**2), np.zeros(3))
-    assert s.is_solution_usable() and s.iterations == iterations_cpp
+    assert s.is_solution_usable and s.iterations == iterations_cpp
     np.testing.assert_allclose(x, x_cpp, atol=1e-10)  # printed with 10 decimals
 
 
@@ -110,7 +110,7 @@ def test_mixed_problem_simplex_projection_against_closed_form():
         return JE, JA, JB
 
     z, s = ncp.solve_mixed(evaluate, jacobian, np.zeros(k + 1), num_equations=1)
-    assert s.is_solution_usable(), s.message
+    assert s.is_solution_usable, s.message
     u = np.sort(a)[::-1]  # closed form (Held, Wolfe and Crowder 1974)
     css = np.cumsum(u) - 1.0
     rho = np.nonzero(u - css / np.arange(1, k + 1) > 0)[0][-1]
@@ -159,7 +159,9 @@ def J3(x):
     ({"tolerance": -1.0}, "Options::tolerance"),
     ({"armijo_beta": 0.7}, "armijo_beta"),
     ({"toleranse": 1e-8}, "unknown option 'toleranse'"),
-    ({"ncp_function": "fb2"}, "fischer-burmeister"),
+    ({"ncp_function": "fb2"}, "fb, min, penalized-fb"),
+    ({"ncp_function": "fischer-burmeister"}, "renamed: use 'fb'"),
+    ({"ncp_function": "penalized-fischer-burmeister"}, "renamed: use 'penalized-fb'"),
     ({"max_iterations": "many"}, "max_iterations"),
 ])
 def test_bad_options_raise_value_error_with_the_cpp_message(kwargs, message):
@@ -206,9 +208,9 @@ def test_exception_in_a_callback_reaches_the_caller():
 
 def test_numerical_trouble_is_a_status_not_an_exception():
     x, s = ncp.solve_ncp(lambda x: np.full(3, np.nan), J3, np.ones(3))
-    assert s.termination == ncp.TerminationType.NON_FINITE_VALUES and not s.is_solution_usable()
+    assert s.termination == ncp.TerminationType.NON_FINITE_VALUES and not s.is_solution_usable
     x, s = ncp.solve_ncp(lambda x: None, J3, np.ones(3))
-    assert not s.is_solution_usable() and s.message
+    assert not s.is_solution_usable and s.message
     x, s = ncp.solve_ncp(F3, lambda x: None, np.ones(3))
     assert s.termination == ncp.TerminationType.EVALUATION_FAILURE
     x, s = ncp.solve_ncp(nash_cournot.F, nash_cournot.J, np.full(5, 10.0), max_iterations=1)
@@ -219,7 +221,41 @@ def test_callback_observes_and_stops():
     seen = []
     x, s = ncp.solve_ncp(nash_cournot.F, nash_cournot.J, np.full(5, 10.0),
                          callback=lambda r: seen.append(r.phi_inf))  # None: go on
-    assert s.is_solution_usable() and len(seen) == s.iterations + 1
+    assert s.is_solution_usable and len(seen) == s.iterations + 1
     x, s = ncp.solve_ncp(nash_cournot.F, nash_cournot.J, np.full(5, 10.0),
                          callback=lambda r: r.iteration < 2)
     assert s.termination == ncp.TerminationType.USER_ABORT and s.iterations == 2
+
+
+# ---- the docstrings say what the code does ---------------------------------------------
+
+def test_solve_projects_a_start_point_outside_the_box_as_its_docstring_says():
+    assert "projected" in ncp.solve.__doc__ and "not projected" not in ncp.solve.__doc__
+    F = lambda x: x - np.array([0.5, 2.0])          # solution (0.5, 1): upper bound active
+    J = lambda x: np.eye(2)
+    x, s = ncp.solve(F, J, x0=[-3.0, 7.0], lower=[0.0, 0.0], upper=[1.0, 1.0])
+    assert s.projected_start_components == 2 and s.is_solution_usable
+    np.testing.assert_allclose(x, [0.5, 1.0], atol=1e-10)
+    x, s = ncp.solve(F, J, x0=[-3.0, 7.0], lower=[0.0, 0.0], upper=[1.0, 1.0], project_start_point=False)
+    assert s.projected_start_components == 0
+
+
+def test_default_tolerance_is_the_documented_one():
+    assert ncp.Options().tolerance == 1e-10
+    assert "tolerance=1e-10" in ncp.__doc__ and "1e-10" in ncp.solve.__doc__
+
+
+def test_is_solution_usable_is_a_property_like_every_other_field():
+    x, s = ncp.solve_lcp(np.eye(2), [-1.0, 2.0])
+    assert s.is_solution_usable is True
+    assert isinstance(type(s).is_solution_usable, property)
+
+
+def test_ncp_function_names_are_the_scene_file_names():
+    assert [m.label for m in ncp.NcpFunction.__members__.values()] == ["fb", "min", "penalized-fb"]
+    # solver.linear_solver of a scene file: auto, dense, sparse-lu, umfpack, klu (+ cholmod here)
+    labels = [m.label for m in ncp.LinearSolverType.__members__.values()]
+    assert {"auto", "dense", "sparse-lu", "umfpack", "klu"} <= set(labels) and "dense-lu" not in labels
+    with pytest.raises(ValueError, match="renamed: use 'dense'"):
+        ncp.make_options(linear_solver="dense-lu")
+    assert ncp.make_options(linear_solver="dense").linear_solver == ncp.LinearSolverType.DENSE

@@ -109,7 +109,7 @@ struct StepRecord {
   double normal_force_sum = 0.0;       ///< sum_c lambda_c [N]
   double tangent_force_sum = 0.0;      ///< sum_c |tau_c| [N]
   double max_penetration = 0.0;        ///< max_c max(0, -gap_c), gap_c = s_c - n_c . u^{k+1}_c [m]
-  int active_nodes = 0;                ///< nodes with lambda_c > 0
+  int active_nodes = 0;                ///< nodes with lambda_c > force_accuracy [N]
   /// Accuracy of the step, recomputed from u^{k+1}, u^k, u^{k-1} and the contact result (see
   /// StepAccuracy): largest nodal equilibrium residual [N], contact-force residual [N] and
   /// friction-law violation [N], and what the step was asked for (force_accuracy [N],

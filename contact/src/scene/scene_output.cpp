@@ -19,7 +19,8 @@ SceneOutput::SceneOutput(const Scene& scene, const SceneModel& built, int marked
       end_time_(built.options.end_time),
       directory_(scene.output_directory),
       pending_stress_times_(scene.stress_times),
-      files_written_(files_written) {
+      files_written_(files_written),
+      series_(scene.output_directory, *built.body) {
   std::sort(pending_stress_times_.begin(), pending_stress_times_.end());
   if (scene_.output_directory.empty()) return;
   const std::string coords = dim_ == 2 ? "x,y" : "x,y,z";
@@ -35,7 +36,10 @@ SceneOutput::SceneOutput(const Scene& scene, const SceneModel& built, int marked
   if (marked_ >= 0) Open(history_csv_, "node_history.csv", "time,normal_stress,friction_stress");
   WriteMesh();
   Open(displacement_csv_, "displacement.csv", dim_ == 2 ? "time,node,ux,uy" : "time,node,ux,uy,uz");
-  WriteSnapshot("snapshot_00000.vtk", Eigen::VectorXd::Zero(dofs_.NumFreeDofs()));
+  const DynamicOptions& options = built.options;
+  if (options.initial_state == InitialState::kPrescribed)  // u^0, v^0 known before the run
+    WriteSnapshot(0, InitialContactSnapshot(dim_, options.start_time, dofs_.Expand(options.u0),
+                                            dofs_.Expand(options.v0), dt_, frames_.nodes));
 }
 
 void SceneOutput::WriteStep(const StepRecord& record, const Eigen::VectorXd& u,
@@ -51,11 +55,12 @@ void SceneOutput::WriteStep(const StepRecord& record, const Eigen::VectorXd& u,
     WriteDisplacement(record.time, u);
     WriteContactStress(record.time, contact, force_scale);
   }
-  if ((scene_.snapshot_every > 0 && record.step % scene_.snapshot_every == 0) || last) {
-    char name[64];
-    std::snprintf(name, sizeof name, "snapshot_%05d.vtk", record.step);
-    WriteSnapshot(name, u);
-  }
+  if ((scene_.snapshot_every > 0 && record.step % scene_.snapshot_every == 0) || last)
+    // u^k = u^{k+1} - du, du = contact.x
+    WriteSnapshot(record.step, {record.time, dofs_.Expand(u), dofs_.Expand(u - contact.x), dt_,
+                                &frames_.nodes, force_scale * contact.normal_force,
+                                force_scale * contact.tangent_force, contact.gap,
+                                record.force_accuracy, record.displacement_accuracy});
 }
 
 void SceneOutput::Open(std::ofstream& stream, const std::string& name, const std::string& header) {
@@ -130,10 +135,8 @@ void SceneOutput::WriteDisplacement(double time, const Eigen::VectorXd& u_free) 
   }
 }
 
-void SceneOutput::WriteSnapshot(const std::string& name, const Eigen::VectorXd& u_free) {
-  const std::string path = (directory_ / name).string();
-  WriteVtk(path, mesh_, {NodalVectorField("displacement", mesh_, dofs_.Expand(u_free))});
-  files_written_->push_back(path);
+void SceneOutput::WriteSnapshot(int step, const ContactSnapshot& snapshot) {
+  files_written_->push_back(series_.Write(step, snapshot));
 }
 
 bool SceneOutput::ReachedStressTime(double time) {

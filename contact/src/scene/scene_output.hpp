@@ -12,12 +12,14 @@
 #include <vector>
 
 #include "contact/scene.hpp"
+#include "contact/vtk_writer.hpp"
 
 namespace contact::internal {
 
 class SceneOutput {
  public:
-  /// Opens the files, writes the mesh and the snapshot of the start (u = 0) and adds each
+  /// Opens the files, writes the mesh and, for a prescribed initial state, the snapshot of
+  /// the start (step 0; a static initial state is known only once the run starts); adds each
   /// path to *files_written; writes nothing without scene.output_directory. marked: index
   /// into built.frames.nodes of the node_history.csv node, -1 for none. `built` must
   /// outlive this.
@@ -41,7 +43,8 @@ class SceneOutput {
   void WriteContactStress(double time, const ContactSystem::Result& contact, double force_scale);
   /// Full displacement of every node [m].
   void WriteDisplacement(double time, const Eigen::VectorXd& u_free);
-  void WriteSnapshot(const std::string& name, const Eigen::VectorXd& u_free);
+  /// snapshot_NNNNN.vtu for `step` and solution.pvd (ParaView output, vtk_writer.hpp).
+  void WriteSnapshot(int step, const ContactSnapshot& snapshot);
   /// True once per stress time reached by `time` (within dt / 2), consuming it.
   bool ReachedStressTime(double time);
 
@@ -55,6 +58,7 @@ class SceneOutput {
   const std::filesystem::path directory_;
   std::vector<double> pending_stress_times_;  // ascending
   std::vector<std::string>* files_written_;
+  VtuSeriesWriter series_;
   std::ofstream steps_csv_, stress_csv_, history_csv_, displacement_csv_;
 };
 

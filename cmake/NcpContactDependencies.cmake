@@ -1,0 +1,30 @@
+# The link dependencies of the contact library that ship no CMake config on Debian 12,
+# as imported targets: Gmsh::gmsh (libgmsh-dev) and PkgConfig::IPOPT (coinor-libipopt-dev
+# 3.11, by pkg-config); plus toml11 and OpenMP. Used by contact/CMakeLists.txt and by the
+# installed ncpConfig.cmake for find_package(ncp COMPONENTS contact) (the static contact
+# library's private dependencies must be found again where it is linked).
+find_path(GMSH_INCLUDE_DIR gmsh.h)
+find_library(GMSH_LIBRARY NAMES gmsh)
+if(GMSH_INCLUDE_DIR AND GMSH_LIBRARY AND NOT TARGET Gmsh::gmsh)
+  add_library(Gmsh::gmsh UNKNOWN IMPORTED)
+  set_target_properties(Gmsh::gmsh PROPERTIES
+    IMPORTED_LOCATION "${GMSH_LIBRARY}"
+    INTERFACE_INCLUDE_DIRECTORIES "${GMSH_INCLUDE_DIR}")
+endif()
+find_package(PkgConfig QUIET)
+if(PkgConfig_FOUND AND NOT TARGET PkgConfig::IPOPT)
+  pkg_check_modules(IPOPT QUIET IMPORTED_TARGET ipopt)
+endif()
+find_package(toml11 QUIET)
+find_package(OpenMP QUIET COMPONENTS CXX)
+if(TARGET Gmsh::gmsh AND TARGET PkgConfig::IPOPT AND TARGET toml11::toml11 AND TARGET OpenMP::OpenMP_CXX)
+  set(NcpContactDependencies_FOUND TRUE)
+else()
+  set(NcpContactDependencies_FOUND FALSE)
+  set(NcpContactDependencies_MISSING "")
+  foreach(t Gmsh::gmsh PkgConfig::IPOPT toml11::toml11 OpenMP::OpenMP_CXX)
+    if(NOT TARGET ${t})
+      list(APPEND NcpContactDependencies_MISSING ${t})
+    endif()
+  endforeach()
+endif()
