@@ -88,12 +88,13 @@ bool CheckCriticalStep(const DynamicModel& model, const DynamicOptions& options,
                                 "Young's modulus [Pa], density [kg/m^3] and mesh size [m])");
   if (!(options.dt > crit.dt_crit) || options.allow_unstable_time_step) return true;
   summary->status = DynamicStatus::kRefusedUnstable;
-  char buffer[256];
+  char buffer[512];
   std::snprintf(buffer, sizeof buffer,
                 "time step dt = %.6g s exceeds the critical step dt_crit = 2/omega_max = %.6g s "
-                "of central differences (omega_max = %.6g rad/s); set "
-                "allow_unstable_time_step to run anyway",
-                options.dt, crit.dt_crit, crit.omega_max);
+                "of central differences (omega_max = %.6g rad/s): choose dt <= %.6g s (scene key "
+                "time.dt), or set time.allow_unstable = true in the scene "
+                "(DynamicOptions::allow_unstable_time_step in C++) to run anyway",
+                options.dt, crit.dt_crit, crit.omega_max, crit.dt_crit);
   summary->message = buffer;
   return false;
 }

@@ -37,7 +37,9 @@ cxxopts::Options MakeCli() {
       "friction-formulation", "override solver.friction: lagged-bound, coulomb-fc", cxxopts::value<std::string>())(
       "tolerance", "override solver.tolerance", cxxopts::value<std::string>())(
       "output", "override output.directory", cxxopts::value<std::string>())(
-      "no-output", "write no files")("quiet", "no progress lines on stderr")(
+      "no-output", "write no files")(
+      "quiet", "no progress lines, notes or warnings; a run that does not complete prints its "
+               "reason once and no table")(
       "h,help", "show this help");
   cli.parse_positional({"scene"});
   cli.positional_help("SCENE.toml");
@@ -65,7 +67,11 @@ contact::SceneOverrides OverridesOf(const cxxopts::ParseResult& args) {
 /// t_comp, then the accuracy and energy balance of the run).
 void PrintReport(std::FILE* table, const contact::Scene& scene, const contact::SceneResult& r) {
   const contact::DynamicSummary& s = r.summary;
-  std::fprintf(table, "%s: %s (%s)\n", scene.name.c_str(), contact::ToString(s.status), s.message.c_str());
+  // A run that did not complete has its reason on stderr already (main): not twice.
+  if (s.status == contact::DynamicStatus::kCompleted)
+    std::fprintf(table, "%s: %s (%s)\n", scene.name.c_str(), contact::ToString(s.status), s.message.c_str());
+  else
+    std::fprintf(table, "%s: %s (the reason is above)\n", scene.name.c_str(), contact::ToString(s.status));
   std::fprintf(table, "  %d dofs (%d free), %d elements, %d contact nodes, dt_crit = %.4g s\n", r.num_dofs,
                r.num_free_dofs, r.num_elements, r.num_contact_nodes, s.critical_time_step);
   std::fprintf(table, "  %-10s %-6s %-7s %-8s %-8s %-10s\n", "dt", "f_c", "k_sim", "N_Jac", "N_func", "t_comp[s]");
@@ -143,6 +149,8 @@ int main(int argc, char** argv) {
   contact::SceneResult r;
   try {
     scene = contact::LoadScene(args["scene"].as<std::string>(), OverridesOf(args));
+    if (!quiet)
+      for (const std::string& w : scene.warnings) std::fprintf(stderr, "contact-sim: warning: %s\n", w.c_str());
     if (args.count("output")) scene.output_directory = args["output"].as<std::string>();
     if (args.count("no-output")) scene.output_directory.clear();
     r = contact::RunScene(scene, !quiet);
@@ -152,11 +160,13 @@ int main(int argc, char** argv) {
   }
   const contact::DynamicSummary& s = r.summary;
   std::FILE* table = json ? stderr : stdout;
-  // A run that did not complete says so on stderr even with --quiet and --json.
-  if (s.status != contact::DynamicStatus::kCompleted && (quiet || table != stderr))
+  // A run that did not complete says why, once, on stderr (with --quiet and --json too); a
+  // refused run (nothing run) or a quiet one prints no table after it.
+  const bool completed = s.status == contact::DynamicStatus::kCompleted;
+  if (!completed)
     std::fprintf(stderr, "contact-sim: %s: %s (%s)\n", scene.source.c_str(), contact::ToString(s.status),
                  s.message.c_str());
-  PrintReport(table, scene, r);
+  if (completed || (!quiet && s.steps > 0)) PrintReport(table, scene, r);
   if (!r.files_written.empty() && !quiet)
     std::fprintf(stderr, "  wrote %zu files into %s\n", r.files_written.size(), scene.output_directory.c_str());
   if (json) std::cout << JsonSummary(scene, r).dump(2) << std::endl;

@@ -13,6 +13,8 @@ fields of ``ncp.Options`` (C++ defaults; enums also as strings such as
 files).  Misuse raises ValueError with the C++ message; numerical trouble never raises:
 read ``summary.termination`` / ``summary.message`` / ``summary.is_solution_usable``.
 """
+import difflib
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -51,6 +53,13 @@ def _enum_value(enum, name, value):
     raise ValueError(f"ncp: {name} must be a {enum.__name__} or a string, got {value!r}")
 
 
+def _did_you_mean(name, candidates):
+    """" - did you mean 'tolerance'?" for a name that is a prefix of, or close to, a candidate."""
+    close = ([c for c in candidates if c.startswith(name)]
+             or difflib.get_close_matches(name, list(candidates), n=1))
+    return f" - did you mean {close[0]!r}?" if close else ""
+
+
 def make_options(options=None, **kwargs):
     """ncp.Options from a base Options (or None: the C++ defaults) and keyword overrides.
 
@@ -61,7 +70,8 @@ def make_options(options=None, **kwargs):
             setattr(result, name, getattr(options, name))
     for name, value in kwargs.items():
         if name not in Options._fields:
-            raise ValueError(f"ncp: unknown option {name!r}; options are {', '.join(Options._fields)}")
+            raise ValueError(f"ncp: unknown option {name!r}{_did_you_mean(name, Options._fields)}; "
+                             f"options are {', '.join(Options._fields)}")
         if name in _ENUM_OPTIONS:
             value = _enum_value(_ENUM_OPTIONS[name], name, value)
         elif name == "callback" and value is not None:
