@@ -78,6 +78,7 @@ bool Options::IsValid(std::string* error) const {
     return fail("armijo_beta must be in (0, 1/2)");
   if (nonmonotone_window < 1) return fail("nonmonotone_window must be >= 1");
   if (gauss_seidel_sweeps < 0) return fail("gauss_seidel_sweeps must be >= 0");
+  if (gauss_seidel_fallback_sweeps < 0) return fail("gauss_seidel_fallback_sweeps must be >= 0");
   if (max_backtracks < 0) return fail("max_backtracks must be >= 0");
   if (stall_window < 1) return fail("stall_window must be >= 1");
   if (!(regularization > 0.0)) return fail("regularization must be > 0");
@@ -92,6 +93,7 @@ std::string Summary::BriefReport() const {
   std::ostringstream out;
   out << "fc: " << ToString(termination) << " (" << message << "), "
       << ToString(formulation_final) << ", Gauss-Seidel sweeps " << gauss_seidel_sweeps
+      << " + " << fallback_sweeps << " (fallback)"
       << ", iterations " << iterations << ", attempts " << attempts << ", error "
       << initial_error << " -> " << final_error << ", time " << total_time_s << " s";
   return out.str();
@@ -146,6 +148,10 @@ class NewtonSolver {
           status == Termination::kTimeLimit)
         break;
     }
+    if (status != Termination::kConverged && status != Termination::kTimeLimit &&
+        status != Termination::kNonFiniteValues && best_error_ > options_.tolerance &&
+        options_.formulation == Formulation::kHybrid && options_.gauss_seidel_fallback_sweeps > 0)
+      status = GaussSeidelFallback(status);
     *r = best_r_;
     summary_->final_error = NaturalMapError(problem_, *r);
     if (summary_->final_error <= options_.tolerance) status = Termination::kConverged;
@@ -189,6 +195,30 @@ class NewtonSolver {
         best_r_ = r;
       }
     }
+  }
+
+  /// Options::gauss_seidel_fallback_sweeps sweeps from best_r_ (stopping at tolerance or
+  /// the time limit), then one Alart-Curnier attempt from the best point if Newton steps
+  /// are left; returns the status of the last phase (`status` when nothing improved).
+  Termination GaussSeidelFallback(Termination status) {
+    Vector r = best_r_;
+    const double before = best_error_;
+    for (int k = 0; k < options_.gauss_seidel_fallback_sweeps && best_error_ > options_.tolerance; ++k) {
+      if (options_.max_time_s > 0.0 && Elapsed() > options_.max_time_s) return Termination::kTimeLimit;
+      internal::GaussSeidelSweep(problem_, W_, rho_, &r);
+      ++summary_->fallback_sweeps;
+      const double error = NaturalMapError(problem_, r);
+      if (!std::isfinite(error)) break;
+      if (error < best_error_) {
+        best_error_ = error;
+        best_r_ = r;
+      }
+    }
+    if (best_error_ <= options_.tolerance) return Termination::kConverged;
+    if (!(best_error_ < before) || summary_->iterations >= options_.max_iterations) return status;
+    ++summary_->attempts;
+    summary_->formulation_final = Formulation::kAlartCurnier;
+    return RunAttempt(Formulation::kAlartCurnier, 1.0);
   }
 
   /// Phi(r) of the formulation into *phi, with the Jacobian blocks A_, B_; returns psi.
@@ -349,6 +379,7 @@ void Solve(const Options& options, const FrictionProblem& problem, Vector* r,
   summary->num_contacts = problem.num_contacts;
   summary->iterations = 0;
   summary->gauss_seidel_sweeps = 0;
+  summary->fallback_sweeps = 0;
   summary->attempts = 0;
   summary->backtracks = 0;
   summary->linear_solver_failures = 0;

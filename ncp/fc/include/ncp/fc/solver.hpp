@@ -82,6 +82,13 @@ struct Options {
   /// Off by default: on data/fc3d, 10 sweeps cut BoxesStack1 from 18 to 4
   /// Newton steps but left the hybrid unable to finish Capsules-i101-404 (error 5.9e-6).
   int gauss_seidel_sweeps = 0;
+  /// Fallback of the hybrid: when every Newton attempt has ended without convergence
+  /// (not by the time limit), projected Gauss-Seidel sweeps from the best iterate, at most
+  /// this many, stopping at tolerance; then one more Alart-Curnier attempt from the
+  /// result if Newton steps are left. Gauss-Seidel needs no factorization of W and
+  /// handles redundant contacts (a rank-deficient W: Kapla towers), where Newton's
+  /// direction is ill-determined. 0 turns it off.
+  int gauss_seidel_fallback_sweeps = 2000;
   /// Multiplies the per-contact rho of the formulations (see Formulation).
   double rho_scale = 1.0;
   /// Armijo constant beta in (0, 1/2): accept psi(r + t d) <= max(recent psi) - 2 beta t
@@ -136,6 +143,7 @@ struct Summary {
   int num_contacts = -1;
   int iterations = -1;              ///< Newton steps, all attempts
   int gauss_seidel_sweeps = -1;     ///< sweeps done before the Newton steps
+  int fallback_sweeps = -1;         ///< Gauss-Seidel sweeps of the fallback (Options)
   int attempts = -1;                ///< 1 + formulation switches of the hybrid
   int backtracks = -1;              ///< halvings in the line searches
   int linear_solver_failures = -1;  ///< Newton solves failed or failing the residual test
