@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -145,13 +146,20 @@ class NewtonSolver {
       summary_->formulation_final = formulation;
       status = RunAttempt(formulation, rho_factor);
       if (status == Termination::kConverged || status == Termination::kMaxIterations ||
-          status == Termination::kTimeLimit)
+          status == Termination::kTimeLimit || status == Termination::kNonFiniteValues)
         break;
+      // The first attempt of the hybrid stalled: try Gauss-Seidel before the next one.
+      if (summary_->attempts == 1 && options_.formulation == Formulation::kHybrid &&
+          GaussSeidelTrial()) {
+        status = Termination::kConverged;
+        break;
+      }
     }
-    if (status != Termination::kConverged && status != Termination::kTimeLimit &&
-        status != Termination::kNonFiniteValues && best_error_ > options_.tolerance &&
-        options_.formulation == Formulation::kHybrid && options_.gauss_seidel_fallback_sweeps > 0)
-      status = GaussSeidelFallback(status);
+    // Not solved: the Gauss-Seidel point if it came closer than every Newton iterate.
+    if (best_error_ > options_.tolerance && gs_error_ < best_error_) {
+      best_error_ = gs_error_;
+      best_r_ = gs_r_;
+    }
     *r = best_r_;
     summary_->final_error = NaturalMapError(problem_, *r);
     if (summary_->final_error <= options_.tolerance) status = Termination::kConverged;
@@ -197,28 +205,39 @@ class NewtonSolver {
     }
   }
 
-  /// Options::gauss_seidel_fallback_sweeps sweeps from best_r_ (stopping at tolerance or
-  /// the time limit), then one Alart-Curnier attempt from the best point if Newton steps
-  /// are left; returns the status of the last phase (`status` when nothing improved).
-  Termination GaussSeidelFallback(Termination status) {
+  /// Options::gauss_seidel_fallback_sweeps projected Gauss-Seidel sweeps from best_r_, as a
+  /// side trial: true (best_r_ replaced) when they reach the tolerance; otherwise their best
+  /// point is kept apart (gs_r_, gs_error_) and the Newton attempts go on from best_r_. The
+  /// sweeps stop early when the error, tested every kCheckEvery sweeps, has not halved over
+  /// kHalvingWindow sweeps (Gauss-Seidel converges linearly: a slow rate will not reach
+  /// the tolerance within the budget), or at the time limit.
+  bool GaussSeidelTrial() {
+    constexpr int kCheckEvery = 10, kHalvingWindow = 200;
     Vector r = best_r_;
-    const double before = best_error_;
-    for (int k = 0; k < options_.gauss_seidel_fallback_sweeps && best_error_ > options_.tolerance; ++k) {
-      if (options_.max_time_s > 0.0 && Elapsed() > options_.max_time_s) return Termination::kTimeLimit;
+    gs_error_ = best_error_;
+    double window_start_error = gs_error_;
+    for (int k = 1; k <= options_.gauss_seidel_fallback_sweeps; ++k) {
+      if (options_.max_time_s > 0.0 && Elapsed() > options_.max_time_s) break;
       internal::GaussSeidelSweep(problem_, W_, rho_, &r);
       ++summary_->fallback_sweeps;
+      if (k % kCheckEvery != 0) continue;
       const double error = NaturalMapError(problem_, r);
       if (!std::isfinite(error)) break;
-      if (error < best_error_) {
-        best_error_ = error;
-        best_r_ = r;
+      if (error < gs_error_) {
+        gs_error_ = error;
+        gs_r_ = r;
+      }
+      if (gs_error_ <= options_.tolerance) {
+        best_error_ = gs_error_;
+        best_r_ = gs_r_;
+        return true;
+      }
+      if (k % kHalvingWindow == 0) {
+        if (!(gs_error_ <= 0.5 * window_start_error)) break;
+        window_start_error = gs_error_;
       }
     }
-    if (best_error_ <= options_.tolerance) return Termination::kConverged;
-    if (!(best_error_ < before) || summary_->iterations >= options_.max_iterations) return status;
-    ++summary_->attempts;
-    summary_->formulation_final = Formulation::kAlartCurnier;
-    return RunAttempt(Formulation::kAlartCurnier, 1.0);
+    return false;
   }
 
   /// Phi(r) of the formulation into *phi, with the Jacobian blocks A_, B_; returns psi.
@@ -355,6 +374,8 @@ class NewtonSolver {
   bool factorized_once_ = false;
   Vector best_r_;
   double best_error_ = 0.0;
+  Vector gs_r_;  // best point of GaussSeidelTrial (when it did not converge)
+  double gs_error_ = std::numeric_limits<double>::infinity();
   Clock::time_point start_;
 };
 
