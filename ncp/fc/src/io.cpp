@@ -234,7 +234,8 @@ FrictionProblem ReadSiconosDat(const std::string& path) {
   if (p.W.rows() != n || p.W.cols() != n)
     throw std::runtime_error("'" + path + "': W must be " + std::to_string(n) + " x " +
                              std::to_string(n) + ", the file says " + std::to_string(p.W.rows()) +
-                             " x " + std::to_string(p.W.cols()));
+                             " x " + std::to_string(p.W.cols()) + " (a global problem, M " +
+                             "first? Read it as one: fc-solve --global)");
   p.q = ReadVector(in, n, "q");
   p.mu.resize(p.num_contacts);
   for (int a = 0; a < p.num_contacts; ++a) p.mu[a] = in.Next("mu");
