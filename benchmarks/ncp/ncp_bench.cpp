@@ -120,6 +120,7 @@ std::string MapStatus(ncp::TerminationType t) {
     case T::kMaxIterations: return "max_iterations";
     case T::kUserAbort: return "failure";  // no callback stops ncp here
     case T::kTimeLimit: return "time_limit";
+    case T::kInfeasible: return "infeasible";
     case T::kStationaryPoint: return "stationary_point";
     case T::kLineSearchFailure: return "line_search_failure";
     case T::kLinearSolverFailure:

@@ -205,6 +205,7 @@ std::string Summary::FullReport() const {
       << "  symbolic factorizations  " << symbolic_factorizations << "\n"
       << "  Cholesky -> LU fallbacks " << cholesky_fallbacks << "\n"
       << "  start components moved   " << projected_start_components << "\n"
+      << "  final components moved   " << projected_final_components << "\n"
       << "  ||Phi||_inf initial      " << Fmt("%.6e", initial_phi_inf) << "\n"
       << "  ||Phi||_inf final        " << Fmt("%.6e", final_phi_inf)
       << (roundoff_limited ? " (at the round-off floor)" : "") << "\n"
@@ -535,7 +536,7 @@ class Solver::Iteration {
     s_.iterations = s_.jacobian_evaluations = s_.residual_evaluations = 0;
     s_.gradient_steps = s_.regularized_steps = s_.merit_restarts = 0;
     s_.linear_solver_failures = s_.descent_test_failures = s_.backtracks = 0;
-    s_.projected_start_components = 0;
+    s_.projected_start_components = s_.projected_final_components = 0;
     s_.evaluation_time_s = s_.linear_solver_time_s = 0.0;
   }
 
