@@ -1,6 +1,7 @@
 #include "ncp/output_file.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -34,6 +35,9 @@ OutputFile::OutputFile(std::string path, std::string written_path, int fd)
 OutputFile OutputFile::Open(const std::string& path) { return OutputFile(path, path, OpenForWriting(path)); }
 
 OutputFile OutputFile::OpenAtomic(const std::string& path) {
+  struct stat existing {};
+  if (::stat(path.c_str(), &existing) == 0 && S_ISDIR(existing.st_mode))  // rename would fail late
+    throw OutputError("cannot open", path, EISDIR);
   const std::string partial = path + ".partial";
   return OutputFile(path, partial, OpenForWriting(partial));
 }

@@ -4,9 +4,12 @@
 // Reads a frictional contact problem (Siconos .dat or FCLIB .hdf5), solves it, prints the
 // status and Siconos' natural-map error recomputed at the returned r (or one JSON
 // object), and writes r one value per line in the file's contact order. Exit code: 0
-// converged, 1 not converged (the error reached is reported), 2 bad input or usage.
+// converged, 1 not converged (the error reached is reported), 2 bad input or usage, 3 the
+// reactions file could not be written (its name and the reason on stderr; the file is
+// written as NAME.partial and renamed when complete, so NAME is never a truncated result).
 #include <cxxopts.hpp>
-#include <fstream>
+
+#include <csignal>
 #include <iomanip>
 #include <iostream>
 #include <limits>
@@ -15,15 +18,16 @@
 #include "ncp/fc/error.hpp"
 #include "ncp/fc/io.hpp"
 #include "ncp/fc/solver.hpp"
+#include "ncp/output_file.hpp"
 
 namespace {
 
 void WriteReactions(const std::string& path, const ncp::Vector& r) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+  ncp::OutputFile file = ncp::OutputFile::OpenAtomic(path);
+  std::ostream& out = file.stream();
   out << std::setprecision(std::numeric_limits<double>::max_digits10);
   for (int i = 0; i < r.size(); ++i) out << r[i] << '\n';
-  if (!out) throw std::runtime_error("writing '" + path + "' failed");
+  file.Close();
 }
 
 nlohmann::json ToJson(const ncp::fc::FrictionProblem& p, const ncp::fc::Options& o,
@@ -77,6 +81,9 @@ int main(int argc, char** argv) {
       "h,help", "this help");
   cli.parse_positional({"file"});
   cli.positional_help("FILE");
+  // A file-size limit (ulimit -f) makes the write fail with EFBIG, reported, instead of
+  // killing the process with SIGXFSZ.
+  std::signal(SIGXFSZ, SIG_IGN);
   try {
     const auto args = cli.parse(argc, argv);
     if (args.count("help")) {
@@ -110,7 +117,15 @@ int main(int argc, char** argv) {
         std::cout << "NOT SOLVED: the returned reactions reach error " << error
                   << " > tolerance " << options.tolerance << '\n';
     }
+    std::cout.flush();
+    if (!std::cout) {
+      std::cerr << "fc-solve: writing the report to stdout failed\n";
+      return 3;
+    }
     return summary.IsSolutionUsable() ? 0 : 1;
+  } catch (const ncp::OutputError& e) {
+    std::cerr << "fc-solve: output failed: " << e.what() << '\n';
+    return 3;
   } catch (const std::exception& e) {
     std::cerr << "fc-solve: " << e.what() << '\n';
     return 2;
