@@ -1,8 +1,13 @@
 #include "ncp/fc/io.hpp"
 
 #include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -27,6 +32,11 @@ class NumberStream {
  public:
   explicit NumberStream(const std::string& path) : path_(path), in_(path) {
     if (!in_) throw std::runtime_error("cannot open '" + path + "'");
+    std::error_code error;
+    const auto bytes = std::filesystem::file_size(path, error);
+    // A number takes at least one character and a separator: no count of numbers still to
+    // come can exceed half the file's size (and n = dimension x contacts stays an int).
+    max_count_ = error ? 0 : static_cast<int>(std::min<std::uintmax_t>(bytes / 2, kMaxInt / 3));
   }
   double Next(const char* what) {
     double value;
@@ -37,19 +47,47 @@ class NumberStream {
     ++count_;
     return value;
   }
-  int NextInt(const char* what, int min_value) {
+  /// An integer in [min_value, max_value] (range-checked as a double before the cast).
+  int NextInt(const char* what, int min_value, int max_value = kMaxInt) {
     const double v = Next(what);
-    if (v != static_cast<int>(v) || v < min_value)
-      throw std::runtime_error("'" + path_ + "': " + what + " must be an integer >= " +
-                               std::to_string(min_value) + ", got " + std::to_string(v));
+    if (!(v >= min_value && v <= max_value) || v != std::floor(v))
+      throw std::runtime_error("'" + path_ + "': " + what + " must be an integer in [" +
+                               std::to_string(min_value) + ", " + std::to_string(max_value) +
+                               "], got " + Format(v));
     return static_cast<int>(v);
+  }
+  /// The number of items the file still has to hold (at most max_count_, see above).
+  int NextCount(const char* what, int min_value) {
+    return NextInt(what, min_value, std::max(min_value, max_count_));
+  }
+  static std::string Format(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.17g", v);
+    return text;
+  }
+  [[noreturn]] void Fail(const std::string& what) const {
+    throw std::runtime_error("'" + path_ + "': " + what);
   }
 
  private:
   std::string path_;
   std::ifstream in_;
   long count_ = 0;
+  int max_count_ = 0;
+  static constexpr int kMaxInt = std::numeric_limits<int>::max();
 };
+
+/// Cumulative block sizes (Siconos blocksize0/1): strictly increasing, the last one n.
+std::vector<int> ReadCumulativeSizes(NumberStream& in, const char* what, int count, int n) {
+  std::vector<int> end(static_cast<size_t>(count));
+  for (int k = 0; k < count; ++k) {
+    end[k] = in.NextInt(what, k == 0 ? 1 : end[k - 1] + 1, n);
+  }
+  if (end.back() != n)
+    in.Fail(std::string("sparse-block W must be ") + std::to_string(n) + " x " + std::to_string(n) +
+            ", its " + what + " end at " + std::to_string(end.back()));
+  return end;
+}
 
 void ReadDense(NumberStream& in, int n, std::vector<Eigen::Triplet<double>>* entries) {
   const int m = in.NextInt("dense rows", 0), cols = in.NextInt("dense columns", 0);
@@ -66,27 +104,26 @@ void ReadDense(NumberStream& in, int n, std::vector<Eigen::Triplet<double>>* ent
 
 void ReadSparseBlock(NumberStream& in, int n,
                      std::vector<Eigen::Triplet<double>>* entries) {
-  const int num_blocks = in.NextInt("nbblocks", 0);
+  const int num_blocks = in.NextCount("nbblocks", 0);
   if (num_blocks == 0) return;
-  const int block_rows = in.NextInt("blocknumber0", 1),
-            block_cols = in.NextInt("blocknumber1", 1);
-  std::vector<int> row_end(block_rows), col_end(block_cols);  // cumulative sizes
-  for (int& v : row_end) v = in.NextInt("blocksize0", 1);
-  for (int& v : col_end) v = in.NextInt("blocksize1", 1);
-  if (row_end.back() != n || col_end.back() != n)
-    throw std::runtime_error("sparse-block W must be " + std::to_string(n) + " x " +
-                             std::to_string(n) + ", its blocks cover " +
-                             std::to_string(row_end.back()) + " x " +
-                             std::to_string(col_end.back()));
-  const int filled1 = in.NextInt("filled1", 1), filled2 = in.NextInt("filled2", 0);
+  const int block_rows = in.NextInt("blocknumber0", 1, n),
+            block_cols = in.NextInt("blocknumber1", 1, n);
+  const std::vector<int> row_end = ReadCumulativeSizes(in, "blocksize0", block_rows, n),
+                         col_end = ReadCumulativeSizes(in, "blocksize1", block_cols, n);
+  const int filled1 = in.NextCount("filled1", 1), filled2 = in.NextCount("filled2", 0);
   if (filled1 != block_rows + 1 || filled2 != num_blocks)
     throw std::runtime_error("sparse-block W: filled1 = " + std::to_string(filled1) +
                              " (expected " + std::to_string(block_rows + 1) +
                              "), filled2 = " + std::to_string(filled2) + " (expected " +
                              std::to_string(num_blocks) + ")");
+  // Block-row pointers: from 0, non-decreasing, up to nbblocks.
   std::vector<int> row_ptr(filled1), block_col(filled2);
-  for (int& v : row_ptr) v = in.NextInt("index1_data", 0);
-  for (int& v : block_col) v = in.NextInt("index2_data", 0);
+  for (int k = 0; k < filled1; ++k)
+    row_ptr[k] = in.NextInt("index1_data", k == 0 ? 0 : row_ptr[k - 1], k == 0 ? 0 : num_blocks);
+  if (row_ptr.back() != num_blocks)
+    in.Fail("sparse-block W: the last block-row pointer is " + std::to_string(row_ptr.back()) +
+            ", expected nbblocks = " + std::to_string(num_blocks));
+  for (int& v : block_col) v = in.NextInt("index2_data", 0, block_cols - 1);
   for (int br = 0; br < block_rows; ++br) {
     const int r0 = br == 0 ? 0 : row_end[br - 1], nr = row_end[br] - r0;
     for (int b = row_ptr[br]; b < row_ptr[br + 1]; ++b) {
@@ -112,10 +149,10 @@ FrictionProblem ReadSiconosDat(const std::string& path) {
   NumberStream in(path);
   FrictionProblem p;
   p.name = path.substr(path.find_last_of('/') + 1);
-  p.dimension = in.NextInt("the dimension", 2);
+  p.dimension = in.NextInt("the dimension", 2, 3);
   if (p.dimension > 3)
     throw std::runtime_error("'" + path + "': dimension must be 2 or 3");
-  p.num_contacts = in.NextInt("the number of contacts", 0);
+  p.num_contacts = in.NextCount("the number of contacts", 0);
   const int n = p.size();
   const int storage = in.NextInt("the storage type", 0);
   const int size0 = in.NextInt("the matrix rows", 0),
@@ -207,17 +244,35 @@ std::optional<Vector> ReadFclibSolution(const std::string&) { return std::nullop
 
 namespace {
 
-/// fclib_matrix (nz >= 0: triplets with p the columns; nz = -1: CSC; nz = -2: CSR).
+/// fclib_matrix (nz >= 0: triplets with p the columns; nz = -1: CSC; nz = -2: CSR), every
+/// index checked against the sizes the file states (nzmax entries stored).
 SparseMatrix ToSparse(const fclib_matrix& m) {
+  auto fail = [&](const std::string& what) {
+    throw std::runtime_error("FCLIB matrix " + std::to_string(m.m) + " x " + std::to_string(m.n) +
+                             " (nz " + std::to_string(m.nz) + ", nzmax " + std::to_string(m.nzmax) +
+                             "): " + what);
+  };
+  if (m.m < 0 || m.n < 0 || m.nzmax < 0 || m.nz < -2) fail("negative size");
+  if (m.nzmax > 0 && (!m.i || !m.x || !m.p)) fail("missing index or value arrays");
   std::vector<Eigen::Triplet<double>> entries;
   if (m.nz >= 0) {
-    for (int k = 0; k < m.nz; ++k) entries.emplace_back(m.i[k], m.p[k], m.x[k]);
+    if (m.nz > m.nzmax) fail("more triplets than stored entries");
+    for (int k = 0; k < m.nz; ++k) {
+      if (m.i[k] < 0 || m.i[k] >= m.m || m.p[k] < 0 || m.p[k] >= m.n) fail("triplet index out of range");
+      entries.emplace_back(m.i[k], m.p[k], m.x[k]);
+    }
   } else {
     const bool csc = m.nz == -1;
-    const int outer = csc ? m.n : m.m;
-    for (int o = 0; o < outer; ++o)
-      for (int k = m.p[o]; k < m.p[o + 1]; ++k)
+    const int outer = csc ? m.n : m.m, inner = csc ? m.m : m.n;
+    if (!m.p) fail("missing pointer array");
+    if (m.p[0] != 0) fail("the first pointer is not 0");
+    for (int o = 0; o < outer; ++o) {
+      if (m.p[o + 1] < m.p[o] || m.p[o + 1] > m.nzmax) fail("pointers decrease or pass nzmax");
+      for (int k = m.p[o]; k < m.p[o + 1]; ++k) {
+        if (m.i[k] < 0 || m.i[k] >= inner) fail("index out of range");
         entries.emplace_back(csc ? m.i[k] : o, csc ? o : m.i[k], m.x[k]);
+      }
+    }
   }
   SparseMatrix A(m.m, m.n);
   A.setFromTriplets(entries.begin(), entries.end());
