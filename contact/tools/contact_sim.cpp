@@ -188,6 +188,13 @@ int main(int argc, char** argv) {
     return 1;
   }
   const contact::DynamicSummary& s = r.summary;
+  // The JSON first: if stdout cannot take it, the run's result is lost - exit 3 without a
+  // report that says completed.
+  if (json) std::cout << JsonSummary(scene, r).dump(2) << std::endl;
+  if (json && (std::fflush(stdout) != 0 || std::ferror(stdout))) {
+    std::fprintf(stderr, "contact-sim: writing the JSON summary to stdout failed: the result is lost\n");
+    return 3;
+  }
   std::FILE* table = json ? stderr : stdout;
   // A run that did not complete says so on stderr even with --quiet and --json.
   if (s.status != contact::DynamicStatus::kCompleted && (quiet || table != stderr))
@@ -196,9 +203,7 @@ int main(int argc, char** argv) {
   PrintReport(table, scene, r);
   if (!r.files_written.empty() && !quiet)
     std::fprintf(stderr, "  wrote %zu files into %s\n", r.files_written.size(), scene.output_directory.c_str());
-  if (json) std::cout << JsonSummary(scene, r).dump(2) << std::endl;
-  std::fflush(stdout);
-  if (std::ferror(stdout)) {
+  if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
     std::fprintf(stderr, "contact-sim: writing the report to stdout failed\n");
     return 3;
   }
