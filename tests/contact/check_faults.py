@@ -166,7 +166,7 @@ def main():
     parser.add_argument("--fc-solve", required=True)
     parser.add_argument("--scene", required=True, help="a short scene that writes every output")
     parser.add_argument("--problem", required=True, help="a Siconos .dat problem fc-solve solves")
-    parser.add_argument("--long-end-time", type=float, default=10.0,
+    parser.add_argument("--long-end-time", type=float, default=30.0,
                         help="end time [s] of the interrupted runs (long enough to be stopped)")
     args = parser.parse_args()
     try:
