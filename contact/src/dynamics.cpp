@@ -194,6 +194,7 @@ class CentralDifferences {
       Accumulate(rec);
       Advance();
       if (!GuardEnergy(rec)) break;
+      if (StopRequested(rec, num_steps)) break;
       if (options_.progress && Seconds(start) - last_progress > 1.0) {
         last_progress = Seconds(start);
         const double fraction = static_cast<double>(k + 1) / static_cast<double>(num_steps);
@@ -310,6 +311,17 @@ class CentralDifferences {
     s.Mdu_previous.swap(s.Mdu);
   }
 
+  // DynamicOptions::stop_requested, read once a step is finished and recorded.
+  bool StopRequested(const StepRecord& rec, long num_steps) {
+    if (!options_.stop_requested || !options_.stop_requested->load()) return false;
+    summary_.status = DynamicStatus::kInterrupted;
+    char buffer[200];
+    std::snprintf(buffer, sizeof buffer, "interrupted at step %d (t = %.9g s) of %ld", rec.step, rec.time,
+                  num_steps);
+    summary_.message = buffer;
+    return true;
+  }
+
   // Kinetic + strain energy within energy_blowup_factor of the initial energy and external
   // work. (The reference is zero until energy enters - a body at rest under a step load -:
   // no ratio test before that, so round-off energy cannot trip it.) The shadow energy of the
@@ -383,6 +395,7 @@ const char* ToString(DynamicStatus s) {
     case DynamicStatus::kEnergyBlowUp: return "energy-blow-up";
     case DynamicStatus::kRefusedUnstable: return "refused-unstable-time-step";
     case DynamicStatus::kAccuracyNotReached: return "accuracy-not-reached";
+    case DynamicStatus::kInterrupted: return "interrupted";
   }
   return "unknown";
 }

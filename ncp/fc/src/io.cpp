@@ -1,7 +1,12 @@
 #include "ncp/fc/io.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -27,6 +32,11 @@ class NumberStream {
  public:
   explicit NumberStream(const std::string& path) : path_(path), in_(path) {
     if (!in_) throw std::runtime_error("cannot open '" + path + "'");
+    std::error_code error;
+    const auto bytes = std::filesystem::file_size(path, error);
+    // A number takes at least one character and a separator: no count of numbers still to
+    // come can exceed half the file's size (and n = dimension x contacts stays an int).
+    max_count_ = error ? 0 : static_cast<int>(std::min<std::uintmax_t>(bytes / 2, kMaxInt / 3));
   }
   const std::string& path() const { return path_; }
   double Next(const char* what) {
@@ -38,11 +48,13 @@ class NumberStream {
     ++count_;
     return value;
   }
-  int NextInt(const char* what, int min_value) {
+  /// An integer in [min_value, max_value] (range-checked as a double before the cast).
+  int NextInt(const char* what, int min_value, int max_value = kMaxInt) {
     const double v = Next(what);
-    if (v != static_cast<int>(v) || v < min_value)
-      throw std::runtime_error("'" + path_ + "': " + what + " must be an integer >= " +
-                               std::to_string(min_value) + ", got " + std::to_string(v));
+    if (!(v >= min_value && v <= max_value) || v != std::floor(v))
+      throw std::runtime_error("'" + path_ + "': " + what + " must be an integer in [" +
+                               std::to_string(min_value) + ", " + std::to_string(max_value) +
+                               "], got " + Format(v));
     return static_cast<int>(v);
   }
   /// The next whitespace-separated word, which must equal `expected` (CSparse's labels).
@@ -65,12 +77,37 @@ class NumberStream {
     std::getline(in_, line);
     return line;
   }
+  /// The number of items the file still has to hold (at most max_count_, see above).
+  int NextCount(const char* what, int min_value) {
+    return NextInt(what, min_value, std::max(min_value, max_count_));
+  }
+  static std::string Format(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.17g", v);
+    return text;
+  }
+  [[noreturn]] void Fail(const std::string& what) const {
+    throw std::runtime_error("'" + path_ + "': " + what);
+  }
 
  private:
   std::string path_;
   std::ifstream in_;
   long count_ = 0;
+  int max_count_ = 0;
+  static constexpr int kMaxInt = std::numeric_limits<int>::max();
 };
+
+/// Cumulative block sizes (Siconos blocksize0/1): strictly increasing, the last one `size`
+/// (the matrix's rows or columns).
+std::vector<int> ReadCumulativeSizes(NumberStream& in, const char* what, int count, int size) {
+  std::vector<int> end(static_cast<size_t>(count));
+  for (int k = 0; k < count; ++k) end[k] = in.NextInt(what, k == 0 ? 1 : end[k - 1] + 1, size);
+  if (end.back() != size)
+    in.Fail(std::string("sparse-block matrix with ") + std::to_string(size) + " rows/columns: its " +
+            what + " end at " + std::to_string(end.back()));
+  return end;
+}
 
 using Triplets = std::vector<Eigen::Triplet<double>>;
 
@@ -88,27 +125,26 @@ void ReadDense(NumberStream& in, int rows, int cols, Triplets* entries) {
 }
 
 void ReadSparseBlock(NumberStream& in, int rows, int cols, Triplets* entries) {
-  const int num_blocks = in.NextInt("nbblocks", 0);
+  const int num_blocks = in.NextCount("nbblocks", 0);
   if (num_blocks == 0) return;
-  const int block_rows = in.NextInt("blocknumber0", 1),
-            block_cols = in.NextInt("blocknumber1", 1);
-  std::vector<int> row_end(block_rows), col_end(block_cols);  // cumulative sizes
-  for (int& v : row_end) v = in.NextInt("blocksize0", 1);
-  for (int& v : col_end) v = in.NextInt("blocksize1", 1);
-  if (row_end.back() != rows || col_end.back() != cols)
-    throw std::runtime_error("'" + in.path() + "': sparse-block matrix stated " +
-                             std::to_string(rows) + " x " + std::to_string(cols) +
-                             ", its blocks cover " + std::to_string(row_end.back()) + " x " +
-                             std::to_string(col_end.back()));
-  const int filled1 = in.NextInt("filled1", 1), filled2 = in.NextInt("filled2", 0);
+  const int block_rows = in.NextInt("blocknumber0", 1, std::max(rows, 1)),
+            block_cols = in.NextInt("blocknumber1", 1, std::max(cols, 1));
+  const std::vector<int> row_end = ReadCumulativeSizes(in, "blocksize0", block_rows, rows),
+                         col_end = ReadCumulativeSizes(in, "blocksize1", block_cols, cols);
+  const int filled1 = in.NextCount("filled1", 1), filled2 = in.NextCount("filled2", 0);
   if (filled1 != block_rows + 1 || filled2 != num_blocks)
     throw std::runtime_error("sparse-block W: filled1 = " + std::to_string(filled1) +
                              " (expected " + std::to_string(block_rows + 1) +
                              "), filled2 = " + std::to_string(filled2) + " (expected " +
                              std::to_string(num_blocks) + ")");
+  // Block-row pointers: from 0, non-decreasing, up to nbblocks.
   std::vector<int> row_ptr(filled1), block_col(filled2);
-  for (int& v : row_ptr) v = in.NextInt("index1_data", 0);
-  for (int& v : block_col) v = in.NextInt("index2_data", 0);
+  for (int k = 0; k < filled1; ++k)
+    row_ptr[k] = in.NextInt("index1_data", k == 0 ? 0 : row_ptr[k - 1], k == 0 ? 0 : num_blocks);
+  if (row_ptr.back() != num_blocks)
+    in.Fail("sparse-block W: the last block-row pointer is " + std::to_string(row_ptr.back()) +
+            ", expected nbblocks = " + std::to_string(num_blocks));
+  for (int& v : block_col) v = in.NextInt("index2_data", 0, block_cols - 1);
   for (int br = 0; br < block_rows; ++br) {
     const int r0 = br == 0 ? 0 : row_end[br - 1], nr = row_end[br] - r0;
     for (int b = row_ptr[br]; b < row_ptr[br + 1]; ++b) {
@@ -179,9 +215,9 @@ void ReadCompressedSparse(NumberStream& in, int rows, int cols, Triplets* entrie
     const int outer = in.NextInt(origin == 2 ? "a column index" : "a row index", 0);
     in.Expect(":");
     in.Expect("locations");
-    const long first = static_cast<long>(in.Next("a first location"));
+    const long first = in.NextCount("a first location", 0);
     in.Expect("to");
-    const long last = static_cast<long>(in.Next("a last location"));
+    const long last = in.NextCount("a last location", -1);
     for (long k = first; k <= last; ++k, ++read) {
       const int inner = in.NextInt("an inner index", 0);
       in.Expect(":");
@@ -196,7 +232,7 @@ void ReadCompressedSparse(NumberStream& in, int rows, int cols, Triplets* entrie
 /// 1 sparse-block, 2 sparse), rows, columns, then the storage's data.
 SparseMatrix ReadNumericsMatrix(NumberStream& in, const char* name) {
   const int storage = in.NextInt("the storage type", 0);
-  const int rows = in.NextInt("the matrix rows", 0), cols = in.NextInt("the matrix columns", 0);
+  const int rows = in.NextCount("the matrix rows", 0), cols = in.NextCount("the matrix columns", 0);
   Triplets entries;
   if (storage == 0) {
     ReadDense(in, rows, cols, &entries);
@@ -225,10 +261,10 @@ FrictionProblem ReadSiconosDat(const std::string& path) {
   NumberStream in(path);
   FrictionProblem p;
   p.name = path.substr(path.find_last_of('/') + 1);
-  p.dimension = in.NextInt("the dimension", 2);
+  p.dimension = in.NextInt("the dimension", 2, 3);
   if (p.dimension > 3)
     throw std::runtime_error("'" + path + "': dimension must be 2 or 3");
-  p.num_contacts = in.NextInt("the number of contacts", 0);
+  p.num_contacts = in.NextCount("the number of contacts", 0);
   const int n = p.size();
   p.W = ReadNumericsMatrix(in, "W");
   if (p.W.rows() != n || p.W.cols() != n)
@@ -254,9 +290,8 @@ GlobalFrictionProblem ReadSiconosGlobalDat(const std::string& path) {
   NumberStream in(path);
   GlobalFrictionProblem g;
   g.name = path.substr(path.find_last_of('/') + 1);
-  g.dimension = in.NextInt("the dimension", 2);
-  if (g.dimension > 3) throw std::runtime_error("'" + path + "': dimension must be 2 or 3");
-  g.num_contacts = in.NextInt("the number of contacts", 0);
+  g.dimension = in.NextInt("the dimension", 2, 3);
+  g.num_contacts = in.NextCount("the number of contacts", 0);
   g.M = ReadNumericsMatrix(in, "M");
   g.H = ReadNumericsMatrix(in, "H");
   if (g.M.rows() != g.M.cols() || g.H.rows() != g.M.rows() || g.H.cols() != g.size())
@@ -355,17 +390,35 @@ std::optional<Vector> ReadFclibSolution(const std::string&) { return std::nullop
 
 namespace {
 
-/// fclib_matrix (nz >= 0: triplets with p the columns; nz = -1: CSC; nz = -2: CSR).
+/// fclib_matrix (nz >= 0: triplets with p the columns; nz = -1: CSC; nz = -2: CSR), every
+/// index checked against the sizes the file states (nzmax entries stored).
 SparseMatrix ToSparse(const fclib_matrix& m) {
+  auto fail = [&](const std::string& what) {
+    throw std::runtime_error("FCLIB matrix " + std::to_string(m.m) + " x " + std::to_string(m.n) +
+                             " (nz " + std::to_string(m.nz) + ", nzmax " + std::to_string(m.nzmax) +
+                             "): " + what);
+  };
+  if (m.m < 0 || m.n < 0 || m.nzmax < 0 || m.nz < -2) fail("negative size");
+  if (m.nzmax > 0 && (!m.i || !m.x || !m.p)) fail("missing index or value arrays");
   std::vector<Eigen::Triplet<double>> entries;
   if (m.nz >= 0) {
-    for (int k = 0; k < m.nz; ++k) entries.emplace_back(m.i[k], m.p[k], m.x[k]);
+    if (m.nz > m.nzmax) fail("more triplets than stored entries");
+    for (int k = 0; k < m.nz; ++k) {
+      if (m.i[k] < 0 || m.i[k] >= m.m || m.p[k] < 0 || m.p[k] >= m.n) fail("triplet index out of range");
+      entries.emplace_back(m.i[k], m.p[k], m.x[k]);
+    }
   } else {
     const bool csc = m.nz == -1;
-    const int outer = csc ? m.n : m.m;
-    for (int o = 0; o < outer; ++o)
-      for (int k = m.p[o]; k < m.p[o + 1]; ++k)
+    const int outer = csc ? m.n : m.m, inner = csc ? m.m : m.n;
+    if (!m.p) fail("missing pointer array");
+    if (m.p[0] != 0) fail("the first pointer is not 0");
+    for (int o = 0; o < outer; ++o) {
+      if (m.p[o + 1] < m.p[o] || m.p[o + 1] > m.nzmax) fail("pointers decrease or pass nzmax");
+      for (int k = m.p[o]; k < m.p[o + 1]; ++k) {
+        if (m.i[k] < 0 || m.i[k] >= inner) fail("index out of range");
         entries.emplace_back(csc ? m.i[k] : o, csc ? o : m.i[k], m.x[k]);
+      }
+    }
   }
   SparseMatrix A(m.m, m.n);
   A.setFromTriplets(entries.begin(), entries.end());

@@ -8,9 +8,13 @@
 // is solved through its Delassus form W = H' M^-1 H (ncp/fc/global.hpp); the global
 // velocity v = M^-1 (q + H r) is reported with the residuals of the global problem,
 // recomputed from M, H, q, b without W. Exit code: 0 converged, 1 not converged (the
-// error reached is reported), 2 bad input or usage.
+// error reached is reported), 2 bad input or usage, 3 an output file could not be written
+// (its name and the reason on stderr; each file is written as NAME.partial and renamed when
+// complete, so NAME is never a truncated result).
+
 #include <cxxopts.hpp>
-#include <fstream>
+
+#include <csignal>
 #include <iomanip>
 #include <iostream>
 #include <limits>
@@ -21,15 +25,17 @@
 #include "ncp/fc/global.hpp"
 #include "ncp/fc/io.hpp"
 #include "ncp/fc/solver.hpp"
+#include "ncp/output_file.hpp"
 
 namespace {
 
+/// r (or v) one value per line, written atomically (ncp::OutputFile).
 void WriteVector(const std::string& path, const ncp::Vector& r) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+  ncp::OutputFile file = ncp::OutputFile::OpenAtomic(path);
+  std::ostream& out = file.stream();
   out << std::setprecision(std::numeric_limits<double>::max_digits10);
   for (int i = 0; i < r.size(); ++i) out << r[i] << '\n';
-  if (!out) throw std::runtime_error("writing '" + path + "' failed");
+  file.Close();
 }
 
 nlohmann::json ToJson(const ncp::fc::FrictionProblem& p, const ncp::fc::Options& o,
@@ -87,6 +93,9 @@ int main(int argc, char** argv) {
       "h,help", "this help");
   cli.parse_positional({"file"});
   cli.positional_help("FILE");
+  // A file-size limit (ulimit -f) makes the write fail with EFBIG, reported, instead of
+  // killing the process with SIGXFSZ.
+  std::signal(SIGXFSZ, SIG_IGN);
   try {
     const auto args = cli.parse(argc, argv);
     if (args.count("help")) {
@@ -143,7 +152,15 @@ int main(int argc, char** argv) {
         std::cout << "NOT SOLVED: the returned reactions reach error " << error
                   << " > tolerance " << options.tolerance << '\n';
     }
+    std::cout.flush();
+    if (!std::cout) {
+      std::cerr << "fc-solve: writing the report to stdout failed\n";
+      return 3;
+    }
     return summary.IsSolutionUsable() ? 0 : 1;
+  } catch (const ncp::OutputError& e) {
+    std::cerr << "fc-solve: output failed: " << e.what() << '\n';
+    return 3;
   } catch (const std::exception& e) {
     std::cerr << "fc-solve: " << e.what() << '\n';
     return 2;
