@@ -1,13 +1,13 @@
 // ncp-petsc-bench: Bueler's radially symmetric obstacle problem (bueler_obstacle.hpp) on
 // DMDA grids from 10^4 to 10^6+ unknowns, solved by ncp::petsc::Solver (FB semismooth
 // Newton, nested iteration) and by PETSc's SNESVI (SSLS and RSLS, with and without
-// -snes_grid_sequence), each with the same KSP/PC families (MUMPS LU, CG + PCMG, CG + hypre,
-// CG + GAMG). One CSV row per (solver configuration, grid) on the ranks of the run:
+// -snes_grid_sequence), each with the same KSP/PC families (MUMPS LU, Krylov + PCMG, + hypre,
+// + GAMG: CG GMRES where the Newton matrix is not symmetric). One CSV row per (solver configuration, grid) on the ranks of the run:
 //
 //   mpiexec -n 2 ncp-petsc-bench --grids 129,257 --solvers ncp-fb-seq-mg,rsls-seq-mg --csv out.csv
 //
 // Configuration names: <kind>[-seq]-<linear>, kind in {ncp-fb, ssls, rsls}, linear in
-// {lu, mg, hypre, gamg}; --list prints them. Exit status 0 when every row ran (whatever the
+// {lu, mg, hypre, gamg}; --list prints them, --print-header the CSV header. Exit status 0 when every row ran (whatever the
 // solvers' statuses), 1 on bad arguments or a PETSc error. benchmarks/petsc/run.sh runs the
 // whole table; benchmarks/results/petsc/README.md has the results.
 #include <petscsys.h>
@@ -26,7 +26,7 @@ namespace ncp_petsc_bench {
 namespace {
 
 const char* const kCsvHeader =
-    "solver,ranks,n,grid,coarse_grid,linear,grid_sequencing,newton_iterations,total_newton_iterations,"
+    "solver,ranks,n,grid,coarse_grid,linear,ksp,grid_sequencing,newton_iterations,total_newton_iterations,"
     "ksp_iterations,seconds,cpu_seconds,error_vs_exact,error_l2,natural_residual,status,native_status,"
     "peak_rss_mib";
 
@@ -74,6 +74,7 @@ struct Arguments {
   std::string csv;
   bool append = false;
   bool list = false;
+  bool print_header = false;
   std::vector<char*> petsc_argv;  ///< what is left for PetscInitialize
 };
 
@@ -119,12 +120,14 @@ Arguments ParseArguments(int argc, char** argv) {
       args.csv = value();
     } else if (key == "--append") {
       args.append = true;
+    } else if (key == "--print-header") {
+      args.print_header = true;
     } else if (key == "--list") {
       args.list = true;
     } else if (key.rfind("--", 0) == 0) {
       throw std::invalid_argument("unknown option " + key +
                                   " (accepted: --grids --coarse --solvers --tolerance --check-tolerance "
-                                  "--ksp-rtol --max-newton --csv --append --list; PETSc options -xxx)");
+                                  "--ksp-rtol --max-newton --csv --append --list --print-header; PETSc options -xxx)");
     } else {
       args.petsc_argv.push_back(argv[k]);
     }
@@ -145,7 +148,7 @@ std::string CsvRow(const RunConfig& config, const RunSettings& settings, const R
   o.precision(6);
   o << config.name << ',' << r.ranks << ',' << r.n << ',' << settings.grid << ','
     << (config.grid_sequencing ? settings.coarse_grid : settings.grid) << ',' << LinearName(config.linear)
-    << ',' << (config.grid_sequencing ? 1 : 0) << ',' << r.newton_iterations << ','
+    << ',' << KspDescription(config.linear, config.kind) << ',' << (config.grid_sequencing ? 1 : 0) << ',' << r.newton_iterations << ','
     << r.total_newton_iterations << ',' << r.ksp_iterations << ',' << r.seconds << ',' << r.cpu_seconds
     << ',' << r.error_max << ',' << r.error_l2 << ',' << r.natural_residual << ',' << r.status << ','
     << r.native_status << ',' << r.peak_rss_mib;
@@ -207,6 +210,10 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ncp-petsc-bench: %s\n", e.what());
     return 1;
+  }
+  if (args.print_header) {  // the CSV header alone (run.sh), without starting PETSc
+    std::printf("%s\n", kCsvHeader);
+    return 0;
   }
   int petsc_argc = int(args.petsc_argv.size()) - 1;
   char** petsc_argv = args.petsc_argv.data();

@@ -54,7 +54,7 @@ PetscErrorCode SolveOnGrid(const RunConfig& config, const RunSettings& settings,
                            int mg_levels, Vec x, ncp::Summary* summary, int* ksp_iterations) {
   PetscFunctionBeginUser;
   const std::string prefix = OptionsPrefix(config);
-  PetscCall(PetscOptionsInsertString(nullptr, LinearOptions(config.linear, prefix, settings, mg_levels).c_str()));
+  PetscCall(PetscOptionsInsertString(nullptr, LinearOptions(config.linear, config.kind, prefix, settings, mg_levels).c_str()));
   ncp::Options options;
   options.ncp_function = ncp::NcpFunction::kFischerBurmeister;
   options.tolerance = settings.tolerance;

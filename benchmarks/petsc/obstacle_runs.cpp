@@ -13,24 +13,38 @@
 
 namespace ncp_petsc_bench {
 
-std::string LinearOptions(LinearFamily linear, const std::string& prefix, const RunSettings& settings,
-                          int multigrid_levels) {
+bool HasSymmetricNewtonMatrix(SolverKind kind) { return kind == SolverKind::kSnesViRsls; }
+
+std::string KspDescription(LinearFamily linear, SolverKind kind) {
+  const std::string krylov = HasSymmetricNewtonMatrix(kind) ? "cg" : "gmres";
+  switch (linear) {
+    case LinearFamily::kMumpsLu: return "preonly+lu";
+    case LinearFamily::kMultigrid: return krylov + "+mg";
+    case LinearFamily::kHypre: return krylov + "+hypre";
+    case LinearFamily::kGamg: return krylov + "+gamg";
+  }
+  return "?";
+}
+
+std::string LinearOptions(LinearFamily linear, SolverKind kind, const std::string& prefix,
+                          const RunSettings& settings, int multigrid_levels) {
   std::ostringstream o;
   const std::string p = "-" + prefix;
+  const char* krylov = HasSymmetricNewtonMatrix(kind) ? "cg" : "gmres";
   o.precision(3);
   switch (linear) {
     case LinearFamily::kMumpsLu:
       o << p << "ksp_type preonly " << p << "pc_type lu " << p << "pc_factor_mat_solver_type mumps";
       return o.str();
     case LinearFamily::kMultigrid:
-      o << p << "ksp_type cg " << p << "pc_type mg ";
+      o << p << "ksp_type " << krylov << " " << p << "pc_type mg ";
       if (multigrid_levels > 0) o << p << "pc_mg_levels " << multigrid_levels << " ";
       break;
     case LinearFamily::kHypre:
-      o << p << "ksp_type cg " << p << "pc_type hypre " << p << "pc_hypre_type boomeramg ";
+      o << p << "ksp_type " << krylov << " " << p << "pc_type hypre " << p << "pc_hypre_type boomeramg ";
       break;
     case LinearFamily::kGamg:
-      o << p << "ksp_type cg " << p << "pc_type gamg ";
+      o << p << "ksp_type " << krylov << " " << p << "pc_type gamg ";
       break;
   }
   o << p << "ksp_rtol " << settings.ksp_rtol;
@@ -117,7 +131,7 @@ PetscErrorCode RunSnesVi(const RunConfig& config, const RunSettings& settings, R
   const int mg_levels = config.grid_sequencing ? 0 : (levels > 0 ? levels : 1);
   std::ostringstream options;
   options.precision(17);
-  options << LinearOptions(config.linear, prefix, settings, mg_levels) << " -" << prefix << "snes_type "
+  options << LinearOptions(config.linear, config.kind, prefix, settings, mg_levels) << " -" << prefix << "snes_type "
           << SnesTypeOf(config.kind) << " -" << prefix << "snes_max_it " << settings.max_newton_iterations
           << " -" << prefix << "snes_max_funcs 1000000 -" << prefix << "snes_rtol 0 -" << prefix
           << "snes_stol 0 -" << prefix << "snes_atol "

@@ -14,10 +14,16 @@ enum class SolverKind { kNcpFischerBurmeister, kSnesViSsls, kSnesViRsls };
 /// The KSP/PC of the Newton systems, the same options for every solver kind.
 enum class LinearFamily {
   kMumpsLu,  ///< preonly + LU by MUMPS
-  kMultigrid,  ///< CG + PCMG on the DMDA hierarchy (Galerkin coarse operators for ncp)
-  kHypre,    ///< CG + hypre BoomerAMG
-  kGamg,     ///< CG + PETSc's GAMG
+  kMultigrid,  ///< Krylov + PCMG on the DMDA hierarchy (Galerkin coarse operators for ncp)
+  kHypre,    ///< Krylov + hypre BoomerAMG
+  kGamg,     ///< Krylov + PETSc's GAMG
 };
+/// The Krylov method of the iterative families follows the Newton matrix: CG where it is
+/// symmetric (RSLS: the Laplacian restricted to the inactive set), GMRES where it is not
+/// (SSLS and ncp: diag(c_F) F' + diag(c_I), rows scaled differently).
+bool HasSymmetricNewtonMatrix(SolverKind kind);
+/// "preonly+lu", "cg+mg", "gmres+hypre", ...: the KSP and PC a configuration runs with.
+std::string KspDescription(LinearFamily linear, SolverKind kind);
 
 struct RunConfig {
   std::string name;  ///< row label, e.g. "ncp-fb-seq-mg"; ncp rows start with "ncp"
@@ -55,8 +61,8 @@ struct RunResult {
 };
 
 /// The PETSc options string of a linear family under `prefix` (e.g. "-ssls_ksp_type cg ...").
-std::string LinearOptions(LinearFamily linear, const std::string& prefix, const RunSettings& settings,
-                          int multigrid_levels);
+std::string LinearOptions(LinearFamily linear, SolverKind kind, const std::string& prefix,
+                          const RunSettings& settings, int multigrid_levels);
 /// Prefix of a configuration's objects in PETSc's options database: its name with '-' -> '_'.
 std::string OptionsPrefix(const RunConfig& config);
 /// Number of grids from coarse_grid to grid by doubling (grid - 1 = (coarse_grid - 1) 2^k):
