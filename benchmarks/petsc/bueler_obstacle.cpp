@@ -14,7 +14,7 @@ double HemisphereSlope(double r) { return -r / std::sqrt(1.0 - r * r); }
 
 struct GridSpacing {
   double hx, hy;
-  double diagonal() const { return 2.0 / (hx * hx) + 2.0 / (hy * hy); }
+  double diagonal() const { return 2.0 * (hy / hx + hx / hy); }
 };
 
 GridSpacing SpacingOf(const DMDALocalInfo& info) {
@@ -81,8 +81,8 @@ PetscErrorCode FormResidualLocal(DMDALocalInfo* info, PetscScalar** u, PetscScal
         continue;
       }
       f[j][i] = h.diagonal() * u[j][i] -
-                (NeighbourValue(*info, u, i + 1, j) + NeighbourValue(*info, u, i - 1, j)) / (h.hx * h.hx) -
-                (NeighbourValue(*info, u, i, j + 1) + NeighbourValue(*info, u, i, j - 1)) / (h.hy * h.hy);
+                h.hy / h.hx * (NeighbourValue(*info, u, i + 1, j) + NeighbourValue(*info, u, i - 1, j)) -
+                h.hx / h.hy * (NeighbourValue(*info, u, i, j + 1) + NeighbourValue(*info, u, i, j - 1));
     }
   }
   PetscCall(PetscLogFlops(10.0 * info->xm * info->ym));
@@ -105,7 +105,7 @@ PetscErrorCode FormJacobianLocal(DMDALocalInfo* info, PetscScalar**, Mat J, Mat 
         for (int k = 0; k < 4; ++k) {
           if (OnBoundary(*info, i + di[k], j + dj[k])) continue;  // a Dirichlet value, not an unknown
           cols[count] = MatStencil{0, j + dj[k], i + di[k], 0};
-          values[count++] = -1.0 / (di[k] != 0 ? h.hx * h.hx : h.hy * h.hy);
+          values[count++] = -(di[k] != 0 ? h.hy / h.hx : h.hx / h.hy);
         }
       }
       PetscCall(MatSetValuesStencil(P, 1, &row, count, cols, values, INSERT_VALUES));
@@ -170,6 +170,15 @@ PetscErrorCode ComputeBoundsOnSnesGrid(SNES snes, Vec lower, Vec upper) {
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode CellArea(DM da, double* area) {
+  PetscFunctionBeginUser;
+  DMDALocalInfo info;
+  PetscCall(DMDAGetLocalInfo(da, &info));
+  const GridSpacing h = SpacingOf(info);
+  *area = h.hx * h.hy;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode ComputeErrorVsExact(DM da, Vec u, ErrorVsExact* error) {
   PetscFunctionBeginUser;
   DMDALocalInfo info;
@@ -216,7 +225,10 @@ PetscErrorCode ComputeNaturalResidual(DM da, Vec u, double* natural_residual) {
   PetscCall(VecRestoreArrayRead(lower, &lv));
   PetscCall(VecRestoreArrayRead(f, &fv));
   PetscCall(VecRestoreArrayRead(u, &uv));
+  double area = 0.0;
+  PetscCall(CellArea(da, &area));
   PetscCallMPI(MPI_Allreduce(&local, natural_residual, 1, MPI_DOUBLE, MPI_MAX, PetscObjectComm((PetscObject)da)));
+  *natural_residual /= area;
   PetscCall(VecDestroy(&f));
   PetscCall(VecDestroy(&lower));
   PetscCall(VecDestroy(&upper));

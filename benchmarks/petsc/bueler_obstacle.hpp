@@ -14,13 +14,15 @@
 /// ch. 12). a ~ 0.698 < r0, so the exact solution never meets the tangent "skirt".
 ///
 /// Discretization: nodes x_i = -2 + i h_x, i = 0..M-1 (same in y); F is the 5-point -Laplacian
-/// (units of u / length^2, not scaled by the cell area, so that u - psi and F are of the same
-/// order in the NCP function and a residual tolerance bounds the algebraic error in u by about
-/// tolerance / lambda_min(-Laplace) = tolerance / (pi^2 / 8), independently of h):
-///   interior: F = (2 u_ij - u_E - u_W) / h_x^2 + (2 u_ij - u_N - u_S) / h_y^2,
+/// scaled by the cell area h_x h_y (the load a node carries, in the units of u), so that both
+/// arguments of the NCP function, u - psi and F, are in the units of u (and the discrete
+/// system is the finite-element one with mass lumping):
+///   interior: F = 2 (h_y/h_x + h_x/h_y) u_ij - h_y/h_x (u_E + u_W) - h_x/h_y (u_N + u_S),
 ///             with boundary neighbours replaced by their Dirichlet values, so the interior
 ///             block of the Jacobian is the symmetric positive definite 5-point Laplacian;
-///   boundary: F = (2 / h_x^2 + 2 / h_y^2) (u_ij - u_exact) (same diagonal as the interior).
+///   boundary: F = 2 (h_y/h_x + h_x/h_y) (u_ij - u_exact) (same diagonal as the interior).
+/// A residual r in these units is a Laplacian residual r / (h_x h_y), which bounds the
+/// algebraic error in u by about r / (h_x h_y lambda_min(-Laplace)), lambda_min = pi^2 / 8.
 /// Bounds: lower = psi on interior nodes, -inf on boundary nodes; upper = +inf.
 #pragma once
 
@@ -60,6 +62,9 @@ PetscErrorCode FormBounds(DM da, Vec lower, Vec upper);
 /// follow -snes_grid_sequence refinements).
 PetscErrorCode ComputeBoundsOnSnesGrid(SNES snes, Vec lower, Vec upper);
 
+/// The cell area h_x h_y of grid `da`: the factor between a tolerance on -Laplace u and one on F.
+PetscErrorCode CellArea(DM da, double* area);
+
 /// Errors of the grid function u against the exact solution at the nodes.
 struct ErrorVsExact {
   double max_norm = -1.0;     ///< max_ij |u_ij - u_exact(x_i, y_j)|
@@ -68,7 +73,8 @@ struct ErrorVsExact {
 PetscErrorCode ComputeErrorVsExact(DM da, Vec u, ErrorVsExact* error);
 
 /// Natural residual of the complementarity problem, recomputed from the problem data:
-/// max_i |min(u_i - lower_i, F_i(u))| (free rows: |F_i(u)|), in the units of F.
+/// max_i |min(u_i - lower_i, F_i(u))| (free rows: |F_i(u)|) / (h_x h_y), i.e. in the units
+/// of -Laplace u like RunSettings::tolerance.
 PetscErrorCode ComputeNaturalResidual(DM da, Vec u, double* natural_residual);
 
 }  // namespace ncp_petsc_bench

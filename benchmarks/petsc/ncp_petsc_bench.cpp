@@ -1,12 +1,12 @@
 // ncp-petsc-bench: Bueler's radially symmetric obstacle problem (bueler_obstacle.hpp) on
-// DMDA grids from 10^4 to 10^6+ unknowns, solved by ncp::petsc::Solver (FB semismooth
+// DMDA grids from 10^4 to 10^6+ unknowns, solved by ncp::petsc::Solver (FB or min semismooth
 // Newton, nested iteration) and by PETSc's SNESVI (SSLS and RSLS, with and without
 // -snes_grid_sequence), each with the same KSP/PC families (MUMPS LU, Krylov + PCMG, + hypre,
 // + GAMG: CG GMRES where the Newton matrix is not symmetric). One CSV row per (solver configuration, grid) on the ranks of the run:
 //
 //   mpiexec -n 2 ncp-petsc-bench --grids 129,257 --solvers ncp-fb-seq-mg,rsls-seq-mg --csv out.csv
 //
-// Configuration names: <kind>[-seq]-<linear>, kind in {ncp-fb, ssls, rsls}, linear in
+// Configuration names: <kind>[-seq]-<linear>, kind in {ncp-fb, ncp-min, ssls, rsls}, linear in
 // {lu, mg, hypre, gamg}; --list prints them, --print-header the CSV header. Exit status 0 when every row ran (whatever the
 // solvers' statuses), 1 on bad arguments or a PETSc error. benchmarks/petsc/run.sh runs the
 // whole table; benchmarks/results/petsc/README.md has the results.
@@ -43,6 +43,7 @@ const char* LinearName(LinearFamily linear) {
 std::vector<RunConfig> AllConfigs() {
   std::vector<RunConfig> configs;
   const std::pair<const char*, SolverKind> kinds[] = {{"ncp-fb", SolverKind::kNcpFischerBurmeister},
+                                                      {"ncp-min", SolverKind::kNcpMin},
                                                       {"ssls", SolverKind::kSnesViSsls},
                                                       {"rsls", SolverKind::kSnesViRsls}};
   const LinearFamily families[] = {LinearFamily::kMumpsLu, LinearFamily::kMultigrid, LinearFamily::kHypre,
@@ -178,7 +179,7 @@ PetscErrorCode RunAll(const Arguments& args) {
       RunSettings settings = args.settings;
       settings.grid = grid;
       RunResult result;
-      if (config.kind == SolverKind::kNcpFischerBurmeister) {
+      if (config.kind == SolverKind::kNcpFischerBurmeister || config.kind == SolverKind::kNcpMin) {
         PetscCall(RunNcp(config, settings, &result));
       } else {
         PetscCall(RunSnesVi(config, settings, &result));

@@ -1,4 +1,4 @@
-// The ncp rows: ncp::petsc::Solver (Fischer-Burmeister semismooth Newton) on the obstacle
+// The ncp rows: ncp::petsc::Solver (FB or min semismooth Newton) on the obstacle
 // problem, with nested iteration when asked: solve on the coarse grid, interpolate the
 // solution bilinearly (DMRefine + DMCreateInterpolation) to the next grid as its start point,
 // and repeat up to the finest grid (full multigrid's outer loop; Bueler 2021, ch. 12).
@@ -56,8 +56,11 @@ PetscErrorCode SolveOnGrid(const RunConfig& config, const RunSettings& settings,
   const std::string prefix = OptionsPrefix(config);
   PetscCall(PetscOptionsInsertString(nullptr, LinearOptions(config.linear, config.kind, prefix, settings, mg_levels).c_str()));
   ncp::Options options;
-  options.ncp_function = ncp::NcpFunction::kFischerBurmeister;
-  options.tolerance = settings.tolerance;
+  options.ncp_function = config.kind == SolverKind::kNcpMin ? ncp::NcpFunction::kMin
+                                                             : ncp::NcpFunction::kFischerBurmeister;
+  double area = 0.0;
+  PetscCall(CellArea(level.da, &area));
+  options.tolerance = settings.tolerance * area;  // F is -Laplace u times the cell area
   options.max_iterations = settings.max_newton_iterations;
   ncp::petsc::Solver solver(PetscObjectComm((PetscObject)level.da), options, prefix);
   if (config.linear == LinearFamily::kMultigrid) {

@@ -93,6 +93,11 @@ PetscErrorCode FinishMeasurements(MPI_Comm comm, double wall_start, double cpu_s
 
 namespace {
 
+double CellAreaOfGrid(PetscInt grid) {
+  const double h = (kDomainMax - kDomainMin) / double(grid - 1);
+  return h * h;
+}
+
 const char* SnesTypeOf(SolverKind kind) {
   return kind == SolverKind::kSnesViSsls ? SNESVINEWTONSSLS : SNESVINEWTONRSLS;
 }
@@ -135,7 +140,7 @@ PetscErrorCode RunSnesVi(const RunConfig& config, const RunSettings& settings, R
           << SnesTypeOf(config.kind) << " -" << prefix << "snes_max_it " << settings.max_newton_iterations
           << " -" << prefix << "snes_max_funcs 1000000 -" << prefix << "snes_rtol 0 -" << prefix
           << "snes_stol 0 -" << prefix << "snes_atol "
-          << settings.tolerance * std::sqrt(double(settings.grid) * double(settings.grid));
+          << settings.tolerance * CellAreaOfGrid(settings.grid) * double(settings.grid);  // sqrt(n) = M
   if (config.grid_sequencing) options << " -" << prefix << "snes_grid_sequence " << levels - 1;
   PetscCall(PetscOptionsInsertString(nullptr, options.str().c_str()));
 
