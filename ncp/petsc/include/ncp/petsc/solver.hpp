@@ -106,6 +106,7 @@ class Solver {
 
  private:
   struct Impl;
+  friend class Iteration;  // one solve (solver.cpp)
   std::unique_ptr<Impl> impl_;
 };
 
