@@ -1,12 +1,13 @@
 cmake_minimum_required(VERSION 3.18)
-# Runs ncp-petsc-bench on 2 ranks on the grids 33 and 65 (nested iteration from 5, CG + PCMG)
+# Runs ncp-petsc-bench (configuration SOLVER) on 2 ranks on the grids 33 and 65 (nested
+# iteration from 5, GMRES + PCMG)
 # and checks from the CSV: every row converged, on 2 ranks, and the max-norm error against the
 # exact solution falls by at least MIN_RATIO from the coarser grid to the finer (the measured
 # order is about h^1.5, a ratio near 2.8). Called by ctest (benchmarks/petsc/CMakeLists.txt).
 set(MIN_RATIO 1.5)
 file(REMOVE ${CSV})
 execute_process(COMMAND ${MPIEXEC} ${NUMPROC_FLAG} 2 --oversubscribe ${BENCH} --grids 33,65
-                        --solvers ncp-fb-seq-mg --csv ${CSV}
+                        --solvers ${SOLVER} --csv ${CSV}
   RESULT_VARIABLE result OUTPUT_VARIABLE output ERROR_VARIABLE output)
 if(NOT result EQUAL 0)
   message(FATAL_ERROR "ncp-petsc-bench exited with ${result}:\n${output}")

@@ -37,7 +37,10 @@ std::string LinearOptions(LinearFamily linear, SolverKind kind, const std::strin
       o << p << "ksp_type preonly " << p << "pc_type lu " << p << "pc_factor_mat_solver_type mumps";
       return o.str();
     case LinearFamily::kMultigrid:
-      o << p << "ksp_type " << krylov << " " << p << "pc_type mg ";
+      // Smoother: one SOR sweep pair under Richardson (no eigenvalue estimate to redo for
+      // each Newton matrix, as PETSc's default Chebyshev smoother needs).
+      o << p << "ksp_type " << krylov << " " << p << "pc_type mg " << p << "mg_levels_ksp_type richardson "
+        << p << "mg_levels_pc_type sor ";
       if (multigrid_levels > 0) o << p << "pc_mg_levels " << multigrid_levels << " ";
       break;
     case LinearFamily::kHypre:

@@ -19,7 +19,7 @@ enum class SolverKind {
 /// The KSP/PC of the Newton systems, the same options for every solver kind.
 enum class LinearFamily {
   kMumpsLu,  ///< preonly + LU by MUMPS
-  kMultigrid,  ///< Krylov + PCMG on the DMDA hierarchy (Galerkin coarse operators for ncp)
+  kMultigrid,  ///< Krylov + PCMG on the DMDA hierarchy, SOR smoother (Galerkin coarse operators for ncp)
   kHypre,    ///< Krylov + hypre BoomerAMG
   kGamg,     ///< Krylov + PETSc's GAMG
 };
