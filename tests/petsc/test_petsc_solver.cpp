@@ -105,7 +105,7 @@ TEST_CASE("2D obstacle of the collection: the serial iterates on any rank count"
   const NcpFunction function = GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin,
                                         NcpFunction::kPenalizedFischerBurmeister);
   const ObstacleVariable variable = GENERATE(ObstacleVariable::kHeight, ObstacleVariable::kGap);
-  TestProblem problem = Obstacle2D(24, ObstacleKind::kLowerBump, variable);
+  TestProblem problem = Obstacle2D(16, ObstacleKind::kLowerBump, variable);
   Options options;
   options.ncp_function = function;
   for (const StartPoint& start : problem.starts) {
@@ -117,7 +117,7 @@ TEST_CASE("2D obstacle of the collection: the serial iterates on any rank count"
 TEST_CASE("random sparse box MCP: the serial iterates on any rank count", "[petsc][mpi]") {
   const NcpFunction function = GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin,
                                         NcpFunction::kPenalizedFischerBurmeister);
-  TestProblem problem = RandomBoxMcp(500);
+  TestProblem problem = RandomBoxMcp(300);
   Options options;
   options.ncp_function = function;
   for (const StartPoint& start : problem.starts) {
