@@ -50,9 +50,9 @@ def main(csv_path, png_path):
         ax.grid(True, which="both", alpha=0.3)
     axes[0][0].set_ylabel("wall seconds")
     axes[0][-1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    fig.suptitle("Bueler's obstacle problem: ncp (FB, nested iteration) vs PETSc SNESVI; x = not converged")
+    fig.suptitle("Bueler obstacle problem: ncp vs PETSc SNESVI (x = not converged)")
     fig.tight_layout()
-    fig.savefig(png_path, dpi=110)
+    fig.savefig(png_path, dpi=110, bbox_inches="tight")
 
 
 if __name__ == "__main__":
