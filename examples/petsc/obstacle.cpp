@@ -13,7 +13,7 @@
 // Run (docs/petsc.md):
 //   mpiexec -n 2 ./bin/ncp-petsc-obstacle -m 300
 //   mpiexec -n 2 ./bin/ncp-petsc-obstacle -m 1000 -ncp_ksp_type cg -ncp_pc_type gamg -ncp_ksp_rtol 1e-10
-// Options: -m <interior nodes per direction>, -function fb|min|pfb, -log (one line per
+// Options: -m <interior nodes per direction>, -function fb|min|pfb, -trace (one line per
 // Newton iteration), and every -ncp_ksp_* / -ncp_pc_* option of PETSc for the Newton systems
 // (default: MUMPS LU).
 //
@@ -182,12 +182,12 @@ PetscErrorCode Run() {
   PetscFunctionBeginUser;
   PetscInt m = 300;
   char function[16] = "fb";
-  PetscBool log = PETSC_FALSE;
+  PetscBool trace = PETSC_FALSE;
   PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-m", &m, nullptr));
   PetscCall(PetscOptionsGetString(nullptr, nullptr, "-function", function, sizeof function, nullptr));
-  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-log", &log, nullptr));
+  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-trace", &trace, nullptr));
   ncp::Options options;
-  options.log_to_stderr = log;
+  options.log_to_stderr = trace;
   // Start from u0 = 0 as given, below the obstacle where it rises above 0: projected onto
   // u >= psi the start would hold the obstacle's kinks, from which the method needs more
   // iterations (docs/petsc.md gives both counts).

@@ -141,6 +141,19 @@ TEST_CASE("any KSP from the options database under the solver's prefix", "[petsc
   CheckSameAnswer(problem, r);
 }
 
+TEST_CASE("CG + BoomerAMG on the symmetrized Newton system: the serial iterates", "[petsc][mpi]") {
+  // -cg_ksp_type cg switches the symmetrized system on (KspReport::symmetric_newton).
+  PetscOptionsSetValue(nullptr, "-cg_ksp_type", "cg");
+  PetscOptionsSetValue(nullptr, "-cg_pc_type", "hypre");
+  PetscOptionsSetValue(nullptr, "-cg_ksp_rtol", "1e-13");
+  PetscOptionsSetValue(nullptr, "-cg_ksp_norm_type", "unpreconditioned");
+  TestProblem problem = Obstacle2D(16, ObstacleKind::kLowerBump, ObstacleVariable::kGap);
+  for (const StartPoint& start : problem.starts) {
+    INFO(problem.name << " from " << start.label);
+    CheckSameAnswer(problem, SolveBoth(problem, start.x, Options(), "cg_"));
+  }
+}
+
 TEST_CASE("the KSP report names the default direct solver", "[petsc][mpi]") {
   TestProblem problem = RandomBoxMcp(50);
   Vec x = MakeVec(PETSC_COMM_WORLD, problem.starts.front().x);
@@ -154,6 +167,7 @@ TEST_CASE("the KSP report names the default direct solver", "[petsc][mpi]") {
     CHECK(solver.ksp_report().ksp_type == "preonly");
     CHECK(solver.ksp_report().pc_type == "lu");
     CHECK(solver.ksp_report().factor_solver_type == "mumps");
+    CHECK_FALSE(solver.ksp_report().symmetric_newton);
     int size = 0;
     MPI_Comm_size(PETSC_COMM_WORLD, &size);
     CHECK(solver.ksp_report().ranks == size);

@@ -203,9 +203,14 @@ struct Solver::Impl {
   PetscObjectState source_state = -1;
   bool same_pattern = true;  // J's pattern is F''s (no diagonal entry was added)
   Mat abs_source = nullptr, abs_newton = nullptr;  // |F'|, |J| (round-off floor, backward error)
+  // The symmetrized Newton system (symmetric_newton): rows with c_F != 0 divided by c_F,
+  // the others eliminated (KspReport::symmetric_newton).
+  bool symmetric_newton = false;
+  Mat symmetric = nullptr;
 
   ~Impl() {
     DestroyMat(&newton);
+    DestroyMat(&symmetric);
     DestroyMat(&abs_source);
     DestroyMat(&abs_newton);
     if (ksp) KSPDestroy(&ksp);
@@ -218,6 +223,7 @@ struct Solver::Impl {
     NCP_PETSC_CHECK(MatGetNonzeroState(F, &state));
     if (newton && source == F && state == source_state) return false;
     DestroyMat(&newton);
+    DestroyMat(&symmetric);
     DestroyMat(&abs_source);
     DestroyMat(&abs_newton);
     NCP_PETSC_CHECK(MatDuplicate(F, MAT_COPY_VALUES, &newton));
@@ -235,8 +241,35 @@ struct Solver::Impl {
     }
     source = F;
     source_state = state;
-    NCP_PETSC_CHECK(KSPSetOperators(ksp, newton, newton));
+    if (symmetric_newton) {
+      NCP_PETSC_CHECK(MatDuplicate(newton, MAT_DO_NOT_COPY_VALUES, &symmetric));
+      NCP_PETSC_CHECK(MatSetOption(symmetric, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
+      NCP_PETSC_CHECK(MatSetOption(symmetric, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
+    }
+    Mat op = symmetric_newton ? symmetric : newton;
+    NCP_PETSC_CHECK(KSPSetOperators(ksp, op, op));
     return true;
+  }
+
+  // Once, at the first solve: the KSP from the options database, and whether the Newton
+  // systems are symmetrized: -<prefix>symmetric_newton <bool>, by default on for the KSPs
+  // and PCs that need a symmetric operator (CG family, MINRES, Cholesky, ICC).
+  void Configure() {
+    if (ksp_configured) return;
+    NCP_PETSC_CHECK(KSPSetFromOptions(ksp));
+    PC pc = nullptr;
+    NCP_PETSC_CHECK(KSPGetPC(ksp, &pc));
+    PetscBool symmetric_ksp = PETSC_FALSE, symmetric_pc = PETSC_FALSE;
+    NCP_PETSC_CHECK(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(ksp), &symmetric_ksp, KSPCG,
+                                              KSPPIPECG, KSPGROPPCG, KSPCR, KSPPIPECR, KSPMINRES,
+                                              KSPSYMMLQ, ""));
+    NCP_PETSC_CHECK(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &symmetric_pc, PCCHOLESKY,
+                                              PCICC, ""));
+    PetscBool flag = symmetric_ksp || symmetric_pc ? PETSC_TRUE : PETSC_FALSE, set = PETSC_FALSE;
+    NCP_PETSC_CHECK(PetscOptionsGetBool(nullptr, prefix.c_str(), "-symmetric_newton", &flag, &set));
+    symmetric_newton = flag == PETSC_TRUE;
+    report.symmetric_newton = symmetric_newton;
+    ksp_configured = true;
   }
 
   // KspReport's names of the KSP, PC and factorization package in use.
@@ -375,14 +408,11 @@ class Iteration {
     start_ = Clock::now();
     InitializeSummary();
     for (OwnedVec* v : {&f_, &f_trial_, &phi_, &phi_trial_, &grad_, &d_, &x_trial_, &c_f_, &c_i_,
-                        &z_, &f_z_, &work_, &work2_})
+                        &z_, &f_z_, &work_, &work2_, &fixed_values_})
       v->DuplicateOf(x_);
+    impl_.Configure();
     const bool new_matrix = impl_.PrepareNewtonMatrix(p_.jacobian_matrix);
     s_.symbolic_factorizations = new_matrix ? 1 : 0;
-    if (!impl_.ksp_configured) {
-      NCP_PETSC_CHECK(KSPSetFromOptions(impl_.ksp));
-      impl_.ksp_configured = true;
-    }
     impl_.DescribeKsp();
     function_ = o_.ncp_function;
     restarts_left_ = o_.merit_restarts;
@@ -648,6 +678,10 @@ class Iteration {
     const auto t0 = Clock::now();
     NCP_PETSC_CHECK(VecCopy(phi_, work_));
     NCP_PETSC_CHECK(VecScale(work_, -1.0));
+    if (impl_.symmetric_newton && !Symmetrize(work_)) {
+      s_.linear_solver_time_s += Seconds(t0);
+      return false;
+    }
     const PetscErrorCode code = KSPSolve(impl_.ksp, work_, d_);
     KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
     PetscInt its = 0;
@@ -669,6 +703,45 @@ class Iteration {
     }
     s_.linear_solver_time_s += Seconds(t0);
     return solved;
+  }
+
+  // The same system J d = rhs made symmetric (the serial kCholmod backend's transformation,
+  // types.hpp): a row with c_F != 0 is divided by c_F, giving diag(c_I / c_F) + F'_i with
+  // c_I / c_F >= 0 for FB, min and penalized FB (both partials are <= 0); a row with c_F = 0
+  // fixes d_i = rhs_i / c_I and is eliminated from the others (MatZeroRowsColumns). For a
+  // symmetric positive (semi)definite F' (obstacle problems) the result is symmetric positive
+  // definite: CG and AMG apply. rhs is replaced by the symmetric system's right-hand side;
+  // false when a row is zero (c_F = c_I = 0) on some rank.
+  bool Symmetrize(Vec rhs) {
+    Mat S = impl_.symmetric;
+    NCP_PETSC_CHECK(MatCopy(p_.jacobian_matrix, S,
+                            impl_.same_pattern ? SAME_NONZERO_PATTERN : DIFFERENT_NONZERO_PATTERN));
+    PetscInt first = 0, last = 0;
+    NCP_PETSC_CHECK(VecGetOwnershipRange(x_, &first, &last));
+    std::vector<PetscInt> fixed_rows;
+    bool zero_row = false;
+    {
+      LocalRead c_f(c_f_), c_i(c_i_);
+      LocalWrite b(rhs), ratio(work2_), known(fixed_values_);
+      for (PetscInt i = 0; i < local_; ++i) {
+        ratio[i] = 0.0;
+        known[i] = 0.0;
+        if (c_f[i] != 0.0) {
+          ratio[i] = c_i[i] / c_f[i];
+          b[i] = PetscRealPart(b[i]) / c_f[i];
+        } else if (c_i[i] != 0.0) {
+          known[i] = PetscRealPart(b[i]) / c_i[i];
+          fixed_rows.push_back(first + i);
+        } else {
+          zero_row = true;
+        }
+      }
+    }
+    if (AnyRank(comm_, zero_row)) return false;
+    NCP_PETSC_CHECK(MatDiagonalSet(S, work2_, ADD_VALUES));
+    NCP_PETSC_CHECK(MatZeroRowsColumns(S, static_cast<PetscInt>(fixed_rows.size()), fixed_rows.data(), 1.0,
+                                       fixed_values_, rhs));
+    return true;
   }
 
   // ---- step 3: Armijo line search (internal::ArmijoLineSearch) ----------------------------
@@ -768,6 +841,7 @@ class Iteration {
   const std::vector<double> lower_, upper_;  // local, normalized (+-inf = no bound)
   const PetscInt local_, n_;
   OwnedVec f_, f_trial_, phi_, phi_trial_, grad_, d_, x_trial_, c_f_, c_i_, z_, f_z_, work_, work2_;
+  OwnedVec fixed_values_;  // d_i of the rows the symmetrized system eliminates
   Clock::time_point start_;
   NcpFunction function_ = NcpFunction::kFischerBurmeister;
   int restarts_left_ = 0, first_k_ = 0;

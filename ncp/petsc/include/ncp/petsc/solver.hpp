@@ -72,6 +72,10 @@ struct KspReport {
   std::string pc_type;              ///< e.g. "lu"
   std::string factor_solver_type;   ///< e.g. "mumps" (empty without a factorization)
   int linear_iterations = -1;       ///< KSP iterations summed over all Newton systems
+  /// The KSP solved the symmetrized Newton system (rows scaled, fixed rows eliminated;
+  /// docs/petsc.md): on by default for CG-like KSPs and Cholesky/ICC, else off;
+  /// -<prefix>symmetric_newton true|false decides.
+  bool symmetric_newton = false;
   int ranks = -1;                   ///< size of the communicator
 };
 
