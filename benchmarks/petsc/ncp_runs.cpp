@@ -1,0 +1,149 @@
+// The ncp rows: ncp::petsc::Solver (FB or min semismooth Newton) on the obstacle
+// problem, with nested iteration when asked: solve on the coarse grid, interpolate the
+// solution bilinearly (DMRefine + DMCreateInterpolation) to the next grid as its start point,
+// and repeat up to the finest grid (full multigrid's outer loop; Bueler 2021, ch. 12).
+#include <petscdmda.h>
+
+#include <sstream>
+
+#include "bueler_obstacle.hpp"
+#include "ncp/petsc/solver.hpp"
+#include "obstacle_runs.hpp"
+
+namespace ncp_petsc_bench {
+namespace {
+
+std::string StatusOf(ncp::TerminationType termination) {
+  switch (termination) {
+    case ncp::TerminationType::kConverged: return "converged";
+    case ncp::TerminationType::kMaxIterations: return "max_iterations";
+    case ncp::TerminationType::kTimeLimit: return "time_limit";
+    case ncp::TerminationType::kStationaryPoint: return "stationary_point";
+    case ncp::TerminationType::kLineSearchFailure: return "line_search_failure";
+    case ncp::TerminationType::kNonFiniteValues: return "numerical_error";
+    default: return "failure";
+  }
+}
+
+/// One grid of the sequence: its DMDA, bounds and Jacobian matrix.
+struct GridLevel {
+  DM da = nullptr;
+  Vec lower = nullptr, upper = nullptr;
+  Mat jacobian = nullptr;
+  PetscErrorCode Create(DM grid) {
+    PetscFunctionBeginUser;
+    da = grid;
+    PetscCall(DMCreateGlobalVector(da, &lower));
+    PetscCall(VecDuplicate(lower, &upper));
+    PetscCall(FormBounds(da, lower, upper));
+    PetscCall(DMCreateMatrix(da, &jacobian));
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode Destroy() {
+    PetscFunctionBeginUser;
+    PetscCall(MatDestroy(&jacobian));
+    PetscCall(VecDestroy(&lower));
+    PetscCall(VecDestroy(&upper));
+    PetscCall(DMDestroy(&da));
+    PetscFunctionReturn(0);
+  }
+};
+
+/// Solves the obstacle problem on `level` from x (start in, solution out).
+PetscErrorCode SolveOnGrid(const RunConfig& config, const RunSettings& settings, const GridLevel& level,
+                           int mg_levels, Vec x, ncp::Summary* summary, int* ksp_iterations) {
+  PetscFunctionBeginUser;
+  const std::string prefix = OptionsPrefix(config);
+  PetscCall(PetscOptionsInsertString(nullptr, LinearOptions(config.linear, config.kind, prefix, settings, mg_levels).c_str()));
+  ncp::Options options;
+  options.ncp_function = config.kind == SolverKind::kNcpMin ? ncp::NcpFunction::kMin
+                                                             : ncp::NcpFunction::kFischerBurmeister;
+  double area = 0.0;
+  PetscCall(CellArea(level.da, &area));
+  options.tolerance = settings.tolerance * area;  // F is -Laplace u times the cell area
+  options.max_iterations = settings.max_newton_iterations;
+  ncp::petsc::Solver solver(PetscObjectComm((PetscObject)level.da), options, prefix);
+  if (config.linear == LinearFamily::kMultigrid) {
+    // PCMG builds its hierarchy by coarsening this grid; the Newton matrix D_a + D_b F' is
+    // not a rediscretization, so the coarse operators are Galerkin products P^T A P.
+    PetscCall(KSPSetDM(solver.ksp(), level.da));
+    PetscCall(KSPSetDMActive(solver.ksp(), PETSC_FALSE));
+    PC pc;
+    PetscCall(KSPGetPC(solver.ksp(), &pc));
+    PetscCall(PCSetType(pc, PCMG));
+    PetscCall(PCMGSetGalerkin(pc, PC_MG_GALERKIN_PMAT));
+  }
+  DM da = level.da;
+  ncp::petsc::BoxMcp problem;
+  problem.residual = [da](Vec u, Vec f) { return EvaluateResidual(da, u, f); };
+  problem.jacobian = [da](Vec u, Mat J) { return EvaluateJacobian(da, u, J); };
+  problem.jacobian_matrix = level.jacobian;
+  problem.lower = level.lower;
+  problem.upper = level.upper;
+  solver.Solve(problem, x, summary);
+  *ksp_iterations = solver.ksp_report().linear_iterations;
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+PetscErrorCode RunNcp(const RunConfig& config, const RunSettings& settings, RunResult* result) {
+  PetscFunctionBeginUser;
+  const MPI_Comm comm = PETSC_COMM_WORLD;
+  const int levels = GridLevels(settings.coarse_grid, settings.grid);
+  PetscCheck(!config.grid_sequencing || levels > 0, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "--grid %" PetscInt_FMT " is not (coarse %" PetscInt_FMT " - 1) 2^k + 1", settings.grid,
+             settings.coarse_grid);
+  PetscCall(PetscBarrier(nullptr));
+  const double wall_start = WallSeconds(), cpu_start = ProcessCpuSeconds();
+
+  GridLevel level;
+  DM grid;
+  PetscCall(CreateGrid(comm, config.grid_sequencing ? settings.coarse_grid : settings.grid, &grid));
+  PetscCall(level.Create(grid));
+  Vec x;
+  PetscCall(DMCreateGlobalVector(level.da, &x));
+  PetscCall(VecSet(x, 0.0));  // the zero start of every solver
+  ncp::Summary summary;
+  int total_steps = 0, ksp_iterations = 0;
+  const int num_grids = config.grid_sequencing ? levels : 1;
+  for (int k = 0; k < num_grids; ++k) {
+    if (k > 0) {  // refine: the interpolated coarse solution starts the finer solve
+      DM finer;
+      Mat interpolation;
+      Vec x_fine;
+      PetscCall(DMRefine(level.da, comm, &finer));
+      PetscCall(DMCreateInterpolation(level.da, finer, &interpolation, nullptr));
+      PetscCall(DMCreateGlobalVector(finer, &x_fine));
+      PetscCall(MatInterpolate(interpolation, x, x_fine));
+      PetscCall(MatDestroy(&interpolation));
+      PetscCall(VecDestroy(&x));
+      PetscCall(level.Destroy());
+      PetscCall(level.Create(finer));
+      x = x_fine;
+    }
+    // Multigrid levels: the refinements made so far (directly made grids: by halving).
+    const int mg_levels = config.grid_sequencing ? k + 1 : (levels > 0 ? levels : 1);
+    PetscCall(SolveOnGrid(config, settings, level, mg_levels, x, &summary, &ksp_iterations));
+    total_steps += summary.iterations;
+    if (!summary.IsSolutionUsable()) break;
+  }
+  PetscCall(FinishMeasurements(comm, wall_start, cpu_start, result));
+
+  result->n = settings.grid * settings.grid;  // a sequence that stopped early reports the goal
+  result->newton_iterations = summary.iterations;
+  result->total_newton_iterations = total_steps;
+  result->ksp_iterations = ksp_iterations;
+  result->status = StatusOf(summary.termination);
+  result->native_status = ncp::ToString(summary.termination);
+  ErrorVsExact error;
+  PetscCall(ComputeErrorVsExact(level.da, x, &error));
+  result->error_max = error.max_norm;
+  result->error_l2 = error.discrete_l2;
+  PetscCall(ComputeNaturalResidual(level.da, x, &result->natural_residual));
+  PetscCall(VecDestroy(&x));
+  PetscCall(level.Destroy());
+  PetscFunctionReturn(0);
+}
+
+}  // namespace ncp_petsc_bench
