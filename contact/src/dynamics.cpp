@@ -475,8 +475,8 @@ SimulationState Simulation::Step(long n) {
 }
 
 SimulationState Simulation::state() const { return impl_->run_state; }
-double Simulation::time() const {
-  return impl_->options.start_time + static_cast<double>(impl_->k) * impl_->options.dt;
+double Simulation::time() const {  // (the last record's, to the bit)
+  return impl_->k > 0 ? impl_->summary.records.back().time : impl_->options.start_time;
 }
 int Simulation::step_index() const { return static_cast<int>(impl_->k); }
 int Simulation::num_steps() const { return static_cast<int>(impl_->num_steps); }
@@ -560,7 +560,7 @@ const Eigen::VectorXd& Simulation::contact_gaps() const {
 DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& options) {
   Simulation simulation(model, options);
   simulation.Step(std::numeric_limits<long>::max());
-  return simulation.summary();
+  return std::move(simulation.impl_->summary);
 }
 
 }  // namespace contact

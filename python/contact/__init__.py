@@ -4,8 +4,8 @@
     result.times, result.records["kinetic_energy"], result.normal_force[-1], result.nodes
 
     sim = contact.Simulation(contact.example_path("scenes/block_drop_2d.toml"))
-    while sim.step(10) == "running":
-        sim.set_body_force([0.0, -9.81 * 1000])  # change loads, move the obstacle ...
+    while sim.step(10) == "running":  # look at sim.contact, change the loads, move the obstacle
+        sim.set_body_force([20000.0 if sim.time < 0.01 else 0.0, -76518.0])  # [N/m^3]
 
 A scene is a TOML file (keys and units: examples/scenes/README.md) or the same content as a
 nested dict (``scene_from_dict``).  ``run`` writes no files: it returns NumPy arrays.

@@ -203,7 +203,7 @@ class SceneStepper {
       sim_.Step(1);
       if (sim_.step_index() == before) break;  // failed before the step was taken
       Collect();
-      if (!progress.is_none()) progress(sim_.step_index(), sim_.time(), sim_.options().end_time);
+      if (!progress.is_none()) progress(sim_.step_index(), sim_.time(), sim_.options().end_time);  // as the record's
       if (PyErr_CheckSignals() != 0) throw py::error_already_set();
     }
     return contact::ToString(sim_.state());

@@ -48,6 +48,7 @@ def test_stepping_by_hand_equals_run(path):
         pass
     assert sim.state == "finished" and sim.completed and ran.completed
     assert sim.step_index == sim.num_steps == len(ran.times)
+    assert sim.time == ran.times[-1]
     for name in contact.STEP_FIELDS:
         if name not in ("seconds", "solve_seconds"):
             np.testing.assert_array_equal(sim.records[name], ran.records[name], err_msg=name)

@@ -65,7 +65,7 @@ class Simulation {
   SimulationState Step(long n = 1);
 
   SimulationState state() const;
-  double time() const;    ///< t_k [s] of the current state
+  double time() const;    ///< t_k [s] of the current state (records().back().time after a step)
   int step_index() const;  ///< k: steps taken
   int num_steps() const;  ///< steps from start_time to end_time
   /// u^k on the free dofs [m].
@@ -109,6 +109,8 @@ class Simulation {
   Eigen::VectorXd nodal_velocity() const;
 
  private:
+  /// (Moves the summary out at the end instead of copying its records.)
+  friend DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& options);
   struct Impl;
   struct SceneData;  // scene/scene_simulation.cpp
   static std::shared_ptr<SceneData> BuildSceneData(const Scene& scene);
