@@ -14,6 +14,48 @@ const char* ToString(NormalSource s) {
   return s == NormalSource::kObstacle ? "obstacle" : "body";
 }
 
+namespace {
+
+/// -(obstacle normal): the direction from the body towards the obstacle.
+Eigen::Vector3d TowardsObstacle(int dim, const ObstacleQuery& q) {
+  return -Eigen::Vector3d(q.normal(0), q.normal(1), dim == 3 ? q.normal(2) : 0.0);
+}
+
+/// The body normal n_b of boundary node k as a 3-vector.
+Eigen::Vector3d BodyNormal(int dim, const ContactBoundary& boundary, int k) {
+  const Eigen::Matrix<double, Eigen::Dynamic, 1> nb = boundary.normals.col(k);
+  return Eigen::Vector3d(nb(0), nb(1), dim == 3 ? nb(2) : 0.0);
+}
+
+}  // namespace
+
+Eigen::VectorXd ObstacleGaps(const Mesh& mesh, const ContactBoundary& boundary,
+                             const ContactFrames& frames, const RigidObstacle& obstacle,
+                             NormalSource source, const Vector& translation) {
+  const int dim = mesh.dim;
+  if (translation.size() != dim || !translation.allFinite())
+    throw std::invalid_argument("the obstacle translation must be " + std::to_string(dim) +
+                                " finite numbers [m], got " + std::to_string(translation.size()) +
+                                (translation.allFinite() ? "" : " with a NaN or inf"));
+  Eigen::VectorXd gaps(static_cast<Eigen::Index>(frames.nodes.size()));
+  for (size_t c = 0; c < frames.nodes.size(); ++c) {
+    const int node = frames.nodes[c].node;
+    const Vector X = mesh.nodes.col(node);
+    const ObstacleQuery q = obstacle.Query(X - translation);  // the moved obstacle at X
+    if (source == NormalSource::kObstacle) {
+      gaps(static_cast<Eigen::Index>(c)) = q.gap;
+      continue;
+    }
+    const double cosine = BodyNormal(dim, boundary, frames.boundary_index[c]).dot(TowardsObstacle(dim, q));
+    if (!(cosine > 0.0))
+      throw std::invalid_argument("at contact node " + std::to_string(node) +
+                                  " the body normal points away from the moved obstacle; use the "
+                                  "obstacle normal (obstacle.normal_source = \"obstacle\")");
+    gaps(static_cast<Eigen::Index>(c)) = q.gap / cosine;
+  }
+  return gaps;
+}
+
 ContactFrames MakeContactFrames(const Mesh& mesh, const ContactBoundary& boundary,
                                 const DofMap& dofs, const RigidObstacle& obstacle,
                                 NormalSource source, double allowed_initial_penetration) {
@@ -48,14 +90,12 @@ ContactFrames MakeContactFrames(const Mesh& mesh, const ContactBoundary& boundar
     ContactNode c;
     c.node = node;
     for (int a = 0; a < dim; ++a) c.dofs[a] = dofs.FreeIndex(dim * node + a);
-    const Eigen::Vector3d towards_obstacle =
-        -Eigen::Vector3d(q.normal(0), q.normal(1), dim == 3 ? q.normal(2) : 0.0);
+    const Eigen::Vector3d towards_obstacle = TowardsObstacle(dim, q);
     if (source == NormalSource::kObstacle) {
       c.normal = towards_obstacle;
       c.gap = q.gap;
     } else {
-      const Eigen::Matrix<double, Eigen::Dynamic, 1> nb = boundary.normals.col(k);
-      c.normal = Eigen::Vector3d(nb(0), nb(1), dim == 3 ? nb(2) : 0.0);
+      c.normal = BodyNormal(dim, boundary, k);
       const double cosine = c.normal.dot(towards_obstacle);
       if (!(cosine > 0.0)) {
         std::ostringstream msg;

@@ -190,6 +190,18 @@ ContactSystem::ContactSystem(int dim, const Eigen::SparseMatrix<double>& S,
   Update(Eigen::VectorXd::Zero(n_), Eigen::VectorXd::Zero(n_), Eigen::VectorXd());
 }
 
+void ContactSystem::SetGaps(const Eigen::VectorXd& gaps) {
+  const std::string who = "contact::ContactSystem::SetGaps: ";
+  if (gaps.size() != static_cast<Eigen::Index>(nodes_.size()))
+    throw std::invalid_argument(who + "one gap per contact node (" + std::to_string(nodes_.size()) +
+                                ") is needed, got " + std::to_string(gaps.size()));
+  for (size_t c = 0; c < nodes_.size(); ++c) {
+    const double s = gaps(static_cast<Eigen::Index>(c));
+    if (!std::isfinite(s)) throw std::invalid_argument(who + NodeName(c, nodes_[c]) + ": gap is not finite");
+    nodes_[c].gap = s;
+  }
+}
+
 void ContactSystem::Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
                            const Eigen::VectorXd& tresca_bound) {
   const char* who = "contact::ContactSystem::Update: ";

@@ -1,7 +1,9 @@
-// The central-difference time integrator (contact/dynamics.hpp). The step methods live
-// behind internal::StepAlgorithm (step/step_method.hpp, one file each), the critical step in
-// critical_time_step.cpp, the accuracy measures in step_accuracy.cpp and the energy
-// bookkeeping in energy_balance.cpp; this file holds the time loop.
+// The central-difference time integrator (contact/dynamics.hpp, contact/simulation.hpp).
+// The step methods live behind internal::StepAlgorithm (step/step_method.hpp, one file each),
+// the critical step in critical_time_step.cpp, the accuracy measures in step_accuracy.cpp and
+// the energy bookkeeping in energy_balance.cpp; this file holds the step of the time loop
+// (CentralDifferences), Simulation around it and RunDynamics as a loop over Simulation::Step.
+// The scene constructor of Simulation is in scene/scene_simulation.cpp.
 #include "contact/dynamics.hpp"
 
 #include <algorithm>
@@ -12,6 +14,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "contact/simulation.hpp"
 #include "contact/static_contact.hpp"
 #include "critical_time_step.hpp"
 #include "energy_balance.hpp"
@@ -157,8 +160,8 @@ bool SetInitialState(const DynamicModel& model, const DynamicOptions& options,
   return true;
 }
 
-// The time loop of RunDynamics: for k = 0, 1, ... load and q, scales, solve, accuracy,
-// energy, record, advance, guards.
+// One step of the time loop, k -> k+1: load and q, scales, solve, accuracy, energy,
+// record, advance, guards. Between steps the load and the gaps s_c may change.
 class CentralDifferences {
  public:
   CentralDifferences(const DynamicModel& model, const DynamicOptions& options,
@@ -167,44 +170,39 @@ class CentralDifferences {
         m_max_(internal::MaxAbsEntry(model.M)),
         force_scale_(m_max_ / (dt_ * dt_)),
         method_(internal::MakeStepAlgorithm(model, options, mass, m_max_)),
-        energy_(state->u, state->u_previous, state->Ku, state->Mdu_previous, dt_) {
+        energy_(state->u, state->u_previous, state->Ku, state->Mdu_previous, dt_),
+        load_(model.load), nodes_(model.contact_nodes) {
     // The frictionless reference of compare_with_ipopt, next to any other step method.
     if (options.compare_with_ipopt && options.step_method != StepMethod::kIpopt)
       reference_ = std::make_unique<internal::IpoptQp>(model, m_max_, options.ncp.tolerance);
     summary->step_method = internal::ResolveStepMethod(model, options);
-    gap0_.resize(static_cast<Eigen::Index>(model.contact_nodes.size()));
-    for (size_t c = 0; c < model.contact_nodes.size(); ++c)
-      gap0_(static_cast<Eigen::Index>(c)) = model.contact_nodes[c].gap;
+    gap0_.resize(static_cast<Eigen::Index>(nodes_.size()));
+    for (size_t c = 0; c < nodes_.size(); ++c) gap0_(static_cast<Eigen::Index>(c)) = nodes_[c].gap;
   }
 
-  /// Runs every step; summary_ gets the records and the status of a run that stopped early.
-  void Run(Clock::time_point start) {
-    const long num_steps = static_cast<long>(NumSteps(options_));
-    summary_.records.reserve(static_cast<size_t>(std::max(0L, num_steps)));
-    double last_progress = 0.0;
-    for (long k = 0; k < num_steps; ++k) {
-      const auto step_start = Clock::now();
-      StepRecord rec;
-      rec.step = static_cast<int>(k + 1);
-      rec.time = options_.start_time + static_cast<double>(k) * dt_ + dt_;
-      const internal::StepScales scales = LoadStep(k);
-      if (!SolveStep(k, scales, &rec)) break;
-      MeasureStep(scales, &rec);
-      rec.seconds = Seconds(step_start);
-      Accumulate(rec);
-      Advance();
-      if (!GuardEnergy(rec)) break;
-      if (StopRequested(rec, num_steps)) break;
-      if (options_.progress && Seconds(start) - last_progress > 1.0) {
-        last_progress = Seconds(start);
-        const double fraction = static_cast<double>(k + 1) / static_cast<double>(num_steps);
-        std::fprintf(stderr, "  step %d / %ld, t = %.6g s, %d Newton iterations, %s\n", rec.step,
-                     num_steps, rec.time, rec.newton_iterations,
-                     internal::ProgressText(fraction, last_progress).c_str());
-      }
-    }
+  /// Step k -> k+1. False (and summary_ says why) if the run must stop here.
+  bool Step(long k) {
+    const auto step_start = Clock::now();
+    StepRecord rec;
+    rec.step = static_cast<int>(k + 1);
+    rec.time = options_.start_time + static_cast<double>(k) * dt_ + dt_;
+    const internal::StepScales scales = LoadStep(k);
+    if (!SolveStep(k, scales, &rec)) return false;
+    MeasureStep(scales, &rec);
+    rec.seconds = Seconds(step_start);
+    Accumulate(rec);
+    Advance();
+    return GuardEnergy(rec) && !StopRequested(rec);
   }
 
+  /// The load from the next step on.
+  void SetLoad(std::function<void(double, Eigen::VectorXd*)> load) { load_ = std::move(load); }
+  /// s_c [m] from the next step on (checked by the caller).
+  void SetGaps(const Eigen::VectorXd& gaps) {
+    gap0_ = gaps;
+    for (size_t c = 0; c < nodes_.size(); ++c) nodes_[c].gap = gaps(static_cast<Eigen::Index>(c));
+  }
+  const Eigen::VectorXd& gaps() const { return gap0_; }
   double force_scale() const { return force_scale_; }
   const StepRecord& first_inaccurate() const { return first_inaccurate_; }
 
@@ -213,7 +211,7 @@ class CentralDifferences {
   // Tresca bounds f_c lambda^k (eq. 70), and the step's scales (dynamics_types.hpp, kAccuracySlack).
   internal::StepScales LoadStep(long k) {
     State& s = state_;
-    model_.load(options_.start_time + static_cast<double>(k) * dt_, &s.f);
+    load_(options_.start_time + static_cast<double>(k) * dt_, &s.f);
     s.Q = s.Ku - s.f - s.Mdu_previous / (dt_ * dt_);
     s.q = s.Q / force_scale_;
     if (options_.friction_coefficient > 0.0)
@@ -221,14 +219,14 @@ class CentralDifferences {
     else
       s.bound.resize(0);
     s.Mdu = s.u - s.u_previous;  // (du of the previous step, as a temporary)
-    return internal::ComputeStepScales(s.f, s.Ku, s.contact_force_max, s.Mdu, model_.contact_nodes,
+    return internal::ComputeStepScales(s.f, s.Ku, s.contact_force_max, s.Mdu, nodes_,
                                        s.u, m_max_, dt_);
   }
 
   // The step method, and the Ipopt reference. False (and the summary says why) on failure.
   bool SolveStep(long k, const internal::StepScales& scales, StepRecord* rec) {
     State& s = state_;
-    const internal::StepData data{s.q, s.u, s.bound, s.du, scales, force_scale_};
+    const internal::StepData data{s.q, s.u, s.bound, s.du, scales, force_scale_, gap0_};
     const internal::StepOutcome outcome = method_->Solve(data, &s.contact);
     rec->solve_seconds = outcome.solve_seconds;
     rec->solver_status = outcome.status;
@@ -273,10 +271,10 @@ class CentralDifferences {
     internal::SymmetricMultiply(model_.K, s.u_next, &s.Ku_next);
     s.r = s.Mdu / (dt_ * dt_) + s.Q;
     internal::SetAskedAccuracy(options_.ncp.tolerance, scales, s.Q, s.Mdu, dt_, s.u_next, gap0_, rec);
-    internal::MeasureStepAccuracy(model_.dim, model_.contact_nodes, s.r, s.contact, force_scale_,
+    internal::MeasureStepAccuracy(model_.dim, nodes_, s.r, s.contact, force_scale_,
                                   s.u_next, s.bound, &s.residual, rec);
     s.contact_force_max = (s.r - s.residual).lpNorm<Eigen::Infinity>();
-    energy_.AddStepWork(model_.dim, model_.contact_nodes, s.f, s.r, s.u_next, s.u_previous);
+    energy_.AddStepWork(model_.dim, nodes_, s.f, s.r, s.u_next, s.u_previous);
     energy_.Record(s.du, s.Mdu, s.u, s.u_next, s.Ku_next, dt_, rec);
     s.lambda_next = force_scale_ * s.contact.normal_force;
     rec->normal_force_sum = s.lambda_next.sum();
@@ -312,8 +310,10 @@ class CentralDifferences {
   }
 
   // DynamicOptions::stop_requested, read once a step is finished and recorded.
-  bool StopRequested(const StepRecord& rec, long num_steps) {
-    if (!options_.stop_requested || !options_.stop_requested->load()) return false;
+  bool StopRequested(const StepRecord& rec) {
+    const long num_steps = static_cast<long>(NumSteps(options_));
+    if (!options_.stop_requested || !options_.stop_requested->load() || rec.step >= num_steps)
+      return false;
     summary_.status = DynamicStatus::kInterrupted;
     char buffer[200];
     std::snprintf(buffer, sizeof buffer, "interrupted at step %d (t = %.9g s) of %ld", rec.step, rec.time,
@@ -352,7 +352,9 @@ class CentralDifferences {
   std::unique_ptr<internal::StepAlgorithm> method_;
   std::unique_ptr<internal::IpoptQp> reference_;
   internal::EnergyBalance energy_;
-  Eigen::VectorXd gap0_;  // s_c [m]
+  std::function<void(double, Eigen::VectorXd*)> load_;  // f(t) [N] (DynamicModel::load at first)
+  std::vector<ContactNode> nodes_;  // the model's, with the current gaps s_c
+  Eigen::VectorXd gap0_;            // s_c [m]
   StepRecord first_inaccurate_;
 };
 
@@ -400,21 +402,180 @@ const char* ToString(DynamicStatus s) {
   return "unknown";
 }
 
-DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& options) {
-  const auto start = Clock::now();
-  Validate(model, options);
-  DynamicSummary summary;
-  internal::MassInverse mass(model.M, kWho);  // M^-1, once per run
-  State state;
-  if (CheckCriticalStep(model, options, &mass, &summary) &&
-      SetInitialState(model, options, &mass, &state, &summary)) {
-    CentralDifferences integrator(model, options, &mass, &state, &summary);
-    integrator.Run(start);
-    SetFinalStatus(integrator.first_inaccurate(), &summary);
-    summary.u = state.u;
+const char* ToString(SimulationState s) {
+  switch (s) {
+    case SimulationState::kRunning: return "running";
+    case SimulationState::kFinished: return "finished";
+    case SimulationState::kFailed: return "failed";
   }
-  summary.seconds = Seconds(start);
-  return summary;
+  return "unknown";
+}
+
+// The integrator and everything it reads between steps (simulation.hpp lists the state).
+struct Simulation::Impl {
+  Impl(const DynamicModel& model_in, DynamicOptions options_in)
+      : start(Clock::now()), model((Validate(model_in, options_in), model_in)),
+        options(std::move(options_in)), mass(model.M, kWho),
+        num_steps(static_cast<long>(NumSteps(options))) {
+    if (CheckCriticalStep(model, options, &mass, &summary) &&
+        SetInitialState(model, options, &mass, &state, &summary)) {
+      summary.records.reserve(static_cast<size_t>(std::max(0L, num_steps)));
+      integrator = std::make_unique<CentralDifferences>(model, options, &mass, &state, &summary);
+      summary.u = state.u;
+      summary.message = "running: 0 of " + std::to_string(num_steps) + " steps";
+      if (num_steps <= 0) Finish();
+    } else {
+      run_state = SimulationState::kFailed;
+    }
+    summary.seconds = Seconds(start);
+  }
+
+  // The status of a run that reached end_time.
+  void Finish() {
+    SetFinalStatus(integrator->first_inaccurate(), &summary);
+    run_state = SimulationState::kFinished;
+  }
+
+  // One step and the progress line; the state after it.
+  void Step() {
+    const bool ok = integrator->Step(k);
+    k = static_cast<long>(summary.records.size());  // (the energy guard stops after its step)
+    if (!ok) {
+      run_state = SimulationState::kFailed;
+      return;
+    }
+    if (k >= num_steps) Finish();
+    if (options.progress && Seconds(start) - last_progress > 1.0) {
+      last_progress = Seconds(start);
+      const StepRecord& rec = summary.records.back();
+      const double fraction = static_cast<double>(k) / static_cast<double>(num_steps);
+      std::fprintf(stderr, "  step %d / %ld, t = %.6g s, %d Newton iterations, %s\n", rec.step,
+                   num_steps, rec.time, rec.newton_iterations,
+                   internal::ProgressText(fraction, last_progress).c_str());
+    }
+  }
+
+  const Clock::time_point start;
+  const DynamicModel& model;
+  const DynamicOptions options;
+  internal::MassInverse mass;  // M^-1, once per run
+  State state;
+  const long num_steps;  // from start_time to end_time
+  DynamicSummary summary;
+  std::unique_ptr<CentralDifferences> integrator;  // null if the run was refused
+  long k = 0;             // steps taken
+  SimulationState run_state = SimulationState::kRunning;
+  double last_progress = 0.0;  // [s] since start
+};
+
+Simulation::Simulation(const DynamicModel& model, DynamicOptions options)
+    : impl_(std::make_unique<Impl>(model, std::move(options))) {}
+
+Simulation::Simulation(std::shared_ptr<SceneData> scene, const DynamicModel& model,
+                       DynamicOptions options)
+    : scene_(std::move(scene)), impl_(std::make_unique<Impl>(model, std::move(options))) {}
+
+Simulation::~Simulation() = default;
+
+SimulationState Simulation::Step(long n) {
+  if (n < 0) throw std::invalid_argument("contact::Simulation::Step: n must be >= 0, got " + std::to_string(n));
+  Impl& s = *impl_;
+  const auto start = Clock::now();
+  for (long i = 0; i < n && s.run_state == SimulationState::kRunning; ++i) s.Step();
+  if (s.integrator) s.summary.u = s.state.u;
+  if (s.run_state == SimulationState::kRunning)
+    s.summary.message = "running: " + std::to_string(s.k) + " of " + std::to_string(s.num_steps) + " steps";
+  s.summary.seconds += Seconds(start);
+  return s.run_state;
+}
+
+SimulationState Simulation::state() const { return impl_->run_state; }
+double Simulation::time() const {  // (the last record's, to the bit)
+  return impl_->k > 0 ? impl_->summary.records.back().time : impl_->options.start_time;
+}
+int Simulation::step_index() const { return static_cast<int>(impl_->k); }
+int Simulation::num_steps() const { return static_cast<int>(impl_->num_steps); }
+const DynamicSummary& Simulation::summary() const { return impl_->summary; }
+const std::vector<StepRecord>& Simulation::records() const { return impl_->summary.records; }
+const DynamicModel& Simulation::model() const { return impl_->model; }
+const DynamicOptions& Simulation::options() const { return impl_->options; }
+
+const Eigen::VectorXd& Simulation::displacement() const {
+  if (!impl_->integrator)
+    throw std::logic_error("contact::Simulation: no state (the run was refused: " + impl_->summary.message + ")");
+  return impl_->state.u;
+}
+
+Eigen::VectorXd Simulation::velocity() const {
+  return (displacement() - impl_->state.u_previous) / impl_->options.dt;
+}
+
+ContactNodeStates Simulation::contact() const {
+  const Impl& s = *impl_;
+  const Eigen::VectorXd& u = displacement();
+  const auto N = static_cast<Eigen::Index>(s.model.contact_nodes.size());
+  const int dim = s.model.dim;
+  ContactNodeStates out;
+  out.state.resize(static_cast<size_t>(N));
+  const ContactSystem::Result& c = s.state.contact;
+  if (s.k > 0) {  // the last step's result
+    const double F = s.integrator->force_scale();
+    const StepRecord& rec = s.summary.records.back();
+    out.normal_force = F * c.normal_force;
+    out.friction_force = F * c.tangent_force;
+    out.gap = c.gap;
+    for (Eigen::Index i = 0; i < N; ++i)
+      out.state[static_cast<size_t>(i)] = ClassifyContact(out.normal_force(i), c.slip.col(i).norm(),
+                                                          rec.force_accuracy, rec.displacement_accuracy);
+    return out;
+  }
+  // The initial state: gaps of u^0, the static equilibrium's normal forces (frictionless),
+  // unknown (NaN) forces of a prescribed start.
+  const bool known = s.options.initial_state == InitialState::kStaticEquilibrium;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  out.normal_force = known ? s.state.lambda : Eigen::VectorXd::Constant(N, nan);
+  out.friction_force = Eigen::MatrixXd::Constant(dim - 1, N, known ? 0.0 : nan);
+  out.gap.resize(N);
+  const Eigen::VectorXd& gaps = s.integrator->gaps();
+  for (Eigen::Index i = 0; i < N; ++i) {
+    const ContactNode& node = s.model.contact_nodes[static_cast<size_t>(i)];
+    double un = 0.0;
+    for (int a = 0; a < dim; ++a)
+      if (node.dofs[a] >= 0) un += node.normal(a) * u(node.dofs[a]);
+    out.gap(i) = gaps(i) - un;
+    out.state[static_cast<size_t>(i)] = ClassifyContact(out.normal_force(i), 0.0, 0.0, 0.0);
+  }
+  return out;
+}
+
+void Simulation::SetLoad(std::function<void(double, Eigen::VectorXd*)> load) {
+  if (!load) throw std::invalid_argument("contact::Simulation::SetLoad: the load function is not set");
+  if (!impl_->integrator) return;
+  impl_->integrator->SetLoad(std::move(load));
+}
+
+void Simulation::SetContactGaps(const Eigen::VectorXd& gaps) {
+  const auto N = static_cast<Eigen::Index>(impl_->model.contact_nodes.size());
+  if (gaps.size() != N)
+    throw std::invalid_argument("contact::Simulation::SetContactGaps: one gap per contact node (" +
+                                std::to_string(N) + ") is needed, got " + std::to_string(gaps.size()));
+  for (Eigen::Index c = 0; c < N; ++c)
+    if (!std::isfinite(gaps(c)))
+      throw std::invalid_argument("contact::Simulation::SetContactGaps: the gap of contact node " +
+                                  std::to_string(c) + " is not finite [m]");
+  if (impl_->integrator) impl_->integrator->SetGaps(gaps);
+}
+
+const Eigen::VectorXd& Simulation::contact_gaps() const {
+  if (!impl_->integrator)
+    throw std::logic_error("contact::Simulation: no state (the run was refused: " + impl_->summary.message + ")");
+  return impl_->integrator->gaps();
+}
+
+DynamicSummary RunDynamics(const DynamicModel& model, const DynamicOptions& options) {
+  Simulation simulation(model, options);
+  simulation.Step(std::numeric_limits<long>::max());
+  return std::move(simulation.impl_->summary);
 }
 
 }  // namespace contact

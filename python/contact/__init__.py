@@ -3,6 +3,10 @@
     result = contact.run(contact.example_path("thesis/friction_2d_flat.toml"), progress=True)
     result.times, result.records["kinetic_energy"], result.normal_force[-1], result.nodes
 
+    sim = contact.Simulation(contact.example_path("scenes/block_drop_2d.toml"))
+    while sim.step(10) == "running":  # look at sim.contact, change the loads, move the obstacle
+        sim.set_body_force([20000.0 if sim.time < 0.01 else 0.0, -76518.0])  # [N/m^3]
+
 A scene is a TOML file (keys and units: examples/scenes/README.md) or the same content as a
 nested dict (``scene_from_dict``).  ``run`` writes no files: it returns NumPy arrays.
 Units: s, m, N, Pa, J.  A bad scene raises ValueError (contact.SceneError) naming the key.
@@ -21,7 +25,7 @@ from ._contact import STEP_FIELDS, SUMMARY_FIELDS, Scene, SceneError
 from . import _contact
 from ncp import _did_you_mean  # one suggestion rule for both packages
 
-__all__ = ["load_scene", "scene_from_dict", "run", "example_path", "Result", "Scene",
+__all__ = ["load_scene", "scene_from_dict", "run", "Simulation", "example_path", "Result", "Scene",
            "SceneError", "STEP_FIELDS", "SUMMARY_FIELDS", "OVERRIDES"]
 
 #: Keyword overrides of ``load_scene`` and ``run`` -> scene keys (contact-sim's --dt, ...).
@@ -248,6 +252,109 @@ def _progress_bar(stream=None, width=30, interval_s=0.2, start_time=0.0):
     return draw
 
 
+def _scene_of(scene, base_dir, overrides, who, warn=True):
+    """A Scene from a Scene, a path or a dict (with the keyword overrides); its warnings
+    (Scene.warnings: a stress time after the end, end_time < dt) as UserWarnings."""
+    if isinstance(scene, dict):
+        scene = scene_from_dict(scene, base_dir, **overrides)
+    elif isinstance(scene, (str, os.PathLike)):
+        scene = load_scene(scene, **overrides)
+    elif not isinstance(scene, Scene):
+        raise ValueError(f"{who}: scene must be a Scene, a path or a dict, got {type(scene).__name__}")
+    elif overrides:
+        raise ValueError(f"{who}: overrides need a path or a dict; set a Scene's dt, end_time "
+                         "or tolerance directly")
+    for message in scene.warnings if warn else ():
+        _warnings.warn(f"{who}: {message}", stacklevel=3)
+    return scene
+
+
+class Simulation:
+    """A scene integrated one step at a time (the C++ contact::Simulation): step, look at
+    the state, change the body force or move the obstacle, step again.  ``contact.run`` is
+    this loop to the end, so the numbers are the same.
+
+        sim = contact.Simulation(contact.example_path("scenes/block_drop_2d.toml"))
+        sim.step(100)                     # "running", "finished" or "failed"
+        sim.time, sim.displacement, sim.contact["normal_force"]
+        sim.set_body_force([0.0, 0.0])    # [N/m^3], from the next step on
+        sim.move_obstacle([0.0, 1e-3])    # [m] from the scene's position (absolute)
+
+    scene: a Scene, a path or a dict, with the overrides of ``run`` (dt, end_time, ...).
+    Units: s, m, N, N/m^3.  Properties (NumPy arrays, new on every access):
+
+    time [s], step_index, num_steps, dt [s], end_time [s], state, completed
+    displacement (nodes, dim) [m]: u^k of every node
+    velocity (nodes, dim) [m/s]: (u^k - u^{k-1}) / dt, the last step's mean velocity
+    contact: {"normal_force" (C,) [N], "friction_force" (C, dim-1) [N] along t1 (, t2),
+              "gap" (C,) [m], "state" (C,) 0 open, 1 stick, 2 slip} - after the last
+              step; before the first, the initial state (NaN forces for a prescribed start)
+    contact_gaps (C,) [m]: s_c, the gaps at u = 0 for the obstacle where it is now
+    summary: dict as Result.summary (status "not-run" until the end), records: {name: (steps,)}
+    body_force (dim,) [N/m^3], obstacle_translation (dim,) [m]
+    """
+
+    def __init__(self, scene, base_dir=".", **overrides):
+        scene = _scene_of(scene, base_dir, overrides, "contact.Simulation")
+        self._scene = scene
+        self._core = _contact.Simulation(scene)
+
+    def step(self, n=1, progress=None):
+        """Takes up to n steps (an int >= 0), stopping at end_time or on a failure.  Returns
+        the state: "running", "finished" (summary["status"] says completed or
+        accuracy-not-reached) or "failed" (summary["message"] says why).  progress: a
+        callable(step, time, end_time) called after every step."""
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)):
+            raise ValueError(f"contact.Simulation.step: n must be an int >= 0, got {n!r}")
+        if n < 0:
+            raise ValueError(f"contact.Simulation.step: n must be >= 0, got {n}")
+        return self._core.step(int(n), progress)
+
+    def set_body_force(self, body_force):
+        """The body force density [N/m^3] (dim components, finite; gravity: rho g) from the
+        next step on, with the scene's traction and load history."""
+        self._core.set_body_force(_finite_vector(body_force, "body force"))
+
+    def move_obstacle(self, translation):
+        """Moves the obstacle rigidly to `translation` [m] (dim components) from its position
+        in the scene - absolute, not an increment.  The gaps s_c are recomputed from the moved
+        obstacle; the contact frames (normals) are kept (small displacements)."""
+        self._core.move_obstacle(_finite_vector(translation, "obstacle translation"))
+
+    @property
+    def completed(self):
+        """True once end_time is reached with every step accurate (summary status completed)."""
+        return self._core.summary["status"] == "completed"
+
+    def result(self):
+        """The steps so far as a contact.Result (snapshots only at the stress times and the end
+        when stepped by hand; ``run`` sets what it collects)."""
+        return Result(self._core.result())
+
+    def __getattr__(self, name):  # the core's read-only properties
+        if name in ("time", "step_index", "num_steps", "dt", "end_time", "dim", "state",
+                    "displacement", "velocity", "contact", "contact_gaps", "summary",
+                    "body_force", "obstacle_translation"):
+            return getattr(self._core, name)
+        if name == "records":
+            return _Records(self._core.records)
+        raise AttributeError(f"contact.Simulation has no {name!r}")
+
+    def __repr__(self):
+        return (f"<contact.Simulation '{self._scene.name}' {self.state}: step {self.step_index} of "
+                f"{self.num_steps}, t = {self.time:.6g} s>")
+
+
+def _finite_vector(value, what):
+    """A float64 vector from value, refused (ValueError naming what) if it has a NaN or inf."""
+    a = np.asarray(value, dtype=float)
+    if a.ndim != 1:
+        raise ValueError(f"contact.Simulation: the {what} must be a vector, got shape {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"contact.Simulation: the {what} must be finite, got {a.tolist()}")
+    return a
+
+
 def run(scene, every=0, contact_history=True, progress=None, base_dir=".", **overrides):
     """Runs a scene (a Scene, a path to a scene file, or a dict) and returns a Result.
 
@@ -257,20 +364,16 @@ def run(scene, every=0, contact_history=True, progress=None, base_dir=".", **ove
     progress: True for a text bar on stderr (percent, elapsed time, ETA), or a
     callable(step, time, end_time) called after every step.  overrides (with a path or a
     dict): dt, end_time, friction, tolerance, solver, step, friction_formulation, checked
-    like the scene file's values.  result.records holds the columns of steps.csv."""
-    if isinstance(scene, dict):
-        scene = scene_from_dict(scene, base_dir, **overrides)
-    elif isinstance(scene, (str, os.PathLike)):
-        scene = load_scene(scene, **overrides)
-    elif not isinstance(scene, Scene):
-        raise ValueError(f"contact.run: scene must be a Scene, a path or a dict, got {type(scene).__name__}")
-    elif overrides:
-        raise ValueError("contact.run: overrides need a path or a dict; set a Scene's dt, end_time "
-                         "or tolerance directly")
-    for message in scene.warnings:
-        _warnings.warn(f"contact.run: {message}", stacklevel=2)
+    like the scene file's values.  result.records holds the columns of steps.csv.
+    The loop of a Simulation to the end: contact.Simulation steps the same integrator."""
+    scene = _scene_of(scene, base_dir, overrides, "contact.run", warn=False)  # Simulation warns
+    if isinstance(every, bool) or not isinstance(every, (int, np.integer)) or every < 0:
+        raise ValueError(f"contact.run: every must be >= 0 (an int), got {every!r}")
     if progress is True:
         progress = _progress_bar(start_time=scene.start_time)
     elif progress is False:
         progress = None
-    return Result(_contact.run(scene, int(every), bool(contact_history), progress))
+    sim = Simulation(scene)
+    sim._core.record(int(every), bool(contact_history))
+    sim._core.step(sys.maxsize, progress)
+    return sim.result()

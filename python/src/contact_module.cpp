@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "contact/scene.hpp"
+#include "contact/simulation.hpp"
 #include "enum_binding.hpp"
 
 namespace py = pybind11;
@@ -177,82 +178,133 @@ void PutContactArrays(const std::vector<Snapshot>& snaps, Eigen::Index num_conta
   })[py::make_tuple(py::ellipsis(), 0)];
 }
 
-/// Runs the scene's time loop (no files are written) and returns its results:
-/// snapshots at scene.stress_times, at every `every`-th step (0: none) and at the end;
-/// with contact_history the contact state of every step; progress(step, time, end_time)
-/// after every step if given.
-py::dict RunScene(const contact::Scene& scene, int every, bool contact_history,
-                  const py::object& progress) {
-  if (every < 0)
-    throw std::invalid_argument("contact.run: every must be >= 0, got " +
-                                std::to_string(every));
-  contact::SceneModel built = contact::BuildSceneModel(scene);
-  const contact::Mesh& mesh = built.body->mesh();
-  const int dim = mesh.dim;
-  const auto& nodes = built.frames.nodes;
-  const Eigen::Index num_contact = static_cast<Eigen::Index>(nodes.size());
-  contact::DynamicOptions& options = built.options;
-  const double dt = options.dt;
+/// The summary as a dict: the scalar fields, status, message and the step method that ran.
+py::dict SummaryDict(const DynamicSummary& summary) {
+  py::dict sum = SummaryColumns().Scalars(summary);
+  sum["status"] = std::string(contact::ToString(summary.status));
+  sum["message"] = summary.message;
+  sum["step_method"] = std::string(contact::ToString(summary.step_method));  // auto resolved
+  return sum;
+}
 
-  std::vector<double> pending = scene.stress_times;
-  std::sort(pending.begin(), pending.end());
-  std::vector<Snapshot> snaps, history;
-  options.on_step = [&](const StepRecord& r, const Eigen::VectorXd& u,
-                        const contact::ContactSystem::Result& c, double force_scale) {
-    // Same output rule as contact::RunScene: a stress time t is written at the first step
-    // with time >= t - dt/2, and the last step always.
-    const bool last = r.time >= options.end_time - 1e-9 * dt;
+/// (rows x cols) array of a column-major (cols x rows) block, e.g. NumNodes x dim of a
+/// node-major dof vector.
+Eigen::MatrixXd NodeRows(const Eigen::VectorXd& v, int dim) {
+  return Eigen::Map<const Eigen::MatrixXd>(v.data(), dim, v.size() / dim).transpose();
+}
+
+/// contact.Simulation's core: a scene's contact::Simulation and what contact.run collects
+/// from it after every step (no files are written): snapshots at scene.stress_times, at
+/// every `every`-th step (0: none) and at the end; with contact_history the contact state
+/// of every step.
+class SceneStepper {
+ public:
+  explicit SceneStepper(const contact::Scene& scene)
+      : sim_(scene), built_(sim_.scene_model()), pending_(scene.stress_times) {
+    std::sort(pending_.begin(), pending_.end());
+  }
+
+  void Record(int every, bool contact_history) {
+    if (every < 0)
+      throw std::invalid_argument("contact.run: every must be >= 0, got " + std::to_string(every));
+    every_ = every;
+    contact_history_ = contact_history;
+  }
+
+  /// Up to n steps; progress(step, time, end_time) after each if given. Ctrl-C ends it.
+  std::string Step(long n, const py::object& progress) {
+    if (n < 0) throw std::invalid_argument("contact.Simulation.step: n must be >= 0, got " + std::to_string(n));
+    for (long i = 0; i < n && sim_.state() == contact::SimulationState::kRunning; ++i) {
+      const int before = sim_.step_index();
+      sim_.Step(1);
+      if (sim_.step_index() == before) break;  // failed before the step was taken
+      Collect();
+      if (!progress.is_none()) progress(sim_.step_index(), sim_.time(), sim_.options().end_time);  // as the record's
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    }
+    return contact::ToString(sim_.state());
+  }
+
+  contact::Simulation& sim() { return sim_; }
+  const contact::Simulation& sim() const { return sim_; }
+  int dim() const { return built_.body->mesh().dim; }
+
+  /// {normal_force (C,) [N], friction_force (C, dim-1) [N], gap (C,) [m], state (C,) int:
+  /// 0 open, 1 stick, 2 slip} of the current state.
+  py::dict Contact() const {
+    const contact::ContactNodeStates c = sim_.contact();
+    Eigen::VectorXi state(static_cast<Eigen::Index>(c.state.size()));
+    for (size_t i = 0; i < c.state.size(); ++i) state(static_cast<Eigen::Index>(i)) = static_cast<int>(c.state[i]);
+    py::dict d;
+    d["normal_force"] = c.normal_force;
+    d["friction_force"] = Eigen::MatrixXd(c.friction_force.transpose());
+    d["gap"] = c.gap;
+    d["state"] = state;
+    return d;
+  }
+
+  /// The results of the steps so far, as contact.run returns them.
+  py::dict Result() const;
+
+ private:
+  /// After a step: same output rule as contact::RunScene - a stress time t is written at
+  /// the first step with time >= t - dt/2, and the last step always.
+  void Collect() {
+    const StepRecord& r = sim_.records().back();
+    const double dt = sim_.options().dt;
+    const bool last = r.time >= sim_.options().end_time - 1e-9 * dt;
     bool at_time = false;
-    while (!pending.empty() && r.time >= pending.front() - 0.5 * dt) {
-      pending.erase(pending.begin());
+    while (!pending_.empty() && r.time >= pending_.front() - 0.5 * dt) {
+      pending_.erase(pending_.begin());
       at_time = true;
     }
+    const contact::ContactNodeStates c = sim_.contact();
     Snapshot s;
     s.time = r.time;
-    s.normal_force = force_scale * c.normal_force;
-    s.tangent_force = force_scale * c.tangent_force.transpose();
+    s.normal_force = c.normal_force;
+    s.tangent_force = c.friction_force.transpose();
     s.gap = c.gap;
-    if (contact_history) history.push_back(s);
-    if (at_time || last || (every > 0 && r.step % every == 0)) {
-      const Eigen::VectorXd full = built.dofs.Expand(u);
-      s.displacement =
-          Eigen::Map<const Eigen::MatrixXd>(full.data(), dim, mesh.NumNodes())
-              .transpose();
-      snaps.push_back(std::move(s));
+    if (contact_history_) history_.push_back(s);
+    if (at_time || last || (every_ > 0 && r.step % every_ == 0)) {
+      s.displacement = NodeRows(sim_.nodal_displacement(), dim());
+      snaps_.push_back(std::move(s));
     }
-    if (!progress.is_none()) progress(r.step, r.time, options.end_time);
-    if (PyErr_CheckSignals() != 0)
-      throw py::error_already_set();  // Ctrl-C ends a long run
-  };
-  const DynamicSummary summary = contact::RunDynamics(built.model, options);
+  }
 
+  contact::Simulation sim_;
+  const contact::SceneModel& built_;
+  std::vector<double> pending_;  // stress times not reached yet, ascending
+  int every_ = 0;
+  bool contact_history_ = false;
+  std::vector<Snapshot> snaps_, history_;
+};
+
+py::dict SceneStepper::Result() const {
+  const contact::Mesh& mesh = built_.body->mesh();
+  const auto& nodes = built_.frames.nodes;
+  const Eigen::Index num_contact = static_cast<Eigen::Index>(nodes.size());
+  const DynamicSummary& summary = sim_.summary();
   Eigen::VectorXi contact_node(num_contact);
   Eigen::VectorXd area(num_contact);
-  Eigen::MatrixXd contact_coordinates(num_contact, dim);
+  Eigen::MatrixXd contact_coordinates(num_contact, dim());
   for (Eigen::Index k = 0; k < num_contact; ++k) {
     contact_node(k) = nodes[static_cast<size_t>(k)].node;
     area(k) = nodes[static_cast<size_t>(k)].area;
     contact_coordinates.row(k) = mesh.nodes.col(contact_node(k)).transpose();
   }
-  Eigen::VectorXd times(static_cast<Eigen::Index>(snaps.size()));
-  for (size_t s = 0; s < snaps.size(); ++s)
-    times(static_cast<Eigen::Index>(s)) = snaps[s].time;
+  Eigen::VectorXd times(static_cast<Eigen::Index>(snaps_.size()));
+  for (size_t s = 0; s < snaps_.size(); ++s) times(static_cast<Eigen::Index>(s)) = snaps_[s].time;
 
   py::dict out;
-  py::dict sum = SummaryColumns().Scalars(summary);
-  sum["status"] = std::string(contact::ToString(summary.status));
-  sum["message"] = summary.message;
-  sum["step_method"] = std::string(contact::ToString(summary.step_method));  // auto resolved
-  out["summary"] = sum;
+  out["summary"] = SummaryDict(summary);
   out["records"] = StepColumns().Arrays(summary.records);
   std::vector<std::string> statuses;
   for (const StepRecord& r : summary.records) statuses.push_back(r.solver_status);
   out["solver_status"] = statuses;
   out["output_times"] = times;
-  out["displacement"] = Stack(snaps, mesh.NumNodes(), dim,
-                              [](const Snapshot& s) { return s.displacement; });
-  PutContactArrays(snaps, num_contact, dim, "", &out);
-  if (contact_history) PutContactArrays(history, num_contact, dim, "history_", &out);
+  out["displacement"] = Stack(snaps_, mesh.NumNodes(), dim(), [](const Snapshot& s) { return s.displacement; });
+  PutContactArrays(snaps_, num_contact, dim(), "", &out);
+  if (contact_history_) PutContactArrays(history_, num_contact, dim(), "history_", &out);
   out["contact_node"] = contact_node;
   out["contact_area"] = area;
   out["contact_coordinates"] = contact_coordinates;
@@ -260,8 +312,18 @@ py::dict RunScene(const contact::Scene& scene, int every, bool contact_history,
   out["elements"] = Eigen::MatrixXi(mesh.elements.transpose());
   out["element_type"] = std::string(contact::ToString(mesh.element_type));
   out["final_displacement_free"] = summary.u;
-  out["num_free_dofs"] = built.dofs.NumFreeDofs();
+  out["num_free_dofs"] = built_.dofs.NumFreeDofs();
   return out;
+}
+
+/// A length-dim vector from Python (a sequence or array) [unit], checked.
+Eigen::VectorXd VectorArg(const char* what, const py::object& value, int dim) {
+  py::array_t<double, py::array::c_style | py::array::forcecast> a(value);
+  if (a.ndim() != 1 || a.shape(0) != dim)
+    throw std::invalid_argument(std::string("contact.Simulation: ") + what + " must have " +
+                                std::to_string(dim) + " components, got an array of shape " +
+                                py::repr(a.attr("shape")).cast<std::string>());
+  return Eigen::Map<const Eigen::VectorXd>(a.data(), dim);
 }
 
 }  // namespace
@@ -328,8 +390,36 @@ PYBIND11_MODULE(_contact, m) {
       py::arg("path"), py::arg("overrides") = contact::SceneOverrides{},
       "Reads and validates a scene file; overrides: [(\"time.dt\", \"1e-4\"), ...] as TOML "
       "literals, checked like the file's own values (contact-sim's --dt etc.).");
-  m.def("run", &RunScene, py::arg("scene"), py::arg("every") = 0,
-        py::arg("contact_history") = true, py::arg("progress") = py::none());
+  py::class_<SceneStepper>(m, "Simulation",
+                           "The scene's integrator one step at a time (contact/simulation.hpp); "
+                           "contact.Simulation wraps it.")
+      .def(py::init<const contact::Scene&>(), py::arg("scene"))
+      .def("record", &SceneStepper::Record, py::arg("every"), py::arg("contact_history"))
+      .def("step", &SceneStepper::Step, py::arg("n") = 1, py::arg("progress") = py::none(),
+           "up to n steps; returns the state: running, finished or failed")
+      .def("result", &SceneStepper::Result)
+      .def_property_readonly("state", [](const SceneStepper& s) { return std::string(contact::ToString(s.sim().state())); })
+      .def_property_readonly("time", [](const SceneStepper& s) { return s.sim().time(); })
+      .def_property_readonly("step_index", [](const SceneStepper& s) { return s.sim().step_index(); })
+      .def_property_readonly("num_steps", [](const SceneStepper& s) { return s.sim().num_steps(); })
+      .def_property_readonly("dt", [](const SceneStepper& s) { return s.sim().options().dt; })
+      .def_property_readonly("end_time", [](const SceneStepper& s) { return s.sim().options().end_time; })
+      .def_property_readonly("dim", &SceneStepper::dim)
+      .def_property_readonly("displacement", [](const SceneStepper& s) { return NodeRows(s.sim().nodal_displacement(), s.dim()); })
+      .def_property_readonly("velocity", [](const SceneStepper& s) { return NodeRows(s.sim().nodal_velocity(), s.dim()); })
+      .def_property_readonly("displacement_free", [](const SceneStepper& s) { return s.sim().displacement(); })
+      .def_property_readonly("contact", &SceneStepper::Contact)
+      .def_property_readonly("contact_gaps", [](const SceneStepper& s) { return s.sim().contact_gaps(); })
+      .def_property_readonly("summary", [](const SceneStepper& s) { return SummaryDict(s.sim().summary()); })
+      .def_property_readonly("records", [](const SceneStepper& s) { return StepColumns().Arrays(s.sim().records()); })
+      .def_property_readonly("body_force", [](const SceneStepper& s) { return s.sim().body_force(); })
+      .def_property_readonly("obstacle_translation", [](const SceneStepper& s) { return s.sim().obstacle_translation(); })
+      .def("set_body_force", [](SceneStepper& s, const py::object& b) {
+             s.sim().SetBodyForce(VectorArg("the body force [N/m^3]", b, s.dim()));
+           }, py::arg("body_force"))
+      .def("move_obstacle", [](SceneStepper& s, const py::object& d) {
+             s.sim().MoveObstacle(VectorArg("the obstacle translation [m]", d, s.dim()));
+           }, py::arg("translation"));
   m.attr("STEP_FIELDS") = py::tuple(StepColumns().Arrays({}).attr("keys")());
   m.attr("SUMMARY_FIELDS") =
       py::tuple(SummaryColumns().Scalars(DynamicSummary()).attr("keys")());

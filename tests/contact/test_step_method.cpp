@@ -101,7 +101,10 @@ ContactSystem::Result SolveWith(StepMethod method, ncp::NcpFunction function, co
   internal::MassInverse mass(built.model.M, "test: ");
   const auto algorithm = internal::MakeStepAlgorithm(built.model, options, &mass, s.m_max);
   ContactSystem::Result result;
-  const internal::StepData data{s.q, s.u, s.bound, s.guess, s.scales, s.force_scale};
+  Eigen::VectorXd gaps(static_cast<Eigen::Index>(built.model.contact_nodes.size()));
+  for (size_t c = 0; c < built.model.contact_nodes.size(); ++c)
+    gaps(static_cast<Eigen::Index>(c)) = built.model.contact_nodes[c].gap;
+  const internal::StepData data{s.q, s.u, s.bound, s.guess, s.scales, s.force_scale, gaps};
   const internal::StepOutcome outcome = algorithm->Solve(data, &result);
   CAPTURE(outcome.status);
   REQUIRE(outcome.ok);

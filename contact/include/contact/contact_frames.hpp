@@ -47,4 +47,15 @@ ContactFrames MakeContactFrames(const Mesh& mesh, const ContactBoundary& boundar
                                 NormalSource source,
                                 double allowed_initial_penetration = -1.0);
 
+/// The initial gaps s_c [m] of frames.nodes against `obstacle` translated rigidly by
+/// `translation` [m] (size dim: every obstacle point y moves to y + translation), computed
+/// as MakeContactFrames computes them with the same `boundary` and `source`; the frames'
+/// normals and tangents are kept (the small-displacement setting above). A zero
+/// translation gives the nodes' own gaps. A node may end up inside the obstacle (s_c < 0:
+/// the next steps push it out). Throws std::invalid_argument for a wrong or non-finite
+/// translation, or (kBody) a body normal that points away from the moved obstacle.
+Eigen::VectorXd ObstacleGaps(const Mesh& mesh, const ContactBoundary& boundary,
+                             const ContactFrames& frames, const RigidObstacle& obstacle,
+                             NormalSource source, const Vector& translation);
+
 }  // namespace contact

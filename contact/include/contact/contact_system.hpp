@@ -102,6 +102,10 @@ class ContactSystem final : public ncp::MixedProblem {
   void Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
               const Eigen::VectorXd& tresca_bound);
 
+  /// Replaces the initial gap s_c [m] of every node (one per node, finite), e.g. after the
+  /// obstacle moved; read by the next Update(). Throws std::invalid_argument on bad input.
+  void SetGaps(const Eigen::VectorXd& gaps);
+
   /// The accuracy the solve is asked for, in system units (forces: the units of S x + q;
   /// displacements: those of x). With tol = ncp::Options::tolerance, every force row
   /// (equilibrium, normal reaction, the unit-direction row) is solved

@@ -101,6 +101,12 @@ SceneModel BuildSceneModel(const Scene& scene);
 /// MakeStructuredBoxMesh for millions of dofs.
 SceneModel BuildSceneModel(const Scene& scene, Mesh mesh);
 
+/// The load f(t) [N] on the free dofs of a built scene for the body force `body_force`
+/// [N/m^3] (size dim) with the scene's traction and load history: what BuildSceneModel puts
+/// into model.load for scene.body_force (the 'fixed' group holds its components at 0).
+std::function<void(double, Eigen::VectorXd*)> SceneLoad(const Scene& scene, const SceneModel& built,
+                                                        const Eigen::VectorXd& body_force);
+
 /// What a run produced.
 struct SceneResult {
   DynamicSummary summary;

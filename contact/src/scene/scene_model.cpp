@@ -103,6 +103,13 @@ SceneModel BuildModel(const Scene& scene, Mesh mesh) {
 
 }  // namespace
 
+std::function<void(double, Eigen::VectorXd*)> SceneLoad(const Scene& scene, const SceneModel& built,
+                                                        const Eigen::VectorXd& body_force) {
+  Vector f_full = built.body->BodyForceLoad(body_force);
+  if (scene.traction.size()) f_full += built.body->TractionLoad(scene.traction);
+  return LoadHistoryOf(scene, built.dofs.RestrictVector(f_full));
+}
+
 SceneModel BuildSceneModel(const Scene& scene) {
   return internal::NamingTheScene(scene, [&] {
     return BuildModel(scene, !scene.msh_file.empty() ? ReadGmshMesh(scene.msh_file)

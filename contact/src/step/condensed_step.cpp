@@ -34,6 +34,7 @@ class CondensedStep : public StepAlgorithm {
   }
 
   StepOutcome Solve(const StepData& step, ContactSystem::Result* result) override {
+    system_->SetGaps(step.gap);
     Update(step.q, step.u, step.bound);
     // Forces to tolerance F, displacements to tolerance D (in system units).
     system_->SetResidualScales(step.scales.force / step.force_scale, step.scales.displacement);

@@ -55,7 +55,7 @@ class CoulombFcStep : public StepAlgorithm {
       double normal_motion = 0.0;
       for (int a = 0; a < 3; ++a)
         if (nodes_[c].dofs[a] >= 0) normal_motion += nodes_[c].normal(a) * step.u(nodes_[c].dofs[a]);
-      gap0_(static_cast<Eigen::Index>(c)) = nodes_[c].gap - normal_motion;
+      gap0_(static_cast<Eigen::Index>(c)) = step.gap(static_cast<Eigen::Index>(c)) - normal_motion;
     }
     const bool ok = coulomb_->Solve(x_free_, gap0_, step.scales.force / step.force_scale,
                                    step.scales.displacement, tolerance_, &outcome_);

@@ -43,7 +43,7 @@ class ExplicitStep : public StepAlgorithm {
   /// sizes.)
   StepOutcome Solve(const StepData& step, ContactSystem::Result* result) override {
     const auto start = std::chrono::steady_clock::now();
-    SolveClosedForm(step.q, step.u, step.bound, result);
+    SolveClosedForm(step.q, step.u, step.bound, step.gap, result);
     StepOutcome out;
     out.solve_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out.ok = result->x.allFinite();
@@ -53,7 +53,8 @@ class ExplicitStep : public StepAlgorithm {
 
  private:
   void SolveClosedForm(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
-                       const Eigen::VectorXd& bound, ContactSystem::Result* result) const {
+                       const Eigen::VectorXd& bound, const Eigen::VectorXd& gap,
+                       ContactSystem::Result* result) const {
     const auto N = static_cast<Eigen::Index>(nodes_.size());
     ContactSystem::Result& out = *result;
     out.x = -q.cwiseQuotient(diagonal_);
@@ -76,8 +77,8 @@ class ExplicitStep : public StepAlgorithm {
       // Normal.
       const double qn = local(q, 0), u0n = local(u0, 0);
       double yn = -qn / m, lambda = 0.0;
-      if (node.gap - u0n - yn < 0.0) {
-        yn = node.gap - u0n;
+      if (gap(c) - u0n - yn < 0.0) {
+        yn = gap(c) - u0n;
         lambda = -(m * yn + qn);
       }
       // Tangent: the return map onto |tau| <= g.
@@ -97,7 +98,7 @@ class ExplicitStep : public StepAlgorithm {
         out.x(slots[b]) = v;
       }
       out.normal_force(c) = lambda;
-      out.gap(c) = node.gap - u0n - yn;
+      out.gap(c) = gap(c) - u0n - yn;
       for (int a = 1; a < num_free; ++a) {
         out.tangent_force(a - 1, c) = tau(a - 1);
         out.slip(a - 1, c) = yt(a - 1);

@@ -12,6 +12,7 @@ class FullStep : public StepAlgorithm {
       : system_(model.dim, model.M / m_max, model.contact_nodes), newton_(ncp_options, friction) {}
 
   StepOutcome Solve(const StepData& step, ContactSystem::Result* result) override {
+    system_.SetGaps(step.gap);
     system_.Update(step.q, step.u, step.bound);
     // Forces to tolerance F, displacements to tolerance D (in system units).
     system_.SetResidualScales(step.scales.force / step.force_scale, step.scales.displacement);

@@ -12,9 +12,6 @@ IpoptQp::IpoptQp(const DynamicModel& model, double m_max, double tolerance)
   const RestrictionMaps maps =
       MakeRestrictionMaps(model.dim, static_cast<int>(model.M.rows()), model.contact_nodes);
   G_ = maps.Y * maps.R;
-  gap0_.resize(static_cast<Eigen::Index>(model.contact_nodes.size()));
-  for (size_t c = 0; c < model.contact_nodes.size(); ++c)
-    gap0_(static_cast<Eigen::Index>(c)) = model.contact_nodes[c].gap;
 }
 
 ConvexQpResult IpoptQp::Solve(const StepData& step) const {
@@ -28,7 +25,7 @@ ConvexQpResult IpoptQp::Solve(const StepData& step) const {
   qp_options.dual_infeasibility_tolerance = tolerance_;
   qp_options.constraint_violation_tolerance = tolerance_;
   qp_options.complementarity_tolerance = tolerance_;
-  ConvexQpResult qp = SolveConvexQpIpopt((D / F) * S_, step.q / F, G_, (gap0_ - G_ * step.u) / D,
+  ConvexQpResult qp = SolveConvexQpIpopt((D / F) * S_, step.q / F, G_, (step.gap - G_ * step.u) / D,
                                          step.guess / D, qp_options);
   qp.x *= D;
   qp.multipliers *= F;
@@ -45,6 +42,7 @@ class IpoptStep : public StepAlgorithm {
       : qp_(model, m_max, tolerance), system_(model.dim, model.M / m_max, model.contact_nodes) {}
 
   StepOutcome Solve(const StepData& step, ContactSystem::Result* result) override {
+    system_.SetGaps(step.gap);
     system_.Update(step.q, step.u, step.bound);
     system_.SetResidualScales(step.scales.force / step.force_scale, step.scales.displacement);
     const auto start = std::chrono::steady_clock::now();

@@ -33,6 +33,10 @@ struct StepData {
   const Eigen::VectorXd& guess;  ///< start guess of du [m] (the previous step's increment)
   StepScales scales;             ///< what the step is solved against: tolerance F, D [N], [m]
   double force_scale = 0.0;      ///< m_max / dt^2: system force units -> N
+  /// s_c per contact node [m]: the initial gaps of the step's obstacle position (the
+  /// obstacle may move between steps, contact::Simulation::SetContactGaps); the
+  /// ContactNode::gap of the set-up is not read by Solve.
+  const Eigen::VectorXd& gap;
 };
 
 /// How a step's solve ended.
@@ -100,7 +104,6 @@ class IpoptQp {
  private:
   Eigen::SparseMatrix<double> S_;  // M / m_max
   Eigen::SparseMatrix<double> G_;  // rows n_c' R_c: n_c . du_c
-  Eigen::VectorXd gap0_;           // s_c [m]
   double tolerance_;
 };
 
