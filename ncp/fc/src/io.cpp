@@ -10,11 +10,8 @@
 
 #include "ncp_fc_config.hpp"
 
-#if NCP_FC_HAVE_FCLIB
-#include <hdf5.h>
-extern "C" {  // fclib.h has no C++ guards
-#include <fclib.h>
-}
+#if NCP_FC_HAVE_HDF5
+#include "fclib_hdf5.hpp"
 #endif
 
 namespace ncp::fc {
@@ -194,12 +191,12 @@ FrictionProblem ReadProblem(const std::string& path) {
   return ReadSiconosDat(path);
 }
 
-bool HaveFclib() { return NCP_FC_HAVE_FCLIB != 0; }
+bool HaveFclib() { return NCP_FC_HAVE_HDF5 != 0; }
 
-#if !NCP_FC_HAVE_FCLIB
+#if !NCP_FC_HAVE_HDF5
 
 FrictionProblem ReadFclib(const std::string& path) {
-  throw std::runtime_error("'" + path + "': built without FCLIB (Debian libfclib-dev)");
+  throw std::runtime_error("'" + path + "': built without HDF5 (Debian libhdf5-dev)");
 }
 std::optional<Vector> ReadFclibSolution(const std::string&) { return std::nullopt; }
 
@@ -207,90 +204,57 @@ std::optional<Vector> ReadFclibSolution(const std::string&) { return std::nullop
 
 namespace {
 
-/// fclib_matrix (nz >= 0: triplets with p the columns; nz = -1: CSC; nz = -2: CSR).
-SparseMatrix ToSparse(const fclib_matrix& m) {
-  std::vector<Eigen::Triplet<double>> entries;
-  if (m.nz >= 0) {
-    for (int k = 0; k < m.nz; ++k) entries.emplace_back(m.i[k], m.p[k], m.x[k]);
-  } else {
-    const bool csc = m.nz == -1;
-    const int outer = csc ? m.n : m.m;
-    for (int o = 0; o < outer; ++o)
-      for (int k = m.p[o]; k < m.p[o + 1]; ++k)
-        entries.emplace_back(csc ? m.i[k] : o, csc ? o : m.i[k], m.x[k]);
-  }
-  SparseMatrix A(m.m, m.n);
-  A.setFromTriplets(entries.begin(), entries.end());
-  return A;
-}
-
-Vector ToVector(const double* x, int n) {
-  if (!x) throw std::runtime_error("FCLIB: missing vector");
-  return Eigen::Map<const Vector>(x, n);
-}
-
 /// Global to local: M v = H r + f, u = H' v + w  =>  u = H' M^-1 H r + (H' M^-1 f + w).
-FrictionProblem ReduceGlobal(const fclib_global& g, const std::string& path) {
-  if (g.G && g.G->n > 0)
+FrictionProblem ReduceGlobal(const internal::FclibGlobal& g, const std::string& path) {
+  if (g.G && g.G->cols > 0)
     throw std::runtime_error("'" + path +
                              "': global problem with equality constraints G " +
                              "is not supported");
-  const SparseMatrix M = ToSparse(*g.M), H = ToSparse(*g.H);
+  const SparseMatrix M = g.M.ToSparse(), H = g.H.ToSparse();
   Eigen::SimplicialLDLT<SparseMatrix> ldlt(M);
   if (ldlt.info() != Eigen::Success)
     throw std::runtime_error("'" + path +
                              "': the mass matrix M is not positive definite");
   const Eigen::MatrixXd MinvH = ldlt.solve(Eigen::MatrixXd(H));
-  const Vector Minvf = ldlt.solve(ToVector(g.f, M.rows()));
+  const Vector Minvf = ldlt.solve(g.f);
   FrictionProblem p;
   p.dimension = g.spacedim;
   p.num_contacts = static_cast<int>(H.cols()) / g.spacedim;
   const Eigen::MatrixXd W = Eigen::MatrixXd(H.transpose()) * MinvH;
   p.W = W.sparseView();
-  p.q = H.transpose() * Minvf + ToVector(g.w, H.cols());
-  p.mu = ToVector(g.mu, p.num_contacts);
+  p.q = H.transpose() * Minvf + g.w;
+  p.mu = g.mu;
   return p;
 }
 
-/// Whether the HDF5 file has the top-level group (FCLIB writes "fclib_local" or
-/// "fclib_global").
-bool HasGroup(const std::string& path, const char* group) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // a failure is reported by the caller
-  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (file < 0) throw std::runtime_error("'" + path + "': not a readable HDF5 file");
-  const bool found = H5Lexists(file, group, H5P_DEFAULT) > 0;
-  H5Fclose(file);
-  return found;
+FrictionProblem FromLocal(const internal::FclibLocal& local, const std::string& path) {
+  if (local.R && local.R->rows > 0)
+    throw std::runtime_error("'" + path + "': local problem with constraints R not supported");
+  FrictionProblem p;
+  p.dimension = local.spacedim;
+  p.W = local.W.ToSparse();
+  p.num_contacts = static_cast<int>(p.W.rows()) / local.spacedim;
+  p.q = local.q;
+  p.mu = local.mu;
+  return p;
 }
 
 }  // namespace
 
 FrictionProblem ReadFclib(const std::string& path) {
   FrictionProblem p;
-  const bool is_local = HasGroup(path, "fclib_local");
-  if (fclib_local* local = is_local ? fclib_read_local(path.c_str()) : nullptr) {
-    p.dimension = local->spacedim;
-    p.W = ToSparse(*local->W);
-    p.num_contacts = static_cast<int>(p.W.rows()) / local->spacedim;
-    p.q = ToVector(local->q, p.W.rows());
-    p.mu = ToVector(local->mu, p.num_contacts);
-    const bool has_constraints = local->R && local->R->m > 0;
-    fclib_delete_local(local);
-    if (has_constraints)
-      throw std::runtime_error("'" + path +
-                               "': local problem with constraints R not supported");
-  } else if (fclib_global* global = HasGroup(path, "fclib_global")
-                                        ? fclib_read_global(path.c_str())
-                                        : nullptr) {
-    try {
-      p = ReduceGlobal(*global, path);
-    } catch (...) {
-      fclib_delete_global(global);
-      throw;
-    }
-    fclib_delete_global(global);
-  } else {
-    throw std::runtime_error("'" + path + "': neither an FCLIB local nor global problem");
+  switch (internal::ReadFclibKind(path)) {
+    case internal::FclibKind::kLocal:
+      p = FromLocal(internal::ReadFclibLocal(path), path);
+      break;
+    case internal::FclibKind::kGlobal:
+      p = ReduceGlobal(internal::ReadFclibGlobal(path), path);
+      break;
+    case internal::FclibKind::kGlobalRolling:
+      throw std::runtime_error("'" + path + "': FCLIB global rolling-friction problems " +
+                               "are not supported");
+    case internal::FclibKind::kNone:
+      throw std::runtime_error("'" + path + "': neither an FCLIB local nor global problem");
   }
   p.name = path.substr(path.find_last_of('/') + 1);
   p.Validate();
@@ -298,17 +262,9 @@ FrictionProblem ReadFclib(const std::string& path) {
 }
 
 std::optional<Vector> ReadFclibSolution(const std::string& path) {
-  if (!HasGroup(path, "fclib_local")) return std::nullopt;
-  fclib_local* local = fclib_read_local(path.c_str());
-  if (!local) return std::nullopt;
-  const int m = local->W->m;
-  fclib_delete_local(local);
-  fclib_solution* s = fclib_read_solution(path.c_str());
-  if (!s) return std::nullopt;
-  std::optional<Vector> r;
-  if (s->r) r = Eigen::Map<const Vector>(s->r, m);
-  fclib_delete_solutions(s, 1);
-  return r;
+  const auto solution = internal::ReadFclibSolutionGroup(path);
+  if (!solution) return std::nullopt;
+  return solution->r;
 }
 
 #endif
