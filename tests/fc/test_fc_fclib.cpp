@@ -487,7 +487,8 @@ TEST_CASE("where libfclib exits the process, ours throws", "[fc][fclib]") {
 TEST_CASE("truncated and byte-flipped copies of the data files never end the process",
           "[fc][fclib]") {
   int truncated = 0, flipped_read = 0, flipped_thrown = 0;
-  std::mt19937 random(20261127);
+  // Fixed by default; other copies with --rng-seed N (Catch::rngSeed() is 0 unless given).
+  std::mt19937 random(20261127u + Catch::rngSeed());
   for (const std::string& source : DataHdf5Files()) {
     INFO(source);
     const std::vector<char> bytes = ReadBytes(source);
@@ -523,4 +524,20 @@ TEST_CASE("truncated and byte-flipped copies of the data files never end the pro
   WARN("corrupted copies: " << truncated << " truncated (all threw); byte-flipped: "
                             << flipped_read << " read, " << flipped_thrown << " threw");
   CHECK(flipped_thrown > 0);
+}
+
+TEST_CASE("regression: a corrupted element size is refused, not allocated", "[fc][fclib]") {
+  // Found by flipping bytes of Box_Stacks: byte 56055 (0-based) holds the element size of
+  // /solution/u's float type; 0xDA there makes it 3657433096 bytes and HDF5 spent minutes
+  // clearing a 900 GB conversion buffer (libfclib: the same, then killed by the alarm).
+  std::vector<char> bytes = ReadBytes(kData + "/Box_Stacks-i0122-82-5.hdf5");
+  REQUIRE(bytes.size() > 56055);
+  REQUIRE(bytes[56055] == 0);
+  bytes[56055] = static_cast<char>(0xDA);
+  const std::string path = TempPath("element_size.hdf5");
+  WriteBytes(path, bytes, bytes.size());
+  CHECK(ReadFclib(path).num_contacts == 82);  // the problem itself is intact
+  CHECK_THROWS_WITH(ReadFclibSolution(path),
+                    Catch::Contains("/solution/u: element size 3657433096 bytes, expected 1 to 16"));
+  std::remove(path.c_str());
 }

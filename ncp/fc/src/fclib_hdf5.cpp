@@ -15,6 +15,9 @@ namespace {
 /// Longest info string accepted (a corrupted type size must not become a huge allocation).
 constexpr size_t kMaxStringBytes = size_t{1} << 20;
 
+/// Widest integer or floating-point element accepted (HDF5 converts up to 128-bit types).
+constexpr size_t kMaxNumberBytes = 16;
+
 /// Debian's serial HDF5 is built without thread safety: one file at a time.
 std::mutex& Hdf5Mutex() {
   static std::mutex mutex;
@@ -194,6 +197,11 @@ class FclibFile {
     if (actual != type_class)
       Fail(name, std::string("has type class ") + ClassName(actual) + ", expected " +
                      type_name);
+    // A corrupted element size makes HDF5 allocate size x length bytes to convert.
+    const size_t size = H5Tget_size(type.get());
+    if (type_class != H5T_STRING && (size == 0 || size > kMaxNumberBytes))
+      Fail(name, "element size " + Str(static_cast<long long>(size)) + " bytes, expected 1 to " +
+                     Str(static_cast<long long>(kMaxNumberBytes)));
     return ds;
   }
 
