@@ -254,7 +254,7 @@ TEST_CASE("every data/fc3d HDF5 file reads exactly as libfclib reads it", "[fc][
     int nr = 0;
     if (kind == internal::FclibKind::kLocal) {
       ++local_files;
-      const internal::FclibLocal ours = internal::ReadFclibLocal(path);
+      const internal::FclibLocal ours = internal::ReadFclibLocalGroup(path);
       fclib_local* theirs = fclib_read_local(path.c_str());
       REQUIRE(theirs != nullptr);
       CHECK(ours.spacedim == theirs->spacedim);
@@ -269,7 +269,7 @@ TEST_CASE("every data/fc3d HDF5 file reads exactly as libfclib reads it", "[fc][
       std::free(theirs);  // fclib_delete_local frees the members only
     } else {
       ++global_files;
-      const internal::FclibGlobal ours = internal::ReadFclibGlobal(path);
+      const internal::FclibGlobal ours = internal::ReadFclibGlobalGroup(path);
       fclib_global* theirs = fclib_read_global(path.c_str());
       REQUIRE(theirs != nullptr);
       CHECK(ours.spacedim == theirs->spacedim);

@@ -429,9 +429,9 @@ SparseMatrix FclibMatrix::ToSparse() const {
 
 FclibKind ReadFclibKind(const std::string& path) { return Kind(FclibFile(path)); }
 
-FclibLocal ReadFclibLocal(const std::string& path) { return ReadLocal(FclibFile(path)); }
+FclibLocal ReadFclibLocalGroup(const std::string& path) { return ReadLocal(FclibFile(path)); }
 
-FclibGlobal ReadFclibGlobal(const std::string& path) { return ReadGlobal(FclibFile(path)); }
+FclibGlobal ReadFclibGlobalGroup(const std::string& path) { return ReadGlobal(FclibFile(path)); }
 
 std::optional<FclibSolution> ReadFclibSolutionGroup(const std::string& path) {
   const FclibFile file(path);

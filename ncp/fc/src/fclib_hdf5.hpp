@@ -82,10 +82,10 @@ enum class FclibKind { kLocal, kGlobal, kGlobalRolling, kNone };
 FclibKind ReadFclibKind(const std::string& path);
 
 /// The local problem of the file; throws (file, dataset, defect) on anything malformed.
-FclibLocal ReadFclibLocal(const std::string& path);
+FclibLocal ReadFclibLocalGroup(const std::string& path);
 
 /// The global problem of the file; throws (file, dataset, defect) on anything malformed.
-FclibGlobal ReadFclibGlobal(const std::string& path);
+FclibGlobal ReadFclibGlobalGroup(const std::string& path);
 
 /// The /solution group, sized by the file's problem; std::nullopt when there is none.
 /// Throws on a malformed solution or problem.

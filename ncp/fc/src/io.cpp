@@ -245,10 +245,10 @@ FrictionProblem ReadFclib(const std::string& path) {
   FrictionProblem p;
   switch (internal::ReadFclibKind(path)) {
     case internal::FclibKind::kLocal:
-      p = FromLocal(internal::ReadFclibLocal(path), path);
+      p = FromLocal(internal::ReadFclibLocalGroup(path), path);
       break;
     case internal::FclibKind::kGlobal:
-      p = ReduceGlobal(internal::ReadFclibGlobal(path), path);
+      p = ReduceGlobal(internal::ReadFclibGlobalGroup(path), path);
       break;
     case internal::FclibKind::kGlobalRolling:
       throw std::runtime_error("'" + path + "': FCLIB global rolling-friction problems " +
