@@ -479,8 +479,10 @@ TEST_CASE("where libfclib exits the process, ours throws", "[fc][fclib]") {
   }
   int status = 0;
   REQUIRE(waitpid(child, &status, 0) == child);
+  // libfclib's ASSERT calls exit(1) on the failed HDF5 call (under LeakSanitizer the code
+  // may differ): the process ends either way.
   CHECK(WIFEXITED(status));
-  CHECK(WEXITSTATUS(status) == 1);  // libfclib's ASSERT: exit(1) on the failed HDF5 call
+  CHECK(WEXITSTATUS(status) != 0);
 }
 #endif
 
