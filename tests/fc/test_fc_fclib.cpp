@@ -1,7 +1,7 @@
-// The checked FCLIB HDF5 reader (ncp/fc/src/fclib_hdf5.cpp): every data/fc3d HDF5 file read
-// array for array equal to libfclib (the oracle); malformed files written here with the HDF5
-// C API, truncated and byte-flipped copies of the real files all end in an exception that
-// names the defect, never in exit().
+// The checked FCLIB HDF5 reader (ncp/fc/src/fclib_hdf5.cpp): every data/fc3d HDF5 file
+// read array for array equal to libfclib (the oracle); malformed files written here with
+// the HDF5 C API, truncated and byte-flipped copies of the real files all end in an
+// exception that names the defect, never in exit().
 #include <hdf5.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -72,7 +72,8 @@ class H5Writer {
   }
   ~H5Writer() { H5Fclose(file_); }
   void Group(const std::string& name) {
-    const hid_t g = H5Gcreate2(file_, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t g =
+        H5Gcreate2(file_, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     REQUIRE(g >= 0);
     H5Gclose(g);
   }
@@ -91,8 +92,8 @@ class H5Writer {
     const hid_t type = H5Tcopy(H5T_C_S1);
     H5Tset_size(type, text.size() + 1);
     const hid_t space = H5Screate(H5S_SCALAR);
-    const hid_t ds =
-        H5Dcreate2(file_, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t ds = H5Dcreate2(file_, name.c_str(), type, space, H5P_DEFAULT,
+                                H5P_DEFAULT, H5P_DEFAULT);
     REQUIRE(ds >= 0);
     REQUIRE(H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, text.c_str()) >= 0);
     H5Dclose(ds);
@@ -101,12 +102,15 @@ class H5Writer {
   }
 
  private:
-  void Write(const std::string& name, hid_t type, std::vector<hsize_t> dims, const void* data) {
-    const hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
-    const hid_t ds =
-        H5Dcreate2(file_, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  void Write(const std::string& name, hid_t type, std::vector<hsize_t> dims,
+             const void* data) {
+    const hid_t space =
+        H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
+    const hid_t ds = H5Dcreate2(file_, name.c_str(), type, space, H5P_DEFAULT,
+                                H5P_DEFAULT, H5P_DEFAULT);
     REQUIRE(ds >= 0);
-    if (dims[0] > 0) REQUIRE(H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0);
+    if (dims[0] > 0)
+      REQUIRE(H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0);
     H5Dclose(ds);
     H5Sclose(space);
   }
@@ -225,7 +229,8 @@ void CheckEqual(const ncp::Vector& ours, const double* theirs) {
   for (Eigen::Index k = 0; k < ours.size(); ++k) CHECK(ours[k] == theirs[k]);
 }
 
-void CheckEqual(const std::optional<internal::FclibInfo>& ours, const fclib_info* theirs) {
+void CheckEqual(const std::optional<internal::FclibInfo>& ours,
+                const fclib_info* theirs) {
   REQUIRE(ours.has_value() == (theirs != nullptr));
   if (!theirs) return;
   const auto same = [](const std::optional<std::string>& a, const char* b) {
@@ -242,7 +247,9 @@ void CheckEqual(const std::optional<internal::FclibInfo>& ours, const fclib_info
 
 TEST_CASE("every data/fc3d HDF5 file reads exactly as libfclib reads it", "[fc][fclib]") {
 #if !NCP_TEST_HAVE_FCLIB
-  FAIL("built without libfclib (the oracle) although scripts/setup.sh installs libfclib-dev");
+  FAIL(
+      "built without libfclib (the oracle) although scripts/setup.sh installs "
+      "libfclib-dev");
 #else
   const std::vector<std::string> files = DataHdf5Files();
   REQUIRE(files.size() >= 2);
@@ -250,7 +257,8 @@ TEST_CASE("every data/fc3d HDF5 file reads exactly as libfclib reads it", "[fc][
   for (const std::string& path : files) {
     INFO(path);
     const internal::FclibKind kind = internal::ReadFclibKind(path);
-    REQUIRE((kind == internal::FclibKind::kLocal || kind == internal::FclibKind::kGlobal));
+    REQUIRE(
+        (kind == internal::FclibKind::kLocal || kind == internal::FclibKind::kGlobal));
     int nr = 0;
     if (kind == internal::FclibKind::kLocal) {
       ++local_files;
@@ -314,7 +322,8 @@ TEST_CASE("a well-formed file written here reads back", "[fc][fclib]") {
   CHECK(global.q.isApprox(Eigen::Vector3d(-0.5, 1.0, 2.0), 1e-15));
 }
 
-TEST_CASE("malformed FCLIB files give an exception naming dataset and defect", "[fc][fclib]") {
+TEST_CASE("malformed FCLIB files give an exception naming dataset and defect",
+          "[fc][fclib]") {
   struct Case {
     const char* name;
     std::function<void(LocalData&)> spoil;
@@ -326,7 +335,8 @@ TEST_CASE("malformed FCLIB files give an exception naming dataset and defect", "
        "/fclib_local/spacedim: = 4, expected 2 or 3"},
       {"p_short", [](LocalData& d) { d.W.p.resize(3); },
        "/fclib_local/W/p: has 3 entries, expected 7"},
-      {"p_first", [](LocalData& d) { d.W.p[0] = 1; }, "/fclib_local/W/p[0]: = 1, expected 0"},
+      {"p_first", [](LocalData& d) { d.W.p[0] = 1; },
+       "/fclib_local/W/p[0]: = 1, expected 0"},
       {"p_decreasing", [](LocalData& d) { d.W.p[2] = 1; }, "pointers must not decrease"},
       {"nzmax_below_p", [](LocalData& d) { d.W.nzmax = 10; },
        "/fclib_local/W/p[6]: = 16 entries exceed nzmax = 10"},
@@ -337,7 +347,8 @@ TEST_CASE("malformed FCLIB files give an exception naming dataset and defect", "
        "/fclib_local/W/i[5]: = 6 is not a valid column index"},
       {"index_negative", [](LocalData& d) { d.W.i[0] = -1; },
        "/fclib_local/W/i[0]: value -1 outside [0, "},
-      {"nz_code", [](LocalData& d) { d.W.nz = -3; }, "/fclib_local/W/nz: value -3 outside [-2"},
+      {"nz_code", [](LocalData& d) { d.W.nz = -3; },
+       "/fclib_local/W/nz: value -3 outside [-2"},
       {"not_square", [](LocalData& d) { d.W.n = 7; },
        "/fclib_local/W: is 6 x 7, expected square"},
       {"q_length", [](LocalData& d) { d.q.resize(5); },
@@ -361,7 +372,9 @@ TEST_CASE("malformed FCLIB files give an exception naming dataset and defect", "
        },
        "/fclib_local/vectors/mu: has type class integer, expected floating point"},
       {"V_without_R",
-       [](LocalData& d) { d.extra = [](H5Writer& w) { LocalData().W.Write(w, "/fclib_local/V"); }; },
+       [](LocalData& d) {
+         d.extra = [](H5Writer& w) { LocalData().W.Write(w, "/fclib_local/V"); };
+       },
        "/fclib_local: has only one of the constraint matrices V and R"},
       {"title_integer",
        [](LocalData& d) {
@@ -377,7 +390,8 @@ TEST_CASE("malformed FCLIB files give an exception naming dataset and defect", "
     LocalData data;
     c.spoil(data);
     const std::string path = data.Write(std::string(c.name) + ".hdf5");
-    CHECK_THROWS_WITH(ReadFclib(path), Catch::Contains(c.message) && Catch::Contains(path));
+    CHECK_THROWS_WITH(ReadFclib(path),
+                      Catch::Contains(c.message) && Catch::Contains(path));
     std::remove(path.c_str());
   }
 }
@@ -423,7 +437,8 @@ TEST_CASE("malformed global problems, solutions and non-FCLIB files", "[fc][fcli
     GlobalData data;
     c.spoil(data);
     const std::string path = data.Write(std::string(c.name) + ".hdf5");
-    CHECK_THROWS_WITH(ReadFclib(path), Catch::Contains(c.message) && Catch::Contains(path));
+    CHECK_THROWS_WITH(ReadFclib(path),
+                      Catch::Contains(c.message) && Catch::Contains(path));
     std::remove(path.c_str());
   }
 
@@ -434,8 +449,9 @@ TEST_CASE("malformed global problems, solutions and non-FCLIB files", "[fc][fcli
       w.Group("/fclib_local");
       w.IntMatrix("/fclib_local/spacedim", 3);
     }
-    CHECK_THROWS_WITH(ReadFclib(path),
-                      Catch::Contains("/fclib_local/spacedim: rank 2, expected a 1-D array"));
+    CHECK_THROWS_WITH(
+        ReadFclib(path),
+        Catch::Contains("/fclib_local/spacedim: rank 2, expected a 1-D array"));
   }
   SECTION("a solution of the wrong length") {
     LocalData data;
@@ -489,15 +505,18 @@ TEST_CASE("where libfclib exits the process, ours throws", "[fc][fclib]") {
 TEST_CASE("truncated and byte-flipped copies of the data files never end the process",
           "[fc][fclib]") {
   int truncated = 0, flipped_read = 0, flipped_thrown = 0;
-  // Fixed by default; other copies with --rng-seed N (Catch::rngSeed() is 0 unless given).
+  // Fixed by default; other copies with --rng-seed N (Catch::rngSeed() is 0 unless
+  // given).
   std::mt19937 random(20261127u + Catch::rngSeed());
   for (const std::string& source : DataHdf5Files()) {
     INFO(source);
     const std::vector<char> bytes = ReadBytes(source);
     REQUIRE(bytes.size() > 1024);
     const std::string path = TempPath("corrupt.hdf5");
-    // Truncated: HDF5 keeps the end-of-file address in the superblock, so every cut shows.
-    for (size_t size : {size_t{0}, size_t{8}, size_t{512}, bytes.size() / 2, bytes.size() - 1}) {
+    // Truncated: HDF5 keeps the end-of-file address in the superblock, so every cut
+    // shows.
+    for (size_t size :
+         {size_t{0}, size_t{8}, size_t{512}, bytes.size() / 2, bytes.size() - 1}) {
       INFO("truncated to " << size << " bytes");
       WriteBytes(path, bytes, size);
       CHECK_THROWS(ReadFclib(path));
@@ -528,7 +547,8 @@ TEST_CASE("truncated and byte-flipped copies of the data files never end the pro
   CHECK(flipped_thrown > 0);
 }
 
-TEST_CASE("regression: a corrupted element size is refused, not allocated", "[fc][fclib]") {
+TEST_CASE("regression: a corrupted element size is refused, not allocated",
+          "[fc][fclib]") {
   // Found by flipping bytes of Box_Stacks: byte 56055 (0-based) holds the element size of
   // /solution/u's float type; 0xDA there makes it 3657433096 bytes and HDF5 spent minutes
   // clearing a 900 GB conversion buffer (libfclib: the same, then killed by the alarm).
@@ -539,7 +559,8 @@ TEST_CASE("regression: a corrupted element size is refused, not allocated", "[fc
   const std::string path = TempPath("element_size.hdf5");
   WriteBytes(path, bytes, bytes.size());
   CHECK(ReadFclib(path).num_contacts == 82);  // the problem itself is intact
-  CHECK_THROWS_WITH(ReadFclibSolution(path),
-                    Catch::Contains("/solution/u: element size 3657433096 bytes, expected 1 to 16"));
+  CHECK_THROWS_WITH(
+      ReadFclibSolution(path),
+      Catch::Contains("/solution/u: element size 3657433096 bytes, expected 1 to 16"));
   std::remove(path.c_str());
 }

@@ -12,7 +12,8 @@ namespace ncp::fc::internal {
 
 namespace {
 
-/// Longest info string accepted (a corrupted type size must not become a huge allocation).
+/// Longest info string accepted (a corrupted type size must not become a huge
+/// allocation).
 constexpr size_t kMaxStringBytes = size_t{1} << 20;
 
 /// Widest integer or floating-point element accepted (HDF5 converts up to 128-bit types).
@@ -30,7 +31,9 @@ class Handle {
   Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
   Handle(const Handle&) = delete;
   Handle& operator=(const Handle&) = delete;
-  Handle(Handle&& other) noexcept : id_(other.id_), close_(other.close_) { other.id_ = -1; }
+  Handle(Handle&& other) noexcept : id_(other.id_), close_(other.close_) {
+    other.id_ = -1;
+  }
   Handle& operator=(Handle&&) = delete;
   ~Handle() {
     if (id_ >= 0) close_(id_);
@@ -123,7 +126,8 @@ class FclibFile {
     if (require_finite)
       for (Eigen::Index k = 0; k < v.size(); ++k)
         if (!std::isfinite(v[k]))
-          Fail(name + "[" + Str(k) + "]", "not a finite number (" + std::to_string(v[k]) + ")");
+          Fail(name + "[" + Str(k) + "]",
+               "not a finite number (" + std::to_string(v[k]) + ")");
     return v;
   }
 
@@ -155,8 +159,8 @@ class FclibFile {
     std::string buffer(size + 1, '\0');
     if (H5Tset_size(memory_type.get(), size + 1) < 0 ||
         H5Tset_strpad(memory_type.get(), H5T_STR_NULLTERM) < 0 ||
-        H5Dread(ds.get(), memory_type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT,
-                &buffer[0]) < 0)
+        H5Dread(ds.get(), memory_type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &buffer[0]) <
+            0)
       Fail(name, "HDF5 could not read the string (file corrupted?)");
     return std::string(buffer.c_str());
   }
@@ -183,7 +187,8 @@ class FclibFile {
     if (is_hdf5 == 0) throw std::runtime_error("'" + path + "': not an HDF5 file");
     const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
     if (file < 0)
-      throw std::runtime_error("'" + path + "': HDF5 could not open the file (corrupted?)");
+      throw std::runtime_error("'" + path +
+                               "': HDF5 could not open the file (corrupted?)");
     return file;
   }
 
@@ -200,7 +205,8 @@ class FclibFile {
     // A corrupted element size makes HDF5 allocate size x length bytes to convert.
     const size_t size = H5Tget_size(type.get());
     if (type_class != H5T_STRING && (size == 0 || size > kMaxNumberBytes))
-      Fail(name, "element size " + Str(static_cast<long long>(size)) + " bytes, expected 1 to " +
+      Fail(name, "element size " + Str(static_cast<long long>(size)) +
+                     " bytes, expected 1 to " +
                      Str(static_cast<long long>(kMaxNumberBytes)));
     return ds;
   }
@@ -240,21 +246,26 @@ class FclibFile {
   }
 
   /// Every index[k] in [0, bound).
-  void CheckIndices(const std::string& name, const std::vector<int>& index, long long count,
-                    int bound, const char* meaning) const {
+  void CheckIndices(const std::string& name, const std::vector<int>& index,
+                    long long count, int bound, const char* meaning) const {
     for (long long k = 0; k < count; ++k)
       if (index[k] >= bound)
-        Fail(name + "[" + Str(k) + "]", "= " + Str(index[k]) + " is not a valid " + meaning +
-                                            " (expected 0 to " + Str(bound - 1) + ")");
+        Fail(name + "[" + Str(k) + "]", "= " + Str(index[k]) + " is not a valid " +
+                                            meaning + " (expected 0 to " +
+                                            Str(bound - 1) + ")");
   }
 
-  void CheckFinite(const std::string& name, const std::vector<double>& x, long long count) const {
+  void CheckFinite(const std::string& name, const std::vector<double>& x,
+                   long long count) const {
     for (long long k = 0; k < count; ++k)
       if (!std::isfinite(x[k]))
-        Fail(name + "[" + Str(k) + "]", "not a finite number (" + std::to_string(x[k]) + ")");
+        Fail(name + "[" + Str(k) + "]",
+             "not a finite number (" + std::to_string(x[k]) + ")");
   }
 
-  static std::vector<double> ToStd(const Vector& v) { return {v.data(), v.data() + v.size()}; }
+  static std::vector<double> ToStd(const Vector& v) {
+    return {v.data(), v.data() + v.size()};
+  }
 
   void ReadTriplets(const std::string& group, FclibMatrix* a) const {
     a->i = ReadIndexArray(group + "/i", a->nz);
@@ -275,34 +286,48 @@ class FclibFile {
     for (int k = 0; k < outer; ++k)
       if (a->p[k + 1] < a->p[k])
         Fail(group + "/p[" + Str(k + 1) + "]",
-             "= " + Str(a->p[k + 1]) + " is less than p[" + Str(k) + "] = " + Str(a->p[k]) +
-                 " (pointers must not decrease, " + form + ")");
+             "= " + Str(a->p[k + 1]) + " is less than p[" + Str(k) +
+                 "] = " + Str(a->p[k]) + " (pointers must not decrease, " + form + ")");
     const int used = a->p[outer];
     if (used > a->nzmax)
-      Fail(group + "/p[" + Str(outer) + "]", "= " + Str(used) + " entries exceed nzmax = " +
-                                                 Str(a->nzmax) + " (" + form + ")");
+      Fail(group + "/p[" + Str(outer) + "]",
+           "= " + Str(used) + " entries exceed nzmax = " + Str(a->nzmax) + " (" + form +
+               ")");
     a->i = ReadIndexArray(group + "/i", a->nzmax);
     const Vector x = ReadDoubles(group + "/x", a->nzmax, /*require_finite=*/false);
     a->x = ToStd(x);
-    CheckIndices(group + "/i", a->i, used, inner,
-                 by_columns ? "row index (compressed columns)" : "column index (compressed rows)");
+    CheckIndices(
+        group + "/i", a->i, used, inner,
+        by_columns ? "row index (compressed columns)" : "column index (compressed rows)");
     CheckFinite(group + "/x", a->x, used);
   }
 
   static const char* ClassName(H5T_class_t c) {
     switch (c) {
-      case H5T_INTEGER: return "integer";
-      case H5T_FLOAT: return "floating point";
-      case H5T_STRING: return "string";
-      case H5T_COMPOUND: return "compound";
-      case H5T_ARRAY: return "array";
-      case H5T_ENUM: return "enum";
-      case H5T_VLEN: return "variable length";
-      case H5T_OPAQUE: return "opaque";
-      case H5T_BITFIELD: return "bitfield";
-      case H5T_REFERENCE: return "reference";
-      case H5T_TIME: return "time";
-      default: return "unknown";
+      case H5T_INTEGER:
+        return "integer";
+      case H5T_FLOAT:
+        return "floating point";
+      case H5T_STRING:
+        return "string";
+      case H5T_COMPOUND:
+        return "compound";
+      case H5T_ARRAY:
+        return "array";
+      case H5T_ENUM:
+        return "enum";
+      case H5T_VLEN:
+        return "variable length";
+      case H5T_OPAQUE:
+        return "opaque";
+      case H5T_BITFIELD:
+        return "bitfield";
+      case H5T_REFERENCE:
+        return "reference";
+      case H5T_TIME:
+        return "time";
+      default:
+        return "unknown";
     }
   }
 
@@ -315,7 +340,8 @@ class FclibFile {
 /// spacedim: the number of components per contact, 2 or 3.
 int ReadSpacedim(const FclibFile& file, const std::string& root) {
   const int d = file.ReadInt(root + "/spacedim", 0);
-  if (d != 2 && d != 3) file.Fail(root + "/spacedim", "= " + Str(d) + ", expected 2 or 3");
+  if (d != 2 && d != 3)
+    file.Fail(root + "/spacedim", "= " + Str(d) + ", expected 2 or 3");
   return d;
 }
 
@@ -323,8 +349,9 @@ int ReadSpacedim(const FclibFile& file, const std::string& root) {
 Vector ReadMu(const FclibFile& file, const std::string& name, int num_contacts) {
   Vector mu = file.ReadDoubles(name, num_contacts);
   for (int a = 0; a < num_contacts; ++a)
-    if (mu[a] < 0.0) file.Fail(name + "[" + Str(a) + "]", "= " + std::to_string(mu[a]) +
-                                                              " is negative (mu >= 0)");
+    if (mu[a] < 0.0)
+      file.Fail(name + "[" + Str(a) + "]",
+                "= " + std::to_string(mu[a]) + " is negative (mu >= 0)");
   return mu;
 }
 
@@ -356,7 +383,8 @@ FclibLocal ReadLocal(const FclibFile& file) {
   local.W = file.ReadMatrix(root + "/W");
   const int m = local.W.rows;
   if (local.W.cols != m || m % local.spacedim != 0)
-    file.Fail(root + "/W", "is " + Shape(local.W) + ", expected square with a size that " +
+    file.Fail(root + "/W", "is " + Shape(local.W) +
+                               ", expected square with a size that " +
                                "is a multiple of spacedim = " + Str(local.spacedim));
   if (file.Exists(root + "/V") != file.Exists(root + "/R"))
     file.Fail(root, "has only one of the constraint matrices V and R (both or neither)");
@@ -364,7 +392,8 @@ FclibLocal ReadLocal(const FclibFile& file) {
     local.V = file.ReadMatrix(root + "/V");
     local.R = file.ReadMatrix(root + "/R");
     const int p = local.R->rows;
-    if (local.R->cols != p) file.Fail(root + "/R", "is " + Shape(*local.R) + ", expected square");
+    if (local.R->cols != p)
+      file.Fail(root + "/R", "is " + Shape(*local.R) + ", expected square");
     if (local.V->rows != m || local.V->cols != p)
       file.Fail(root + "/V", "is " + Shape(*local.V) + ", expected " + Str(m) + " x " +
                                  Str(p) + " (rows of W x rows of R)");
@@ -385,7 +414,8 @@ FclibGlobal ReadGlobal(const FclibFile& file) {
   global.spacedim = ReadSpacedim(file, root);
   global.M = file.ReadMatrix(root + "/M");
   const int n = global.M.rows;
-  if (global.M.cols != n) file.Fail(root + "/M", "is " + Shape(global.M) + ", expected square");
+  if (global.M.cols != n)
+    file.Fail(root + "/M", "is " + Shape(global.M) + ", expected square");
   global.H = file.ReadMatrix(root + "/H");
   const int m = global.H.cols;
   if (global.H.rows != n || m % global.spacedim != 0)
@@ -395,7 +425,8 @@ FclibGlobal ReadGlobal(const FclibFile& file) {
   if (file.Exists(root + "/G")) {
     global.G = file.ReadMatrix(root + "/G");
     if (global.G->rows != n)
-      file.Fail(root + "/G", "is " + Shape(*global.G) + ", expected " + Str(n) + " rows (as M)");
+      file.Fail(root + "/G",
+                "is " + Shape(*global.G) + ", expected " + Str(n) + " rows (as M)");
   }
   const std::string vectors = root + "/vectors";
   file.RequireGroup(vectors);
@@ -429,9 +460,13 @@ SparseMatrix FclibMatrix::ToSparse() const {
 
 FclibKind ReadFclibKind(const std::string& path) { return Kind(FclibFile(path)); }
 
-FclibLocal ReadFclibLocalGroup(const std::string& path) { return ReadLocal(FclibFile(path)); }
+FclibLocal ReadFclibLocalGroup(const std::string& path) {
+  return ReadLocal(FclibFile(path));
+}
 
-FclibGlobal ReadFclibGlobalGroup(const std::string& path) { return ReadGlobal(FclibFile(path)); }
+FclibGlobal ReadFclibGlobalGroup(const std::string& path) {
+  return ReadGlobal(FclibFile(path));
+}
 
 std::optional<FclibSolution> ReadFclibSolutionGroup(const std::string& path) {
   const FclibFile file(path);
@@ -453,7 +488,8 @@ std::optional<FclibSolution> ReadFclibSolutionGroup(const std::string& path) {
       break;
     }
     default:
-      file.Fail("/solution", "present without an FCLIB local or global problem to size it");
+      file.Fail("/solution",
+                "present without an FCLIB local or global problem to size it");
   }
   FclibSolution solution;
   if (nv > 0) solution.v = file.ReadDoubles("/solution/v", nv);

@@ -1,8 +1,8 @@
 /// \file fclib_hdf5.hpp
 /// A checked reader of FCLIB HDF5 files (FrictionalContactLibrary/fclib, src/fclib.h),
 /// written against the HDF5 C API so that a malformed file ends in an exception, never in
-/// exit() or an out-of-bounds read (libfclib's reader exits on an HDF5 error and sizes its
-/// buffers from the file's own m, n, nz without looking at the datasets).
+/// exit() or an out-of-bounds read (libfclib's reader exits on an HDF5 error and sizes
+/// its buffers from the file's own m, n, nz without looking at the datasets).
 ///
 /// Layout read (group / dataset, every integer a 1-element dataset or a scalar):
 ///   /fclib_local:  spacedim, W/, [V/, R/], vectors/{q, mu, [s]}, [info/]
@@ -16,11 +16,11 @@
 ///
 /// Every dataset's type class, rank and length are checked against the sizes the FCLIB
 /// equations imply (local: W m x m, m = spacedim n_c, q m, mu n_c, V m x p, R p x p, s p;
-/// global: M n x n, H n x m, G n x p, f n, w m, mu n_c, b p); every index is range-checked,
-/// compressed pointers start at 0, do not decrease and end at most at nzmax; every value is
-/// finite. Failures throw std::runtime_error naming the file, the dataset and the defect.
-/// HDF5's own error printing is off while a file is read; reading is serialized by a mutex
-/// (Debian's serial HDF5 is not thread-safe).
+/// global: M n x n, H n x m, G n x p, f n, w m, mu n_c, b p); every index is
+/// range-checked, compressed pointers start at 0, do not decrease and end at most at
+/// nzmax; every value is finite. Failures throw std::runtime_error naming the file, the
+/// dataset and the defect. HDF5's own error printing is off while a file is read; reading
+/// is serialized by a mutex (Debian's serial HDF5 is not thread-safe).
 #pragma once
 
 #include <optional>
@@ -49,17 +49,19 @@ struct FclibInfo {
   std::optional<std::string> title, description, math_info;
 };
 
-/// FCLIB local problem: u = W r + V lambda + q, V' r + R lambda + s = 0, Coulomb law with mu.
+/// FCLIB local problem: u = W r + V lambda + q, V' r + R lambda + s = 0, Coulomb law with
+/// mu.
 struct FclibLocal {
   int spacedim = 0;
   FclibMatrix W;
   std::optional<FclibMatrix> V, R;  ///< present together or not at all
   Vector q, mu;
-  std::optional<Vector> s;          ///< present with R
+  std::optional<Vector> s;  ///< present with R
   std::optional<FclibInfo> info;
 };
 
-/// FCLIB global problem: M v = H r + G lambda + f, G' v + b = 0, u = H' v + w, Coulomb law.
+/// FCLIB global problem: M v = H r + G lambda + f, G' v + b = 0, u = H' v + w, Coulomb
+/// law.
 struct FclibGlobal {
   int spacedim = 0;
   FclibMatrix M, H;
@@ -77,8 +79,8 @@ struct FclibSolution {
 
 enum class FclibKind { kLocal, kGlobal, kGlobalRolling, kNone };
 
-/// Which top-level problem group the file holds (local preferred when several are). Throws
-/// when the file is not a readable HDF5 file.
+/// Which top-level problem group the file holds (local preferred when several are).
+/// Throws when the file is not a readable HDF5 file.
 FclibKind ReadFclibKind(const std::string& path);
 
 /// The local problem of the file; throws (file, dataset, defect) on anything malformed.

@@ -229,7 +229,8 @@ FrictionProblem ReduceGlobal(const internal::FclibGlobal& g, const std::string& 
 
 FrictionProblem FromLocal(const internal::FclibLocal& local, const std::string& path) {
   if (local.R && local.R->rows > 0)
-    throw std::runtime_error("'" + path + "': local problem with constraints R not supported");
+    throw std::runtime_error("'" + path +
+                             "': local problem with constraints R not supported");
   FrictionProblem p;
   p.dimension = local.spacedim;
   p.W = local.W.ToSparse();
@@ -254,7 +255,8 @@ FrictionProblem ReadFclib(const std::string& path) {
       throw std::runtime_error("'" + path + "': FCLIB global rolling-friction problems " +
                                "are not supported");
     case internal::FclibKind::kNone:
-      throw std::runtime_error("'" + path + "': neither an FCLIB local nor global problem");
+      throw std::runtime_error("'" + path +
+                               "': neither an FCLIB local nor global problem");
   }
   p.name = path.substr(path.find_last_of('/') + 1);
   p.Validate();
