@@ -2,7 +2,8 @@
 # Installs what is missing, builds, and runs the whole test suite with ctest.
 #   scripts/test.sh --sanitize   the same with AddressSanitizer + UBSan (scripts/sanitize.sh)
 # With CI set in the environment (CI=true, as CI services set it) both run, one after the
-# other (measured from a fresh clone: see docs/errors-and-limits.md).
+# other (measured from a fresh clone: see docs/errors-and-limits.md), then scripts/fuzz.sh
+# for 20 s per reader (docs/reliability.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [[ "${1:-}" == "--sanitize" ]]; then
@@ -14,4 +15,6 @@ bash scripts/build.sh
 (cd build && ctest --output-on-failure -j "$(nproc)")
 if [[ -n "${CI:-}" ]]; then
   bash scripts/sanitize.sh
+  # Coverage-guided fuzzing of the readers, briefly and reproducibly (docs/reliability.md).
+  FUZZ_SEED=1 bash scripts/fuzz.sh 20
 fi

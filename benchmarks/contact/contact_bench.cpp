@@ -38,6 +38,7 @@
 #include <chrono>
 #include <cmath>
 #include <contact/scene.hpp>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -46,6 +47,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "ncp/output_file.hpp"
 
 #ifndef CONTACT_EXAMPLES_DIR
 #define CONTACT_EXAMPLES_DIR "examples"
@@ -388,7 +391,7 @@ struct Bench {
   std::string examples;
   bool quick = false;
   std::vector<Row> rows;
-  std::ofstream csv;
+  ncp::OutputFile csv;  // one committed row per run: a stopped benchmark keeps whole rows
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
 
   void Add(Row r) {
@@ -399,7 +402,8 @@ struct Bench {
                  r.family.c_str(), r.scene.c_str(), r.sweep.c_str(), r.setting.c_str(), r.solver.c_str(),
                  r.status.c_str(), Num(r.error).c_str(), r.seconds,
                  r.status == "converged" ? "" : r.message.substr(0, 90).c_str());
-    csv << CsvRow(r) << '\n' << std::flush;
+    csv.stream() << CsvRow(r) << '\n';
+    csv.Commit();
     rows.push_back(std::move(r));
   }
 
@@ -547,12 +551,15 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  bench.csv.open(csv_path);
-  if (!bench.csv) {
-    std::fprintf(stderr, "contact-bench: cannot write %s\n", csv_path.c_str());
-    return 1;
+  std::signal(SIGXFSZ, SIG_IGN);  // a file-size limit: EFBIG, reported, not a kill
+  try {
+    bench.csv = ncp::OutputFile::Open(csv_path);
+    bench.csv.stream() << kCsvHeader << '\n';
+    bench.csv.Commit();
+  } catch (const ncp::OutputError& e) {
+    std::fprintf(stderr, "contact-bench: %s\n", e.what());
+    return 3;
   }
-  bench.csv << kCsvHeader << '\n';
 
   // dt fractions of the scene's dt_crit; the bar's Courant 1 is the exact-wave step.
   std::vector<SceneEntry> scenes = {
@@ -586,6 +593,10 @@ int main(int argc, char** argv) {
         bench.Stability("thesis/friction_2d_curved.toml", -1);
       }
     }
+    bench.csv.Close();
+  } catch (const ncp::OutputError& ex) {
+    std::fprintf(stderr, "contact-bench: output failed: %s\n", ex.what());
+    return 3;
   } catch (const std::exception& ex) {
     std::fprintf(stderr, "contact-bench: %s\n", ex.what());
     return 1;
@@ -595,6 +606,10 @@ int main(int argc, char** argv) {
     for (size_t i = 0; i < bench.rows.size(); ++i)
       std::printf("%s%s\n", JsonRow(bench.rows[i]).c_str(), i + 1 < bench.rows.size() ? "," : "");
     std::printf("]\n");
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+      std::fprintf(stderr, "contact-bench: writing the JSON to stdout failed\n");
+      return 3;
+    }
   }
   std::fprintf(stderr, "contact-bench: %zu rows written to %s\n", bench.rows.size(), csv_path.c_str());
   return 0;

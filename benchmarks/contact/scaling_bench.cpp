@@ -56,6 +56,7 @@
 #include <vector>
 
 #include "log_log_slope.hpp"
+#include "ncp/output_file.hpp"
 
 namespace {
 
@@ -281,7 +282,7 @@ Row RunIsolated(const Case& c, int steps, double tolerance, int time_limit) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   cxxopts::Options cli("contact-scaling-bench",
                        "Time per contact step against the number of dofs (see the file header)");
   cli.add_options()
@@ -385,17 +386,14 @@ int main(int argc, char** argv) {
     for (int n : quick ? std::vector<int>{4, 6} : std::vector<int>{9, 14, 21, 31, 46, 69, 99})
       add("face", n, quick ? 2 : face_layers);
 
-  std::ofstream csv;
+  ncp::OutputFile csv;  // one committed row per case: a stopped benchmark keeps whole rows
   if (args.count("csv")) {
-    csv.open(args["csv"].as<std::string>());
-    if (!csv) {
-      std::cerr << "contact-scaling-bench: cannot write " << args["csv"].as<std::string>() << "\n";
-      return 2;
-    }
-    csv << kHeader << "\n";
+    csv = ncp::OutputFile::Open(args["csv"].as<std::string>());
+    csv.stream() << kHeader << "\n";
   }
   for (const Row& r : skipped)
-    if (csv) csv << ToCsv(r) << "\n";
+    if (csv.is_open()) csv.stream() << ToCsv(r) << "\n";
+  if (csv.is_open()) csv.Commit();
   std::printf("# %zu cases, %d steps each (%zu skipped); times in seconds, memory in MB\n",
               cases.size(), steps, skipped.size());
   std::printf("%-6s %4s %4s %-9s %4s %9s %6s %-10s %8s %8s %10s %10s %7s %10s %8s %8s %9s %9s %9s\n", "series",
@@ -412,8 +410,12 @@ int main(int argc, char** argv) {
                 r.step_over_factor);
     if (r.status != "completed") std::printf("       %s\n", r.message.c_str());
     std::fflush(stdout);
-    if (csv) csv << ToCsv(r) << "\n" << std::flush;
+    if (csv.is_open()) {
+      csv.stream() << ToCsv(r) << "\n";
+      csv.Commit();
+    }
   }
+  if (csv.is_open()) csv.Close();
 
   // Fitted exponents of the time per step (completed cases with >= 3 sizes).
   std::printf("# fitted exponent p of time per step = c dofs^p (steps 2..N), and of K x\n");
@@ -437,4 +439,21 @@ int main(int argc, char** argv) {
   int failures = 0;
   for (const Row& r : rows) failures += r.status != "completed";
   return failures == 0 ? 0 : 1;
+}
+
+// Exit codes: 0 every case completed, 1 some case did not, 2 usage, 3 the CSV could not be
+// written (its name and the reason on stderr).
+int main(int argc, char** argv) {
+  std::signal(SIGXFSZ, SIG_IGN);  // a file-size limit: EFBIG, reported, not a kill
+  try {
+    const int code = RunBenchmark(argc, argv);
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+      std::fprintf(stderr, "contact-scaling-bench: writing the table to stdout failed\n");
+      return 3;
+    }
+    return code;
+  } catch (const ncp::OutputError& e) {
+    std::fprintf(stderr, "contact-scaling-bench: output failed: %s\n", e.what());
+    return 3;
+  }
 }

@@ -6,6 +6,7 @@
 // returned r. A row counts as solved only if the solver claims convergence AND the
 // recomputed error <= tolerance.
 #include <chrono>
+#include <csignal>
 #include <cxxopts.hpp>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +18,7 @@
 #include "ncp/fc/error.hpp"
 #include "ncp/fc/io.hpp"
 #include "ncp/fc/solver.hpp"
+#include "ncp/output_file.hpp"
 
 namespace {
 
@@ -113,6 +115,7 @@ int main(int argc, char** argv) {
       "quick", "only problems with at most 10 contacts (smoke test)")("h,help",
                                                                       "this help");
   cli.parse_positional({"inputs"});
+  std::signal(SIGXFSZ, SIG_IGN);  // a file-size limit: EFBIG, reported, not a kill
   try {
     const auto args = cli.parse(argc, argv);
     if (args.count("help") || !args.count("csv")) {
@@ -124,8 +127,9 @@ int main(int argc, char** argv) {
     const double tol = args["tolerance"].as<double>(),
                  limit = args["time-limit"].as<double>();
     const double min_timing = args["min-timing"].as<double>();
-    std::ofstream csv(args["csv"].as<std::string>());
-    if (!csv) throw std::runtime_error("cannot write " + args["csv"].as<std::string>());
+    // One committed block of rows per problem: a stopped benchmark keeps whole rows.
+    ncp::OutputFile csv_file = ncp::OutputFile::Open(args["csv"].as<std::string>());
+    std::ostream& csv = csv_file.stream();
     csv << "problem,contacts,dimension,solver,status,claimed,iterations,time_s,error,"
            "reported_error,solved\n";
     csv << std::setprecision(6);
@@ -161,8 +165,13 @@ int main(int argc, char** argv) {
                   << row.iterations << " t " << std::setw(11) << row.time_s << " error "
                   << row.error << (solved ? "" : "  (not solved)") << '\n';
       }
+      csv_file.Commit();
     }
+    csv_file.Close();
     return 0;
+  } catch (const ncp::OutputError& e) {
+    std::cerr << "fc-bench: output failed: " << e.what() << '\n';
+    return 3;
   } catch (const std::exception& e) {
     std::cerr << "fc-bench: " << e.what() << '\n';
     return 2;

@@ -29,6 +29,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -41,6 +42,7 @@
 #include <string>
 #include <vector>
 
+#include "ncp/output_file.hpp"
 #include "ncp/residuals.hpp"
 #include "ncp/solver.hpp"
 #include "ncp_bench_config.hpp"
@@ -120,6 +122,7 @@ std::string MapStatus(ncp::TerminationType t) {
     case T::kMaxIterations: return "max_iterations";
     case T::kUserAbort: return "failure";  // no callback stops ncp here
     case T::kTimeLimit: return "time_limit";
+    case T::kInfeasible: return "infeasible";
     case T::kStationaryPoint: return "stationary_point";
     case T::kLineSearchFailure: return "line_search_failure";
     case T::kLinearSolverFailure:
@@ -402,12 +405,10 @@ bool RunSmallTiming(const Settings& settings, const std::vector<BenchProblem>& p
     for (const ncp::collection::StartPoint& start : b.problem.starts)
       cases.push_back({b.problem.name, start.label, &b.peer, start.x});
   }
-  std::ofstream out(settings.small_timing_path);
-  if (!out) {
-    std::fprintf(stderr, "ncp-bench: cannot write %s\n", settings.small_timing_path.c_str());
-    return false;
-  }
-  ncp_bench::WriteSmallTimingCsv(ncp_bench::TimeSmallProblems(cases, kSmallTimingTolerance, log), out);
+  const auto rows = ncp_bench::TimeSmallProblems(cases, kSmallTimingTolerance, log);
+  ncp::OutputFile out = ncp::OutputFile::OpenAtomic(settings.small_timing_path);
+  ncp_bench::WriteSmallTimingCsv(rows, out.stream());
+  out.Close();
   return true;
 }
 
@@ -470,7 +471,7 @@ Settings ParseArguments(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   const Settings settings = ParseArguments(argc, argv);
   // Progress goes to stderr when stdout carries the JSON.
   std::ostream& log = settings.json ? std::cerr : std::cout;
@@ -480,14 +481,11 @@ int main(int argc, char** argv) {
       << ", time limit " << settings.time_limit_s << " s, accepted natural residual "
       << kAcceptedResidual << (settings.quick ? ", quick mode" : "") << "\n";
 
-  std::ofstream csv;
+  ncp::OutputFile csv;  // one committed row per run: a stopped benchmark keeps whole rows
   if (!settings.csv_path.empty()) {
-    csv.open(settings.csv_path);
-    if (!csv) {
-      std::fprintf(stderr, "ncp-bench: cannot write %s\n", settings.csv_path.c_str());
-      return 1;
-    }
-    csv << kCsvHeader << "\n";
+    csv = ncp::OutputFile::Open(settings.csv_path);
+    csv.stream() << kCsvHeader << "\n";
+    csv.Commit();
   }
   std::vector<BenchProblem> problems = MakeProblems(settings);
   const std::vector<SolverConfig> configs = SolverConfigs();
@@ -500,7 +498,10 @@ int main(int argc, char** argv) {
       for (const SolverConfig& config : configs) {
         for (double tolerance : settings.tolerances) {
           Row row = RunOne(settings, b, start, config, tolerance);
-          if (csv.is_open()) csv << CsvLine(row) << "\n" << std::flush;
+          if (csv.is_open()) {
+            csv.stream() << CsvLine(row) << "\n";
+            csv.Commit();
+          }
           if (row.status != "not_applicable") {
             std::snprintf(line, sizeof line,
                           "%-26s %7d %-9s %-18s %6.0e %-20s %4d %9.3e %10.3e %s\n",
@@ -515,6 +516,7 @@ int main(int argc, char** argv) {
       }
     }
   }
+  if (csv.is_open()) csv.Close();
   if (settings.json) {
     std::cout << "[\n";
     for (size_t k = 0; k < rows.size(); ++k)
@@ -529,4 +531,22 @@ int main(int argc, char** argv) {
   }
   log << rows.size() << " rows, " << attempted << " attempted, " << solved << " solved\n";
   return 0;
+}
+
+// Exit codes: 0 done, 1 a benchmark failure, 2 usage, 3 an output (--csv, --small-timing,
+// the JSON on stdout) could not be written (the file and the reason on stderr).
+int main(int argc, char** argv) {
+  std::signal(SIGXFSZ, SIG_IGN);  // a file-size limit: EFBIG, reported, not a kill
+  try {
+    const int code = RunBenchmark(argc, argv);
+    std::cout.flush();
+    if (!std::cout) {
+      std::fprintf(stderr, "ncp-bench: writing to stdout failed\n");
+      return 3;
+    }
+    return code;
+  } catch (const ncp::OutputError& e) {
+    std::fprintf(stderr, "ncp-bench: output failed: %s\n", e.what());
+    return 3;
+  }
 }

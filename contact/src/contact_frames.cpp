@@ -6,6 +6,10 @@
 
 namespace contact {
 
+// The default allowed initial penetration relative to the mesh's size: coordinates written
+// with 9 or more significant digits put a node touching the obstacle within this of it.
+constexpr double kRoundoffPenetration = 1e-9;
+
 const char* ToString(NormalSource s) {
   return s == NormalSource::kObstacle ? "obstacle" : "body";
 }
@@ -15,9 +19,13 @@ ContactFrames MakeContactFrames(const Mesh& mesh, const ContactBoundary& boundar
                                 NormalSource source, double allowed_initial_penetration) {
   const int dim = mesh.dim;
   if (obstacle.dimension() != dim)
-    throw std::invalid_argument("MakeContactFrames: the obstacle is " +
+    throw std::invalid_argument("the obstacle is " +
                                 std::to_string(obstacle.dimension()) + "D but the mesh is " +
                                 std::to_string(dim) + "D");
+  if (allowed_initial_penetration < 0.0 && mesh.nodes.cols() > 0)
+    allowed_initial_penetration =
+        kRoundoffPenetration *
+        (mesh.nodes.rowwise().maxCoeff() - mesh.nodes.rowwise().minCoeff()).norm();
   ContactFrames out;
   for (int k = 0; k < boundary.NumNodes(); ++k) {
     const int node = boundary.nodes[static_cast<size_t>(k)];
@@ -31,8 +39,10 @@ ContactFrames MakeContactFrames(const Mesh& mesh, const ContactBoundary& boundar
     const ObstacleQuery q = obstacle.Query(X);
     if (q.gap < -allowed_initial_penetration) {
       std::ostringstream msg;
-      msg << "MakeContactFrames: contact node " << node << " at (" << X.transpose()
-          << ") starts inside the obstacle (" << obstacle.Describe() << ") by " << -q.gap << " m";
+      msg << "contact node " << node << " at (" << X.transpose()
+          << ") starts inside the obstacle (" << obstacle.Describe() << ") by " << -q.gap
+          << " m: the body must start outside or touching it - move the obstacle (or the body) "
+             "by at least this distance along the obstacle's normal";
       throw std::invalid_argument(msg.str());
     }
     ContactNode c;
@@ -49,7 +59,7 @@ ContactFrames MakeContactFrames(const Mesh& mesh, const ContactBoundary& boundar
       const double cosine = c.normal.dot(towards_obstacle);
       if (!(cosine > 0.0)) {
         std::ostringstream msg;
-        msg << "MakeContactFrames: at contact node " << node << " (" << X.transpose()
+        msg << "at contact node " << node << " (" << X.transpose()
             << ") the body normal (" << c.normal.head(dim).transpose()
             << ") points away from the obstacle; use the obstacle normal or check the 'contact' group";
         throw std::invalid_argument(msg.str());

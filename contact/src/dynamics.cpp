@@ -88,12 +88,13 @@ bool CheckCriticalStep(const DynamicModel& model, const DynamicOptions& options,
                                 "Young's modulus [Pa], density [kg/m^3] and mesh size [m])");
   if (!(options.dt > crit.dt_crit) || options.allow_unstable_time_step) return true;
   summary->status = DynamicStatus::kRefusedUnstable;
-  char buffer[256];
+  char buffer[512];
   std::snprintf(buffer, sizeof buffer,
                 "time step dt = %.6g s exceeds the critical step dt_crit = 2/omega_max = %.6g s "
-                "of central differences (omega_max = %.6g rad/s); set "
-                "allow_unstable_time_step to run anyway",
-                options.dt, crit.dt_crit, crit.omega_max);
+                "of central differences (omega_max = %.6g rad/s): choose dt <= %.6g s (scene key "
+                "time.dt), or set time.allow_unstable = true in the scene "
+                "(DynamicOptions::allow_unstable_time_step in C++) to run anyway",
+                options.dt, crit.dt_crit, crit.omega_max, crit.dt_crit);
   summary->message = buffer;
   return false;
 }
@@ -193,6 +194,7 @@ class CentralDifferences {
       Accumulate(rec);
       Advance();
       if (!GuardEnergy(rec)) break;
+      if (StopRequested(rec, num_steps)) break;
       if (options_.progress && Seconds(start) - last_progress > 1.0) {
         last_progress = Seconds(start);
         const double fraction = static_cast<double>(k + 1) / static_cast<double>(num_steps);
@@ -309,6 +311,17 @@ class CentralDifferences {
     s.Mdu_previous.swap(s.Mdu);
   }
 
+  // DynamicOptions::stop_requested, read once a step is finished and recorded.
+  bool StopRequested(const StepRecord& rec, long num_steps) {
+    if (!options_.stop_requested || !options_.stop_requested->load()) return false;
+    summary_.status = DynamicStatus::kInterrupted;
+    char buffer[200];
+    std::snprintf(buffer, sizeof buffer, "interrupted at step %d (t = %.9g s) of %ld", rec.step, rec.time,
+                  num_steps);
+    summary_.message = buffer;
+    return true;
+  }
+
   // Kinetic + strain energy within energy_blowup_factor of the initial energy and external
   // work. (The reference is zero until energy enters - a body at rest under a step load -:
   // no ratio test before that, so round-off energy cannot trip it.) The shadow energy of the
@@ -382,6 +395,7 @@ const char* ToString(DynamicStatus s) {
     case DynamicStatus::kEnergyBlowUp: return "energy-blow-up";
     case DynamicStatus::kRefusedUnstable: return "refused-unstable-time-step";
     case DynamicStatus::kAccuracyNotReached: return "accuracy-not-reached";
+    case DynamicStatus::kInterrupted: return "interrupted";
   }
   return "unknown";
 }

@@ -35,6 +35,7 @@ class MshTagScanner {
       Next();
       if (line_ == "$Nodes") v4 ? Blocks(/*nodes=*/true) : Lines(true);
       if (line_ == "$Elements") v4 ? Blocks(false) : Lines(false);
+      if (line_ == "$PhysicalNames") PhysicalNames();
     }
   }
 
@@ -79,6 +80,18 @@ class MshTagScanner {
       }
       if (nodes)
         for (unsigned long long i = 0; i < count; ++i) Next();  // coordinates
+    }
+  }
+  /// The count, then one line per group "dim tag \"name\"": dim in [0, 3] (gmsh 4.8 indexes
+  /// a table of four dimensions with it: 4 crashed it), tag in [1, kMaxMshTag].
+  void PhysicalNames() {
+    std::istringstream header(Next());
+    const unsigned long long count = Count(header, kMaxMshTag, "number of physical names");
+    for (unsigned long long i = 0; i < count; ++i) {
+      std::istringstream tokens(Next());
+      Count(tokens, 3, "physical group dimension");
+      if (Count(tokens, kMaxMshTag, "physical group tag") == 0)
+        Fail("physical group tag 0 lies outside [1, " + std::to_string(kMaxMshTag) + "]");
     }
   }
   /// MSH 2: the count, then one line per node "tag x y z" or element

@@ -158,9 +158,10 @@ Mesh MakeRectangleMesh(const RectangleMeshOptions& options) {
         std::string(who) + ": element_type must be kTriangle3 or kQuadrilateral4, got " +
         ToString(options.element_type));
   const bool quads = options.element_type == ElementType::kQuadrilateral4;
-  const auto [x0, y0] = options.origin;
+  // Plain variables, not structured bindings: a lambda below captures them (C++17 clang refuses).
+  const double x0 = options.origin[0], y0 = options.origin[1];
   const double x1 = x0 + options.size[0], y1 = y0 + options.size[1];
-  const auto [nx, ny] = options.cells;
+  const int nx = options.cells[0], ny = options.cells[1];
   const double h = std::min(options.size[0] / nx, options.size[1] / ny);
 
   Mesh mesh;

@@ -5,10 +5,10 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <stdexcept>
 
+#include "ncp/output_file.hpp"
 #include "reference_element.hpp"
 
 namespace contact {
@@ -111,8 +111,8 @@ void WriteVtk(const std::string& path, const Mesh& mesh,
                                   std::to_string(mesh.dim) + " or 3 rows, got " +
                                   std::to_string(field.values.rows()));
   }
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("WriteVtk: cannot open '" + path + "' for writing");
+  ncp::OutputFile file = ncp::OutputFile::OpenAtomic(path);
+  std::ostream& out = file.stream();
   out.precision(16);
   out << "# vtk DataFile Version 3.0\ncontact mesh\nASCII\nDATASET UNSTRUCTURED_GRID\n";
   out << "POINTS " << mesh.NumNodes() << " double\n";
@@ -143,7 +143,7 @@ void WriteVtk(const std::string& path, const Mesh& mesh,
       }
     }
   }
-  if (!out) throw std::runtime_error("WriteVtk: writing '" + path + "' failed");
+  file.Close();
 }
 
 void WriteVtu(const std::string& path, const Mesh& mesh,
@@ -170,8 +170,8 @@ void WriteVtu(const std::string& path, const Mesh& mesh,
           std::to_string(mesh.NumElements()) + " columns, got " + std::to_string(rows) +
           " x " + std::to_string(field.values.cols()));
   }
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw std::runtime_error("WriteVtu: cannot open '" + path + "' for writing");
+  ncp::OutputFile file = ncp::OutputFile::OpenAtomic(path);
+  std::ostream& out = file.stream();
   const int nen = static_cast<int>(mesh.elements.rows());
   out << "<?xml version=\"1.0\"?>\n"
          "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
@@ -203,7 +203,7 @@ void WriteVtu(const std::string& path, const Mesh& mesh,
   WriteDataArray(out, "Int64", "offsets", 1, offsets);
   WriteDataArray(out, "UInt8", "types", 1, types);
   out << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
-  if (!out) throw std::runtime_error("WriteVtu: writing '" + path + "' failed");
+  file.Close();
 }
 
 void WritePvtu(const std::string& path, const std::vector<PointField>& point_fields,
@@ -211,8 +211,8 @@ void WritePvtu(const std::string& path, const std::vector<PointField>& point_fie
                const std::vector<std::string>& pieces) {
   if (pieces.empty())
     throw std::invalid_argument("WritePvtu: no piece for '" + path + "'");
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("WritePvtu: cannot open '" + path + "' for writing");
+  ncp::OutputFile file = ncp::OutputFile::OpenAtomic(path);
+  std::ostream& out = file.stream();
   // The component counts as WriteVtu writes them: point vectors padded to 3.
   auto array = [&](const std::string& name, Eigen::Index rows) {
     CheckName("WritePvtu", name);
@@ -234,13 +234,13 @@ void WritePvtu(const std::string& path, const std::vector<PointField>& point_fie
   for (const std::string& piece : pieces)
     out << "    <Piece Source=\"" << piece << "\"/>\n";
   out << "  </PUnstructuredGrid>\n</VTKFile>\n";
-  if (!out) throw std::runtime_error("WritePvtu: writing '" + path + "' failed");
+  file.Close();
 }
 
 void WritePvd(const std::string& path,
               const std::vector<std::pair<double, std::string>>& snapshots) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("WritePvd: cannot open '" + path + "' for writing");
+  ncp::OutputFile file = ncp::OutputFile::OpenAtomic(path);
+  std::ostream& out = file.stream();
   out.precision(17);
   out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n"
          "  <Collection>\n";
@@ -248,7 +248,7 @@ void WritePvd(const std::string& path,
     out << "    <DataSet timestep=\"" << time << "\" part=\"0\" file=\"" << file
         << "\"/>\n";
   out << "  </Collection>\n</VTKFile>\n";
-  if (!out) throw std::runtime_error("WritePvd: writing '" + path + "' failed");
+  file.Close();
 }
 
 ContactState ClassifyContact(double normal_force, double slip_length,

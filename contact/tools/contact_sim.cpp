@@ -5,13 +5,43 @@
 //                          [--friction-formulation lagged-bound|coulomb-fc] [--end-time S]
 //                          [--output DIR] [--quiet]
 #include <cxxopts.hpp>
+#include <signal.h>
+
+#include <atomic>
+#include <csignal>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "contact/scene.hpp"
+#include "ncp/output_file.hpp"
 
 namespace {
+
+// Set by the first SIGINT or SIGTERM: the run stops after the step in progress
+// (DynamicOptions::stop_requested). The handler is reset on delivery (SA_RESETHAND), so a
+// second signal ends the process at once.
+std::atomic<bool> g_stop_requested{false};
+volatile std::sig_atomic_t g_stop_signal = 0;
+static_assert(std::atomic<bool>::is_always_lock_free, "the stop flag is set in a signal handler");
+
+extern "C" void RequestStop(int signal_number) {
+  g_stop_signal = signal_number;
+  g_stop_requested.store(true);
+}
+
+/// SIGINT and SIGTERM stop the run between steps; SIGXFSZ is ignored so that a file-size
+/// limit (ulimit -f) makes the write fail with EFBIG - reported, with the file's name -
+/// instead of killing the process.
+void InstallSignalHandlers() {
+  struct sigaction action {};
+  action.sa_handler = RequestStop;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESETHAND | SA_RESTART;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+  std::signal(SIGXFSZ, SIG_IGN);
+}
 
 /// A TOML basic string literal of `s` (quotes and backslashes escaped).
 std::string TomlString(const std::string& s) {
@@ -37,7 +67,9 @@ cxxopts::Options MakeCli() {
       "friction-formulation", "override solver.friction: lagged-bound, coulomb-fc", cxxopts::value<std::string>())(
       "tolerance", "override solver.tolerance", cxxopts::value<std::string>())(
       "output", "override output.directory", cxxopts::value<std::string>())(
-      "no-output", "write no files")("quiet", "no progress lines on stderr")(
+      "no-output", "write no files")(
+      "quiet", "no progress lines, notes or warnings; a run that does not complete prints its "
+               "reason once and no table")(
       "h,help", "show this help");
   cli.parse_positional({"scene"});
   cli.positional_help("SCENE.toml");
@@ -65,7 +97,11 @@ contact::SceneOverrides OverridesOf(const cxxopts::ParseResult& args) {
 /// t_comp, then the accuracy and energy balance of the run).
 void PrintReport(std::FILE* table, const contact::Scene& scene, const contact::SceneResult& r) {
   const contact::DynamicSummary& s = r.summary;
-  std::fprintf(table, "%s: %s (%s)\n", scene.name.c_str(), contact::ToString(s.status), s.message.c_str());
+  // A run that did not complete has its reason on stderr already (main): not twice.
+  if (s.status == contact::DynamicStatus::kCompleted)
+    std::fprintf(table, "%s: %s (%s)\n", scene.name.c_str(), contact::ToString(s.status), s.message.c_str());
+  else
+    std::fprintf(table, "%s: %s (the reason is above)\n", scene.name.c_str(), contact::ToString(s.status));
   std::fprintf(table, "  %d dofs (%d free), %d elements, %d contact nodes, dt_crit = %.4g s\n", r.num_dofs,
                r.num_free_dofs, r.num_elements, r.num_contact_nodes, s.critical_time_step);
   std::fprintf(table, "  %-10s %-6s %-7s %-8s %-8s %-10s\n", "dt", "f_c", "k_sim", "N_Jac", "N_func", "t_comp[s]");
@@ -115,7 +151,9 @@ nlohmann::json JsonSummary(const contact::Scene& scene, const contact::SceneResu
 }  // namespace
 
 // Exit codes: 0 completed, 1 refused input (scene, mesh, option value) or a run that did not
-// complete, 2 usage error (unknown option, missing scene, option without its value).
+// complete, 2 usage error (unknown option, missing scene, option without its value), 3 an
+// output file could not be written (its name and the reason on stderr), 128 + the signal
+// (130 SIGINT, 143 SIGTERM) for a run stopped by a signal after a finished step.
 int main(int argc, char** argv) {
   cxxopts::Options cli = MakeCli();
   cxxopts::ParseResult args;
@@ -143,22 +181,42 @@ int main(int argc, char** argv) {
   contact::SceneResult r;
   try {
     scene = contact::LoadScene(args["scene"].as<std::string>(), OverridesOf(args));
+    if (!quiet)
+      for (const std::string& w : scene.warnings) std::fprintf(stderr, "contact-sim: warning: %s\n", w.c_str());
     if (args.count("output")) scene.output_directory = args["output"].as<std::string>();
     if (args.count("no-output")) scene.output_directory.clear();
+    scene.dynamics.stop_requested = &g_stop_requested;
+    InstallSignalHandlers();
     r = contact::RunScene(scene, !quiet);
+  } catch (const ncp::OutputError& e) {
+    std::cerr << "contact-sim: output failed, the run is incomplete: " << e.what() << std::endl;
+    return 3;
   } catch (const std::exception& e) {
     std::cerr << "contact-sim: " << e.what() << std::endl;
     return 1;
   }
   const contact::DynamicSummary& s = r.summary;
+  // The JSON first: if stdout cannot take it, the run's result is lost - exit 3 without a
+  // report that says completed.
+  if (json) std::cout << JsonSummary(scene, r).dump(2) << std::endl;
+  if (json && (std::fflush(stdout) != 0 || std::ferror(stdout))) {
+    std::fprintf(stderr, "contact-sim: writing the JSON summary to stdout failed: the result is lost\n");
+    return 3;
+  }
   std::FILE* table = json ? stderr : stdout;
-  // A run that did not complete says so on stderr even with --quiet and --json.
-  if (s.status != contact::DynamicStatus::kCompleted && (quiet || table != stderr))
+  // A run that did not complete says why, once, on stderr (with --quiet and --json too); a
+  // refused run (nothing run) or a quiet one prints no table after it.
+  const bool completed = s.status == contact::DynamicStatus::kCompleted;
+  if (!completed)
     std::fprintf(stderr, "contact-sim: %s: %s (%s)\n", scene.source.c_str(), contact::ToString(s.status),
                  s.message.c_str());
-  PrintReport(table, scene, r);
+  if (completed || (!quiet && s.steps > 0)) PrintReport(table, scene, r);
   if (!r.files_written.empty() && !quiet)
     std::fprintf(stderr, "  wrote %zu files into %s\n", r.files_written.size(), scene.output_directory.c_str());
-  if (json) std::cout << JsonSummary(scene, r).dump(2) << std::endl;
+  if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+    std::fprintf(stderr, "contact-sim: writing the report to stdout failed\n");
+    return 3;
+  }
+  if (s.status == contact::DynamicStatus::kInterrupted) return 128 + static_cast<int>(g_stop_signal);
   return s.status == contact::DynamicStatus::kCompleted ? 0 : 1;
 }

@@ -14,12 +14,14 @@
 #include "box_mcp.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "ncp_function_internal.hpp"
 #include "sparse_pattern.hpp"
 
 namespace ncp::internal {
@@ -37,6 +39,14 @@ int ProjectOntoBox(const Vector& lower, const Vector& upper, Vector* x) {
     (*x)(i) = projected;
   }
   return moved;
+}
+
+/// Like ProjectOntoBox; *largest = the largest distance a component moved.
+int ProjectOntoBox(const Vector& lower, const Vector& upper, Vector* x, double* largest) {
+  *largest = 0.0;
+  for (Eigen::Index i = 0; i < x->size(); ++i)
+    *largest = std::max(*largest, std::abs(std::max(lower(i), std::min(upper(i), (*x)(i))) - (*x)(i)));
+  return ProjectOntoBox(lower, upper, x);
 }
 
 /// Bounds with |b| >= infinite_bound are infinite (GAMS and PATH write "no bound" as
@@ -350,6 +360,121 @@ void CheckBounds(const Vector& lower, const Vector& upper, const Vector& x) {
   }
 }
 
+
+// ---------------------------------------------------------------------------------------
+// Infeasibility of a box LCP (TerminationType::kInfeasible). A solution x of
+// l <= x <= u perp F(x) = M x + q has F(x) in the cone K of the bounds: F_i >= 0 where only
+// l_i is finite, F_i <= 0 where only u_i is, F_i = 0 where neither is (no condition on
+// two-sided or fixed rows). Farkas: if some y in the dual cone K* (y_i >= 0, <= 0, free,
+// 0 on those rows) has
+//     sup_{x in [l, u]} y'(M x + q) = q'y + sum_i sup_{x_i in [l_i, u_i]} g_i x_i < 0,
+// g = M'y, then y'F(x) < 0 on the whole box while y'F(x) >= 0 at any x with F(x) in K: no
+// solution exists. (The sup is finite only if g_i <= 0 where u_i = +inf and g_i >= 0 where
+// l_i = -inf.) Candidates come from where the solve got stuck: at a stationary point of
+// psi = 1/2 ||Phi||^2, grad psi = 0 pairs the rows of F with the weights db_j phi_j, the
+// multipliers of the pairs (x_i - l_i, F_i) (Facchinei and Pang 2003, sec. 9.1); and the
+// violations of F(x) in K at x projected onto the box. Each is checked exactly as above,
+// with round-off allowance n * 8 eps relative to the terms summed (Higham 2002, sec. 3.1).
+
+enum class RowCone { kNonNegative, kNonPositive, kZero, kAny };
+
+RowCone ConeOfRow(double lower, double upper) {
+  const bool lo = std::isfinite(lower), up = std::isfinite(upper);
+  if (lo && !up) return RowCone::kNonNegative;
+  if (!lo && up) return RowCone::kNonPositive;
+  if (!lo && !up) return RowCone::kZero;
+  return RowCone::kAny;
+}
+
+/// y projected onto K*: y_i >= 0 on K_i = [0, inf), <= 0 on (-inf, 0], free on {0}, 0 on R.
+void ProjectOntoDualCone(const Vector& lower, const Vector& upper, Vector* y) {
+  for (Eigen::Index i = 0; i < y->size(); ++i) {
+    switch (ConeOfRow(lower(i), upper(i))) {
+      case RowCone::kNonNegative: (*y)(i) = std::max((*y)(i), 0.0); break;
+      case RowCone::kNonPositive: (*y)(i) = std::min((*y)(i), 0.0); break;
+      case RowCone::kZero: break;
+      case RowCone::kAny: (*y)(i) = 0.0; break;
+    }
+  }
+}
+
+/// sup over the box of y'(M x + q) (y in K*), or +inf when it is unbounded or not
+/// negative beyond round-off; the certificate holds when the result is < 0.
+double CertificateValue(const SparseMatrix& M, const Vector& q, const Vector& lower,
+                        const Vector& upper, const Vector& y) {
+  const Eigen::Index n = y.size();
+  if (y.lpNorm<Eigen::Infinity>() == 0.0) return std::numeric_limits<double>::infinity();
+  const Vector g = M.transpose() * y;
+  const Vector g_terms = SparseMatrix(M.cwiseAbs()).transpose() * y.cwiseAbs();
+  const double roundoff = 8.0 * static_cast<double>(n) * std::numeric_limits<double>::epsilon();
+  double value = q.dot(y), magnitude = q.cwiseAbs().dot(y.cwiseAbs());
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double gi = std::abs(g(i)) <= roundoff * g_terms(i) ? 0.0 : g(i);
+    if (gi == 0.0) continue;
+    const double bound = gi > 0.0 ? upper(i) : lower(i);
+    if (!std::isfinite(bound)) return std::numeric_limits<double>::infinity();
+    value += gi * bound;
+    magnitude += std::abs(gi * bound);
+  }
+  return value < -roundoff * magnitude ? value : std::numeric_limits<double>::infinity();
+}
+
+/// The candidate of grad psi = 0 at the (unprojected) iterate x with F(x) = Fx: the
+/// weight of grad F_i in grad psi is db phi for a lower pair (x_i - l_i, F_i), -db phi for
+/// an upper pair (u_i - x_i, -F_i), F_i for an equation; y = -(that weight).
+Vector StationaryCandidate(const Options& options, const Vector& lower, const Vector& upper,
+                           const Vector& x, const Vector& Fx) {
+  Vector y = Vector::Zero(x.size());
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    const RowCone cone = ConeOfRow(lower(i), upper(i));
+    if (cone == RowCone::kZero) y(i) = -Fx(i);
+    if (cone != RowCone::kNonNegative && cone != RowCone::kNonPositive) continue;
+    const double sign = cone == RowCone::kNonNegative ? 1.0 : -1.0;
+    const double a = cone == RowCone::kNonNegative ? x(i) - lower(i) : upper(i) - x(i);
+    const double b = sign * Fx(i);
+    const double phi = PhiValue(options.ncp_function, options.penalized_fb_lambda, a, b);
+    const PhiPartials dp = PhiDerivatives(options.ncp_function, options.penalized_fb_lambda, a, b,
+                                          a == 0.0 && b == 0.0, 0.0, 0.0, options.min_tie_takes_b);
+    y(i) = -sign * dp.db * phi;
+  }
+  ProjectOntoDualCone(lower, upper, &y);
+  return y;
+}
+
+/// A checked certificate in summary->infeasibility_certificate (and kInfeasible), when F is
+/// affine and the solve got stuck; x is the last iterate, before its projection.
+void CheckInfeasibility(const Options& options, SquareFunction& F, const Vector& lower,
+                        const Vector& upper, const Vector& x, Summary* summary) {
+  const TerminationType t = summary->termination;
+  const bool stuck = t == TerminationType::kStationaryPoint || t == TerminationType::kLineSearchFailure ||
+                     t == TerminationType::kMaxIterations || t == TerminationType::kLinearSolverFailure;
+  if (!stuck || !F.IsAffine()) return;
+  const Eigen::Index n = x.size();
+  Vector Fx(n), x_box = x, F_box(n);
+  SparseMatrix M;
+  ProjectOntoBox(lower, upper, &x_box);
+  if (!F.Evaluate(x, &Fx) || !F.Jacobian(x, &M) || !F.Evaluate(x_box, &F_box) ||
+      Fx.size() != n || M.rows() != n || M.cols() != n || !Fx.allFinite() || !F_box.allFinite())
+    return;
+  const Vector q = Fx - M * x;  // F(x) = M x + q
+  Vector violation = -F_box;    // the violation of F(x_box) in K, as an element of K*
+  ProjectOntoDualCone(lower, upper, &violation);
+  for (const Vector& y : {StationaryCandidate(options, lower, upper, x, Fx), violation}) {
+    const double value = CertificateValue(M, q, lower, upper, y);
+    if (!std::isfinite(value)) continue;
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "no solution exists: F is affine and y = Summary::infeasibility_certificate "
+                  "(||y||_inf = %.3e) gives sup over [l, u] of y'F(x) = %.3e < 0 (Farkas)",
+                  y.lpNorm<Eigen::Infinity>(), value);
+    summary->message = std::string(text) + "; the solver had stopped with " + ToString(t) + ": " +
+                       summary->message;
+    summary->termination = TerminationType::kInfeasible;
+    summary->infeasibility_certificate = y;
+    return;
+  }
+}
+
 }  // namespace
 
 void BoxMcpDeleter::operator()(BoxMcpAsMixed* p) const { delete p; }
@@ -374,12 +499,24 @@ void SolveBoxMcp(Solver& solver, BoxMcpCache* cache, SquareFunction& F, const Ve
   } else {
     solver.Solve(mixed, &y, summary);
     *x = y.head(F.NumVariables());
+    CheckInfeasibility(options, F, mixed.lower(), mixed.upper(), *x, summary);
   }
   summary->projected_start_components = projected;
   if (projected > 0)
     summary->message += " (" + std::to_string(projected) +
                         " components of the start point were outside [l, u] and were "
                         "projected onto it)";
+  // The returned x lies in [l, u] whatever the status (FB iterates may leave the box).
+  double moved_by = 0.0;
+  summary->projected_final_components = ProjectOntoBox(mixed.lower(), mixed.upper(), x, &moved_by);
+  if (summary->projected_final_components > 0) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  " (%d components of the last iterate were outside [l, u], by up to %.3e, "
+                  "and were projected onto it)",
+                  summary->projected_final_components, moved_by);
+    summary->message += text;
+  }
 }
 
 }  // namespace ncp::internal

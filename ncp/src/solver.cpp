@@ -14,6 +14,7 @@
 #include "linear_solver.hpp"
 #include "sparse_pattern.hpp"
 #include "box_mcp.hpp"
+#include "globalization.hpp"
 #include "ncp_function_internal.hpp"
 
 namespace ncp {
@@ -204,6 +205,7 @@ std::string Summary::FullReport() const {
       << "  symbolic factorizations  " << symbolic_factorizations << "\n"
       << "  Cholesky -> LU fallbacks " << cholesky_fallbacks << "\n"
       << "  start components moved   " << projected_start_components << "\n"
+      << "  final components moved   " << projected_final_components << "\n"
       << "  ||Phi||_inf initial      " << Fmt("%.6e", initial_phi_inf) << "\n"
       << "  ||Phi||_inf final        " << Fmt("%.6e", final_phi_inf)
       << (roundoff_limited ? " (at the round-off floor)" : "") << "\n"
@@ -259,10 +261,9 @@ struct Solver::Workspace {
   SparseMatrix normal_matrix, identity;
   bool regularized_analyzed = false;
   Eigen::Index regularized_nonzeros = -1;
-  // psi of the last nonmonotone_memory iterates: the nonmonotone Armijo reference.
-  std::vector<double> psi_memory;
-  // psi of the last stagnation_window + 1 iterates (ring buffer): the stagnation test.
-  std::vector<double> psi_ring;
+  // The nonmonotone Armijo reference and the stagnation test (globalization.hpp).
+  internal::NonmonotoneReference armijo_reference;
+  internal::StagnationTest stagnation;
 
   /// Sizes every vector of the iteration for n unknowns and m equations (zeros).
   void Resize(int n, int m) {
@@ -517,8 +518,8 @@ class Solver::Iteration {
       Finish(TerminationType::kNonFiniteValues, "Phi(x0) has NaN or Inf entries");
       return false;
     }
-    w_.psi_ring.assign(static_cast<size_t>(o_.stagnation_window) + 1, 0.0);
-    w_.psi_memory.assign(static_cast<size_t>(o_.nonmonotone_memory), 0.0);
+    w_.stagnation.Reset(o_.stagnation_window);
+    w_.armijo_reference.Reset(o_.nonmonotone_memory);
     if (o_.log_to_stderr)
       std::fprintf(stderr, "%5s %12s %12s %12s %10s %4s %4s %5s\n", "iter", "|Phi|_inf", "psi",
                    "|grad|_inf", "step", "bt", "dir", "|gam|");
@@ -535,7 +536,7 @@ class Solver::Iteration {
     s_.iterations = s_.jacobian_evaluations = s_.residual_evaluations = 0;
     s_.gradient_steps = s_.regularized_steps = s_.merit_restarts = 0;
     s_.linear_solver_failures = s_.descent_test_failures = s_.backtracks = 0;
-    s_.projected_start_components = 0;
+    s_.projected_start_components = s_.projected_final_components = 0;
     s_.evaluation_time_s = s_.linear_solver_time_s = 0.0;
   }
 
@@ -600,10 +601,7 @@ class Solver::Iteration {
     degenerate_count_ = 0;
     const bool fb_family = function_ != NcpFunction::kMin;
     auto degenerate = [&](int j) {
-      if (!fb_family) return false;
-      const double a = w_.A(j), b = w_.B(j);
-      return o_.degenerate_tolerance == 0.0 ? a == 0.0 && b == 0.0
-                                            : std::hypot(a, b) <= o_.degenerate_tolerance;
+      return internal::InDegenerateSet(function_, o_.degenerate_tolerance, w_.A(j), w_.B(j));
     };
     if (fb_family) {
       w_.z.setZero();
@@ -636,9 +634,9 @@ class Solver::Iteration {
   // (r = Workspace::sensitivity, summed while J was filled: no extra pass over J.)
   bool WithinRoundoffFloor() {
     if (o_.roundoff_ulps == 0.0) return false;
-    const double ulps = o_.roundoff_ulps * std::numeric_limits<double>::epsilon();
     for (int i = 0; i < n_; ++i)
-      if (std::abs(w_.phi(i)) > threshold_ + ulps * w_.sensitivity(i)) return false;
+      if (!internal::RowWithinRoundoffFloor(w_.phi(i), threshold_, o_.roundoff_ulps, w_.sensitivity(i)))
+        return false;
     return true;
   }
 
@@ -670,23 +668,12 @@ class Solver::Iteration {
   bool TestStop(int k) {
     if (converged_) {
       s_.roundoff_limited = roundoff_limited_;
-      std::string what =
-          w_.weighted ? "every row within floor + " + Fmt("%.1e", o_.tolerance) +
-                            " x scale in its own units (relative ||Phi||_inf = " +
-                            Fmt("%.3e", phi_inf_) + ")"
-                      : "||Phi||_inf = " + Fmt("%.3e", phi_inf_) + " <= " + Fmt("%.3e", o_.tolerance);
-      if (roundoff_limited_)
-        what = (w_.weighted ? "relative ||Phi||_inf = " : "||Phi||_inf = ") + Fmt("%.3e", phi_inf_) +
-               " > tolerance " + Fmt("%.1e", o_.tolerance) + ", at the round-off floor: every row within " +
-               "the tolerance + " + Fmt("%g", o_.roundoff_ulps) +
-               " ulps of its sensitivity |J||x| (double precision resolves no more at this x)";
-      Finish(TerminationType::kConverged, what + " after " + std::to_string(k) + " iterations");
+      Finish(TerminationType::kConverged,
+             internal::ConvergedMessage(o_, w_.weighted, roundoff_limited_, phi_inf_, k));
       return true;
     }
     if (k >= o_.max_iterations) {
-      Finish(TerminationType::kMaxIterations, "reached max_iterations = " +
-                                                  std::to_string(o_.max_iterations) +
-                                                  " with ||Phi||_inf = " + Fmt("%.3e", phi_inf_));
+      Finish(TerminationType::kMaxIterations, internal::MaxIterationsMessage(o_, phi_inf_));
       return true;
     }
     if (OutOfTime("at iteration ", k)) return true;
@@ -702,37 +689,20 @@ class Solver::Iteration {
   // Options::max_seconds passed? (no allocation unless it did: checked every trial)
   bool OutOfTime(const char* where, int k) {
     if (!std::isfinite(o_.max_seconds) || !(Seconds(start_) > o_.max_seconds)) return false;
-    Finish(TerminationType::kTimeLimit, "max_seconds = " + Fmt("%.3g", o_.max_seconds) +
-                                            " s reached " + where + std::to_string(k) + " with ||Phi||_inf = " +
-                                            Fmt("%.3e", phi_inf_));
+    Finish(TerminationType::kTimeLimit, internal::TimeLimitMessage(o_, where, k, phi_inf_));
     return true;
   }
 
-  // The smallest psi so far decreased by less than stagnation_tolerance of itself over the
-  // last stagnation_window iterations (a ring buffer). With a monotone line search the
-  // smallest psi is psi(x^k); a nonmonotone one may raise psi in between.
+  // The stagnation test of globalization.hpp (Options::stagnation_window).
   bool Stagnated(int k) {
-    const size_t window = static_cast<size_t>(o_.stagnation_window);
-    const size_t kk = static_cast<size_t>(k - first_k_);
-    best_psi_ = k == first_k_ ? psi_ : std::min(best_psi_, psi_);
-    w_.psi_ring[kk % (window + 1)] = best_psi_;
-    const double best_window_ago = w_.psi_ring[(kk + 1) % (window + 1)];  // at k - window
-    if (window == 0 || kk < window ||
-        best_window_ago - best_psi_ > o_.stagnation_tolerance * best_window_ago)
-      return false;
-    Finish(TerminationType::kStationaryPoint,
-           "the smallest psi decreased by less than " + Fmt("%.1e", o_.stagnation_tolerance) +
-               " relative over the last " + std::to_string(window) + " iterations (||Phi||_inf = " +
-               Fmt("%.3e", phi_inf_) + ", ||grad psi||_inf = " + Fmt("%.3e", grad_inf_) +
-               "): the iterates approach a stationary point of psi that is not a solution");
+    if (!w_.stagnation.Stagnated(static_cast<size_t>(k - first_k_), psi_, o_)) return false;
+    Finish(TerminationType::kStationaryPoint, internal::StagnationMessage(o_, phi_inf_, grad_inf_));
     return true;
   }
 
   bool StationaryPoint() {
     if (grad_inf_ != 0.0) return false;
-    Finish(TerminationType::kStationaryPoint,
-           "grad psi = J' Phi = 0 with ||Phi||_inf = " + Fmt("%.3e", phi_inf_) +
-               ": a stationary point of psi that is not a solution");
+    Finish(TerminationType::kStationaryPoint, internal::ZeroGradientMessage(phi_inf_));
     return true;
   }
 
@@ -766,7 +736,7 @@ class Solver::Iteration {
   // grad psi' d <= -rho ||d||^p (eq. 22); sets slope_.
   bool PassesDescentTest() {
     slope_ = w_.grad.dot(w_.d);
-    return slope_ <= -o_.descent_rho * std::pow(w_.d.norm(), o_.descent_p);
+    return internal::PassesDescentTest(slope_, w_.d.norm(), o_);
   }
 
   // J d = -Phi (eq. 21). A factorization predicted to take longer than the time left is
@@ -775,14 +745,10 @@ class Solver::Iteration {
     const auto t0 = Clock::now();
     w_.newton_rhs = -w_.phi;
     bool solved = FactorizeJacobian(k) && SolveFactorized(w_.newton_rhs, &w_.d) && AllFinite(w_.d);
-    if (solved) {
-      // Guard against an unstable factorization that "succeeded": the computed d must
-      // solve J d = -Phi to a small normwise backward error, ||J d + Phi|| <= 1e-6 (||Phi|| +
-      // || |J||d| ||) (Rigal and Gaches 1967; Higham 2002, Thm. 7.1). The terms |J||d|, not
-      // |J d|, set the scale: rows of size h^-2 (fine grids) leave a residual of eps |J||d|
-      // in any backward-stable solve, far above 1e-6 ||Phi|| once h^-2 eps ~ 1e-6.
+    if (solved) {  // the backward-error guard of globalization.hpp
       const double terms_inf = w_.ResidualAndTerms(w_.d, w_.phi, &w_.newton_residual, &w_.newton_terms);
-      solved = w_.newton_residual.lpNorm<Eigen::Infinity>() <= 1e-6 * (phi_inf_ + terms_inf);
+      solved = internal::NewtonSolutionAccurate(w_.newton_residual.lpNorm<Eigen::Infinity>(), phi_inf_,
+                                                terms_inf);
     }
     s_.linear_solver_time_s += Seconds(t0);
     return solved;
@@ -878,84 +844,40 @@ class Solver::Iteration {
   }
 
   // ---- step 3: Armijo line search on psi with steps 2^-i -------------------------------
-  // Monotone (nonmonotone_memory = 1, eq. 23):   psi(x + t d) <= psi(x) + beta t slope.
-  // Nonmonotone (Grippo, Lampariello and Lucidi 1986; Munson et al. 2001, sec. 3):
-  // psi(x) replaced by R = max of psi over the last nonmonotone_memory iterates.
-  // A trial point where the problem cannot be evaluated, or evaluates to non-finite
-  // values, is rejected. Numerically, a step is only taken if it changes x and strictly
-  // decreases the reference (else the iteration would stall at round-off level).
+  // Monotone (nonmonotone_memory = 1, eq. 23) or nonmonotone; the rules are
+  // internal::ArmijoLineSearch's (globalization.hpp), this supplies the trial points.
   bool LineSearch(int k, Direction direction) {
-    const size_t memory = w_.psi_memory.size();
-    const size_t kk = static_cast<size_t>(k - first_k_);
-    w_.psi_memory[kk % memory] = psi_;
-    double reference = psi_;
-    for (size_t j = 0; j < std::min(memory, kk + 1); ++j)
-      reference = std::max(reference, w_.psi_memory[j]);
-
-    double t = 1.0;
-    int i = 0;
-    bool accepted = false;
-    trials_ = non_finite_trials_ = failed_trials_ = 0;
-    for (; i <= o_.max_backtracks; ++i, t *= 0.5) {
-      if (OutOfTime("in the line search of iteration ", k)) {
-        s_.backtracks += i;
-        return false;
-      }
-      w_.x_trial = x_ + t * w_.d;
-      // No component moves any more: shorter steps cannot either. (Component by component:
-      // a test t ||d||_inf <= eps ||x||_inf stopped the 2D obstacle at 10^6 unknowns, whose
-      // last corrections, ~1e-15 on gaps of 5e-7, are far below eps max|w| ~ 8e-16 x 3.5.)
-      if (w_.x_trial == x_) break;
-      ++trials_;
-      if (!Evaluate(w_.x_trial, &w_.Et, &w_.At, &w_.Bt, &w_.phi_trial)) {
-        ++failed_trials_;
-        continue;
-      }
-      if (!AllFinite(w_.phi_trial)) {
-        ++non_finite_trials_;
-        continue;
-      }
-      const double psi_trial = 0.5 * w_.phi_trial.squaredNorm();
-      if (psi_trial <= reference + o_.armijo_beta * t * slope_ && psi_trial < reference) {
-        accepted = true;
-        break;
-      }
+    const double reference = w_.armijo_reference.Update(static_cast<size_t>(k - first_k_), psi_);
+    const internal::LineSearchResult r = internal::ArmijoLineSearch(
+        o_, reference, slope_, [&] { return OutOfTime("in the line search of iteration ", k); },
+        [&](double t) {
+          w_.x_trial = x_ + t * w_.d;
+          // (Component by component: a test t ||d||_inf <= eps ||x||_inf stopped the 2D
+          // obstacle at 10^6 unknowns, whose last corrections, ~1e-15 on gaps of 5e-7, are
+          // far below eps max|w| ~ 8e-16 x 3.5.)
+          if (w_.x_trial == x_) return internal::LineSearchTrial{internal::LineSearchTrial::kUnchanged, 0.0};
+          if (!Evaluate(w_.x_trial, &w_.Et, &w_.At, &w_.Bt, &w_.phi_trial))
+            return internal::LineSearchTrial{internal::LineSearchTrial::kNotEvaluable, 0.0};
+          if (!AllFinite(w_.phi_trial))
+            return internal::LineSearchTrial{internal::LineSearchTrial::kNonFinite, 0.0};
+          return internal::LineSearchTrial{internal::LineSearchTrial::kEvaluated,
+                                           0.5 * w_.phi_trial.squaredNorm()};
+        });
+    if (r.out_of_time) {
+      s_.backtracks += r.backtracks;
+      return false;
     }
-    s_.backtracks += std::min(i, o_.max_backtracks);
-    step_ = t;
-    backtracks_ = i;
-    if (!accepted) LineSearchFailed(k, direction);
-    return accepted;
-  }
-
-  void LineSearchFailed(int k, Direction direction) {
-    const char* name = direction == Direction::kGradient      ? "gradient"
-                       : direction == Direction::kRegularized ? "regularized"
-                                                              : "Newton";
-    const std::string where = std::string(" along the ") + name + " direction at iteration " +
-                              std::to_string(k) + ", ||Phi||_inf = " + Fmt("%.3e", phi_inf_) +
-                              ", ||grad psi||_inf = " + Fmt("%.3e", grad_inf_);
-    // Every trial NaN/Inf, or none evaluable: say so rather than "no decrease".
-    if (trials_ > 0 && non_finite_trials_ == trials_)
-      Finish(TerminationType::kNonFiniteValues, "Phi has NaN or Inf entries at all " +
-                                                    std::to_string(trials_) +
-                                                    " trial points of the line search" + where);
-    else if (trials_ > 0 && failed_trials_ == trials_)
-      Finish(TerminationType::kEvaluationFailure,
-             "the problem could not be evaluated at any of the " + std::to_string(trials_) +
-                 " trial points of the line search" + where);
-    else if (grad_inf_ <= o_.stationarity_tolerance * phi_inf_)
-      Finish(TerminationType::kStationaryPoint,
-             "no decrease of psi possible" + where +
-                 ": a stationary point of psi that is not a solution");
-    else
-      Finish(TerminationType::kLineSearchFailure,
-             "no Armijo step of length >= 2^-" + std::to_string(o_.max_backtracks) + where +
-                 (non_finite_trials_ + failed_trials_ > 0
-                      ? " (" + std::to_string(non_finite_trials_) + " of " + std::to_string(trials_) +
-                            " trial points gave NaN/Inf, " + std::to_string(failed_trials_) +
-                            " could not be evaluated)"
-                      : std::string()));
+    s_.backtracks += std::min(r.backtracks, o_.max_backtracks);
+    step_ = r.step;
+    backtracks_ = r.backtracks;
+    if (!r.accepted) {
+      const char* name = direction == Direction::kGradient      ? "gradient"
+                         : direction == Direction::kRegularized ? "regularized"
+                                                                : "Newton";
+      const internal::Ending ending = internal::LineSearchFailure(o_, r, name, k, phi_inf_, grad_inf_);
+      Finish(ending.termination, ending.message);
+    }
+    return r.accepted;
   }
 
   // ---- restart strategy (Options::merit_restarts) -----------------------------------
@@ -964,14 +886,11 @@ class Solver::Iteration {
   // point (MixedProblem::RestartPoint: x^k itself, or for a box MCP x^k projected onto the
   // box): Phi, psi, the nonmonotone memory and the stagnation window start afresh.
   bool Restart(int k) {
-    const bool stuck = s_.termination == TerminationType::kStationaryPoint ||
-                       s_.termination == TerminationType::kLineSearchFailure;
-    if (!stuck || restarts_left_ == 0 || function_ == NcpFunction::kMin) return false;
+    if (!internal::MeritRestartApplies(s_.termination, restarts_left_, function_)) return false;
     // The restart point and its Phi go to the trial buffers, so that a failed restart
     // leaves x^k, Phi(x^k) and the merit function of the finished solve untouched.
     const NcpFunction stuck_function = function_;
-    function_ = function_ == NcpFunction::kFischerBurmeister ? NcpFunction::kPenalizedFischerBurmeister
-                                                             : NcpFunction::kFischerBurmeister;
+    function_ = internal::OtherMeritFunction(function_);
     w_.x_trial = x_;
     if (!problem_.RestartPoint(&w_.x_trial) || w_.x_trial.size() != n_ ||
         !Evaluate(w_.x_trial, &w_.Et, &w_.At, &w_.Bt, &w_.phi_trial) || !AllFinite(w_.phi_trial)) {
@@ -1013,8 +932,7 @@ class Solver::Iteration {
     finished_ = true;
     s_.termination = type;
     s_.message = message;
-    if (s_.merit_restarts > 0)
-      s_.message += " (after " + std::to_string(s_.merit_restarts) + " restarts switching FB <-> penalized FB)";
+    if (s_.merit_restarts > 0) s_.message += internal::RestartSuffix(s_.merit_restarts);
     s_.final_phi_inf = w_.phi.lpNorm<Eigen::Infinity>();
     s_.final_psi = 0.5 * w_.phi.squaredNorm();
     s_.symbolic_factorizations = SymbolicFactorizations() - symbolic_before_;
@@ -1035,10 +953,8 @@ class Solver::Iteration {
   double threshold_ = 0.0;
   NcpFunction function_ = NcpFunction::kFischerBurmeister;  // the current merit (restarts switch it)
   int restarts_left_ = 0, first_k_ = 0;                      // first_k_: iterate of the last (re)start
-  int trials_ = 0, non_finite_trials_ = 0, failed_trials_ = 0;  // of the last line search
   IterationRecord record_;
   // Iterate k.
-  double best_psi_ = 0.0;  // min of psi(x^0 .. x^k)
   double phi_inf_ = 0.0, psi_ = 0.0, grad_inf_ = 0.0, slope_ = 0.0, step_ = 0.0;
   int backtracks_ = 0, degenerate_count_ = 0;
   bool converged_ = false, have_jacobian_ = false, jacobian_ok_ = true;

@@ -35,6 +35,7 @@ const char* ToString(TerminationType t) {
     case TerminationType::kEvaluationFailure: return "evaluation-failure";
     case TerminationType::kUserAbort: return "user-abort";
     case TerminationType::kTimeLimit: return "time-limit";
+    case TerminationType::kInfeasible: return "infeasible";
   }
   return "unknown";
 }

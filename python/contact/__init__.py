@@ -13,11 +13,13 @@ import os
 import sys
 import tempfile
 import time as _time
+import warnings as _warnings
 
 import numpy as np
 
 from ._contact import STEP_FIELDS, SUMMARY_FIELDS, Scene, SceneError
 from . import _contact
+from ncp import _did_you_mean  # one suggestion rule for both packages
 
 __all__ = ["load_scene", "scene_from_dict", "run", "example_path", "Result", "Scene",
            "SceneError", "STEP_FIELDS", "SUMMARY_FIELDS", "OVERRIDES"]
@@ -69,7 +71,8 @@ def _override_list(overrides):
     out = []
     for name, value in overrides.items():
         if name not in OVERRIDES:
-            raise ValueError(f"contact: unknown override {name!r}; overrides are {', '.join(OVERRIDES)}")
+            raise ValueError(f"contact: unknown override {name!r}{_did_you_mean(name, OVERRIDES)}; "
+                             f"overrides are {', '.join(OVERRIDES)}")
         if value is not None:
             out.append((OVERRIDES[name], _toml_value(value, OVERRIDES[name])))
     return out
@@ -264,6 +267,8 @@ def run(scene, every=0, contact_history=True, progress=None, base_dir=".", **ove
     elif overrides:
         raise ValueError("contact.run: overrides need a path or a dict; set a Scene's dt, end_time "
                          "or tolerance directly")
+    for message in scene.warnings:
+        _warnings.warn(f"contact.run: {message}", stacklevel=2)
     if progress is True:
         progress = _progress_bar(start_time=scene.start_time)
     elif progress is False:

@@ -10,9 +10,14 @@ scipy.sparse matrix or a dense ndarray (n x n); either may return None for "cann
 evaluate at x" (the line search then shortens the step).  Keyword arguments are the
 fields of ``ncp.Options`` (C++ defaults; enums also as strings such as
 ``ncp_function="min"``; the NCP functions are "fb", "min" and "penalized-fb", as in scene
-files).  Misuse raises ValueError with the C++ message; numerical trouble never raises:
-read ``summary.termination`` / ``summary.message`` / ``summary.is_solution_usable``.
+files).  Misuse raises ValueError with the C++ message; numerical trouble raises only
+with ``raise_on_failure=True`` (``ncp.SolveError``, carrying x and the summary), else read
+``summary.termination`` / ``summary.message`` / ``summary.is_solution_usable``.  The
+returned x of a box MCP always lies in [lower, upper]; an LCP without a solution ends
+``TerminationType.INFEASIBLE`` with its certificate in ``summary.infeasibility_certificate``.
 """
+import difflib
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -20,12 +25,30 @@ from ._ncp import (IterationRecord, LinearSolverType, NcpFunction, Options, Summ
                    TerminationType, _reference)
 from . import _ncp
 
-__all__ = ["solve", "solve_ncp", "solve_lcp", "solve_mixed", "make_options", "Options",
+__all__ = ["solve", "solve_ncp", "solve_lcp", "solve_mixed", "make_options", "SolveError", "Options",
            "Summary", "IterationRecord", "NcpFunction", "LinearSolverType",
            "TerminationType", "INFINITE_BOUND"]
 
 #: Bounds of at least this magnitude are infinite (the GAMS / PATH convention).
 INFINITE_BOUND = 1e20
+
+class SolveError(RuntimeError):
+    """A solve that did not converge, raised with ``raise_on_failure=True``: str() is the
+    status and the C++ message; ``x`` is the returned point, ``summary`` the Summary."""
+
+    def __init__(self, x, summary):
+        super().__init__(f"ncp: {summary.termination.label}: {summary.message}")
+        self.x = x
+        self.summary = summary
+
+
+def _checked(result, raise_on_failure):
+    """(x, summary), or SolveError when asked to raise and the summary is not converged."""
+    x, summary = result
+    if raise_on_failure and not summary.is_solution_usable:
+        raise SolveError(x, summary)
+    return x, summary
+
 
 _ENUM_OPTIONS = {"ncp_function": NcpFunction, "linear_solver": LinearSolverType}
 
@@ -51,6 +74,13 @@ def _enum_value(enum, name, value):
     raise ValueError(f"ncp: {name} must be a {enum.__name__} or a string, got {value!r}")
 
 
+def _did_you_mean(name, candidates):
+    """" - did you mean 'tolerance'?" for a name that is a prefix of, or close to, a candidate."""
+    close = ([c for c in candidates if c.startswith(name)]
+             or difflib.get_close_matches(name, list(candidates), n=1))
+    return f" - did you mean {close[0]!r}?" if close else ""
+
+
 def make_options(options=None, **kwargs):
     """ncp.Options from a base Options (or None: the C++ defaults) and keyword overrides.
 
@@ -61,7 +91,8 @@ def make_options(options=None, **kwargs):
             setattr(result, name, getattr(options, name))
     for name, value in kwargs.items():
         if name not in Options._fields:
-            raise ValueError(f"ncp: unknown option {name!r}; options are {', '.join(Options._fields)}")
+            raise ValueError(f"ncp: unknown option {name!r}{_did_you_mean(name, Options._fields)}; "
+                             f"options are {', '.join(Options._fields)}")
         if name in _ENUM_OPTIONS:
             value = _enum_value(_ENUM_OPTIONS[name], name, value)
         elif name == "callback" and value is not None:
@@ -109,39 +140,52 @@ def _matrix_callable(J):
     return wrapped
 
 
-def solve(F, J, x0, lower=None, upper=None, options=None, **kwargs):
+def solve(F, J, x0, lower=None, upper=None, options=None, raise_on_failure=False, **kwargs):
     """Box MCP lower <= x <= upper perp F(x) from x0.
 
     lower defaults to -inf, upper to +inf.  A start point outside [lower, upper] is
     projected onto it (summary.projected_start_components counts the moved components);
-    project_start_point=False uses it as given.  Converged when ||Phi(x)||_inf <= tolerance
-    (default 1e-10).  Returns (x, Summary)."""
+    project_start_point=False uses it as given.  The returned x is in [lower, upper]
+    (summary.projected_final_components).  Converged when ||Phi(x)||_inf <= tolerance
+    (default 1e-10).  Returns (x, Summary); raise_on_failure=True raises SolveError instead
+    of returning a summary that is not CONVERGED."""
+    return _solve_box(F, J, x0, lower, upper, options, raise_on_failure, False, **kwargs)
+
+
+def _solve_box(F, J, x0, lower, upper, options, raise_on_failure, affine, **kwargs):
     x0 = _vector("x0", x0)
     n = x0.size
     opts = make_options(options, **kwargs)
-    return _ncp.solve_box(n, F, _matrix_callable(J), _bound("lower", lower, n, -np.inf),
-                          _bound("upper", upper, n, np.inf), x0, opts)
+    return _checked(_ncp.solve_box(n, F, _matrix_callable(J), _bound("lower", lower, n, -np.inf),
+                                   _bound("upper", upper, n, np.inf), x0, opts, affine),
+                    raise_on_failure)
 
 
-def solve_ncp(F, J, x0, options=None, **kwargs):
+def solve_ncp(F, J, x0, options=None, raise_on_failure=False, **kwargs):
     """Standard NCP x >= 0, F(x) >= 0, x'F(x) = 0.  Returns (x, Summary)."""
-    return solve(F, J, x0, lower=0.0, upper=np.inf, options=options, **kwargs)
+    return solve(F, J, x0, lower=0.0, upper=np.inf, options=options,
+                 raise_on_failure=raise_on_failure, **kwargs)
 
 
-def solve_lcp(M, q, x0=None, lower=0.0, upper=np.inf, options=None, **kwargs):
+def solve_lcp(M, q, x0=None, lower=0.0, upper=np.inf, options=None, raise_on_failure=False,
+              **kwargs):
     """LCP x >= 0 perp w = M x + q >= 0 (or the box LCP with lower/upper).
 
-    M dense or scipy.sparse (n x n); x0 defaults to 0.  Returns (x, Summary)."""
+    M dense or scipy.sparse (n x n); x0 defaults to 0.  Returns (x, Summary).  A problem
+    without a solution may end INFEASIBLE with a checked Farkas certificate y
+    (summary.infeasibility_certificate); raise_on_failure=True raises SolveError."""
     q = _vector("q", q)
     n = q.size
     M = sp.csc_matrix(M, dtype=np.float64) if sp.issparse(M) else np.array(M, dtype=np.float64)
     if M.ndim != 2 or M.shape != (n, n):
         raise ValueError(f"ncp: M has shape {M.shape}, expected ({n}, {n}) (the size of q)")
     x0 = np.zeros(n) if x0 is None else _vector("x0", x0, n)
-    return solve(lambda x: M @ x + q, lambda x: M, x0, lower, upper, options, **kwargs)
+    return _solve_box(lambda x: M @ x + q, lambda x: M, x0, lower, upper, options,
+                      raise_on_failure, True, **kwargs)
 
 
-def solve_mixed(evaluate, jacobian, x0, num_equations, options=None, **kwargs):
+def solve_mixed(evaluate, jacobian, x0, num_equations, options=None, raise_on_failure=False,
+                **kwargs):
     """Mixed problem: E(x) = 0 (m rows), 0 <= A_j(x) perp B_j(x) >= 0 (n - m pairs).
 
     evaluate(x) -> (E, A, B); jacobian(x) -> (dE/dx, dA/dx, dB/dx), each dense or sparse
@@ -157,7 +201,8 @@ def solve_mixed(evaluate, jacobian, x0, num_equations, options=None, **kwargs):
             raise ValueError("ncp: jacobian(x) must return a tuple (dE/dx, dA/dx, dB/dx) or None")
         return tuple(_matrix_callable(lambda _, m=m: m)(x) for m in value)
 
-    return _ncp.solve_mixed(x0.size, int(num_equations), evaluate, wrapped_jacobian, x0, opts)
+    return _checked(_ncp.solve_mixed(x0.size, int(num_equations), evaluate, wrapped_jacobian, x0, opts),
+                    raise_on_failure)
 
 
 def _options_repr(self):

@@ -8,6 +8,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <sstream>
 #include <string>
@@ -20,6 +21,21 @@
 namespace py = pybind11;
 
 namespace {
+
+/// A value set from Python on a Scene, checked at once against the range the scene file
+/// accepts for the same key (contact/src/scene/scene_file.cpp), so that dt = -1 or NaN is
+/// refused where it is written, not at run().
+double Checked(const char* name, const char* key, double v, double min, double max,
+               bool min_open, const char* unit) {
+  const bool ok = std::isfinite(v) && (min_open ? v > min : v >= min) && v <= max;
+  if (!ok) {
+    std::ostringstream text;
+    text << "contact.Scene." << name << " = " << v << " " << unit << " is outside the accepted range "
+         << (min_open ? "(" : "[") << min << ", " << max << "] " << unit << " (the scene key " << key << ")";
+    throw contact::SceneError(text.str());
+  }
+  return v;
+}
 
 using contact::DynamicSummary;
 using contact::StepRecord;
@@ -262,6 +278,8 @@ PYBIND11_MODULE(_contact, m) {
       .def_readonly("source", &contact::Scene::source, "the file it was read from")
       .def_readonly("dim", &contact::Scene::dim)
       .def_readonly("friction_coefficient", &contact::Scene::friction_coefficient)
+      .def_readonly("warnings", &contact::Scene::warnings,
+                    "what the file says that a user probably did not mean (run() warns with them)")
       .def_property_readonly(
           "step", [](const contact::Scene& s) { return std::string(contact::ToString(s.dynamics.step_method)); },
           "solver.step of the file: auto, condensed, sparse, full, explicit or ipopt (the method that ran: "
@@ -270,18 +288,30 @@ PYBIND11_MODULE(_contact, m) {
           "friction_formulation",
           [](const contact::Scene& s) { return std::string(contact::ToString(s.dynamics.friction_formulation)); },
           "how friction is posed: coulomb-fc (implicit Coulomb, the default) or lagged-bound (solver.friction)")
-      .def_readwrite("stress_times", &contact::Scene::stress_times, "output times [s]")
+      .def_property(
+          "stress_times", [](const contact::Scene& s) { return s.stress_times; },
+          [](contact::Scene& s, const std::vector<double>& times) {
+            for (const double t : times) Checked("stress_times", "output.stress_times", t, 0.0, 1e9, false, "s");
+            s.stress_times = times;
+          },
+          "output times [s]")
       .def_property(
           "dt", [](const contact::Scene& s) { return s.dynamics.dt; },
-          [](contact::Scene& s, double v) { s.dynamics.dt = v; }, "time step [s]")
+          [](contact::Scene& s, double v) { s.dynamics.dt = Checked("dt", "time.dt", v, 0.0, 1e9, true, "s"); },
+          "time step [s]")
       .def_property_readonly(
           "start_time", [](const contact::Scene& s) { return s.dynamics.start_time; }, "t_0 [s]")
       .def_property(
           "end_time", [](const contact::Scene& s) { return s.dynamics.end_time; },
-          [](contact::Scene& s, double v) { s.dynamics.end_time = v; }, "[s]")
+          [](contact::Scene& s, double v) {
+            s.dynamics.end_time = Checked("end_time", "time.end_time", v, 0.0, 1e9, true, "s");
+          },
+          "[s]")
       .def_property(
           "tolerance", [](const contact::Scene& s) { return s.dynamics.ncp.tolerance; },
-          [](contact::Scene& s, double v) { s.dynamics.ncp.tolerance = v; },
+          [](contact::Scene& s, double v) {
+            s.dynamics.ncp.tolerance = Checked("tolerance", "solver.tolerance", v, 0.0, 1.0, true, "");
+          },
           "tolerance of every step relative to its force and displacement scales")
       .def("__repr__", [](const contact::Scene& s) {
         std::ostringstream text;

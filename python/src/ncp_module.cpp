@@ -87,9 +87,10 @@ void ToSparse(const py::handle& result, Eigen::Index rows, Eigen::Index cols,
 /// F : R^n -> R^n from two callables; either may return None for "cannot evaluate at x".
 class PythonSquareFunction : public ncp::SquareFunction {
  public:
-  PythonSquareFunction(int n, py::function F, py::function J)
-      : n_(n), F_(std::move(F)), J_(std::move(J)) {}
+  PythonSquareFunction(int n, py::function F, py::function J, bool affine)
+      : n_(n), F_(std::move(F)), J_(std::move(J)), affine_(affine) {}
   int NumVariables() const override { return n_; }
+  bool IsAffine() const override { return affine_; }
   bool Evaluate(const Vector& x, Vector* F) override {
     py::object r = F_(ToNumpy(x));
     if (r.is_none()) return false;
@@ -106,6 +107,7 @@ class PythonSquareFunction : public ncp::SquareFunction {
  private:
   int n_;
   py::function F_, J_;
+  bool affine_;  // F(x) = M x + q (solve_lcp): a stuck solve may prove infeasibility
 };
 
 /// The mixed problem of ncp/problem.hpp: evaluate(x) -> (E, A, B), jacobian(x) -> (JE,
@@ -260,6 +262,8 @@ void BindSummary(py::module_& m) {
       ("regularized_steps", &Summary::regularized_steps, "steps along the Levenberg-Marquardt direction")
       ("merit_restarts", &Summary::merit_restarts, "restarts switching FB <-> penalized FB")
       ("projected_start_components", &Summary::projected_start_components, "start components moved onto [l, u]")
+      ("projected_final_components", &Summary::projected_final_components, "components of the last iterate moved onto [l, u]")
+      ("infeasibility_certificate", &Summary::infeasibility_certificate, "INFEASIBLE: the Farkas certificate y (else empty)")
       ("predicted_factorization_flops", &Summary::predicted_factorization_flops, "largest predicted factorization cost [flop]")
       ("weighted_residual", &Summary::weighted_residual, "residuals are relative to the problem's own scales")
       ("roundoff_limited", &Summary::roundoff_limited, "converged at the round-off floor, above the tolerance")
@@ -358,16 +362,17 @@ PYBIND11_MODULE(_ncp, m) {
   m.def(
       "solve_box",
       [](int n, py::function F, py::function J, const Vector& lower, const Vector& upper,
-         const Vector& x0, const ncp::Options& options) {
-        PythonSquareFunction problem(n, std::move(F), std::move(J));
+         const Vector& x0, const ncp::Options& options, bool affine) {
+        PythonSquareFunction problem(n, std::move(F), std::move(J), affine);
         Vector x = x0;
         ncp::Summary summary;
         ncp::Solver(options).Solve(problem, lower, upper, &x, &summary);
         return py::make_tuple(ToNumpy(x), summary);
       },
       py::arg("n"), py::arg("F"), py::arg("J"), py::arg("lower"), py::arg("upper"),
-      py::arg("x0"), py::arg("options"),
-      "Box MCP lower <= x <= upper perp F(x); returns (x, Summary).");
+      py::arg("x0"), py::arg("options"), py::arg("affine") = false,
+      "Box MCP lower <= x <= upper perp F(x); returns (x, Summary). affine: F(x) = M x + q "
+      "(then a stuck solve checks for a Farkas certificate of infeasibility).");
   m.def(
       "solve_mixed",
       [](int n, int m_eq, py::function evaluate, py::function jacobian, const Vector& x0,

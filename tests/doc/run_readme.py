@@ -21,7 +21,7 @@ import sys
 import tempfile
 
 LINK = re.compile(r"\]\(([^)#\s]+)(?:#[^)]*)?\)")
-WRITTEN_ELSEWHERE = {"docs/fc.md", "docs/petsc.md", "docs/architecture.md"}
+WRITTEN_ELSEWHERE = set()
 MARKED_BLOCK = re.compile(r"<!-- doctest: (\S+)(?: (\S+))? -->\n```[\w+-]*\n(.*?)```", re.S)
 
 

@@ -30,3 +30,28 @@ execute_process(COMMAND ${FC_SOLVE} ${DATA}/FrictionContact3D_1c.dat --solver no
 if(NOT rc EQUAL 2)
   message(FATAL_ERROR "fc-solve --solver nonsense exited with ${rc}, expected 2")
 endif()
+# A global problem (Siconos text: M, H, q, b, mu): --global solves it through W and reports v
+# with the residual of M v = q + H r; without --global the local reader refuses the file.
+set(global_file ${DATA}/../gfc3d/GFC3D_TwoRods1.dat)
+set(velocities ${WORK}/GFC3D_TwoRods1_velocities.txt)
+file(REMOVE ${velocities})
+execute_process(COMMAND ${FC_SOLVE} ${global_file} --global --json --velocities ${velocities}
+                RESULT_VARIABLE rc OUTPUT_VARIABLE json)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "fc-solve --global GFC3D_TwoRods1: exit ${rc}\n${json}")
+endif()
+string(JSON form GET "${json}" form)
+string(JSON dofs GET "${json}" dofs)
+string(JSON motion GET "${json}" global_motion_residual)
+file(STRINGS ${velocities} v)
+list(LENGTH v nv)
+# (CMake compares no floating-point numbers: <= 1e-12 read off the exponent)
+if(NOT form STREQUAL "global" OR NOT dofs EQUAL 54 OR NOT nv EQUAL 54 OR
+   NOT (motion STREQUAL "0" OR motion MATCHES "e-(1[2-9]|[2-9][0-9]|[1-9][0-9][0-9])$"))
+  message(FATAL_ERROR "fc-solve --global GFC3D_TwoRods1: form ${form}, ${dofs} dofs, ${nv} velocities, motion residual ${motion}")
+endif()
+execute_process(COMMAND ${FC_SOLVE} ${global_file} RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+if(NOT rc EQUAL 2 OR NOT err MATCHES "--global")
+  message(FATAL_ERROR "fc-solve on a global file without --global exited with ${rc}: ${err}")
+endif()
+message(STATUS "GFC3D_TwoRods1 --global: ${dofs} dofs, |M v - q - H r| / (1 + |q|) = ${motion}")

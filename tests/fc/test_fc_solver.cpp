@@ -131,3 +131,26 @@ TEST_CASE("projected Gauss-Seidel warm start", "[fc][solver]") {
   CHECK(summary.final_error < 1e-3);
   CHECK(summary.final_error == NaturalMapError(p, r));
 }
+
+TEST_CASE("Gauss-Seidel trial after the hybrid's first attempt stalls", "[fc][solver]") {
+  // Capsules-i101-404: Alart-Curnier stalls from r = 0; the sweeps that follow stop when the
+  // error no longer halves within 200 of them (Gauss-Seidel is slow here), and the next
+  // Newton attempt (Fischer-Burmeister) finishes from the Newton iterate.
+  const FrictionProblem p =
+      ReadProblem(std::string(NCP_FC_DATA_DIR) + "/Capsules-i101-404.dat");
+  Eigen::VectorXd r;
+  Summary summary;
+  Solve(Options(), p, &r, &summary);
+  INFO(summary.BriefReport());
+  CHECK(summary.IsSolutionUsable());
+  CHECK(summary.fallback_sweeps >= 200);
+  CHECK(summary.fallback_sweeps <= Options().gauss_seidel_fallback_sweeps);
+  CHECK(test::CoulombViolation(p, r) <= 1e-6);
+  // Off: the same Newton attempts, no sweeps.
+  Options off;
+  off.gauss_seidel_fallback_sweeps = 0;
+  r.resize(0);
+  Solve(off, p, &r, &summary);
+  CHECK(summary.IsSolutionUsable());
+  CHECK(summary.fallback_sweeps == 0);
+}

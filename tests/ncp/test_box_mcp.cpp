@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "ncp/solver.hpp"
 #include "ncp_collection/affine_function.hpp"
@@ -163,8 +164,9 @@ TEST_CASE("a start point outside [l, u] is projected onto the box", "[box_mcp]")
   SECTION("a start inside the box is not touched") {
     TestProblem problem = PathManualLcp();
     const Run run = SolveFrom(problem, Vector::Ones(4), options);
+    INFO(run.summary.message);
     CHECK(run.summary.projected_start_components == 0);
-    CHECK(run.summary.message.find("projected") == std::string::npos);
+    CHECK(run.summary.message.find("start point") == std::string::npos);
   }
 }
 
@@ -259,4 +261,124 @@ TEST_CASE("a kept SparseLU Solver works after a singular factorization and a new
   INFO(summary.FullReport());
   CHECK(summary.IsSolutionUsable());
   CHECK(summary.linear_solver_failures == 0);
+}
+
+namespace {
+
+// Independent check of a Farkas certificate of a box LCP (types.hpp, kInfeasible): y in the
+// dual cone of the bounds' cone, g = M'y with a finite sup over the box, and
+// q'y + sup_{x in [l, u]} g'x < 0. Recomputed densely here, with no tolerance.
+double FarkasValue(const Eigen::MatrixXd& M, const Vector& q, const Vector& lower,
+                   const Vector& upper, const Vector& y) {
+  const Vector g = M.transpose() * y;
+  double value = q.dot(y);
+  for (Eigen::Index i = 0; i < y.size(); ++i) {
+    const bool lo = std::isfinite(lower(i)), up = std::isfinite(upper(i));
+    if (lo && !up) REQUIRE(y(i) >= 0.0);
+    if (!lo && up) REQUIRE(y(i) <= 0.0);
+    if (lo && up) REQUIRE(y(i) == 0.0);
+    if (g(i) > 0.0) REQUIRE(std::isfinite(upper(i)));
+    if (g(i) < 0.0) REQUIRE(std::isfinite(lower(i)));
+    if (g(i) != 0.0) value += g(i) * (g(i) > 0.0 ? upper(i) : lower(i));
+  }
+  return value;
+}
+
+struct BoxLcp {
+  const char* name;
+  Eigen::MatrixXd M;
+  Vector q, lower, upper;
+};
+
+}  // namespace
+
+TEST_CASE("an LCP without a solution ends infeasible with a checked certificate, x in [l, u]",
+          "[box_mcp][infeasible]") {
+  const NcpFunction function = GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin,
+                                        NcpFunction::kPenalizedFischerBurmeister);
+  std::vector<BoxLcp> problems;
+  // x >= 0 perp -x - 1 >= 0: F < 0 on the whole orthant (issue 29's example).
+  problems.push_back({"M = -I, q = -1", -Eigen::MatrixXd::Identity(2, 2), Vector::Constant(2, -1.0),
+                      Vector::Zero(2), Vector::Constant(2, kInf)});
+  // x <= 0 perp F = 1 - x/2 <= 0 is impossible for x <= 0 (F >= 1); x_1 free with F_1 = x_1.
+  Eigen::MatrixXd M2(2, 2);
+  M2 << -0.5, 0.0, 0.0, 1.0;
+  problems.push_back({"upper bound, F > 0 on the box", M2, (Vector(2) << 1.0, 0.0).finished(),
+                      Vector::Constant(2, -kInf), (Vector(2) << 0.0, kInf).finished()});
+  // Two rows that need x_0 + x_1 >= 1 and -x_0 - x_1 >= 0 on the orthant.
+  Eigen::MatrixXd M3(2, 2);
+  M3 << 1.0, 1.0, -1.0, -1.0;
+  problems.push_back({"contradictory rows", M3, (Vector(2) << -1.0, 0.0).finished(), Vector::Zero(2),
+                      Vector::Constant(2, kInf)});
+  for (const BoxLcp& p : problems) {
+    INFO(p.name << ", " << ncp::ToString(function));
+    AffineFunction F(p.M.sparseView(), p.q);
+    ncp::Options options;
+    options.ncp_function = function;
+    Vector x = Vector::Zero(2);
+    ncp::Summary summary;
+    ncp::Solver(options).Solve(F, p.lower, p.upper, &x, &summary);
+    INFO(summary.message);
+    REQUIRE(summary.termination == TerminationType::kInfeasible);
+    REQUIRE(summary.infeasibility_certificate.size() == 2);
+    CHECK(FarkasValue(p.M, p.q, p.lower, p.upper, summary.infeasibility_certificate) < 0.0);
+    CHECK(summary.message.find("no solution exists") != std::string::npos);
+    for (Eigen::Index i = 0; i < x.size(); ++i) {
+      CHECK(x(i) >= p.lower(i));
+      CHECK(x(i) <= p.upper(i));
+    }
+  }
+}
+
+TEST_CASE("a stuck solve of a solvable or non-affine problem is never called infeasible",
+          "[box_mcp][infeasible]") {
+  // The same data as the infeasible LCP, but F not declared affine: no claim is made.
+  class NotDeclaredAffine : public ncp::SquareFunction {
+   public:
+    int NumVariables() const override { return 2; }
+    bool Evaluate(const Vector& x, Vector* F) override {
+      *F = -x - Vector::Ones(2);
+      return true;
+    }
+    bool Jacobian(const Vector&, ncp::SparseMatrix* J) override {
+      *J = -Eigen::MatrixXd::Identity(2, 2).sparseView();
+      return true;
+    }
+  } F;
+  Vector x = Vector::Zero(2);
+  ncp::Summary summary;
+  ncp::Solver().Solve(F, Vector::Zero(2), Vector::Constant(2, kInf), &x, &summary);
+  CHECK(summary.termination != TerminationType::kInfeasible);
+  CHECK(summary.termination != TerminationType::kConverged);
+  CHECK(summary.infeasibility_certificate.size() == 0);
+  CHECK(x.minCoeff() >= 0.0);  // projected onto the box all the same
+
+  // A solvable LCP (M = I, q = -1: x = 1) converges and carries no certificate.
+  AffineFunction G(Eigen::MatrixXd::Identity(2, 2).sparseView(), -Vector::Ones(2));
+  x.setZero();
+  ncp::Solver().Solve(G, Vector::Zero(2), Vector::Constant(2, kInf), &x, &summary);
+  CHECK(summary.termination == TerminationType::kConverged);
+  CHECK((x - Vector::Ones(2)).lpNorm<Eigen::Infinity>() <= kResidualTolerance);
+  CHECK(summary.infeasibility_certificate.size() == 0);
+}
+
+TEST_CASE("the returned x of a box MCP lies in [l, u] whatever the status", "[box_mcp]") {
+  // Every collection problem from every start with a small iteration budget: most stop
+  // early, inside or outside the box; the returned x must be inside.
+  ncp::Options options;
+  options.max_iterations = 3;
+  for (TestProblem& problem : StandardCollection()) {
+    if (problem.NumVariables() > 100) continue;
+    for (const StartPoint& start : problem.starts) {
+      Vector x = start.x;
+      ncp::Summary summary;
+      ncp::Solver(options).Solve(*problem.F, problem.lower, problem.upper, &x, &summary);
+      INFO(problem.name << " from " << start.label << ": " << summary.message);
+      for (Eigen::Index i = 0; i < x.size(); ++i) {
+        REQUIRE(x(i) >= problem.lower(i));
+        REQUIRE(x(i) <= problem.upper(i));
+      }
+      CHECK(summary.projected_final_components >= 0);
+    }
+  }
 }

@@ -259,3 +259,25 @@ def test_ncp_function_names_are_the_scene_file_names():
     with pytest.raises(ValueError, match="renamed: use 'dense'"):
         ncp.make_options(linear_solver="dense-lu")
     assert ncp.make_options(linear_solver="dense").linear_solver == ncp.LinearSolverType.DENSE
+
+
+def test_infeasible_lcp_is_reported_and_can_raise():
+    """M = -I, q = -1: F(x) < 0 on the whole orthant, no solution (issue 29). The status
+    says so, its certificate y is checked here (y >= 0, M'y <= 0, q'y < 0), x stays >= 0,
+    and raise_on_failure=True raises with the message."""
+    M, q = -np.eye(2), -np.ones(2)
+    x, summary = ncp.solve_lcp(M, q)
+    assert summary.termination == ncp.TerminationType.INFEASIBLE, summary.message
+    y = np.asarray(summary.infeasibility_certificate)
+    assert y.shape == (2,) and (y >= 0).all() and (M.T @ y <= 0).all() and q @ y < 0
+    assert (x >= 0).all()
+    with pytest.raises(ncp.SolveError, match="infeasible: no solution exists") as err:
+        ncp.solve_lcp(M, q, raise_on_failure=True)
+    assert err.value.summary.termination == ncp.TerminationType.INFEASIBLE
+    # A solvable LCP does not raise; a general F is never called infeasible.
+    x, summary = ncp.solve_lcp(np.eye(2), -np.ones(2), raise_on_failure=True)
+    assert np.allclose(x, 1.0)
+    with pytest.raises(ncp.SolveError) as err:
+        ncp.solve_ncp(lambda x: -x - 1.0, lambda x: -np.eye(2), np.zeros(2), raise_on_failure=True)
+    assert err.value.summary.termination != ncp.TerminationType.INFEASIBLE
+    assert (err.value.x >= 0).all()

@@ -40,9 +40,11 @@ struct ContactFrames {
 /// Throws std::invalid_argument if the obstacle's dimension differs from the mesh's, if
 /// a node starts inside the obstacle by more than `allowed_initial_penetration` [m], or if
 /// with kBody the body normal points away from the obstacle at a node (n_b . n_o >= 0).
+/// A negative `allowed_initial_penetration` (the default) means 1e-9 of the diagonal of the
+/// mesh's bounding box: round-off of the mesh coordinates, in the mesh's own length unit.
 ContactFrames MakeContactFrames(const Mesh& mesh, const ContactBoundary& boundary,
                                 const DofMap& dofs, const RigidObstacle& obstacle,
                                 NormalSource source,
-                                double allowed_initial_penetration = 1e-9);
+                                double allowed_initial_penetration = -1.0);
 
 }  // namespace contact

@@ -55,6 +55,7 @@ enum class DynamicStatus {
   kEnergyBlowUp,         ///< the energy guard tripped (the run stopped there)
   kRefusedUnstable,      ///< dt > dt_crit without allow_unstable_time_step (nothing run)
   kAccuracyNotReached,   ///< the run went to the end, but some step missed its accuracy
+  kInterrupted,          ///< DynamicOptions::stop_requested was set (the run stopped after a step)
 };
 const char* ToString(DynamicStatus s);
 

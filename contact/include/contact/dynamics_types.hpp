@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/SparseCore>
+#include <atomic>
 #include <functional>
 #include <string>
 #include <vector>
@@ -177,6 +178,11 @@ struct DynamicOptions {
       on_step;
   /// Print a progress line on stderr about once per second.
   bool progress = false;
+  /// Read between steps (after on_step): once it is true the run ends there with
+  /// DynamicStatus::kInterrupted - every finished step recorded and passed to on_step, none
+  /// started. Lock-free, so a signal handler may set it (contact-sim does on SIGINT/SIGTERM);
+  /// nullptr: never.
+  const std::atomic<bool>* stop_requested = nullptr;
 };
 
 }  // namespace contact

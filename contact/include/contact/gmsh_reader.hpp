@@ -26,7 +26,8 @@ inline constexpr unsigned long long kMaxMshFileBytes = 1ULL << 30;  ///< 1 GiB
 /// (second-order, prisms, pyramids, mixed types), no 2D/3D elements, facets whose nodes
 /// are not nodes of the elements, or an inverted element (see ValidateMesh); and before gmsh
 /// opens it, a file that is not an ASCII .msh (format 2 or 4), larger than kMaxMshFileBytes,
-/// or with a tag outside [1, kMaxMshTag] ("file:line: ..." in the message).
+/// with a tag outside [1, kMaxMshTag], or with a physical name of a dimension outside [0, 3]
+/// ("file:line: ..." in the message).
 Mesh ReadGmshMesh(const std::string& path);
 
 }  // namespace contact

@@ -69,6 +69,9 @@ struct Scene {
 
   std::string output_directory;  ///< empty = no files
   std::vector<double> stress_times;  ///< times at which the contact stresses are written [s]
+  /// What LoadScene accepted but a user probably did not mean (a stress time past the end,
+  /// end_time < dt), one sentence each naming the key; contact-sim prints them.
+  std::vector<std::string> warnings;
   int snapshot_every = 0;            ///< VTK snapshot every n steps (0 = first and last only)
   std::optional<Eigen::VectorXd> marked_point;  ///< history of the contact node nearest to it
 };

@@ -3,6 +3,9 @@
 /// (.vtu, one per snapshot), the snapshots of a run as a time series (.pvd), and the
 /// fields of a contact snapshot (displacement, velocity, gap, contact forces, slip,
 /// contact state, stress). The legacy ASCII format (.vtk) is kept for single meshes.
+/// Every file is written atomically (NAME.partial, renamed to NAME when complete, see
+/// ncp/output_file.hpp); "std::runtime_error if the file cannot be written" below is an
+/// ncp::OutputError naming the file and the operating system's reason.
 #pragma once
 
 #include <string>

@@ -46,6 +46,7 @@ SceneResult RunScene(const Scene& scene, bool progress) {
     output.WriteStep(record, u, contact, force_scale);
   };
   result.summary = internal::NamingTheScene(scene, [&] { return RunDynamics(built.model, options); });
+  output.Finish();  // however the run ended: the rows of every finished step are in the files
   return result;
 }
 

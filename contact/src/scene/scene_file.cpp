@@ -59,10 +59,25 @@ ElementType ParseElement(const Table& t, int dim) {
   return ElementType::kTetrahedron4;
 }
 
-void ReadGeometry(const Table& g, Scene* s) {
+// geometry.file: a relative path is taken from the scene file's directory; the message of a
+// missing file shows the path it resolved to.
+std::string ResolveMeshFile(const Table& g, const fs::path& base) {
+  const std::string given = g.String("file");
+  fs::path p(given);
+  if (p.is_relative()) p = base / p;
+  std::error_code ec;
+  const fs::path resolved = fs::weakly_canonical(fs::absolute(p, ec), ec);
+  if (!fs::exists(resolved, ec))
+    g.Fail("file", "= \"" + given + "\": no such file (resolved to " + resolved.string() +
+                       "; a relative path is taken from the scene file's directory)",
+           &g.Get("file"));
+  return resolved.string();
+}
+
+void ReadGeometry(const Table& g, const fs::path& base, Scene* s) {
   const std::string type = g.Choice("type", {"rectangle", "box", "msh"});
   if (type == "msh") {
-    s->msh_file = g.String("file");
+    s->msh_file = ResolveMeshFile(g, base);
     s->dim = g.Integer("dimension", Range{2, 3, ""}, 0);
     if (s->dim != 2 && s->dim != 3) g.Fail("dimension", "must be 2 or 3 for a .msh geometry");
   } else {
@@ -252,6 +267,10 @@ void ReadTime(const Table& t, Scene* s) {
     t.Fail("dt", "= " + Str(s->dynamics.dt) + " s with time.end_time = " + Str(s->dynamics.end_time) +
                      " s gives " + Str(steps) + " time steps; at most " + Str(kMaxTimeSteps) +
                      " are accepted (one step record each)", &t.Get("dt"));
+  if (s->dynamics.end_time < s->dynamics.dt)
+    s->warnings.push_back("time.end_time = " + Str(s->dynamics.end_time) +
+                          " s is shorter than time.dt = " + Str(s->dynamics.dt) +
+                          " s: one step of dt is run, ending at t = dt");
   s->dynamics.allow_unstable_time_step = t.Boolean("allow_unstable", false);
   const std::string initial = t.Choice("initial_state", {"static", "velocity"}, "static");
   if (initial == "velocity") {
@@ -341,6 +360,15 @@ void ReadOutput(const Table& out, const fs::path& base, Scene* s) {
   out.RejectUnknownKeys();
 }
 
+// Stress times after the last step are never reached: say so instead of writing nothing.
+void WarnAboutStressTimes(Scene* s) {
+  const double last = std::ceil(s->dynamics.end_time / s->dynamics.dt) * s->dynamics.dt;
+  for (const double t : s->stress_times)
+    if (t - 0.5 * s->dynamics.dt > last)
+      s->warnings.push_back("output.stress_times has " + Str(t) + " s, after the last step (t = " +
+                            Str(last) + " s): no stresses are written for it");
+}
+
 }  // namespace
 
 Scene LoadScene(const std::string& path, const SceneOverrides& overrides) {
@@ -351,8 +379,7 @@ Scene LoadScene(const std::string& path, const SceneOverrides& overrides) {
   const Table top(&root, "", path);
   s.name = top.String("name", fs::path(path).stem().string());
 
-  ReadGeometry(top.Sub("geometry", true), &s);
-  if (!s.msh_file.empty() && fs::path(s.msh_file).is_relative()) s.msh_file = (base / s.msh_file).string();
+  ReadGeometry(top.Sub("geometry", true), base, &s);
   ReadMaterial(top.Sub("material", true), &s);
   ReadLoads(top.Sub("loads", false), &s);
   const Table o = top.Sub("obstacle", true);
@@ -366,6 +393,7 @@ Scene LoadScene(const std::string& path, const SceneOverrides& overrides) {
   ReadSolver(top.Sub("solver", false), &s);
   ReadOutput(top.Sub("output", false), base, &s);
   top.RejectUnknownKeys();
+  WarnAboutStressTimes(&s);
   return s;
 }
 

@@ -25,17 +25,20 @@ SceneOutput::SceneOutput(const Scene& scene, const SceneModel& built, int marked
   if (scene_.output_directory.empty()) return;
   const std::string coords = dim_ == 2 ? "x,y" : "x,y,z";
   const std::string tangents = dim_ == 2 ? "friction_stress" : "friction_stress_1,friction_stress_2";
-  std::filesystem::create_directories(directory_);
-  Open(steps_csv_, "steps.csv",
+  std::error_code error;
+  std::filesystem::create_directories(directory_, error);
+  if (error) throw ncp::OutputError("cannot create directory", directory_.string(), error.value());
+  steps_csv_ = Open("steps.csv",
        "step,time,newton_iterations,jacobian_evaluations,residual_evaluations,seconds,kinetic_energy,"
        "strain_energy,external_work,normal_contact_work,friction_dissipation,energy_balance_error,"
        "normal_force_sum,friction_force_sum,max_penetration,active_nodes,equilibrium_residual,"
-       "complementarity_residual,friction_residual,force_accuracy,displacement_accuracy");
-  Open(stress_csv_, "contact_stress.csv",
-       "time,node," + coords + ",normal_stress," + tangents + ",gap,normal_force");
-  if (marked_ >= 0) Open(history_csv_, "node_history.csv", "time,normal_stress,friction_stress");
+       "complementarity_residual,friction_residual,force_accuracy,displacement_accuracy",
+       false);
+  stress_csv_ = Open("contact_stress.csv",
+                     "time,node," + coords + ",normal_stress," + tangents + ",gap,normal_force", false);
+  if (marked_ >= 0) history_csv_ = Open("node_history.csv", "time,normal_stress,friction_stress", false);
   WriteMesh();
-  Open(displacement_csv_, "displacement.csv", dim_ == 2 ? "time,node,ux,uy" : "time,node,ux,uy,uz");
+  displacement_csv_ = Open("displacement.csv", dim_ == 2 ? "time,node,ux,uy" : "time,node,ux,uy,uz", false);
   const DynamicOptions& options = built.options;
   if (options.initial_state == InitialState::kPrescribed)  // u^0, v^0 known before the run
     WriteSnapshot(0, InitialContactSnapshot(dim_, options.start_time, dofs_.Expand(options.u0),
@@ -48,7 +51,7 @@ void SceneOutput::WriteStep(const StepRecord& record, const Eigen::VectorXd& u,
   WriteStepRow(record);
   if (marked_ >= 0) {
     const auto [p, tau] = Stress(static_cast<size_t>(marked_), contact, force_scale);
-    history_csv_ << record.time << ',' << p << ',' << (dim_ == 2 ? tau(0) : tau.norm()) << '\n';
+    history_csv_.stream() << record.time << ',' << p << ',' << (dim_ == 2 ? tau(0) : tau.norm()) << '\n';
   }
   const bool last = record.time >= end_time_ - 1e-9 * dt_;
   if (ReachedStressTime(record.time) || last) {
@@ -61,21 +64,30 @@ void SceneOutput::WriteStep(const StepRecord& record, const Eigen::VectorXd& u,
                                 &frames_.nodes, force_scale * contact.normal_force,
                                 force_scale * contact.tangent_force, contact.gap,
                                 record.force_accuracy, record.displacement_accuracy});
+  // The step's rows go to the files together, so each file ends at a whole step.
+  for (ncp::OutputFile* csv : {&steps_csv_, &history_csv_, &stress_csv_, &displacement_csv_})
+    if (csv->is_open()) csv->Commit();
 }
 
-void SceneOutput::Open(std::ofstream& stream, const std::string& name, const std::string& header) {
+void SceneOutput::Finish() {
+  for (ncp::OutputFile* csv : {&steps_csv_, &history_csv_, &stress_csv_, &displacement_csv_})
+    if (csv->is_open()) csv->Close();
+}
+
+ncp::OutputFile SceneOutput::Open(const std::string& name, const std::string& header, bool atomic) {
   const std::string path = (directory_ / name).string();
-  stream.open(path);
-  if (!stream) throw SceneError("cannot write " + path);
-  stream << header << "\n";
-  stream.precision(10);
+  ncp::OutputFile file = atomic ? ncp::OutputFile::OpenAtomic(path) : ncp::OutputFile::Open(path);
+  file.stream() << header << "\n";
+  file.stream().precision(10);
+  file.Commit();
   files_written_->push_back(path);
+  return file;
 }
 
 void SceneOutput::WriteMesh() {
-  std::ofstream nodes_csv, elements_csv;
   const std::string coords = dim_ == 2 ? "x,y" : "x,y,z";
-  Open(nodes_csv, "mesh_nodes.csv", "node," + coords + ",fixed_components,contact");
+  ncp::OutputFile nodes_file = Open("mesh_nodes.csv", "node," + coords + ",fixed_components,contact", true);
+  std::ostream& nodes_csv = nodes_file.stream();
   std::vector<char> is_contact(static_cast<size_t>(mesh_.NumNodes()), 0);
   for (const ContactNode& c : frames_.nodes) is_contact[static_cast<size_t>(c.node)] = 1;
   for (int i = 0; i < mesh_.NumNodes(); ++i) {
@@ -87,16 +99,19 @@ void SceneOutput::WriteMesh() {
   }
   std::string element_header = "element,type";
   for (int a = 0; a < mesh_.elements.rows(); ++a) element_header += ",n" + std::to_string(a);
-  Open(elements_csv, "mesh_elements.csv", element_header);
+  nodes_file.Close();
+  ncp::OutputFile elements_file = Open("mesh_elements.csv", element_header, true);
+  std::ostream& elements_csv = elements_file.stream();
   for (int e = 0; e < mesh_.NumElements(); ++e) {
     elements_csv << e << ',' << ToString(mesh_.element_type);
     for (int a = 0; a < mesh_.elements.rows(); ++a) elements_csv << ',' << mesh_.elements(a, e);
     elements_csv << '\n';
   }
+  elements_file.Close();
 }
 
 void SceneOutput::WriteStepRow(const StepRecord& r) {
-  steps_csv_ << r.step << ',' << r.time << ',' << r.newton_iterations << ',' << r.jacobian_evaluations << ','
+  steps_csv_.stream() << r.step << ',' << r.time << ',' << r.newton_iterations << ',' << r.jacobian_evaluations << ','
              << r.residual_evaluations << ',' << r.seconds << ',' << r.kinetic << ',' << r.strain << ','
              << r.external_work << ',' << r.normal_contact_work << ',' << r.friction_dissipation << ','
              << r.energy_balance_error << ',' << r.normal_force_sum << ',' << r.tangent_force_sum << ','
@@ -117,11 +132,12 @@ void SceneOutput::WriteContactStress(double time, const ContactSystem::Result& c
   for (size_t k = 0; k < frames_.nodes.size(); ++k) {
     const auto [p, tau] = Stress(k, contact, force_scale);
     const int node = frames_.nodes[k].node;
-    stress_csv_ << time << ',' << node;
-    for (int a = 0; a < dim_; ++a) stress_csv_ << ',' << mesh_.nodes(a, node);
-    stress_csv_ << ',' << p;
-    for (Eigen::Index a = 0; a < tau.size(); ++a) stress_csv_ << ',' << tau(a);
-    stress_csv_ << ',' << contact.gap(static_cast<Eigen::Index>(k)) << ','
+    std::ostream& out = stress_csv_.stream();
+    out << time << ',' << node;
+    for (int a = 0; a < dim_; ++a) out << ',' << mesh_.nodes(a, node);
+    out << ',' << p;
+    for (Eigen::Index a = 0; a < tau.size(); ++a) out << ',' << tau(a);
+    out << ',' << contact.gap(static_cast<Eigen::Index>(k)) << ','
                 << force_scale * contact.normal_force(static_cast<Eigen::Index>(k)) << '\n';
   }
 }
@@ -129,9 +145,10 @@ void SceneOutput::WriteContactStress(double time, const ContactSystem::Result& c
 void SceneOutput::WriteDisplacement(double time, const Eigen::VectorXd& u_free) {
   const Eigen::VectorXd u_full = dofs_.Expand(u_free);
   for (int i = 0; i < mesh_.NumNodes(); ++i) {
-    displacement_csv_ << time << ',' << i;
-    for (int a = 0; a < dim_; ++a) displacement_csv_ << ',' << u_full(dim_ * i + a);
-    displacement_csv_ << '\n';
+    std::ostream& out = displacement_csv_.stream();
+    out << time << ',' << i;
+    for (int a = 0; a < dim_; ++a) out << ',' << u_full(dim_ * i + a);
+    out << '\n';
   }
 }
 

@@ -2,17 +2,21 @@
 // mesh once (mesh_nodes.csv, mesh_elements.csv), one row per step (steps.csv), the marked
 // node's history (node_history.csv), the contact stresses and the displacement of every node
 // at the stress times and the end (contact_stress.csv, displacement.csv), and VTK snapshots.
+// Every write is checked (ncp::OutputFile): a failed one throws ncp::OutputError naming the
+// file. The CSVs grow by whole rows, committed after each step, so after a failure or an
+// interrupt they hold complete rows up to the last step written; the mesh files and the
+// snapshots are written atomically (NAME.partial renamed when complete).
 #pragma once
 
 #include <Eigen/Core>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "contact/scene.hpp"
 #include "contact/vtk_writer.hpp"
+#include "ncp/output_file.hpp"
 
 namespace contact::internal {
 
@@ -31,8 +35,12 @@ class SceneOutput {
   void WriteStep(const StepRecord& record, const Eigen::VectorXd& u,
                  const ContactSystem::Result& contact, double force_scale);
 
+  /// Closes the CSVs (checked). Call once the run has ended, however it ended.
+  void Finish();
+
  private:
-  void Open(std::ofstream& stream, const std::string& name, const std::string& header);
+  /// Opens directory/name (atomically for a file written whole at once) with its header.
+  ncp::OutputFile Open(const std::string& name, const std::string& header, bool atomic);
   /// Nodes with the number of fixed components and the contact flag (a node of Gamma_c that
   /// keeps a free dof), and the connectivity.
   void WriteMesh();
@@ -59,7 +67,7 @@ class SceneOutput {
   std::vector<double> pending_stress_times_;  // ascending
   std::vector<std::string>* files_written_;
   VtuSeriesWriter series_;
-  std::ofstream steps_csv_, stress_csv_, history_csv_, displacement_csv_;
+  ncp::OutputFile steps_csv_, stress_csv_, history_csv_, displacement_csv_;
 };
 
 }  // namespace contact::internal

@@ -133,7 +133,7 @@ class Table {
   }
   Table Sub(const std::string& key, bool required) const {
     if (!Has(key)) {
-      if (required) Fail(key, "(a table) is missing");
+      if (required) Fail(key, "(a table [" + Join(key) + "]) is missing" + TypoHint(key));
       used_.insert(key);
       return Table(nullptr, Join(key), file_);
     }
@@ -150,9 +150,11 @@ class Table {
       if (used_.count(key)) continue;
       std::string known;
       for (const auto& k : used_) known += (known.empty() ? "" : ", ") + k;
-      throw SceneError(file_ + ":" + std::to_string(v.location().line()) + ": unknown key '" +
-                       Join(key) + "'" + (known.empty() ? "" : " (known keys here: " + known + ")") +
-                       known_hint);
+      const std::string guess = Closest(key, std::vector<std::string>(used_.begin(), used_.end()));
+      throw SceneError(file_ + ":" + std::to_string(v.location().line()) + ": unknown " +
+                       (v.is_table() ? "table [" + Join(key) + "]" : "key '" + Join(key) + "'") +
+                       (guess.empty() ? "" : " - did you mean '" + Join(guess) + "'?") +
+                       (known.empty() ? "" : " (known keys here: " + known + ")") + known_hint);
     }
   }
 
@@ -193,23 +195,35 @@ class Table {
   /// distance 2 of the missing one.
   std::string TypoHint(const std::string& missing) const {
     if (value_ == nullptr) return "";
-    for (const auto& [key, v] : value_->as_table()) {
-      (void)v;
-      const size_t n = key.size(), m = missing.size();
-      std::vector<size_t> row(m + 1);
-      for (size_t j = 0; j <= m; ++j) row[j] = j;
-      for (size_t i = 1; i <= n; ++i) {
-        size_t diagonal = row[0];
-        row[0] = i;
-        for (size_t j = 1; j <= m; ++j) {
-          const size_t above = row[j];
-          row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (key[i - 1] == missing[j - 1] ? 0 : 1)});
-          diagonal = above;
-        }
-      }
-      if (row[m] <= 2) return " (found '" + Join(key) + "' instead: a typo?)";
+    std::vector<std::string> present;
+    for (const auto& entry : value_->as_table()) present.push_back(entry.first);
+    const std::string found = Closest(missing, present);
+    return found.empty() ? "" : " (found '" + Join(found) + "' instead: a typo?)";
+  }
+  /// The candidate within edit distance 2 of `word` (the nearest), or "".
+  static std::string Closest(const std::string& word, const std::vector<std::string>& candidates) {
+    std::string best;
+    size_t best_distance = 3;
+    for (const std::string& c : candidates) {
+      const size_t d = EditDistance(word, c);
+      if (d < best_distance) best = c, best_distance = d;
     }
-    return "";
+    return best;
+  }
+  /// Levenshtein distance (insertions, deletions, substitutions).
+  static size_t EditDistance(const std::string& a, const std::string& b) {
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+      size_t diagonal = row[0];
+      row[0] = i;
+      for (size_t j = 1; j <= b.size(); ++j) {
+        const size_t above = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        diagonal = above;
+      }
+    }
+    return row[b.size()];
   }
   const toml::value* value_;
   std::string path_, file_;

@@ -323,7 +323,7 @@ void Solve(const Options& options, const OperatorProblem& problem, Vector* r, Su
   *summary = Summary();
   summary->formulation_requested = summary->formulation_final = options.formulation;
   summary->num_contacts = problem.num_contacts;
-  summary->iterations = summary->gauss_seidel_sweeps = summary->backtracks = 0;
+  summary->iterations = summary->gauss_seidel_sweeps = summary->fallback_sweeps = summary->backtracks = 0;
   summary->linear_solver_failures = summary->levenberg_marquardt_steps = 0;
   summary->symbolic_factorizations = summary->krylov_iterations = summary->operator_applications = 0;
   summary->attempts = 0;

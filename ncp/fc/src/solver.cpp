@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -78,6 +79,7 @@ bool Options::IsValid(std::string* error) const {
     return fail("armijo_beta must be in (0, 1/2)");
   if (nonmonotone_window < 1) return fail("nonmonotone_window must be >= 1");
   if (gauss_seidel_sweeps < 0) return fail("gauss_seidel_sweeps must be >= 0");
+  if (gauss_seidel_fallback_sweeps < 0) return fail("gauss_seidel_fallback_sweeps must be >= 0");
   if (max_backtracks < 0) return fail("max_backtracks must be >= 0");
   if (stall_window < 1) return fail("stall_window must be >= 1");
   if (!(regularization > 0.0)) return fail("regularization must be > 0");
@@ -92,6 +94,7 @@ std::string Summary::BriefReport() const {
   std::ostringstream out;
   out << "fc: " << ToString(termination) << " (" << message << "), "
       << ToString(formulation_final) << ", Gauss-Seidel sweeps " << gauss_seidel_sweeps
+      << " + " << fallback_sweeps << " (fallback)"
       << ", iterations " << iterations << ", attempts " << attempts << ", error "
       << initial_error << " -> " << final_error << ", time " << total_time_s << " s";
   return out.str();
@@ -143,8 +146,19 @@ class NewtonSolver {
       summary_->formulation_final = formulation;
       status = RunAttempt(formulation, rho_factor);
       if (status == Termination::kConverged || status == Termination::kMaxIterations ||
-          status == Termination::kTimeLimit)
+          status == Termination::kTimeLimit || status == Termination::kNonFiniteValues)
         break;
+      // The first attempt of the hybrid stalled: try Gauss-Seidel before the next one.
+      if (summary_->attempts == 1 && options_.formulation == Formulation::kHybrid &&
+          GaussSeidelTrial()) {
+        status = Termination::kConverged;
+        break;
+      }
+    }
+    // Not solved: the Gauss-Seidel point if it came closer than every Newton iterate.
+    if (best_error_ > options_.tolerance && gs_error_ < best_error_) {
+      best_error_ = gs_error_;
+      best_r_ = gs_r_;
     }
     *r = best_r_;
     summary_->final_error = NaturalMapError(problem_, *r);
@@ -189,6 +203,41 @@ class NewtonSolver {
         best_r_ = r;
       }
     }
+  }
+
+  /// Options::gauss_seidel_fallback_sweeps projected Gauss-Seidel sweeps from best_r_, as a
+  /// side trial: true (best_r_ replaced) when they reach the tolerance; otherwise their best
+  /// point is kept apart (gs_r_, gs_error_) and the Newton attempts go on from best_r_. The
+  /// sweeps stop early when the error, tested every kCheckEvery sweeps, has not halved over
+  /// kHalvingWindow sweeps (Gauss-Seidel converges linearly: a slow rate will not reach
+  /// the tolerance within the budget), or at the time limit.
+  bool GaussSeidelTrial() {
+    constexpr int kCheckEvery = 10, kHalvingWindow = 200;
+    Vector r = best_r_;
+    gs_error_ = best_error_;
+    double window_start_error = gs_error_;
+    for (int k = 1; k <= options_.gauss_seidel_fallback_sweeps; ++k) {
+      if (options_.max_time_s > 0.0 && Elapsed() > options_.max_time_s) break;
+      internal::GaussSeidelSweep(problem_, W_, rho_, &r);
+      ++summary_->fallback_sweeps;
+      if (k % kCheckEvery != 0) continue;
+      const double error = NaturalMapError(problem_, r);
+      if (!std::isfinite(error)) break;
+      if (error < gs_error_) {
+        gs_error_ = error;
+        gs_r_ = r;
+      }
+      if (gs_error_ <= options_.tolerance) {
+        best_error_ = gs_error_;
+        best_r_ = gs_r_;
+        return true;
+      }
+      if (k % kHalvingWindow == 0) {
+        if (!(gs_error_ <= 0.5 * window_start_error)) break;
+        window_start_error = gs_error_;
+      }
+    }
+    return false;
   }
 
   /// Phi(r) of the formulation into *phi, with the Jacobian blocks A_, B_; returns psi.
@@ -325,6 +374,8 @@ class NewtonSolver {
   bool factorized_once_ = false;
   Vector best_r_;
   double best_error_ = 0.0;
+  Vector gs_r_;  // best point of GaussSeidelTrial (when it did not converge)
+  double gs_error_ = std::numeric_limits<double>::infinity();
   Clock::time_point start_;
 };
 
@@ -349,6 +400,7 @@ void Solve(const Options& options, const FrictionProblem& problem, Vector* r,
   summary->num_contacts = problem.num_contacts;
   summary->iterations = 0;
   summary->gauss_seidel_sweeps = 0;
+  summary->fallback_sweeps = 0;
   summary->attempts = 0;
   summary->backtracks = 0;
   summary->linear_solver_failures = 0;

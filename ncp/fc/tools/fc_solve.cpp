@@ -1,29 +1,41 @@
-// fc-solve FILE [--solver hybrid|ac|nm|fb] [--tolerance T] [--max-iterations N]
-// [--time-limit S]
-//          [--gauss-seidel N] [--rho-scale S] [--json] [--reactions OUT.txt] [--verbose]
+// fc-solve FILE [--global] [--solver hybrid|ac|nm|fb] [--tolerance T] [--max-iterations N]
+//          [--time-limit S] [--gauss-seidel N] [--rho-scale S] [--json]
+//          [--reactions OUT.txt] [--velocities OUT.txt] [--verbose]
 // Reads a frictional contact problem (Siconos .dat or FCLIB .hdf5), solves it, prints the
 // status and Siconos' natural-map error recomputed at the returned r (or one JSON
-// object), and writes r one value per line in the file's contact order. Exit code: 0
-// converged, 1 not converged (the error reached is reported), 2 bad input or usage.
+// object), and writes r one value per line in the file's contact order. A global problem
+// (M v = q + H r, u = H' v + b; --global for a text file, stated by an FCLIB file itself)
+// is solved through its Delassus form W = H' M^-1 H (ncp/fc/global.hpp); the global
+// velocity v = M^-1 (q + H r) is reported with the residuals of the global problem,
+// recomputed from M, H, q, b without W. Exit code: 0 converged, 1 not converged (the
+// error reached is reported), 2 bad input or usage, 3 an output file could not be written
+// (its name and the reason on stderr; each file is written as NAME.partial and renamed when
+// complete, so NAME is never a truncated result).
+
 #include <cxxopts.hpp>
-#include <fstream>
+
+#include <csignal>
 #include <iomanip>
 #include <iostream>
 #include <limits>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "ncp/fc/error.hpp"
+#include "ncp/fc/global.hpp"
 #include "ncp/fc/io.hpp"
 #include "ncp/fc/solver.hpp"
+#include "ncp/output_file.hpp"
 
 namespace {
 
-void WriteReactions(const std::string& path, const ncp::Vector& r) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+/// r (or v) one value per line, written atomically (ncp::OutputFile).
+void WriteVector(const std::string& path, const ncp::Vector& r) {
+  ncp::OutputFile file = ncp::OutputFile::OpenAtomic(path);
+  std::ostream& out = file.stream();
   out << std::setprecision(std::numeric_limits<double>::max_digits10);
   for (int i = 0; i < r.size(); ++i) out << r[i] << '\n';
-  if (!out) throw std::runtime_error("writing '" + path + "' failed");
+  file.Close();
 }
 
 nlohmann::json ToJson(const ncp::fc::FrictionProblem& p, const ncp::fc::Options& o,
@@ -39,6 +51,7 @@ nlohmann::json ToJson(const ncp::fc::FrictionProblem& p, const ncp::fc::Options&
           {"message", s.message},
           {"iterations", s.iterations},
           {"gauss_seidel_sweeps", s.gauss_seidel_sweeps},
+          {"fallback_sweeps", s.fallback_sweeps},
           {"attempts", s.attempts},
           {"backtracks", s.backtracks},
           {"linear_solver_failures", s.linear_solver_failures},
@@ -73,10 +86,16 @@ int main(int argc, char** argv) {
       cxxopts::value<double>()->default_value("1"))(
       "json", "print one JSON object instead of the text report")(
       "reactions", "write r, one value per line, to this file",
+      cxxopts::value<std::string>())(
+      "global", "the text file holds a global problem (M, H, q, b, mu); FCLIB files say so")(
+      "velocities", "global problem: write v, one value per line, to this file",
       cxxopts::value<std::string>())("verbose", "one line per Newton step on stderr")(
       "h,help", "this help");
   cli.parse_positional({"file"});
   cli.positional_help("FILE");
+  // A file-size limit (ulimit -f) makes the write fail with EFBIG, reported, instead of
+  // killing the process with SIGXFSZ.
+  std::signal(SIGXFSZ, SIG_IGN);
   try {
     const auto args = cli.parse(argc, argv);
     if (args.count("help")) {
@@ -84,8 +103,14 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (!args.count("file")) throw std::invalid_argument("no problem file given");
+    const std::string file = args["file"].as<std::string>();
+    const bool global = args.count("global") > 0 || ncp::fc::IsFclibGlobal(file);
+    ncp::fc::GlobalFrictionProblem global_problem;
+    if (global) global_problem = ncp::fc::ReadGlobalProblem(file);
     const ncp::fc::FrictionProblem problem =
-        ncp::fc::ReadProblem(args["file"].as<std::string>());
+        global ? ncp::fc::ReduceToLocal(global_problem) : ncp::fc::ReadProblem(file);
+    if (args.count("velocities") && !global)
+      throw std::invalid_argument("--velocities needs a global problem (--global)");
     ncp::fc::Options options;
     options.formulation = ncp::fc::ParseFormulation(args["solver"].as<std::string>());
     options.tolerance = args["tolerance"].as<double>();
@@ -99,18 +124,43 @@ int main(int argc, char** argv) {
     ncp::fc::Summary summary;
     ncp::fc::Solve(options, problem, &r, &summary);
     const double error = ncp::fc::NaturalMapError(problem, r);
-    if (args.count("reactions")) WriteReactions(args["reactions"].as<std::string>(), r);
+    if (args.count("reactions")) WriteVector(args["reactions"].as<std::string>(), r);
+    nlohmann::json report = ToJson(problem, options, summary, error);
+    report["form"] = global ? "global" : "local";
+    std::string global_line;
+    if (global) {
+      const ncp::Vector v = ncp::fc::GlobalVelocity(global_problem, r);
+      const ncp::fc::GlobalResidual residual = ncp::fc::ComputeGlobalResidual(global_problem, v, r);
+      report["dofs"] = global_problem.num_dofs();
+      report["global_motion_residual"] = residual.motion;
+      report["global_contact_error"] = residual.contact;
+      report["velocity"] = std::vector<double>(v.data(), v.data() + v.size());
+      std::ostringstream line;
+      line << std::setprecision(3) << "global form, " << global_problem.num_dofs()
+           << " dofs: |M v - q - H r| / (1 + |q|) = " << residual.motion
+           << ", contact law at u = H'v + b: error " << residual.contact << '\n';
+      global_line = line.str();
+      if (args.count("velocities")) WriteVector(args["velocities"].as<std::string>(), v);
+    }
     if (args.count("json")) {
-      std::cout << ToJson(problem, options, summary, error).dump(2) << '\n';
+      std::cout << report.dump(2) << '\n';
     } else {
       std::cout << problem.name << ": " << problem.num_contacts << " contacts, dimension "
                 << problem.dimension << '\n'
-                << summary.BriefReport() << '\n';
+                << global_line << summary.BriefReport() << '\n';
       if (!summary.IsSolutionUsable())
         std::cout << "NOT SOLVED: the returned reactions reach error " << error
                   << " > tolerance " << options.tolerance << '\n';
     }
+    std::cout.flush();
+    if (!std::cout) {
+      std::cerr << "fc-solve: writing the report to stdout failed\n";
+      return 3;
+    }
     return summary.IsSolutionUsable() ? 0 : 1;
+  } catch (const ncp::OutputError& e) {
+    std::cerr << "fc-solve: output failed: " << e.what() << '\n';
+    return 3;
   } catch (const std::exception& e) {
     std::cerr << "fc-solve: " << e.what() << '\n';
     return 2;

@@ -184,6 +184,15 @@ struct Summary {
   /// Box MCP: components of the start point outside [l, u] moved onto the nearer bound
   /// (x0_i <- mid(l_i, u_i, x0_i)); 0 for a mixed problem.
   int projected_start_components = -1;
+  /// Box MCP: components of the returned x that were outside [l, u] and were moved onto the
+  /// nearer bound (the FB iterates may leave the box; the returned x never does).
+  int projected_final_components = -1;
+  /// TerminationType::kInfeasible: the Farkas certificate y (size n, one entry per row of F
+  /// = M x + q) with y_i >= 0 on rows with only a lower bound, <= 0 with only an upper bound,
+  /// 0 on two-sided or fixed rows, g = M'y with g_i <= 0 where u_i = +inf and g_i >= 0 where
+  /// l_i = -inf, and q'y + sum_i max(g_i l_i, g_i u_i) < 0: then y'F(x) < 0 for every x in
+  /// [l, u], while a solution would have y'F(x) >= 0. Empty otherwise.
+  Vector infeasibility_certificate;
 
   /// true when the problem gave its scales (MixedProblem::Scales): the residuals below are
   /// then of the relative system (rows divided by scale + floor / tolerance; converged when
@@ -194,7 +203,8 @@ struct Summary {
   /// double precision carries at x.
   bool roundoff_limited = false;
   double initial_phi_inf = -1.0;  ///< ||Phi(x^0)||_inf
-  double final_phi_inf = -1.0;    ///< ||Phi(x)||_inf at the returned x
+  double final_phi_inf = -1.0;    ///< ||Phi||_inf at the last iterate (box MCP: before
+                                  ///< its projection, projected_final_components)
   double final_psi = -1.0;        ///< psi at the returned x
 
   double total_time_s = -1.0;

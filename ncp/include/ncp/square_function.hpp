@@ -23,6 +23,10 @@ class SquareFunction {
   virtual bool Evaluate(const Vector& x, Vector* F) = 0;
   /// dF/dx (n x n). Keep the sparsity pattern fixed between calls.
   virtual bool Jacobian(const Vector& x, SparseMatrix* J) = 0;
+  /// true when F(x) = M x + q (an LCP / box LCP): a box MCP solve that gets stuck then
+  /// checks whether the problem has no solution at all (TerminationType::kInfeasible, a
+  /// Farkas certificate; box_mcp.cpp). Default false: nothing is claimed about F.
+  virtual bool IsAffine() const { return false; }
 };
 
 /// Convenience for small problems: F and a dense Jacobian given as callables.

@@ -63,8 +63,13 @@ enum class TerminationType {
   kUserAbort,            ///< the iteration callback asked to stop
   kTimeLimit,            ///< Options::max_seconds reached, or a factorization predicted
                          ///< to take longer than the time left was not started
+  /// The problem has no solution, proven: a box MCP with an affine F
+  /// (SquareFunction::IsAffine) whose stuck solve left a Farkas certificate y
+  /// (Summary::infeasibility_certificate): no x in [l, u] has F(x) in the cone of the
+  /// bounds (>= 0 on lower-bounded rows, <= 0 on upper-bounded, = 0 on free rows).
+  kInfeasible,
 };
-constexpr TerminationType kLastTerminationType = TerminationType::kTimeLimit;
+constexpr TerminationType kLastTerminationType = TerminationType::kInfeasible;
 
 const char* ToString(NcpFunction f);
 const char* ToString(LinearSolverType t);

@@ -16,6 +16,7 @@ class AffineFunction : public SquareFunction {
   int NumVariables() const override { return static_cast<int>(q_.size()); }
   bool Evaluate(const Vector& x, Vector* F) override;
   bool Jacobian(const Vector& x, SparseMatrix* J) override;
+  bool IsAffine() const override { return true; }
 
   const SparseMatrix& M() const { return M_; }
   const Vector& q() const { return q_; }

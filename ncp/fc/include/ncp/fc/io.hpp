@@ -6,16 +6,20 @@
 #include <optional>
 #include <string>
 
+#include "ncp/fc/global.hpp"
 #include "ncp/fc/problem.hpp"
 
 namespace ncp::fc {
 
 /// Siconos' text format (FrictionContactProblem printed by frictionContact_printInFile):
-///   dimension, n_c, storage (0 dense, 1 sparse-block), the matrix, q, mu.
+///   dimension, n_c, the matrix W (NumericsMatrix: storage 0 dense, 1 sparse-block or
+///   2 sparse, rows, columns, data), q, mu.
 /// Dense:  m n, then m n entries column by column.
 /// Sparse-block: nbblocks, block rows, block cols, cumulative row sizes, cumulative col
 /// sizes, filled1, filled2, block-row pointers (filled1), block-column indices (filled2),
 /// then per block its number and its entries column by column.
+/// Sparse (2): the origin (1 triplet, 2 CSC, 3 CSR, 4 half triplet) and CSparse's printout
+/// of the matrix (values with 6 significant digits, as Siconos writes them).
 /// Throws std::runtime_error (with the file name and what was expected) on a malformed
 /// file.
 FrictionProblem ReadSiconosDat(const std::string& path);
@@ -38,6 +42,22 @@ bool HaveFclib();
 /// the problem has constraints (local R, global G) or is a rolling-friction one, or when HDF5
 /// is not compiled in. Never exits the process.
 FrictionProblem ReadFclib(const std::string& path);
+
+/// FCLIB HDF5 global problem as is (no reduction); throws std::runtime_error when the file
+/// holds none, on a malformed file (as ReadFclib) or when HDF5 is not compiled in.
+GlobalFrictionProblem ReadFclibGlobal(const std::string& path);
+/// True when the FCLIB file holds a global problem and no local one (false without HDF5).
+bool IsFclibGlobal(const std::string& path);
+
+/// Siconos' text format of a global problem (globalFrictionContact_printInFile):
+/// dimension, n_c, M and H as NumericsMatrix (any storage above), q (n), b (m), mu (n_c).
+/// The text files do not say whether they hold a local or a global problem: the caller
+/// chooses (fc-solve --global).
+GlobalFrictionProblem ReadSiconosGlobalDat(const std::string& path);
+
+/// A global problem: FCLIB HDF5 by signature (ReadFclibGlobal), else Siconos text
+/// (ReadSiconosGlobalDat).
+GlobalFrictionProblem ReadGlobalProblem(const std::string& path);
 
 /// The stored reference solution r (/solution/r) of an FCLIB file, local or global; nullopt
 /// when the file has none. Throws like ReadFclib on a malformed file or solution.

@@ -39,7 +39,8 @@ enum class Formulation {
   /// or
   /// no halving of the error in Options::stall_window iterations) the next attempt of
   /// (Fischer-Burmeister, natural map, AC with rho x10, natural map with rho/10, AC with
-  /// rho/10, natural map with rho x10) restarts from the best iterate so far.
+  /// rho/10, natural map with rho x10) restarts from the best iterate so far. After the
+  /// first attempt, projected Gauss-Seidel sweeps are tried (Options::gauss_seidel_fallback_sweeps).
   kHybrid,
 };
 
@@ -82,6 +83,14 @@ struct Options {
   /// Off by default: on data/fc3d, 10 sweeps cut BoxesStack1 from 18 to 4
   /// Newton steps but left the hybrid unable to finish Capsules-i101-404 (error 5.9e-6).
   int gauss_seidel_sweeps = 0;
+  /// Fallback of the hybrid: when its first attempt (Alart-Curnier) stalls, at most this
+  /// many projected Gauss-Seidel sweeps from the best iterate, stopping at tolerance or
+  /// when the error no longer halves within 200 sweeps; if they do not converge, the next
+  /// Newton attempts go on from the Newton iterate (and the Gauss-Seidel point is returned
+  /// only if nothing came closer). Gauss-Seidel needs no factorization of W and copes with
+  /// redundant contacts (W rank-deficient with many stuck contacts: Kapla towers), where
+  /// the Newton direction is ill-determined. 0 turns it off.
+  int gauss_seidel_fallback_sweeps = 2000;
   /// Multiplies the per-contact rho of the formulations (see Formulation).
   double rho_scale = 1.0;
   /// Armijo constant beta in (0, 1/2): accept psi(r + t d) <= max(recent psi) - 2 beta t
@@ -136,6 +145,7 @@ struct Summary {
   int num_contacts = -1;
   int iterations = -1;              ///< Newton steps, all attempts
   int gauss_seidel_sweeps = -1;     ///< sweeps done before the Newton steps
+  int fallback_sweeps = -1;         ///< Gauss-Seidel sweeps of the fallback (Options)
   int attempts = -1;                ///< 1 + formulation switches of the hybrid
   int backtracks = -1;              ///< halvings in the line searches
   int linear_solver_failures = -1;  ///< Newton solves failed or failing the residual test
