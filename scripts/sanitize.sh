@@ -5,7 +5,8 @@
 # Benchmarks and examples (and their smoke tests) are not built: the tests and contact-sim are.
 # Suppressed (scripts/lsan.supp): only leaks inside libgmsh, which keeps global state
 # allocated after gmsh::finalize, and inside libfclib (blocks calloc-ed by fclib_read_local /
-# fclib_read_global are still live after fclib_delete_local / fclib_delete_global, which we call). Not run under ASan: contact_no_allocation, which replaces
+# fclib_read_global are still live after fclib_delete_local / fclib_delete_global; libfclib is
+# only the oracle of tests/fc/test_fc_fclib now). Not run under ASan: contact_no_allocation, which replaces
 # the global allocation functions that ASan itself intercepts, and fc_install_consumer and
 # contact_install_consumer, outside CMake projects built without the sanitizer flags. The Python bindings are not built
 # (a Python interpreter cannot load an ASan-instrumented module without LD_PRELOAD).

@@ -16,7 +16,8 @@ packages=(
   python3-matplotlib       # figures (run with /usr/bin/python3)
   python3                  # input fuzz test tests/fuzz (run with /usr/bin/python3)
   libsiconos-numerics-dev  # peer solver for benchmarks
-  libfclib-dev             # FCLIB reader for the fc3d data
+  libhdf5-dev              # HDF5 C library: the FCLIB reader of ncp::fc (serial flavour)
+  libfclib-dev             # FCLIB reference reader: the oracle of tests/fc/test_fc_fclib
   pybind11-dev python3-dev # Python bindings (python/)
   python3-numpy python3-scipy python3-pytest   # Python packages' arrays, sparse Jacobians, tests
   python3-vtk9             # reads the ParaView output back in tests/python/test_vtk_output.py

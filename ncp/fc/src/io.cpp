@@ -15,11 +15,8 @@
 #include "ncp/fc/global.hpp"
 #include "ncp_fc_config.hpp"
 
-#if NCP_FC_HAVE_FCLIB
-#include <hdf5.h>
-extern "C" {  // fclib.h has no C++ guards
-#include <fclib.h>
-}
+#if NCP_FC_HAVE_HDF5
+#include "fclib_hdf5.hpp"
 #endif
 
 namespace ncp::fc {
@@ -373,15 +370,15 @@ GlobalFrictionProblem ReadGlobalProblem(const std::string& path) {
   return IsHdf5(path) ? ReadFclibGlobal(path) : ReadSiconosGlobalDat(path);
 }
 
-bool HaveFclib() { return NCP_FC_HAVE_FCLIB != 0; }
+bool HaveFclib() { return NCP_FC_HAVE_HDF5 != 0; }
 
-#if !NCP_FC_HAVE_FCLIB
+#if !NCP_FC_HAVE_HDF5
 
 FrictionProblem ReadFclib(const std::string& path) {
-  throw std::runtime_error("'" + path + "': built without FCLIB (Debian libfclib-dev)");
+  throw std::runtime_error("'" + path + "': built without HDF5 (Debian libhdf5-dev)");
 }
 GlobalFrictionProblem ReadFclibGlobal(const std::string& path) {
-  throw std::runtime_error("'" + path + "': built without FCLIB (Debian libfclib-dev)");
+  throw std::runtime_error("'" + path + "': built without HDF5 (Debian libhdf5-dev)");
 }
 bool IsFclibGlobal(const std::string&) { return false; }
 std::optional<Vector> ReadFclibSolution(const std::string&) { return std::nullopt; }
@@ -390,103 +387,54 @@ std::optional<Vector> ReadFclibSolution(const std::string&) { return std::nullop
 
 namespace {
 
-/// fclib_matrix (nz >= 0: triplets with p the columns; nz = -1: CSC; nz = -2: CSR), every
-/// index checked against the sizes the file states (nzmax entries stored).
-SparseMatrix ToSparse(const fclib_matrix& m) {
-  auto fail = [&](const std::string& what) {
-    throw std::runtime_error("FCLIB matrix " + std::to_string(m.m) + " x " + std::to_string(m.n) +
-                             " (nz " + std::to_string(m.nz) + ", nzmax " + std::to_string(m.nzmax) +
-                             "): " + what);
-  };
-  if (m.m < 0 || m.n < 0 || m.nzmax < 0 || m.nz < -2) fail("negative size");
-  if (m.nzmax > 0 && (!m.i || !m.x || !m.p)) fail("missing index or value arrays");
-  std::vector<Eigen::Triplet<double>> entries;
-  if (m.nz >= 0) {
-    if (m.nz > m.nzmax) fail("more triplets than stored entries");
-    for (int k = 0; k < m.nz; ++k) {
-      if (m.i[k] < 0 || m.i[k] >= m.m || m.p[k] < 0 || m.p[k] >= m.n) fail("triplet index out of range");
-      entries.emplace_back(m.i[k], m.p[k], m.x[k]);
-    }
-  } else {
-    const bool csc = m.nz == -1;
-    const int outer = csc ? m.n : m.m, inner = csc ? m.m : m.n;
-    if (!m.p) fail("missing pointer array");
-    if (m.p[0] != 0) fail("the first pointer is not 0");
-    for (int o = 0; o < outer; ++o) {
-      if (m.p[o + 1] < m.p[o] || m.p[o + 1] > m.nzmax) fail("pointers decrease or pass nzmax");
-      for (int k = m.p[o]; k < m.p[o + 1]; ++k) {
-        if (m.i[k] < 0 || m.i[k] >= inner) fail("index out of range");
-        entries.emplace_back(csc ? m.i[k] : o, csc ? o : m.i[k], m.x[k]);
-      }
-    }
-  }
-  SparseMatrix A(m.m, m.n);
-  A.setFromTriplets(entries.begin(), entries.end());
-  return A;
-}
-
-Vector ToVector(const double* x, int n) {
-  if (!x) throw std::runtime_error("FCLIB: missing vector");
-  return Eigen::Map<const Vector>(x, n);
-}
-
 /// FCLIB's global problem M v = H r + f, u = H' v + w in Siconos' names (q = f, b = w).
-GlobalFrictionProblem ToGlobal(const fclib_global& g, const std::string& path) {
-  if (g.G && g.G->n > 0)
+GlobalFrictionProblem ToGlobal(const internal::FclibGlobal& g, const std::string& path) {
+  if (g.G && g.G->cols > 0)
     throw std::runtime_error("'" + path +
                              "': global problem with equality constraints G " +
                              "is not supported");
   GlobalFrictionProblem p;
   p.name = path.substr(path.find_last_of('/') + 1);
-  p.M = ToSparse(*g.M);
-  p.H = ToSparse(*g.H);
+  p.M = g.M.ToSparse();
+  p.H = g.H.ToSparse();
   p.dimension = g.spacedim;
   p.num_contacts = static_cast<int>(p.H.cols()) / g.spacedim;
-  p.q = ToVector(g.f, p.M.rows());
-  p.b = ToVector(g.w, p.H.cols());
-  p.mu = ToVector(g.mu, p.num_contacts);
+  p.q = g.f;
+  p.b = g.w;
+  p.mu = g.mu;
   return p;
 }
 
-/// Whether the HDF5 file has the top-level group (FCLIB writes "fclib_local" or
-/// "fclib_global").
-bool HasGroup(const std::string& path, const char* group) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // a failure is reported by the caller
-  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (file < 0) throw std::runtime_error("'" + path + "': not a readable HDF5 file");
-  const bool found = H5Lexists(file, group, H5P_DEFAULT) > 0;
-  H5Fclose(file);
-  return found;
+FrictionProblem FromLocal(const internal::FclibLocal& local, const std::string& path) {
+  if (local.R && local.R->rows > 0)
+    throw std::runtime_error("'" + path +
+                             "': local problem with constraints R not supported");
+  FrictionProblem p;
+  p.dimension = local.spacedim;
+  p.W = local.W.ToSparse();
+  p.num_contacts = static_cast<int>(p.W.rows()) / local.spacedim;
+  p.q = local.q;
+  p.mu = local.mu;
+  return p;
 }
 
 }  // namespace
 
 FrictionProblem ReadFclib(const std::string& path) {
   FrictionProblem p;
-  const bool is_local = HasGroup(path, "fclib_local");
-  if (fclib_local* local = is_local ? fclib_read_local(path.c_str()) : nullptr) {
-    p.dimension = local->spacedim;
-    p.W = ToSparse(*local->W);
-    p.num_contacts = static_cast<int>(p.W.rows()) / local->spacedim;
-    p.q = ToVector(local->q, p.W.rows());
-    p.mu = ToVector(local->mu, p.num_contacts);
-    const bool has_constraints = local->R && local->R->m > 0;
-    fclib_delete_local(local);
-    if (has_constraints)
+  switch (internal::ReadFclibKind(path)) {
+    case internal::FclibKind::kLocal:
+      p = FromLocal(internal::ReadFclibLocalGroup(path), path);
+      break;
+    case internal::FclibKind::kGlobal:
+      p = ReduceToLocal(ToGlobal(internal::ReadFclibGlobalGroup(path), path));
+      break;
+    case internal::FclibKind::kGlobalRolling:
+      throw std::runtime_error("'" + path + "': FCLIB global rolling-friction problems " +
+                               "are not supported");
+    case internal::FclibKind::kNone:
       throw std::runtime_error("'" + path +
-                               "': local problem with constraints R not supported");
-  } else if (fclib_global* global = HasGroup(path, "fclib_global")
-                                        ? fclib_read_global(path.c_str())
-                                        : nullptr) {
-    try {
-      p = ReduceToLocal(ToGlobal(*global, path));
-    } catch (...) {
-      fclib_delete_global(global);
-      throw;
-    }
-    fclib_delete_global(global);
-  } else {
-    throw std::runtime_error("'" + path + "': neither an FCLIB local nor global problem");
+                               "': neither an FCLIB local nor global problem");
   }
   p.name = path.substr(path.find_last_of('/') + 1);
   p.Validate();
@@ -494,36 +442,19 @@ FrictionProblem ReadFclib(const std::string& path) {
 }
 
 bool IsFclibGlobal(const std::string& path) {
-  return IsHdf5(path) && !HasGroup(path, "fclib_local") && HasGroup(path, "fclib_global");
+  return IsHdf5(path) && internal::ReadFclibKind(path) == internal::FclibKind::kGlobal;
 }
 
 GlobalFrictionProblem ReadFclibGlobal(const std::string& path) {
-  fclib_global* global = HasGroup(path, "fclib_global") ? fclib_read_global(path.c_str()) : nullptr;
-  if (!global) throw std::runtime_error("'" + path + "': not an FCLIB global problem");
-  GlobalFrictionProblem p;
-  try {
-    p = ToGlobal(*global, path);
-  } catch (...) {
-    fclib_delete_global(global);
-    throw;
-  }
-  fclib_delete_global(global);
+  GlobalFrictionProblem p = ToGlobal(internal::ReadFclibGlobalGroup(path), path);
   p.Validate();
   return p;
 }
 
 std::optional<Vector> ReadFclibSolution(const std::string& path) {
-  if (!HasGroup(path, "fclib_local")) return std::nullopt;
-  fclib_local* local = fclib_read_local(path.c_str());
-  if (!local) return std::nullopt;
-  const int m = local->W->m;
-  fclib_delete_local(local);
-  fclib_solution* s = fclib_read_solution(path.c_str());
-  if (!s) return std::nullopt;
-  std::optional<Vector> r;
-  if (s->r) r = Eigen::Map<const Vector>(s->r, m);
-  fclib_delete_solutions(s, 1);
-  return r;
+  const auto solution = internal::ReadFclibSolutionGroup(path);
+  if (!solution) return std::nullopt;
+  return solution->r;
 }
 
 #endif

@@ -30,20 +30,23 @@ FrictionProblem ReadSiconosDat(const std::string& path);
 /// failure.
 void WriteSiconosDat(const FrictionProblem& problem, const std::string& path);
 
-/// True when the FCLIB reader was compiled in (Debian libfclib-dev found).
+/// True when the FCLIB reader was compiled in (Debian libhdf5-dev found).
 bool HaveFclib();
 
-/// FCLIB HDF5: a local problem (fclib_read_local) as is; a global problem
-/// (fclib_read_global: M v = H r + f, u = H' v + w, without equality constraints G)
-/// reduced to local form W = H' M^-1 H, q = H' M^-1 f + w (M factorized by sparse
-/// Cholesky). Throws std::runtime_error when the file cannot be read or FCLIB is not
-/// compiled in.
+/// FCLIB HDF5 (read by ncp's own checked reader on the HDF5 C library, not libfclib): a
+/// local problem as is; a global problem (M v = H r + f, u = H' v + w, without equality
+/// constraints G) reduced to local form W = H' M^-1 H, q = H' M^-1 f + w (M factorized by
+/// sparse Cholesky). Throws std::runtime_error naming the file, the dataset and the defect
+/// when the file is not a well-formed FCLIB problem (missing dataset, wrong type or length,
+/// sizes that disagree, a sparse index out of range, a non-finite value, negative mu), when
+/// the problem has constraints (local R, global G) or is a rolling-friction one, or when HDF5
+/// is not compiled in. Never exits the process.
 FrictionProblem ReadFclib(const std::string& path);
 
 /// FCLIB HDF5 global problem as is (no reduction); throws std::runtime_error when the file
-/// holds none or FCLIB is not compiled in.
+/// holds none, on a malformed file (as ReadFclib) or when HDF5 is not compiled in.
 GlobalFrictionProblem ReadFclibGlobal(const std::string& path);
-/// True when the FCLIB file holds a global problem and no local one (false without FCLIB).
+/// True when the FCLIB file holds a global problem and no local one (false without HDF5).
 bool IsFclibGlobal(const std::string& path);
 
 /// Siconos' text format of a global problem (globalFrictionContact_printInFile):
@@ -56,7 +59,8 @@ GlobalFrictionProblem ReadSiconosGlobalDat(const std::string& path);
 /// (ReadSiconosGlobalDat).
 GlobalFrictionProblem ReadGlobalProblem(const std::string& path);
 
-/// The stored reference solution r of an FCLIB file (fclib_read_solution), if any.
+/// The stored reference solution r (/solution/r) of an FCLIB file, local or global; nullopt
+/// when the file has none. Throws like ReadFclib on a malformed file or solution.
 std::optional<Vector> ReadFclibSolution(const std::string& path);
 
 /// By content: HDF5 (signature "\x89HDF") goes to ReadFclib, anything else to
