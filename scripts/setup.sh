@@ -5,6 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config
+  ccache                   # rebuilds of unchanged sources are cache hits (scripts/build.sh)
   libeigen3-dev            # Eigen 3.4
   libsuitesparse-dev       # UMFPACK, KLU, CHOLMOD
   coinor-libipopt-dev      # Ipopt 3.11 (reference QP solver)

@@ -1,6 +1,6 @@
 // libFuzzer target: the FCLIB HDF5 reader (ncp::fc::ReadFclib and ReadFclibSolution).
-// Not in the CI list: libfclib calls exit() on an HDF5 error, which libFuzzer reports as a
-// crash of every malformed file (docs/reliability.md).
+// Reads through ncp's own checked HDF5 reader (ncp/fc/src/fclib_hdf5.cpp): a malformed file
+// must end in an exception, never in exit() or a crash (docs/reliability-fclib.md).
 #include <cstdint>
 #include <exception>
 
