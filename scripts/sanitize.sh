@@ -31,4 +31,8 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:strict_string_checks=1:dete
 export LSAN_OPTIONS="suppressions=$PWD/scripts/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 cd build-sanitize
-ctest --output-on-failure -j "$(nproc)" -E "contact_no_allocation|fc_install_consumer|contact_install_consumer" "$@"
+ctest --output-on-failure -j "$(nproc)" -E "contact_no_allocation|fc_install_consumer|contact_install_consumer" -LE mpi "$@"
+# The MPI tests (label mpi) under ASan and UBSan without LeakSanitizer: OpenMPI's plugins
+# (dlopen-ed MCA components, unloaded at MPI_Finalize) leave allocations that LeakSanitizer
+# reports against "<unknown module>" frames, which no suppression by library can name.
+ASAN_OPTIONS="$ASAN_OPTIONS:detect_leaks=0" ctest --output-on-failure -j "$(nproc)" -L mpi "$@"
