@@ -90,10 +90,8 @@ PetscErrorCode SolveOnGrid(const RunConfig& config, const RunSettings& settings,
 PetscErrorCode RunNcp(const RunConfig& config, const RunSettings& settings, RunResult* result) {
   PetscFunctionBeginUser;
   const MPI_Comm comm = PETSC_COMM_WORLD;
-  const int levels = GridLevels(settings.coarse_grid, settings.grid);
-  PetscCheck(!config.grid_sequencing || levels > 0, comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "--grid %" PetscInt_FMT " is not (coarse %" PetscInt_FMT " - 1) 2^k + 1", settings.grid,
-             settings.coarse_grid);
+  int levels = 0;
+  PetscCall(CheckedGridLevels(config, settings, &levels));
   PetscCall(PetscBarrier(nullptr));
   const double wall_start = WallSeconds(), cpu_start = ProcessCpuSeconds();
 

@@ -65,6 +65,15 @@ int GridLevels(PetscInt coarse_grid, PetscInt grid) {
   return m == grid ? levels : 0;
 }
 
+PetscErrorCode CheckedGridLevels(const RunConfig& config, const RunSettings& settings, int* levels) {
+  PetscFunctionBeginUser;
+  *levels = GridLevels(settings.coarse_grid, settings.grid);
+  PetscCheck(!config.grid_sequencing || *levels > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "--grid %" PetscInt_FMT " is not (coarse %" PetscInt_FMT " - 1) 2^k + 1", settings.grid,
+             settings.coarse_grid);
+  PetscFunctionReturn(0);
+}
+
 std::string OptionsPrefix(const RunConfig& config) {
   std::string prefix = config.name + "_";
   std::replace(prefix.begin(), prefix.end(), '-', '_');
@@ -128,10 +137,8 @@ PetscErrorCode CountSteps(SNES, PetscInt iteration, PetscReal, void* counter) {
 PetscErrorCode RunSnesVi(const RunConfig& config, const RunSettings& settings, RunResult* result) {
   PetscFunctionBeginUser;
   const MPI_Comm comm = PETSC_COMM_WORLD;
-  const int levels = GridLevels(settings.coarse_grid, settings.grid);
-  PetscCheck(!config.grid_sequencing || levels > 0, comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "--grid %" PetscInt_FMT " is not (coarse %" PetscInt_FMT " - 1) 2^k + 1", settings.grid,
-             settings.coarse_grid);
+  int levels = 0;
+  PetscCall(CheckedGridLevels(config, settings, &levels));
   const std::string prefix = OptionsPrefix(config);
   const PetscInt start_grid = config.grid_sequencing ? settings.coarse_grid : settings.grid;
   // PCMG of a grid made directly at its size takes its levels from -pc_mg_levels; under

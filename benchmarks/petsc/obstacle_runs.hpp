@@ -77,6 +77,9 @@ std::string OptionsPrefix(const RunConfig& config);
 /// Number of grids from coarse_grid to grid by doubling (grid - 1 = (coarse_grid - 1) 2^k):
 /// k + 1; 0 when grid is not in that sequence.
 int GridLevels(PetscInt coarse_grid, PetscInt grid);
+/// GridLevels of the settings; an error if grid sequencing needs them and the grid is not
+/// a refinement of the coarse grid.
+PetscErrorCode CheckedGridLevels(const RunConfig& config, const RunSettings& settings, int* levels);
 
 PetscErrorCode RunSnesVi(const RunConfig& config, const RunSettings& settings, RunResult* result);
 PetscErrorCode RunNcp(const RunConfig& config, const RunSettings& settings, RunResult* result);
