@@ -11,15 +11,17 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "linear_solver.hpp"
-#include "sparse_pattern.hpp"
 #include "box_mcp.hpp"
+#include "format_number.hpp"
 #include "globalization.hpp"
+#include "linear_solver.hpp"
 #include "ncp_function_internal.hpp"
+#include "workspace.hpp"
 
 namespace ncp {
 namespace {
 
+using internal::FormatNumber;
 using Clock = std::chrono::steady_clock;
 
 double Seconds(Clock::time_point since) {
@@ -36,12 +38,6 @@ bool AllFinite(const SparseMatrix& S) {
   return true;
 }
 
-std::string Fmt(const char* format, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, format, value);
-  return buffer;
-}
-
 void CheckJacobianShape(const SparseMatrix& S, Eigen::Index rows, Eigen::Index cols,
                         const char* name) {
   if (S.rows() != rows || S.cols() != cols) {
@@ -52,337 +48,7 @@ void CheckJacobianShape(const SparseMatrix& S, Eigen::Index rows, Eigen::Index c
   }
 }
 
-// row_i *= weight_i for every stored entry of a compressed column-major matrix.
-void ScaleRows(const Vector& weight, SparseMatrix* J) {
-  double* values = J->valuePtr();
-  const int* rows = J->innerIndexPtr();
-  for (Eigen::Index k = 0; k < J->nonZeros(); ++k) values[k] *= weight(rows[k]);
-}
-
-// weight = 1 / (scale + floor / tolerance), checked; `what` names the vector in errors.
-// (|row| weight <= tolerance  <=>  |row| <= floor + tolerance * scale; the weighted rows are
-// relative residuals of order 1 at a typical point, which keeps the penalized FB function,
-// not positively homogeneous, on data of order 1.)
-void Weights(const Vector& scale, const Vector& floor, Eigen::Index size, double tolerance,
-             const char* what, Vector* weight) {
-  if (scale.size() != size || (floor.size() != 0 && floor.size() != size))
-    throw std::invalid_argument(std::string("ncp::Solver: MixedProblem::Scales gave ") + what +
-                                " of size " + std::to_string(scale.size()) + " (floor " +
-                                std::to_string(floor.size()) + "), expected " + std::to_string(size));
-  weight->resize(size);
-  for (Eigen::Index i = 0; i < size; ++i) {
-    const double f = floor.size() ? floor(i) : 0.0;
-    const double accuracy = tolerance > 0.0 ? scale(i) + f / tolerance : scale(i);
-    if (!(scale(i) > 0.0) || !(f >= 0.0) || !std::isfinite(accuracy))
-      throw std::invalid_argument(std::string("ncp::Solver: MixedProblem::Scales gave ") + what +
-                                  "[" + std::to_string(i) + "] = " + Fmt("%.3e", scale(i)) +
-                                  " with floor " + Fmt("%.3e", f) +
-                                  ": scales must be finite and > 0, floors finite and >= 0");
-    (*weight)(i) = 1.0 / accuracy;
-  }
-}
-
-// The problem's scales as row weights; false (weights untouched) if it gives none.
-// (`scales` is the caller's, kept between solves so that no vector is allocated again.)
-bool SetWeights(MixedProblem& problem, const Vector& x0, int m, int p, double tolerance,
-                ResidualScales* scales_ptr, Vector* we, Vector* wa, Vector* wb) {
-  ResidualScales& scales = *scales_ptr;
-  if (!problem.Scales(x0, &scales)) return false;
-  Weights(scales.equation, scales.equation_floor, m, tolerance, "equation", we);
-  Weights(scales.a, scales.a_floor, p, tolerance, "a", wa);
-  Weights(scales.b, scales.b_floor, p, tolerance, "b", wb);
-  return true;
-}
-
 }  // namespace
-
-// ---------------------------------------------------------------------------------------
-// Options and Summary.
-
-Options Options::Algorithm1() {
-  Options options;
-  options.descent_rho = 1e-8;
-  options.descent_p = 2.1;
-  options.armijo_beta = 1e-4;
-  options.nonmonotone_memory = 1;
-  options.regularized_direction = false;
-  options.gradient_fallback = true;
-  options.merit_restarts = 0;
-  return options;
-}
-
-bool Options::IsValid(std::string* error) const {
-  auto fail = [&](const std::string& what) {
-    if (error) *error = what;
-    return false;
-  };
-  if (!(tolerance >= 0.0) || !std::isfinite(tolerance))
-    return fail("Options::tolerance must be finite and >= 0, got " + Fmt("%g", tolerance));
-  if (!(roundoff_ulps >= 0.0) || !std::isfinite(roundoff_ulps))
-    return fail("Options::roundoff_ulps must be finite and >= 0, got " + Fmt("%g", roundoff_ulps));
-  if (max_iterations < 0)
-    return fail("Options::max_iterations must be >= 0, got " + std::to_string(max_iterations));
-  if (!(descent_rho > 0.0))
-    return fail("Options::descent_rho must be > 0 (eq. 22), got " + Fmt("%g", descent_rho));
-  if (!(descent_p > 2.0))
-    return fail("Options::descent_p must be > 2 (eq. 22), got " + Fmt("%g", descent_p));
-  if (!(armijo_beta > 0.0 && armijo_beta < 0.5))
-    return fail("Options::armijo_beta must lie in (0, 1/2) (eq. 23), got " +
-                Fmt("%g", armijo_beta));
-  if (nonmonotone_memory < 1 || nonmonotone_memory > 1000)
-    return fail("Options::nonmonotone_memory must lie in [1, 1000], got " +
-                std::to_string(nonmonotone_memory));
-  if (merit_restarts < 0 || merit_restarts > 1000)
-    return fail("Options::merit_restarts must lie in [0, 1000], got " + std::to_string(merit_restarts));
-  if (max_backtracks < 0 || max_backtracks > 1000)
-    return fail("Options::max_backtracks must lie in [0, 1000], got " +
-                std::to_string(max_backtracks));
-  if (!(degenerate_tolerance >= 0.0))
-    return fail("Options::degenerate_tolerance must be >= 0, got " +
-                Fmt("%g", degenerate_tolerance));
-  if (!(stationarity_tolerance >= 0.0))
-    return fail("Options::stationarity_tolerance must be >= 0, got " +
-                Fmt("%g", stationarity_tolerance));
-  if (!(penalized_fb_lambda > 0.0 && penalized_fb_lambda <= 1.0))
-    return fail("Options::penalized_fb_lambda must lie in (0, 1], got " +
-                Fmt("%g", penalized_fb_lambda));
-  if (stagnation_window < 0 || stagnation_window > kMaxStagnationWindow)
-    return fail("Options::stagnation_window must lie in [0, " + std::to_string(kMaxStagnationWindow) +
-                "] iterations, got " + std::to_string(stagnation_window));
-  if (!(stagnation_tolerance >= 0.0 && stagnation_tolerance < 1.0))
-    return fail("Options::stagnation_tolerance must lie in [0, 1), got " +
-                Fmt("%g", stagnation_tolerance));
-  if (!(max_seconds > 0.0))
-    return fail("Options::max_seconds must be > 0 (or +inf), got " + Fmt("%g", max_seconds));
-  if (!(factorization_flop_rate >= 0.0) || !std::isfinite(factorization_flop_rate))
-    return fail("Options::factorization_flop_rate must be finite and >= 0, got " +
-                Fmt("%g", factorization_flop_rate));
-  if (dense_threshold < 0)
-    return fail("Options::dense_threshold must be >= 0, got " + std::to_string(dense_threshold));
-  if (!(infinite_bound > 0.0))
-    return fail("Options::infinite_bound must be > 0 (or +inf), got " + Fmt("%g", infinite_bound));
-  // Enums set from integers (a cast, a file) may hold any value: checked before a switch.
-  const int function = static_cast<int>(ncp_function);
-  if (function < 0 || function > static_cast<int>(kLastNcpFunction))
-    return fail("Options::ncp_function must be an NcpFunction (0.." +
-                std::to_string(static_cast<int>(kLastNcpFunction)) + "), got " +
-                std::to_string(function));
-  const int solver = static_cast<int>(linear_solver);
-  if (solver < 0 || solver > static_cast<int>(kLastLinearSolverType))
-    return fail("Options::linear_solver must be a LinearSolverType (0.." +
-                std::to_string(static_cast<int>(kLastLinearSolverType)) + "), got " + std::to_string(solver));
-  return true;
-}
-
-std::string Summary::BriefReport() const {
-  std::ostringstream out;
-  out << ToString(termination) << ": " << iterations << " iterations, " << jacobian_evaluations
-      << " Jacobian / " << residual_evaluations << " residual evaluations, ||Phi||_inf = "
-      << Fmt("%.3e", final_phi_inf) << ", " << Fmt("%.3g", total_time_s) << " s";
-  if (merit_restarts > 0) out << ", " << merit_restarts << " merit restarts";
-  return out.str();
-}
-
-std::string Summary::FullReport() const {
-  std::ostringstream out;
-  out << "ncp solver summary\n"
-      << "  termination              " << ToString(termination) << "\n"
-      << "  message                  " << message << "\n"
-      << "  unknowns / eqs / pairs   " << num_variables << " / " << num_equations << " / "
-      << num_pairs << "\n"
-      << "  NCP function             " << ToString(ncp_function) << "\n"
-      << "  linear solver            " << ToString(linear_solver_requested) << " -> "
-      << ToString(linear_solver_used) << "\n"
-      << "  iterations               " << iterations << "\n"
-      << "  Jacobian evaluations     " << jacobian_evaluations << "\n"
-      << "  residual evaluations     " << residual_evaluations << "\n"
-      << "  gradient steps           " << gradient_steps << "\n"
-      << "  regularized (LM) steps   " << regularized_steps << "\n"
-      << "  merit restarts           " << merit_restarts << "\n"
-      << "  linear solver failures   " << linear_solver_failures << "\n"
-      << "  descent test failures    " << descent_test_failures << "\n"
-      << "  backtracks               " << backtracks << "\n"
-      << "  symbolic factorizations  " << symbolic_factorizations << "\n"
-      << "  Cholesky -> LU fallbacks " << cholesky_fallbacks << "\n"
-      << "  start components moved   " << projected_start_components << "\n"
-      << "  final components moved   " << projected_final_components << "\n"
-      << "  ||Phi||_inf initial      " << Fmt("%.6e", initial_phi_inf) << "\n"
-      << "  ||Phi||_inf final        " << Fmt("%.6e", final_phi_inf)
-      << (roundoff_limited ? " (at the round-off floor)" : "") << "\n"
-      << "  psi final                " << Fmt("%.6e", final_psi) << "\n"
-      << "  time total / eval / lin  " << Fmt("%.6f", total_time_s) << " / "
-      << Fmt("%.6f", evaluation_time_s) << " / " << Fmt("%.6f", linear_solver_time_s) << " s\n";
-  return out.str();
-}
-
-// ---------------------------------------------------------------------------------------
-// Workspace: the Jacobian of Phi with a cached pattern, the linear solver, and every
-// vector of the iteration, sized by Solve() before the first iteration (reallocated only
-// when n, m or the Jacobian pattern change). The iterations then allocate only inside the
-// numeric factorization of a sparse backend (SuiteSparse for UMFPACK and KLU, and
-// Eigen::SparseLU) and for Summary::trace with keep_trace; the Summary's message is built
-// when the solve ends (tests/contact/test_no_allocation.cpp).
-
-struct Solver::Workspace {
-  std::unique_ptr<internal::LinearSolver> linear_solver;
-  // The last box MCP in mixed form, reused when the same F and bounds come again.
-  internal::BoxMcpCache box_mcp;
-  // The backend of the last solve; dense: J is the dense Jd and dense_lu factorizes it (the
-  // light path of small problems: no pattern bookkeeping, no sparse matrix, no allocation).
-  LinearSolverType backend = LinearSolverType::kAuto;
-  bool dense = false;
-  DenseMatrix Jd;
-  internal::DenseLU dense_lu;
-
-  // Cached patterns of the user's JE, JA, JB; a change triggers a new symbolic analysis.
-  internal::SparsePattern pattern[3];
-  bool have_pattern = false;
-
-  // J = [JE; diag(da) JA + diag(db) JB], pattern = union; map[s][k] is where the k-th
-  // stored entry of source s lands in J's value array.
-  SparseMatrix J;
-  std::vector<int> map[3];
-
-  SparseMatrix JE, JA, JB;
-  // Row weights 1 / (scale + floor / tolerance) of MixedProblem::Scales (when `weighted`).
-  bool weighted = false;
-  ResidualScales scales;
-  Vector we, wa, wb;
-  Vector E, A, B, Et, At, Bt;  // current point and trial point
-  Vector phi, phi_trial, grad, d, x_trial, da, db, z, za, zb, newton_rhs, newton_residual,
-      newton_terms;
-  // Round-off floor (Options::roundoff_ulps): row i of |J||x| summed entry by entry, i.e.
-  // |J_E||x| for an equation and |da| |J_A||x| + |db| |J_B||x| for a pair.
-  Vector sensitivity;
-  // flop/s of the last timed numeric factorization (0: none timed yet).
-  double measured_flop_rate = 0.0;
-  // Levenberg-Marquardt system J'J + mu I, its own solver and pattern bookkeeping.
-  std::unique_ptr<internal::LinearSolver> regularized_solver;
-  SparseMatrix normal_matrix, identity;
-  bool regularized_analyzed = false;
-  Eigen::Index regularized_nonzeros = -1;
-  // The nonmonotone Armijo reference and the stagnation test (globalization.hpp).
-  internal::NonmonotoneReference armijo_reference;
-  internal::StagnationTest stagnation;
-
-  /// Sizes every vector of the iteration for n unknowns and m equations (zeros).
-  void Resize(int n, int m) {
-    const int p = n - m;
-    for (Vector* v : {&E, &Et}) v->setZero(m);
-    for (Vector* v : {&A, &B, &At, &Bt, &da, &db, &za, &zb}) v->setZero(p);
-    for (Vector* v : {&phi, &phi_trial, &grad, &d, &x_trial, &z, &newton_rhs, &newton_residual,
-                      &newton_terms, &sensitivity})
-      v->setZero(n);
-    if (JE.rows() != m || JE.cols() != n) JE.resize(m, n);
-    if (JA.rows() != p || JA.cols() != n) JA.resize(p, n);
-    if (JB.rows() != p || JB.cols() != n) JB.resize(p, n);
-  }
-
-  /// Returns true when the pattern differs from the cached one (and rebuilds J's pattern).
-  bool UpdatePattern(int m) {
-    const SparseMatrix* sources[3] = {&JE, &JA, &JB};
-    bool same = have_pattern;
-    for (int s = 0; s < 3 && same; ++s)
-      same = pattern[s].Matches(*sources[s]);
-    if (same) return false;
-
-    const Eigen::Index n = JE.cols();
-    std::vector<Eigen::Triplet<double, int>> triplets;
-    triplets.reserve(static_cast<size_t>(JE.nonZeros() + JA.nonZeros() + JB.nonZeros()));
-    for (int s = 0; s < 3; ++s) {
-      const SparseMatrix& S = *sources[s];
-      const int row_offset = s == 0 ? 0 : m;
-      for (int c = 0; c < S.outerSize(); ++c)
-        for (SparseMatrix::InnerIterator it(S, c); it; ++it)
-          triplets.emplace_back(static_cast<int>(it.row()) + row_offset, c, 0.0);
-      pattern[s].Store(S);
-    }
-    J.resize(n, n);
-    J.setFromTriplets(triplets.begin(), triplets.end());
-    J.makeCompressed();
-    for (int s = 0; s < 3; ++s) {
-      const SparseMatrix& S = *sources[s];
-      const int row_offset = s == 0 ? 0 : m;
-      map[s].resize(static_cast<size_t>(S.nonZeros()));
-      size_t k = 0;
-      for (int c = 0; c < S.outerSize(); ++c) {
-        const int* begin = J.innerIndexPtr() + J.outerIndexPtr()[c];
-        const int* end = J.innerIndexPtr() + J.outerIndexPtr()[c + 1];
-        for (SparseMatrix::InnerIterator it(S, c); it; ++it, ++k) {
-          const int* pos = std::lower_bound(begin, end, static_cast<int>(it.row()) + row_offset);
-          map[s][k] = static_cast<int>(pos - J.innerIndexPtr());
-        }
-      }
-    }
-    have_pattern = true;
-    return true;
-  }
-
-  /// Calls add(s, k, row, col, value) for the k-th stored entry of source s (JE, JA, JB) as
-  /// an entry of J = [JE; diag(da) JA + diag(db) JB]: row of J, value scaled by da or db.
-  template <class Add>
-  void ForEachJacobianEntry(int m, Add&& add) const {
-    const SparseMatrix* sources[3] = {&JE, &JA, &JB};
-    const Vector* scale[3] = {nullptr, &da, &db};
-    for (int s = 0; s < 3; ++s) {
-      const SparseMatrix& S = *sources[s];
-      const int row_offset = s == 0 ? 0 : m;
-      int k = 0;
-      for (int c = 0; c < S.outerSize(); ++c)
-        for (SparseMatrix::InnerIterator it(S, c); it; ++it, ++k)
-          add(s, k, static_cast<int>(it.row()) + row_offset, c,
-              scale[s] ? (*scale[s])(it.row()) * it.value() : it.value());
-    }
-  }
-
-  /// Jd = J, dense (the light path); sensitivity = |J||x| row by row (with the partials
-  /// da, db inside, the round-off floor's r; see WithinRoundoffFloor).
-  void FillDenseJacobian(int m, const Vector& x) {
-    const Eigen::Index n = JE.cols();
-    Jd.resize(n, n);
-    Jd.setZero();
-    sensitivity.setZero();
-    ForEachJacobianEntry(m, [&](int, int, int row, int col, double value) {
-      Jd(row, col) += value;
-      sensitivity(row) += std::abs(value) * std::abs(x(col));
-    });
-  }
-
-  /// out = J' v.
-  void MultiplyJacobianTransposed(const Vector& v, Vector* out) const {
-    if (dense) out->noalias() = Jd.transpose() * v;
-    else out->noalias() = J.transpose() * v;
-  }
-  /// *residual = J v + b and returns max_i (|J||v|)_i, the size of the terms summed in J v
-  /// (its round-off is relative to that, not to |J v|); one pass over J.
-  double ResidualAndTerms(const Vector& v, const Vector& b, Vector* residual, Vector* terms) const {
-    *residual = b;
-    terms->setZero();
-    auto add = [&](Eigen::Index row, Eigen::Index col, double value) {
-      (*residual)(row) += value * v(col);
-      (*terms)(row) += std::abs(value * v(col));
-    };
-    if (dense) {
-      for (Eigen::Index c = 0; c < Jd.cols(); ++c)
-        for (Eigen::Index r = 0; r < Jd.rows(); ++r) add(r, c, Jd(r, c));
-    } else {
-      for (int c = 0; c < J.outerSize(); ++c)
-        for (SparseMatrix::InnerIterator it(J, c); it; ++it) add(it.row(), c, it.value());
-    }
-    return terms->lpNorm<Eigen::Infinity>();
-  }
-
-  /// J values = [JE; diag(da) JA + diag(db) JB] on the cached pattern; sensitivity as above.
-  void FillJacobian(int m, const Vector& x) {
-    double* values = J.valuePtr();
-    std::fill(values, values + J.nonZeros(), 0.0);
-    sensitivity.setZero();
-    ForEachJacobianEntry(m, [&](int s, int k, int row, int col, double value) {
-      values[map[s][k]] += value;
-      sensitivity(row) += std::abs(value) * std::abs(x(col));
-    });
-  }
-};
 
 Solver::Solver(const Options& options) : options_(options), workspace_(new Workspace) {
   std::string error;
@@ -501,7 +167,7 @@ class Solver::Iteration {
     w_.Resize(n_, m_);
 
     // Row weights from the problem's own scales (MixedProblem::Scales), once per solve.
-    w_.weighted = SetWeights(problem_, x_, m_, p_, o_.tolerance, &w_.scales, &w_.we, &w_.wa, &w_.wb);
+    w_.SetWeights(problem_, x_, m_, p_, o_.tolerance);
     s_.weighted_residual = w_.weighted;
     threshold_ = o_.tolerance;  // on ||Phi||_inf, weighted (relative) or not
     function_ = o_.ncp_function;
@@ -573,11 +239,7 @@ class Solver::Iteration {
     CheckJacobianShape(w_.JA, p_, n_, "JA");
     CheckJacobianShape(w_.JB, p_, n_, "JB");
     for (SparseMatrix* S : {&w_.JE, &w_.JA, &w_.JB}) S->makeCompressed();
-    if (w_.weighted) {
-      ScaleRows(w_.we, &w_.JE);
-      ScaleRows(w_.wa, &w_.JA);
-      ScaleRows(w_.wb, &w_.JB);
-    }
+    if (w_.weighted) w_.WeightJacobianRows();
     if (!AllFinite(w_.JE) || !AllFinite(w_.JA) || !AllFinite(w_.JB)) {
       Finish(TerminationType::kNonFiniteValues,
              "the Jacobian has NaN or Inf entries at iteration " + std::to_string(k));
@@ -794,10 +456,10 @@ class Solver::Iteration {
     if (!std::isfinite(o_.max_seconds) || !(flops / rate > left)) return true;
     Finish(TerminationType::kTimeLimit,
            "the factorization at iteration " + std::to_string(k) + " was not started: " +
-               Fmt("%.3g", flops) + " flops at " + Fmt("%.3g", rate) + " flop/s predict " +
-               Fmt("%.3g", flops / rate) + " s, more than the " + Fmt("%.3g", left) +
-               " s left of max_seconds = " + Fmt("%.3g", o_.max_seconds) +
-               " s (||Phi||_inf = " + Fmt("%.3e", phi_inf_) + ")");
+               FormatNumber("%.3g", flops) + " flops at " + FormatNumber("%.3g", rate) + " flop/s predict " +
+               FormatNumber("%.3g", flops / rate) + " s, more than the " + FormatNumber("%.3g", left) +
+               " s left of max_seconds = " + FormatNumber("%.3g", o_.max_seconds) +
+               " s (||Phi||_inf = " + FormatNumber("%.3e", phi_inf_) + ")");
     return false;
   }
 
