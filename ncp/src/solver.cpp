@@ -633,7 +633,12 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
 
 void Solver::Solve(SquareFunction& F, const Vector& lower, const Vector& upper, Vector* x,
                    Summary* summary) {
-  internal::SolveBoxMcp(*this, &workspace_->box_mcp, F, lower, upper, x, summary);
+  if (x == nullptr || summary == nullptr)
+    throw std::invalid_argument("ncp::Solver::Solve: x and summary must not be null");
+  // The box MCP as a mixed problem (box_mcp.hpp), solved like any other.
+  internal::BoxMcpSolve box_mcp(options_, &workspace_->box_mcp, F, lower, upper, x);
+  if (box_mcp.ready()) Solve(box_mcp.problem(), &box_mcp.unknowns(), summary);
+  box_mcp.Finish(summary);
 }
 
 void Solver::SolveNcp(SquareFunction& F, Vector* x, Summary* summary) {
