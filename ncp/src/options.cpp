@@ -29,15 +29,20 @@ bool Options::IsValid(std::string* error) const {
     return false;
   };
   if (!(tolerance >= 0.0) || !std::isfinite(tolerance))
-    return fail("Options::tolerance must be finite and >= 0, got " + FormatNumber("%g", tolerance));
+    return fail("Options::tolerance must be finite and >= 0, got " +
+                FormatNumber("%g", tolerance));
   if (!(roundoff_ulps >= 0.0) || !std::isfinite(roundoff_ulps))
-    return fail("Options::roundoff_ulps must be finite and >= 0, got " + FormatNumber("%g", roundoff_ulps));
+    return fail("Options::roundoff_ulps must be finite and >= 0, got " +
+                FormatNumber("%g", roundoff_ulps));
   if (max_iterations < 0)
-    return fail("Options::max_iterations must be >= 0, got " + std::to_string(max_iterations));
+    return fail("Options::max_iterations must be >= 0, got " +
+                std::to_string(max_iterations));
   if (!(descent_rho > 0.0))
-    return fail("Options::descent_rho must be > 0 (eq. 22), got " + FormatNumber("%g", descent_rho));
+    return fail("Options::descent_rho must be > 0 (eq. 22), got " +
+                FormatNumber("%g", descent_rho));
   if (!(descent_p > 2.0))
-    return fail("Options::descent_p must be > 2 (eq. 22), got " + FormatNumber("%g", descent_p));
+    return fail("Options::descent_p must be > 2 (eq. 22), got " +
+                FormatNumber("%g", descent_p));
   if (!(armijo_beta > 0.0 && armijo_beta < 0.5))
     return fail("Options::armijo_beta must lie in (0, 1/2) (eq. 23), got " +
                 FormatNumber("%g", armijo_beta));
@@ -45,7 +50,8 @@ bool Options::IsValid(std::string* error) const {
     return fail("Options::nonmonotone_memory must lie in [1, 1000], got " +
                 std::to_string(nonmonotone_memory));
   if (merit_restarts < 0 || merit_restarts > 1000)
-    return fail("Options::merit_restarts must lie in [0, 1000], got " + std::to_string(merit_restarts));
+    return fail("Options::merit_restarts must lie in [0, 1000], got " +
+                std::to_string(merit_restarts));
   if (max_backtracks < 0 || max_backtracks > 1000)
     return fail("Options::max_backtracks must lie in [0, 1000], got " +
                 std::to_string(max_backtracks));
@@ -59,20 +65,24 @@ bool Options::IsValid(std::string* error) const {
     return fail("Options::penalized_fb_lambda must lie in (0, 1], got " +
                 FormatNumber("%g", penalized_fb_lambda));
   if (stagnation_window < 0 || stagnation_window > kMaxStagnationWindow)
-    return fail("Options::stagnation_window must lie in [0, " + std::to_string(kMaxStagnationWindow) +
-                "] iterations, got " + std::to_string(stagnation_window));
+    return fail("Options::stagnation_window must lie in [0, " +
+                std::to_string(kMaxStagnationWindow) + "] iterations, got " +
+                std::to_string(stagnation_window));
   if (!(stagnation_tolerance >= 0.0 && stagnation_tolerance < 1.0))
     return fail("Options::stagnation_tolerance must lie in [0, 1), got " +
                 FormatNumber("%g", stagnation_tolerance));
   if (!(max_seconds > 0.0))
-    return fail("Options::max_seconds must be > 0 (or +inf), got " + FormatNumber("%g", max_seconds));
+    return fail("Options::max_seconds must be > 0 (or +inf), got " +
+                FormatNumber("%g", max_seconds));
   if (!(factorization_flop_rate >= 0.0) || !std::isfinite(factorization_flop_rate))
     return fail("Options::factorization_flop_rate must be finite and >= 0, got " +
                 FormatNumber("%g", factorization_flop_rate));
   if (dense_threshold < 0)
-    return fail("Options::dense_threshold must be >= 0, got " + std::to_string(dense_threshold));
+    return fail("Options::dense_threshold must be >= 0, got " +
+                std::to_string(dense_threshold));
   if (!(infinite_bound > 0.0))
-    return fail("Options::infinite_bound must be > 0 (or +inf), got " + FormatNumber("%g", infinite_bound));
+    return fail("Options::infinite_bound must be > 0 (or +inf), got " +
+                FormatNumber("%g", infinite_bound));
   // Enums set from integers (a cast, a file) may hold any value: checked before a switch.
   const int function = static_cast<int>(ncp_function);
   if (function < 0 || function > static_cast<int>(kLastNcpFunction))
@@ -82,15 +92,17 @@ bool Options::IsValid(std::string* error) const {
   const int solver = static_cast<int>(linear_solver);
   if (solver < 0 || solver > static_cast<int>(kLastLinearSolverType))
     return fail("Options::linear_solver must be a LinearSolverType (0.." +
-                std::to_string(static_cast<int>(kLastLinearSolverType)) + "), got " + std::to_string(solver));
+                std::to_string(static_cast<int>(kLastLinearSolverType)) + "), got " +
+                std::to_string(solver));
   return true;
 }
 
 std::string Summary::BriefReport() const {
   std::ostringstream out;
-  out << ToString(termination) << ": " << iterations << " iterations, " << jacobian_evaluations
-      << " Jacobian / " << residual_evaluations << " residual evaluations, ||Phi||_inf = "
-      << FormatNumber("%.3e", final_phi_inf) << ", " << FormatNumber("%.3g", total_time_s) << " s";
+  out << ToString(termination) << ": " << iterations << " iterations, "
+      << jacobian_evaluations << " Jacobian / " << residual_evaluations
+      << " residual evaluations, ||Phi||_inf = " << FormatNumber("%.3e", final_phi_inf)
+      << ", " << FormatNumber("%.3g", total_time_s) << " s";
   if (merit_restarts > 0) out << ", " << merit_restarts << " merit restarts";
   return out.str();
 }
@@ -123,7 +135,8 @@ std::string Summary::FullReport() const {
       << (roundoff_limited ? " (at the round-off floor)" : "") << "\n"
       << "  psi final                " << FormatNumber("%.6e", final_psi) << "\n"
       << "  time total / eval / lin  " << FormatNumber("%.6f", total_time_s) << " / "
-      << FormatNumber("%.6f", evaluation_time_s) << " / " << FormatNumber("%.6f", linear_solver_time_s) << " s\n";
+      << FormatNumber("%.6f", evaluation_time_s) << " / "
+      << FormatNumber("%.6f", linear_solver_time_s) << " s\n";
   return out.str();
 }
 

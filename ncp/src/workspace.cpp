@@ -1,5 +1,5 @@
-// Solver::Workspace (workspace.hpp): row weights, the Jacobian J of Phi assembled from the
-// problem's JE, JA, JB on a cached pattern, and products with J.
+// Solver::Workspace (workspace.hpp): row weights, the Jacobian J of Phi assembled from
+// the problem's JE, JA, JB on a cached pattern, and products with J.
 
 #include "workspace.hpp"
 
@@ -23,24 +23,26 @@ void ScaleRows(const Vector& weight, SparseMatrix* J) {
 }
 
 // weight = 1 / (scale + floor / tolerance), checked; `what` names the vector in errors.
-// (|row| weight <= tolerance  <=>  |row| <= floor + tolerance * scale; the weighted rows are
-// relative residuals of order 1 at a typical point, which keeps the penalized FB function,
-// not positively homogeneous, on data of order 1.)
-void Weights(const Vector& scale, const Vector& floor, Eigen::Index size, double tolerance,
-             const char* what, Vector* weight) {
+// (|row| weight <= tolerance  <=>  |row| <= floor + tolerance * scale; the weighted rows
+// are relative residuals of order 1 at a typical point, which keeps the penalized FB
+// function, not positively homogeneous, on data of order 1.)
+void Weights(const Vector& scale, const Vector& floor, Eigen::Index size,
+             double tolerance, const char* what, Vector* weight) {
   if (scale.size() != size || (floor.size() != 0 && floor.size() != size))
-    throw std::invalid_argument(std::string("ncp::Solver: MixedProblem::Scales gave ") + what +
-                                " of size " + std::to_string(scale.size()) + " (floor " +
-                                std::to_string(floor.size()) + "), expected " + std::to_string(size));
+    throw std::invalid_argument(std::string("ncp::Solver: MixedProblem::Scales gave ") +
+                                what + " of size " + std::to_string(scale.size()) +
+                                " (floor " + std::to_string(floor.size()) +
+                                "), expected " + std::to_string(size));
   weight->resize(size);
   for (Eigen::Index i = 0; i < size; ++i) {
     const double f = floor.size() ? floor(i) : 0.0;
     const double accuracy = tolerance > 0.0 ? scale(i) + f / tolerance : scale(i);
     if (!(scale(i) > 0.0) || !(f >= 0.0) || !std::isfinite(accuracy))
-      throw std::invalid_argument(std::string("ncp::Solver: MixedProblem::Scales gave ") + what +
-                                  "[" + std::to_string(i) + "] = " + FormatNumber("%.3e", scale(i)) +
-                                  " with floor " + FormatNumber("%.3e", f) +
-                                  ": scales must be finite and > 0, floors finite and >= 0");
+      throw std::invalid_argument(
+          std::string("ncp::Solver: MixedProblem::Scales gave ") + what + "[" +
+          std::to_string(i) + "] = " + FormatNumber("%.3e", scale(i)) + " with floor " +
+          FormatNumber("%.3e", f) +
+          ": scales must be finite and > 0, floors finite and >= 0");
     (*weight)(i) = 1.0 / accuracy;
   }
 }
@@ -51,8 +53,8 @@ void Solver::Workspace::Resize(int n, int m) {
   const int p = n - m;
   for (Vector* v : {&E, &Et}) v->setZero(m);
   for (Vector* v : {&A, &B, &At, &Bt, &da, &db, &za, &zb}) v->setZero(p);
-  for (Vector* v : {&phi, &phi_trial, &grad, &d, &x_trial, &z, &newton_rhs, &newton_residual,
-                    &newton_terms, &sensitivity})
+  for (Vector* v : {&phi, &phi_trial, &grad, &d, &x_trial, &z, &newton_rhs,
+                    &newton_residual, &newton_terms, &sensitivity})
     v->setZero(n);
   if (JE.rows() != m || JE.cols() != n) JE.resize(m, n);
   if (JA.rows() != p || JA.cols() != n) JA.resize(p, n);
@@ -62,8 +64,7 @@ void Solver::Workspace::Resize(int n, int m) {
 bool Solver::Workspace::UpdatePattern(int m) {
   const SparseMatrix* sources[3] = {&JE, &JA, &JB};
   bool same = have_pattern;
-  for (int s = 0; s < 3 && same; ++s)
-    same = pattern[s].Matches(*sources[s]);
+  for (int s = 0; s < 3 && same; ++s) same = pattern[s].Matches(*sources[s]);
   if (same) return false;
 
   const Eigen::Index n = JE.cols();
@@ -89,7 +90,8 @@ bool Solver::Workspace::UpdatePattern(int m) {
       const int* begin = J.innerIndexPtr() + J.outerIndexPtr()[c];
       const int* end = J.innerIndexPtr() + J.outerIndexPtr()[c + 1];
       for (SparseMatrix::InnerIterator it(S, c); it; ++it, ++k) {
-        const int* pos = std::lower_bound(begin, end, static_cast<int>(it.row()) + row_offset);
+        const int* pos =
+            std::lower_bound(begin, end, static_cast<int>(it.row()) + row_offset);
         map[s][k] = static_cast<int>(pos - J.innerIndexPtr());
       }
     }
@@ -125,11 +127,14 @@ void Solver::Workspace::FillDenseJacobian(int m, const Vector& x) {
 }
 
 void Solver::Workspace::MultiplyJacobianTransposed(const Vector& v, Vector* out) const {
-  if (dense) out->noalias() = Jd.transpose() * v;
-  else out->noalias() = J.transpose() * v;
+  if (dense)
+    out->noalias() = Jd.transpose() * v;
+  else
+    out->noalias() = J.transpose() * v;
 }
 
-double Solver::Workspace::ResidualAndTerms(const Vector& v, const Vector& b, Vector* residual, Vector* terms) const {
+double Solver::Workspace::ResidualAndTerms(const Vector& v, const Vector& b,
+                                           Vector* residual, Vector* terms) const {
   *residual = b;
   terms->setZero();
   auto add = [&](Eigen::Index row, Eigen::Index col, double value) {

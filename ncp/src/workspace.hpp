@@ -1,8 +1,8 @@
-// Solver::Workspace: what a Solver keeps between solves (solver.cpp runs Algorithm 1 on it).
-// The Jacobian of Phi with a cached pattern, the linear solver, and every vector of the
-// iteration, sized by Solve() before the first iteration (reallocated only
-// when n, m or the Jacobian pattern change). The iterations then allocate only inside the
-// numeric factorization of a sparse backend (SuiteSparse for UMFPACK and KLU, and
+// Solver::Workspace: what a Solver keeps between solves (solver.cpp runs Algorithm 1 on
+// it). The Jacobian of Phi with a cached pattern, the linear solver, and every vector of
+// the iteration, sized by Solve() before the first iteration (reallocated only when n, m
+// or the Jacobian pattern change). The iterations then allocate only inside the numeric
+// factorization of a sparse backend (SuiteSparse for UMFPACK and KLU, and
 // Eigen::SparseLU) and for Summary::trace with keep_trace; the Summary's message is built
 // when the solve ends (tests/contact/test_no_allocation.cpp).
 #pragma once
@@ -22,8 +22,9 @@ struct Solver::Workspace {
   std::unique_ptr<internal::LinearSolver> linear_solver;
   // The last box MCP in mixed form, reused when the same F and bounds come again.
   internal::BoxMcpCache box_mcp;
-  // The backend of the last solve; dense: J is the dense Jd and dense_lu factorizes it (the
-  // light path of small problems: no pattern bookkeeping, no sparse matrix, no allocation).
+  // The backend of the last solve; dense: J is the dense Jd and dense_lu factorizes it
+  // (the light path of small problems: no pattern bookkeeping, no sparse matrix, no
+  // allocation).
   LinearSolverType backend = LinearSolverType::kAuto;
   bool dense = false;
   DenseMatrix Jd;
@@ -39,7 +40,8 @@ struct Solver::Workspace {
   std::vector<int> map[3];
 
   SparseMatrix JE, JA, JB;
-  // Row weights 1 / (scale + floor / tolerance) of MixedProblem::Scales (when `weighted`).
+  // Row weights 1 / (scale + floor / tolerance) of MixedProblem::Scales (when
+  // `weighted`).
   bool weighted = false;
   ResidualScales scales;
   Vector we, wa, wb;
@@ -63,11 +65,13 @@ struct Solver::Workspace {
   /// Sizes every vector of the iteration for n unknowns and m equations (zeros).
   void Resize(int n, int m);
 
-  /// Returns true when the pattern differs from the cached one (and rebuilds J's pattern).
+  /// Returns true when the pattern differs from the cached one (and rebuilds J's
+  /// pattern).
   bool UpdatePattern(int m);
 
-  /// Calls add(s, k, row, col, value) for the k-th stored entry of source s (JE, JA, JB) as
-  /// an entry of J = [JE; diag(da) JA + diag(db) JB]: row of J, value scaled by da or db.
+  /// Calls add(s, k, row, col, value) for the k-th stored entry of source s (JE, JA,
+  /// JB) as an entry of J = [JE; diag(da) JA + diag(db) JB]: the row of J, the value
+  /// scaled by da or db.
   template <class Add>
   void ForEachJacobianEntry(int m, Add&& add) const;
 
@@ -78,16 +82,19 @@ struct Solver::Workspace {
   /// out = J' v.
   void MultiplyJacobianTransposed(const Vector& v, Vector* out) const;
 
-  /// *residual = J v + b and returns max_i (|J||v|)_i, the size of the terms summed in J v
-  /// (its round-off is relative to that, not to |J v|); one pass over J.
-  double ResidualAndTerms(const Vector& v, const Vector& b, Vector* residual, Vector* terms) const;
+  /// *residual = J v + b and returns max_i (|J||v|)_i, the size of the terms summed in
+  /// J v (its round-off is relative to that, not to |J v|); one pass over J.
+  double ResidualAndTerms(const Vector& v, const Vector& b, Vector* residual,
+                          Vector* terms) const;
 
-  /// J values = [JE; diag(da) JA + diag(db) JB] on the cached pattern; sensitivity as above.
+  /// J values = [JE; diag(da) JA + diag(db) JB] on the cached pattern; sensitivity as
+  /// above.
   void FillJacobian(int m, const Vector& x);
 
   /// Row weights from the problem's own scales (MixedProblem::Scales) at x0, once per
   /// solve: sets we, wa, wb and `weighted` (false: the problem gives none).
-  void SetWeights(MixedProblem& problem, const Vector& x0, int m, int p, double tolerance);
+  void SetWeights(MixedProblem& problem, const Vector& x0, int m, int p,
+                  double tolerance);
   /// JE, JA, JB rows *= we, wa, wb (the Jacobian of the weighted rows).
   void WeightJacobianRows();
 };
