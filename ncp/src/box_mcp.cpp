@@ -475,40 +475,49 @@ void CheckInfeasibility(const Options& options, SquareFunction& F, const Vector&
   }
 }
 
+/// *cache if it was built for the same F and bounds, else a new mixed form in *cache.
+BoxMcpAsMixed& MixedForm(const Options& options, BoxMcpCache* cache, SquareFunction& F,
+                         const Vector& lower, const Vector& upper, const Vector& x) {
+  CheckSizes(F.NumVariables(), lower, upper, x);
+  if (!*cache || !(*cache)->Matches(F, lower, upper, options.infinite_bound))
+    cache->reset(new BoxMcpAsMixed(F, lower, upper, options.infinite_bound));
+  (*cache)->Rebind(F);
+  return **cache;
+}
+
 }  // namespace
 
 void BoxMcpDeleter::operator()(BoxMcpAsMixed* p) const { delete p; }
 
-void SolveBoxMcp(Solver& solver, BoxMcpCache* cache, SquareFunction& F, const Vector& lower_in,
-                 const Vector& upper_in, Vector* x, Summary* summary) {
-  if (x == nullptr || summary == nullptr)
-    throw std::invalid_argument("ncp::Solver::Solve: x and summary must not be null");
-  const Options& options = solver.options();
-  CheckSizes(F.NumVariables(), lower_in, upper_in, *x);
-  if (!*cache || !(*cache)->Matches(F, lower_in, upper_in, options.infinite_bound))
-    cache->reset(new BoxMcpAsMixed(F, lower_in, upper_in, options.infinite_bound));
-  BoxMcpAsMixed& mixed = **cache;
-  mixed.Rebind(F);
-  CheckBounds(mixed.lower(), mixed.upper(), *x);
-  const int projected = options.project_start_point ? ProjectOntoBox(mixed.lower(), mixed.upper(), x) : 0;
-  Vector& y = mixed.unknowns();
-  if (!mixed.InitialSlacks(*x, &y)) {
+BoxMcpSolve::BoxMcpSolve(const Options& options, BoxMcpCache* cache, SquareFunction& F,
+                         const Vector& lower, const Vector& upper, Vector* x)
+    : options_(options), F_(F), mixed_(MixedForm(options, cache, F, lower, upper, *x)), x_(*x) {
+  CheckBounds(mixed_.lower(), mixed_.upper(), x_);
+  projected_start_ =
+      options.project_start_point ? ProjectOntoBox(mixed_.lower(), mixed_.upper(), &x_) : 0;
+  ready_ = mixed_.InitialSlacks(x_, &mixed_.unknowns());
+}
+
+MixedProblem& BoxMcpSolve::problem() { return mixed_; }
+Vector& BoxMcpSolve::unknowns() { return mixed_.unknowns(); }
+
+void BoxMcpSolve::Finish(Summary* summary) {
+  if (!ready_) {
     *summary = Summary();
     summary->termination = TerminationType::kEvaluationFailure;
     summary->message = "F cannot be evaluated (or is not finite) at the start point";
   } else {
-    solver.Solve(mixed, &y, summary);
-    *x = y.head(F.NumVariables());
-    CheckInfeasibility(options, F, mixed.lower(), mixed.upper(), *x, summary);
+    x_ = mixed_.unknowns().head(F_.NumVariables());
+    CheckInfeasibility(options_, F_, mixed_.lower(), mixed_.upper(), x_, summary);
   }
-  summary->projected_start_components = projected;
-  if (projected > 0)
-    summary->message += " (" + std::to_string(projected) +
+  summary->projected_start_components = projected_start_;
+  if (projected_start_ > 0)
+    summary->message += " (" + std::to_string(projected_start_) +
                         " components of the start point were outside [l, u] and were "
                         "projected onto it)";
   // The returned x lies in [l, u] whatever the status (FB iterates may leave the box).
   double moved_by = 0.0;
-  summary->projected_final_components = ProjectOntoBox(mixed.lower(), mixed.upper(), x, &moved_by);
+  summary->projected_final_components = ProjectOntoBox(mixed_.lower(), mixed_.upper(), &x_, &moved_by);
   if (summary->projected_final_components > 0) {
     char text[160];
     std::snprintf(text, sizeof text,

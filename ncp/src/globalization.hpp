@@ -13,15 +13,10 @@
 #include <string>
 #include <vector>
 
+#include "format_number.hpp"
 #include "ncp/solver.hpp"
 
 namespace ncp::internal {
-
-inline std::string FormatNumber(const char* format, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, format, value);
-  return buffer;
-}
 
 // ---- the z-vector rule ---------------------------------------------------------------
 /// Pair (a, b) in the degenerate set gamma = {j : a_j = b_j = 0} (DFK 1996, eq. 13), or
