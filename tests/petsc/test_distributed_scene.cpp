@@ -164,6 +164,7 @@ int main(int argc, char** argv) {
   if (PetscInitializeNoArguments() != 0) return 1;  // (PETSc options: PETSC_OPTIONS)
   int result = 0;
   {
+    Catch::StringMaker<double>::precision = 17;  // (a failure shows the differences in full)
     Catch::Session session;  // every rank runs every test: the runs are collective
     result = session.run(argc, argv);
   }
