@@ -3,6 +3,7 @@
 #include <petscpartitioner.h>
 #include <petscsf.h>
 
+#include <chrono>
 #include <stdexcept>
 
 #include "contact/elastic_body.hpp"
@@ -29,11 +30,21 @@ DistributedBody::DistributedBody(MPI_Comm comm, const Scene& scene, const SceneM
     header[1] = built->body->mesh().NumElements();
   }
   MPI_Bcast(header, 2, MPI_INT, 0, comm);
+  auto start = std::chrono::steady_clock::now();
+  auto lap = [&start] {
+    const auto now = std::chrono::steady_clock::now();
+    const double seconds = std::chrono::duration<double>(now - start).count();
+    start = now;
+    return seconds;
+  };
   CreateAndDistribute(comm, built);
   ReceiveNodeData(node_data, header[1]);
   BuildLocalMesh(static_cast<ElementType>(header[0]));
+  distribute_seconds_ = lap();
   CreateSection();
+  section_seconds_ = lap();
   Assemble(scene);
+  assemble_seconds_ = lap();
 }
 
 DistributedBody::~DistributedBody() {
@@ -209,22 +220,24 @@ void DistributedBody::Assemble(const Scene& scene) {
     const ElasticBody body(local_mesh_, scene.material, scene.plane);
     const SparseMatrix K = body.StiffnessMatrix();
     const Vector lumped = body.LumpedMass();
-    std::vector<PetscInt> rows;
+    // K is exactly symmetric (ElasticBody symmetrizes each element matrix): column j of the
+    // compressed-column K is row j, added as one row (AIJ stores rows).
+    std::vector<PetscInt> columns;
     std::vector<PetscScalar> values;
     for (Eigen::Index j = 0; j < K.outerSize(); ++j) {
-      const PetscInt column = global_index_[static_cast<size_t>(j)];
-      if (column < 0) continue;
-      rows.clear();
+      const PetscInt row = global_index_[static_cast<size_t>(j)];
+      if (row < 0) continue;
+      columns.clear();
       values.clear();
       for (SparseMatrix::InnerIterator it(K, j); it; ++it) {
-        const PetscInt row = global_index_[static_cast<size_t>(it.row())];
-        if (row < 0) continue;
-        rows.push_back(row);
+        const PetscInt column = global_index_[static_cast<size_t>(it.row())];
+        if (column < 0) continue;
+        columns.push_back(column);
         values.push_back(it.value());
       }
-      CONTACT_PETSC_CHECK(MatSetValues(K_, static_cast<PetscInt>(rows.size()), rows.data(), 1, &column,
+      CONTACT_PETSC_CHECK(MatSetValues(K_, 1, &row, static_cast<PetscInt>(columns.size()), columns.data(),
                                        values.data(), ADD_VALUES));
-      CONTACT_PETSC_CHECK(VecSetValue(m_, column, lumped(j), ADD_VALUES));
+      CONTACT_PETSC_CHECK(VecSetValue(m_, row, lumped(j), ADD_VALUES));
     }
   }
   CONTACT_PETSC_CHECK(MatAssemblyBegin(K_, MAT_FINAL_ASSEMBLY));

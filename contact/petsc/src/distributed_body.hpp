@@ -40,6 +40,11 @@ class DistributedBody {
   Mat stiffness() const { return K_; }     ///< K_FF [N/m], MATMPIAIJ over the owned free dofs
   Vec lumped_mass() const { return m_; }   ///< [kg] per owned free dof
   const std::string& partitioner() const { return partitioner_; }
+  /// Wall time of the set-up phases on this rank [s]: DMPlex creation and distribution with
+  /// the node data; section; K and mass assembly.
+  double distribute_seconds() const { return distribute_seconds_; }
+  double section_seconds() const { return section_seconds_; }
+  double assemble_seconds() const { return assemble_seconds_; }
   /// This rank's cells and vertices (vertex i = DMPlex point vStart + i).
   const Mesh& local_mesh() const { return local_mesh_; }
   int NumLocalVertices() const { return local_mesh_.NumNodes(); }
@@ -65,6 +70,7 @@ class DistributedBody {
   Mat K_ = nullptr;
   Vec m_ = nullptr;
   std::string partitioner_;
+  double distribute_seconds_ = 0, section_seconds_ = 0, assemble_seconds_ = 0;
   PetscInt c_start_ = 0, c_end_ = 0, v_start_ = 0, v_end_ = 0;
   Mesh local_mesh_;
   std::vector<double> data_;           // NodeData per local vertex

@@ -121,58 +121,54 @@ struct OwnedContactNode {
   ::contact::internal::ExplicitNodeStep step;
 };
 
-// The result of every contact node gathered on rank 0 (serial node order): per node
-// normal force, gap, tangent force and slip (system units).
+// The result of every contact node gathered on rank 0 (serial node order): per node its
+// index, normal force, gap, tangent force and slip (system units), by one MPI_Gatherv.
 class ContactGather {
  public:
-  ContactGather(MPI_Comm comm, int dim, int num_nodes) : width_(2 * dim) {
-    CONTACT_PETSC_CHECK(VecCreateMPI(comm, PETSC_DECIDE, static_cast<PetscInt>(width_) * num_nodes, &all_));
-    CONTACT_PETSC_CHECK(VecScatterCreateToZero(all_, &to_zero_, &root_));
+  ContactGather(MPI_Comm comm, int dim) : comm_(comm), width_(2 * dim + 1), rank_(RankOf(comm)) {
+    counts_.resize(static_cast<size_t>(SizeOf(comm)));
+    offsets_.resize(counts_.size());
   }
-  ~ContactGather() {
-    VecScatterDestroy(&to_zero_);
-    VecDestroy(&root_);
-    VecDestroy(&all_);
-  }
-  ContactGather(const ContactGather&) = delete;
-  ContactGather& operator=(const ContactGather&) = delete;
 
-  /// Collective; on rank 0 fills *result (normal_force, gap, tangent_force, slip).
-  void Gather(int dim, const std::vector<OwnedContactNode>& nodes, ContactSystem::Result* result) {
+  /// Collective; on rank 0 fills *result (normal_force, gap, tangent_force, slip) for
+  /// num_nodes contact nodes.
+  void Gather(int dim, int num_nodes, const std::vector<OwnedContactNode>& nodes, ContactSystem::Result* result) {
+    send_.clear();
     for (const OwnedContactNode& n : nodes) {
-      double values[6] = {n.step.normal_force, n.step.gap, 0, 0, 0, 0};
-      for (int a = 0; a < dim - 1; ++a) values[2 + a] = n.step.tangent_force(a), values[dim + 1 + a] = n.step.slip(a);
-      PetscInt index[6];
-      for (int a = 0; a < width_; ++a) index[a] = static_cast<PetscInt>(width_) * n.node.node + a;
-      CONTACT_PETSC_CHECK(VecSetValues(all_, width_, index, values, INSERT_VALUES));
+      send_.push_back(n.node.node);
+      send_.push_back(n.step.normal_force);
+      send_.push_back(n.step.gap);
+      for (int a = 0; a < dim - 1; ++a) send_.push_back(n.step.tangent_force(a));
+      for (int a = 0; a < dim - 1; ++a) send_.push_back(n.step.slip(a));
     }
-    CONTACT_PETSC_CHECK(VecAssemblyBegin(all_));
-    CONTACT_PETSC_CHECK(VecAssemblyEnd(all_));
-    CONTACT_PETSC_CHECK(VecScatterBegin(to_zero_, all_, root_, INSERT_VALUES, SCATTER_FORWARD));
-    CONTACT_PETSC_CHECK(VecScatterEnd(to_zero_, all_, root_, INSERT_VALUES, SCATTER_FORWARD));
-    PetscInt size = 0;
-    CONTACT_PETSC_CHECK(VecGetLocalSize(root_, &size));
-    if (size == 0) return;
-    const PetscScalar* v = nullptr;
-    CONTACT_PETSC_CHECK(VecGetArrayRead(root_, &v));
-    const Eigen::Index N = size / width_;
-    result->normal_force.resize(N);
-    result->gap.resize(N);
-    result->tangent_force.resize(dim - 1, N);
-    result->slip.resize(dim - 1, N);
-    for (Eigen::Index c = 0; c < N; ++c) {
-      const PetscScalar* d = v + width_ * c;
-      result->normal_force(c) = d[0];
-      result->gap(c) = d[1];
-      for (int a = 0; a < dim - 1; ++a) result->tangent_force(a, c) = d[2 + a], result->slip(a, c) = d[dim + 1 + a];
+    const int count = static_cast<int>(send_.size());
+    MPI_Gather(&count, 1, MPI_INT, counts_.data(), 1, MPI_INT, 0, comm_);
+    int total = 0;
+    if (rank_ == 0)
+      for (size_t r = 0; r < counts_.size(); ++r) offsets_[r] = total, total += counts_[r];
+    receive_.resize(static_cast<size_t>(total));
+    MPI_Gatherv(send_.data(), count, MPI_DOUBLE, receive_.data(), counts_.data(), offsets_.data(), MPI_DOUBLE, 0,
+                comm_);
+    if (rank_ != 0) return;
+    const Eigen::Index N = num_nodes;
+    result->normal_force.setZero(N);
+    result->gap.setZero(N);
+    result->tangent_force.setZero(dim - 1, N);
+    result->slip.setZero(dim - 1, N);
+    for (size_t k = 0; k + static_cast<size_t>(width_) <= receive_.size(); k += static_cast<size_t>(width_)) {
+      const double* d = &receive_[k];
+      const auto c = static_cast<Eigen::Index>(d[0]);
+      result->normal_force(c) = d[1];
+      result->gap(c) = d[2];
+      for (int a = 0; a < dim - 1; ++a) result->tangent_force(a, c) = d[3 + a], result->slip(a, c) = d[dim + 2 + a];
     }
-    CONTACT_PETSC_CHECK(VecRestoreArrayRead(root_, &v));
   }
 
  private:
-  int width_;
-  Vec all_ = nullptr, root_ = nullptr;
-  VecScatter to_zero_ = nullptr;
+  MPI_Comm comm_;
+  int width_, rank_;
+  std::vector<int> counts_, offsets_;
+  std::vector<double> send_, receive_;
 };
 
 // The owned free dofs of a global Vec on rank 0 in the serial free-dof numbering.
@@ -278,17 +274,16 @@ class DistributedOutput {
   }
 
   /// Rank 0: displacement.csv (every node, as from one process) and closes steps.csv.
-  void Finish(const SceneModel* built, double time, const Eigen::VectorXd& u_free) {
+  void Finish(const Mesh& mesh, const DofMap& dofs, double time, const Eigen::VectorXd& u_free) {
     if (directory_.empty() || rank_ != 0) return;
     steps_.Close();
     if (u_free.size() == 0) return;
-    const Mesh& mesh = built->body->mesh();
     const int dim = mesh.dim;
     const std::string path = (directory_ / "displacement.csv").string();
     ncp::OutputFile file = ncp::OutputFile::Open(path);
     file.stream() << (dim == 2 ? "time,node,ux,uy\n" : "time,node,ux,uy,uz\n");
     file.stream().precision(10);
-    const Eigen::VectorXd u = built->dofs.Expand(u_free);
+    const Eigen::VectorXd u = dofs.Expand(u_free);
     for (int i = 0; i < mesh.NumNodes(); ++i) {
       file.stream() << time << ',' << i;
       for (int a = 0; a < dim; ++a) file.stream() << ',' << u(dim * i + a);
@@ -311,9 +306,9 @@ class DistributedOutput {
 // The distributed explicit time loop over the owned free dofs of `body`.
 class ExplicitRun {
  public:
-  ExplicitRun(MPI_Comm comm, const Scene& scene, const DistributedBody& body, DistributedOutput* output)
-      : comm_(comm), rank_(RankOf(comm)), scene_(scene), body_(body), output_(*output),
-        dim_(body.dim()), dt_(scene.dynamics.dt) {
+  ExplicitRun(MPI_Comm comm, const Scene& scene, const DistributedBody& body, int num_contact_nodes)
+      : comm_(comm), rank_(RankOf(comm)), scene_(scene), body_(body),
+        dim_(body.dim()), num_contact_nodes_(num_contact_nodes), dt_(scene.dynamics.dt) {
     DM dm = body.dm();
     for (Vec* v : {&u_, &du_, &Ku_, &Mdu_, &f_free_, &q_, &d_}) CONTACT_PETSC_CHECK(DMCreateGlobalVector(dm, v));
     CONTACT_PETSC_CHECK(VecGetLocalSize(u_, &n_));
@@ -374,7 +369,7 @@ class ExplicitRun {
     CONTACT_PETSC_CHECK(VecDot(u_, Ku_, &uKu));
     rec->kinetic = 0.5 * sums[0] / (dt_ * dt_);
     rec->strain = 0.5 * uKu;
-    gather->Gather(dim_, nodes_, contact);
+    gather->Gather(dim_, num_contact_nodes_, nodes_, contact);
     if (rank_ == 0) Record(*contact, rec);
     rec->seconds = Seconds(start);
     return true;
@@ -470,8 +465,8 @@ class ExplicitRun {
   int rank_;
   const Scene& scene_;
   const DistributedBody& body_;
-  DistributedOutput& output_;
   int dim_;
+  int num_contact_nodes_;  // of the whole body
   double dt_;
   PetscInt n_ = 0;          // owned free dofs
   PetscReal m_max_ = 0.0;   // largest lumped mass [kg]
@@ -552,11 +547,26 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   summary.step_method = StepMethod::kExplicit;
   if (info.refused) return result;
 
+  const double setup_seconds = Seconds(start);
   const DistributedBody body(comm, scene, built.get(), node_data);
   node_data = {};
+  // Rank 0 keeps of the serial model only what the output needs (mesh, Dirichlet map).
+  Mesh mesh;
+  DofMap dofs;
+  if (built) {
+    mesh = built->body->mesh();
+    dofs = built->dofs;
+    built.reset();
+  }
+  if (progress && rank == 0)
+    std::fprintf(stderr,
+                 "  set-up on rank 0: model, dt_crit and initial state %.3g s; DMPlex and distribution "
+                 "(%s) %.3g s, section %.3g s, assembly of K and M %.3g s\n",
+                 setup_seconds, body.partitioner().c_str(), body.distribute_seconds(), body.section_seconds(),
+                 body.assemble_seconds());
   DistributedOutput output(comm, scene, &result.files_written);
-  ExplicitRun run(comm, scene, body, &output);
-  ContactGather gather(comm, scene.dim, info.num_contact_nodes);
+  ExplicitRun run(comm, scene, body, info.num_contact_nodes);
+  ContactGather gather(comm, scene.dim);
   const DynamicOptions& options = scene.dynamics;
   const long num_steps =
       static_cast<long>(std::ceil((options.end_time - options.start_time) / options.dt - 1e-3));
@@ -595,7 +605,7 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
                       " MPI ranks (partitioner " + body.partitioner() + ")";
   const Eigen::VectorXd u = GatherFreeDofs(body, run.displacement(), info.num_free_dofs);
   if (rank == 0) summary.u = u;
-  output.Finish(built.get(), summary.records.empty() ? options.start_time : summary.records.back().time, u);
+  output.Finish(mesh, dofs, summary.records.empty() ? options.start_time : summary.records.back().time, u);
   summary.seconds = Seconds(start);
   return result;
 }
