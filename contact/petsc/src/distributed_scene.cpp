@@ -534,6 +534,7 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
       built = std::make_unique<SceneModel>();
       node_data = ::contact::internal::NamingTheScene(
           scene, [&] { return SerialSetUp(scene, built.get(), &summary, &info); });
+      built->model = DynamicModel();  // (the serial K and M: not needed any more)
     } catch (const std::exception& e) {
       error = e.what();
     }
@@ -550,7 +551,7 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   const double setup_seconds = Seconds(start);
   const DistributedBody body(comm, scene, built.get(), node_data);
   node_data = {};
-  // Rank 0 keeps of the serial model only what the output needs (mesh, Dirichlet map).
+  // Rank 0 keeps of the serial set-up only what the output needs (mesh, Dirichlet map).
   Mesh mesh;
   DofMap dofs;
   if (built) {
