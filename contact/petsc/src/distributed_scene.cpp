@@ -411,35 +411,42 @@ class ExplicitRun {
   // u^0, f_F, M (u^0 - u^{-1}), K u^0, d = m / m_max and the owned contact nodes, from the
   // node data rank 0 sent.
   void SetInitialState() {
-    {
-      Arrays a(*this);
-      PetscScalar* d = const_cast<PetscScalar*>(a.d);
-      PetscScalar* f = const_cast<PetscScalar*>(a.f_free);
-      for (int i = 0; i < body_.NumLocalVertices(); ++i) {
-        const double* data = body_.Data(i);
-        for (int c = 0; c < dim_; ++c) {
-          const PetscInt k = body_.OwnedIndex(i, c);
-          if (k < 0) continue;
-          a.u[k] = data[dim_ + c];
-          const double du = data[dim_ + c] - data[2 * dim_ + c];  // u^0 - u^{-1}
-          a.Mdu[k] = a.m[k] * du;
-          f[k] = data[3 * dim_ + c];
-          d[k] = a.m[k] / m_max_;
-        }
-        if (!body_.Owns(i) || data[4 * dim_] < 0) continue;
-        OwnedContactNode n;
-        n.node.node = static_cast<int>(data[4 * dim_]);
-        for (int c = 0; c < dim_; ++c) n.node.dofs[c] = static_cast<int>(body_.OwnedIndex(i, c));
-        for (int c = 0; c < 3; ++c) {
-          n.node.normal(c) = data[4 * dim_ + 1 + c];
-          n.node.tangent1(c) = data[4 * dim_ + 4 + c];
-          n.node.tangent2(c) = data[4 * dim_ + 7 + c];
-        }
-        n.node.gap = data[4 * dim_ + 10];
-        n.lambda = data[4 * dim_ + 11];
-        nodes_.push_back(n);
+    PetscScalar *u = nullptr, *Mdu = nullptr, *f = nullptr, *d = nullptr;
+    const PetscScalar* m = nullptr;
+    CONTACT_PETSC_CHECK(VecGetArray(u_, &u));
+    CONTACT_PETSC_CHECK(VecGetArray(Mdu_, &Mdu));
+    CONTACT_PETSC_CHECK(VecGetArray(f_free_, &f));
+    CONTACT_PETSC_CHECK(VecGetArray(d_, &d));
+    CONTACT_PETSC_CHECK(VecGetArrayRead(body_.lumped_mass(), &m));
+    for (int i = 0; i < body_.NumLocalVertices(); ++i) {
+      const double* data = body_.Data(i);
+      for (int c = 0; c < dim_; ++c) {
+        const PetscInt k = body_.OwnedIndex(i, c);
+        if (k < 0) continue;
+        u[k] = data[dim_ + c];
+        const double du = data[dim_ + c] - data[2 * dim_ + c];  // u^0 - u^{-1}
+        Mdu[k] = m[k] * du;
+        f[k] = data[3 * dim_ + c];
+        d[k] = m[k] / m_max_;
       }
+      if (!body_.Owns(i) || data[4 * dim_] < 0) continue;
+      OwnedContactNode n;
+      n.node.node = static_cast<int>(data[4 * dim_]);
+      for (int c = 0; c < dim_; ++c) n.node.dofs[c] = static_cast<int>(body_.OwnedIndex(i, c));
+      for (int c = 0; c < 3; ++c) {
+        n.node.normal(c) = data[4 * dim_ + 1 + c];
+        n.node.tangent1(c) = data[4 * dim_ + 4 + c];
+        n.node.tangent2(c) = data[4 * dim_ + 7 + c];
+      }
+      n.node.gap = data[4 * dim_ + 10];
+      n.lambda = data[4 * dim_ + 11];
+      nodes_.push_back(n);
     }
+    CONTACT_PETSC_CHECK(VecRestoreArrayRead(body_.lumped_mass(), &m));
+    CONTACT_PETSC_CHECK(VecRestoreArray(d_, &d));
+    CONTACT_PETSC_CHECK(VecRestoreArray(f_free_, &f));
+    CONTACT_PETSC_CHECK(VecRestoreArray(Mdu_, &Mdu));
+    CONTACT_PETSC_CHECK(VecRestoreArray(u_, &u));
     CONTACT_PETSC_CHECK(MatMult(body_.stiffness(), u_, Ku_));
   }
 
