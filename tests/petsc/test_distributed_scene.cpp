@@ -1,13 +1,13 @@
 // contact::petsc::RunSceneDistributed against the serial contact::RunScene on the same
 // scene: the final displacement (gathered on rank 0) and the per-step sums of the normal
 // and friction forces agree to 1e-12 of their largest value, on 1, 2 and 4 ranks (ctest
-// runs this executable under mpiexec -n 1, 2, 4). The scenes: a Hex8 box and a 2D Quad4 block
-// (with a roller side: Dirichlet components) dropped onto a plane with friction.
+// runs this executable under mpiexec -n 1, 2, 4). The scenes: a Hex8 box and a 2D Quad4
+// block (with a roller side: Dirichlet components) dropped onto a plane with friction.
 #define CATCH_CONFIG_RUNNER
-#include <catch2/catch.hpp>
 #include <petscsys.h>
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <fstream>
 #include <string>
 
@@ -16,7 +16,8 @@
 
 namespace {
 
-constexpr double kSameTrajectory = 1e-12;  // relative to the largest value of the quantity
+constexpr double kSameTrajectory =
+    1e-12;  // relative to the largest value of the quantity
 
 // A Hex8 box 0.2 m wide falling at 0.5 m/s onto a plane 1 mm below it, with friction and
 // a sideways body force (so that it slides).
@@ -52,7 +53,8 @@ initial_velocity = [0.0, 0.0, -0.5]
 step = "explicit"
 )";
 
-// The 2D block of examples/scenes/block_drop_2d.toml, its side xmin on a roller (x fixed).
+// The 2D block of examples/scenes/block_drop_2d.toml, its side xmin on a roller (x
+// fixed).
 const char* const kBlock2d = R"(
 name = "block-drop-2d"
 [geometry]
@@ -95,14 +97,17 @@ int Rank() {
   return rank;
 }
 
-// The scene text as a file of this rank (no rank reads another's file while it is written).
+// The scene text as a file of this rank (no rank reads another's file while it is
+// written).
 contact::Scene LoadSceneText(const std::string& text, const std::string& name) {
-  const std::string path = "distributed_scene_" + name + "_rank" + std::to_string(Rank()) + ".toml";
+  const std::string path =
+      "distributed_scene_" + name + "_rank" + std::to_string(Rank()) + ".toml";
   std::ofstream(path) << text;
   return contact::LoadScene(path);
 }
 
-double MaxAbs(const std::vector<contact::StepRecord>& records, double contact::StepRecord::*field) {
+double MaxAbs(const std::vector<contact::StepRecord>& records,
+              double contact::StepRecord::*field) {
   double m = 0.0;
   for (const contact::StepRecord& r : records) m = std::max(m, std::abs(r.*field));
   return m;
@@ -111,10 +116,12 @@ double MaxAbs(const std::vector<contact::StepRecord>& records, double contact::S
 }  // namespace
 
 TEST_CASE("the explicit step on MPI ranks follows the serial trajectory") {
-  const auto [name, text] = GENERATE(std::make_pair("box3d", kBox3d), std::make_pair("block2d", kBlock2d));
+  const auto [name, text] =
+      GENERATE(std::make_pair("box3d", kBox3d), std::make_pair("block2d", kBlock2d));
   const contact::Scene scene = LoadSceneText(text, name);
   REQUIRE(contact::petsc::WhyNotDistributed(scene).empty());
-  const contact::SceneResult parallel = contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, false);
+  const contact::SceneResult parallel =
+      contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, false);
   REQUIRE(parallel.summary.status == contact::DynamicStatus::kCompleted);
   if (Rank() != 0) return;
   const contact::SceneResult serial = contact::RunScene(scene, false);
@@ -131,21 +138,27 @@ TEST_CASE("the explicit step on MPI ranks follows the serial trajectory") {
   CHECK((parallel.summary.u - u).lpNorm<Eigen::Infinity>() <= kSameTrajectory * u_max);
 
   // The contact forces of every step; the scene has contact and sliding.
-  const double normal_max = MaxAbs(serial.summary.records, &contact::StepRecord::normal_force_sum);
-  const double friction_max = MaxAbs(serial.summary.records, &contact::StepRecord::tangent_force_sum);
+  const double normal_max =
+      MaxAbs(serial.summary.records, &contact::StepRecord::normal_force_sum);
+  const double friction_max =
+      MaxAbs(serial.summary.records, &contact::StepRecord::tangent_force_sum);
   REQUIRE(normal_max > 0.0);
   REQUIRE(friction_max > 0.0);
   double normal_difference = 0.0, friction_difference = 0.0;
   for (size_t k = 0; k < serial.summary.records.size(); ++k) {
-    const contact::StepRecord &s = serial.summary.records[k], &p = parallel.summary.records[k];
+    const contact::StepRecord &s = serial.summary.records[k],
+                              &p = parallel.summary.records[k];
     REQUIRE(p.time == s.time);
-    normal_difference = std::max(normal_difference, std::abs(p.normal_force_sum - s.normal_force_sum));
-    friction_difference = std::max(friction_difference, std::abs(p.tangent_force_sum - s.tangent_force_sum));
+    normal_difference =
+        std::max(normal_difference, std::abs(p.normal_force_sum - s.normal_force_sum));
+    friction_difference = std::max(friction_difference,
+                                   std::abs(p.tangent_force_sum - s.tangent_force_sum));
   }
   CHECK(normal_difference <= kSameTrajectory * normal_max);
   CHECK(friction_difference <= kSameTrajectory * friction_max);
   // The energies, summed over ranks in another order: to round-off.
-  const contact::StepRecord &s = serial.summary.records.back(), &p = parallel.summary.records.back();
+  const contact::StepRecord &s = serial.summary.records.back(),
+                            &p = parallel.summary.records.back();
   CHECK(std::abs(p.kinetic - s.kinetic) <= 1e-10 * std::max(s.kinetic, 1e-300));
   CHECK(std::abs(p.strain - s.strain) <= 1e-10 * std::max(s.strain, 1e-300));
 }
@@ -155,7 +168,8 @@ TEST_CASE("a scene whose step is not explicit is refused on every rank") {
   text.replace(text.find("step = \"explicit\""), 17, "step = \"condensed\"");
   const contact::Scene scene = LoadSceneText(text, "condensed");
   const std::string why = contact::petsc::WhyNotDistributed(scene);
-  CHECK_THAT(why, Catch::Matchers::Contains("condensed") && Catch::Matchers::Contains("explicit"));
+  CHECK_THAT(why, Catch::Matchers::Contains("condensed") &&
+                      Catch::Matchers::Contains("explicit"));
   CHECK_THROWS_WITH(contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, false),
                     Catch::Matchers::Contains("condensed"));
 }
@@ -164,7 +178,8 @@ int main(int argc, char** argv) {
   if (PetscInitializeNoArguments() != 0) return 1;  // (PETSc options: PETSC_OPTIONS)
   int result = 0;
   {
-    Catch::StringMaker<double>::precision = 17;  // (a failure shows the differences in full)
+    Catch::StringMaker<double>::precision =
+        17;                  // (a failure shows the differences in full)
     Catch::Session session;  // every rank runs every test: the runs are collective
     result = session.run(argc, argv);
   }

@@ -20,7 +20,8 @@ int Rank(MPI_Comm comm) {
 
 }  // namespace
 
-DistributedBody::DistributedBody(MPI_Comm comm, const Scene& scene, const SceneModel* built,
+DistributedBody::DistributedBody(MPI_Comm comm, const Scene& scene,
+                                 const SceneModel* built,
                                  const std::vector<double>& node_data)
     : dim_(scene.dim) {
   // The element type and the cell count of rank 0's mesh, known everywhere.
@@ -55,9 +56,9 @@ DistributedBody::~DistributedBody() {
 }
 
 // Rank 0 hands its cells and vertex coordinates to DMPlex (not interpolated: cells and
-// vertices only, the cones in the mesh's gmsh/VTK node order); DMPlexDistribute moves each
-// cell with its vertices to the rank the partitioner gives it (overlap 0: a vertex on a
-// partition boundary is on every rank that has one of its cells, owned by one).
+// vertices only, the cones in the mesh's gmsh/VTK node order); DMPlexDistribute moves
+// each cell with its vertices to the rank the partitioner gives it (overlap 0: a vertex
+// on a partition boundary is on every rank that has one of its cells, owned by one).
 void DistributedBody::CreateAndDistribute(MPI_Comm comm, const SceneModel* built) {
   std::vector<PetscInt> cells;
   std::vector<PetscReal> coordinates;
@@ -71,8 +72,9 @@ void DistributedBody::CreateAndDistribute(MPI_Comm comm, const SceneModel* built
     coordinates.assign(mesh.nodes.data(), mesh.nodes.data() + mesh.nodes.size());
   }
   MPI_Bcast(&corners, 1, MPIU_INT, 0, comm);
-  CONTACT_PETSC_CHECK(DMPlexCreateFromCellListPetsc(comm, dim_, num_cells, num_vertices, corners, PETSC_FALSE,
-                                                    cells.data(), dim_, coordinates.data(), &dm_));
+  CONTACT_PETSC_CHECK(DMPlexCreateFromCellListPetsc(comm, dim_, num_cells, num_vertices,
+                                                    corners, PETSC_FALSE, cells.data(),
+                                                    dim_, coordinates.data(), &dm_));
   // PT-Scotch by default (Debian's PETSc has it); -petscpartitioner_type picks another.
   PetscPartitioner partitioner = nullptr;
   CONTACT_PETSC_CHECK(DMPlexGetPartitioner(dm_, &partitioner));
@@ -91,29 +93,39 @@ void DistributedBody::CreateAndDistribute(MPI_Comm comm, const SceneModel* built
   CONTACT_PETSC_CHECK(DMPlexGetDepthStratum(dm_, 0, &v_start_, &v_end_));
 }
 
-// Rank 0's points are cells 0 .. C-1, then vertices C .. C+N-1 (DMPlexCreateFromCellList);
-// the migration SF's roots are those points, its leaves the points here.
-void DistributedBody::ReceiveNodeData(const std::vector<double>& node_data, int num_original_cells) {
+// Rank 0's points are cells 0 .. C-1, then vertices C .. C+N-1
+// (DMPlexCreateFromCellList); the migration SF's roots are those points, its leaves the
+// points here.
+void DistributedBody::ReceiveNodeData(const std::vector<double>& node_data,
+                                      int num_original_cells) {
   const int width = NodeData::Width(dim_);
   PetscInt p_start = 0, p_end = 0;
   CONTACT_PETSC_CHECK(DMPlexGetChart(dm_, &p_start, &p_end));
-  std::vector<double> leaves(static_cast<size_t>(width) * static_cast<size_t>(p_end), 0.0);
+  std::vector<double> leaves(static_cast<size_t>(width) * static_cast<size_t>(p_end),
+                             0.0);
   if (!migration_) {
-    std::copy(node_data.begin(), node_data.end(), leaves.begin() + static_cast<long>(width) * num_original_cells);
+    std::copy(node_data.begin(), node_data.end(),
+              leaves.begin() + static_cast<long>(width) * num_original_cells);
   } else {
     PetscInt num_roots = 0;
-    CONTACT_PETSC_CHECK(PetscSFGetGraph(migration_, &num_roots, nullptr, nullptr, nullptr));
-    std::vector<double> roots(static_cast<size_t>(width) * static_cast<size_t>(num_roots), 0.0);
+    CONTACT_PETSC_CHECK(
+        PetscSFGetGraph(migration_, &num_roots, nullptr, nullptr, nullptr));
+    std::vector<double> roots(static_cast<size_t>(width) * static_cast<size_t>(num_roots),
+                              0.0);
     if (num_roots > 0)
-      std::copy(node_data.begin(), node_data.end(), roots.begin() + static_cast<long>(width) * num_original_cells);
+      std::copy(node_data.begin(), node_data.end(),
+                roots.begin() + static_cast<long>(width) * num_original_cells);
     MPI_Datatype unit;
     MPI_Type_contiguous(width, MPI_DOUBLE, &unit);
     MPI_Type_commit(&unit);
-    CONTACT_PETSC_CHECK(PetscSFBcastBegin(migration_, unit, roots.data(), leaves.data(), MPI_REPLACE));
-    CONTACT_PETSC_CHECK(PetscSFBcastEnd(migration_, unit, roots.data(), leaves.data(), MPI_REPLACE));
+    CONTACT_PETSC_CHECK(
+        PetscSFBcastBegin(migration_, unit, roots.data(), leaves.data(), MPI_REPLACE));
+    CONTACT_PETSC_CHECK(
+        PetscSFBcastEnd(migration_, unit, roots.data(), leaves.data(), MPI_REPLACE));
     MPI_Type_free(&unit);
   }
-  data_.assign(leaves.begin() + static_cast<long>(width) * v_start_, leaves.begin() + static_cast<long>(width) * v_end_);
+  data_.assign(leaves.begin() + static_cast<long>(width) * v_start_,
+               leaves.begin() + static_cast<long>(width) * v_end_);
 }
 
 // This rank's cells over its vertices (local vertex i = point vStart + i), as a
@@ -133,7 +145,8 @@ void DistributedBody::BuildLocalMesh(ElementType type) {
   for (PetscInt v = v_start_; v < v_end_; ++v) {
     PetscInt offset = 0;
     CONTACT_PETSC_CHECK(PetscSectionGetOffset(coordinate_section, v, &offset));
-    for (int a = 0; a < dim_; ++a) mesh.nodes(a, v - v_start_) = PetscRealPart(x[offset + a]);
+    for (int a = 0; a < dim_; ++a)
+      mesh.nodes(a, v - v_start_) = PetscRealPart(x[offset + a]);
   }
   CONTACT_PETSC_CHECK(VecRestoreArrayRead(coordinates, &x));
   const int corners = NodesPerElement(type);
@@ -144,9 +157,11 @@ void DistributedBody::BuildLocalMesh(ElementType type) {
     CONTACT_PETSC_CHECK(DMPlexGetConeSize(dm_, c, &size));
     CONTACT_PETSC_CHECK(DMPlexGetCone(dm_, c, &cone));
     if (size != corners)
-      throw std::logic_error("contact::petsc: a distributed cell has " + std::to_string(size) +
-                             " vertices, expected " + std::to_string(corners));
-    for (int a = 0; a < corners; ++a) mesh.elements(a, c - c_start_) = static_cast<int>(cone[a] - v_start_);
+      throw std::logic_error("contact::petsc: a distributed cell has " +
+                             std::to_string(size) + " vertices, expected " +
+                             std::to_string(corners));
+    for (int a = 0; a < corners; ++a)
+      mesh.elements(a, c - c_start_) = static_cast<int>(cone[a] - v_start_);
   }
 }
 
@@ -157,7 +172,8 @@ void DistributedBody::CreateSection() {
   PetscInt p_start = 0, p_end = 0;
   CONTACT_PETSC_CHECK(DMPlexGetChart(dm_, &p_start, &p_end));
   PetscSection section = nullptr;
-  CONTACT_PETSC_CHECK(PetscSectionCreate(PetscObjectComm(reinterpret_cast<PetscObject>(dm_)), &section));
+  CONTACT_PETSC_CHECK(
+      PetscSectionCreate(PetscObjectComm(reinterpret_cast<PetscObject>(dm_)), &section));
   CONTACT_PETSC_CHECK(PetscSectionSetChart(section, p_start, p_end));
   std::vector<std::vector<PetscInt>> constrained(static_cast<size_t>(v_end_ - v_start_));
   for (PetscInt v = v_start_; v < v_end_; ++v) {
@@ -166,12 +182,14 @@ void DistributedBody::CreateSection() {
       if (data[a] < 0) constrained[static_cast<size_t>(v - v_start_)].push_back(a);
     CONTACT_PETSC_CHECK(PetscSectionSetDof(section, v, dim_));
     CONTACT_PETSC_CHECK(PetscSectionSetConstraintDof(
-        section, v, static_cast<PetscInt>(constrained[static_cast<size_t>(v - v_start_)].size())));
+        section, v,
+        static_cast<PetscInt>(constrained[static_cast<size_t>(v - v_start_)].size())));
   }
   CONTACT_PETSC_CHECK(PetscSectionSetUp(section));
   for (PetscInt v = v_start_; v < v_end_; ++v)
     if (!constrained[static_cast<size_t>(v - v_start_)].empty())
-      CONTACT_PETSC_CHECK(PetscSectionSetConstraintIndices(section, v, constrained[static_cast<size_t>(v - v_start_)].data()));
+      CONTACT_PETSC_CHECK(PetscSectionSetConstraintIndices(
+          section, v, constrained[static_cast<size_t>(v - v_start_)].data()));
   CONTACT_PETSC_CHECK(DMSetLocalSection(dm_, section));
   CONTACT_PETSC_CHECK(PetscSectionDestroy(&section));
 
@@ -195,7 +213,9 @@ void DistributedBody::CreateSection() {
     for (int a = 0; a < dim_; ++a) {
       if (data_[static_cast<size_t>(width) * i + static_cast<size_t>(a)] < 0) continue;
       global_index_[static_cast<size_t>(dim_) * i + static_cast<size_t>(a)] = start + k;
-      if (owned) owned_index_[static_cast<size_t>(dim_) * i + static_cast<size_t>(a)] = start + k - first;
+      if (owned)
+        owned_index_[static_cast<size_t>(dim_) * i + static_cast<size_t>(a)] =
+            start + k - first;
       ++k;
     }
   }
@@ -209,9 +229,10 @@ PetscInt DistributedBody::LocalOffset(int vertex, int a) const {
   return offset + a;
 }
 
-// K_FF and the lumped mass: contact::ElasticBody on this rank's cells (the project's element
-// kernels and their quadrature), its entries added into the global rows and columns of the
-// free dofs; a partition-boundary row is summed over the ranks that share the vertex.
+// K_FF and the lumped mass: contact::ElasticBody on this rank's cells (the project's
+// element kernels and their quadrature), its entries added into the global rows and
+// columns of the free dofs; a partition-boundary row is summed over the ranks that share
+// the vertex.
 void DistributedBody::Assemble(const Scene& scene) {
   CONTACT_PETSC_CHECK(DMCreateMatrix(dm_, &K_));
   CONTACT_PETSC_CHECK(MatSetOption(K_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
@@ -220,8 +241,8 @@ void DistributedBody::Assemble(const Scene& scene) {
     const ElasticBody body(local_mesh_, scene.material, scene.plane);
     const SparseMatrix K = body.StiffnessMatrix();
     const Vector lumped = body.LumpedMass();
-    // K is exactly symmetric (ElasticBody symmetrizes each element matrix): column j of the
-    // compressed-column K is row j, added as one row (AIJ stores rows).
+    // K is exactly symmetric (ElasticBody symmetrizes each element matrix): column j of
+    // the compressed-column K is row j, added as one row (AIJ stores rows).
     std::vector<PetscInt> columns;
     std::vector<PetscScalar> values;
     for (Eigen::Index j = 0; j < K.outerSize(); ++j) {
@@ -235,8 +256,8 @@ void DistributedBody::Assemble(const Scene& scene) {
         columns.push_back(column);
         values.push_back(it.value());
       }
-      CONTACT_PETSC_CHECK(MatSetValues(K_, 1, &row, static_cast<PetscInt>(columns.size()), columns.data(),
-                                       values.data(), ADD_VALUES));
+      CONTACT_PETSC_CHECK(MatSetValues(K_, 1, &row, static_cast<PetscInt>(columns.size()),
+                                       columns.data(), values.data(), ADD_VALUES));
       CONTACT_PETSC_CHECK(VecSetValue(m_, row, lumped(j), ADD_VALUES));
     }
   }

@@ -12,7 +12,8 @@ namespace contact::petsc::internal {
 
 inline void Check(PetscErrorCode code, const char* call) {
   if (code != 0)
-    throw std::runtime_error(std::string("contact::petsc: ") + call + " failed with PETSc error " +
+    throw std::runtime_error(std::string("contact::petsc: ") + call +
+                             " failed with PETSc error " +
                              std::to_string(static_cast<int>(code)));
 }
 

@@ -15,18 +15,19 @@
 
 namespace contact::petsc {
 
-/// Empty if RunSceneDistributed can run `scene`; otherwise one sentence naming the scene's
-/// step (or setting) and what the distributed run supports.
+/// Empty if RunSceneDistributed can run `scene`; otherwise one sentence naming the
+/// scene's step (or setting) and what the distributed run supports.
 std::string WhyNotDistributed(const Scene& scene);
 
 /// Runs the scene on the ranks of `comm` (collective; every rank passes the same scene).
-/// Throws std::invalid_argument with WhyNotDistributed's sentence for a scene it cannot run.
-/// On rank 0 the result is complete: summary (status, records, u = the final displacement on
-/// the free dofs in the serial numbering) and files_written; on the other ranks the summary
-/// has the status and the step count only. The step's accuracy and energy-balance measures
-/// are not computed (NaN in the summary and steps.csv, active_nodes = -1).
-/// Files (rank 0 unless said): steps.csv, displacement.csv (last step), and the snapshots as
-/// one .vtu piece per rank (each rank writes its own), one .pvtu per snapshot and series.pvd.
+/// Throws std::invalid_argument with WhyNotDistributed's sentence for a scene it cannot
+/// run. On rank 0 the result is complete: summary (status, records, u = the final
+/// displacement on the free dofs in the serial numbering) and files_written; on the other
+/// ranks the summary has the status and the step count only. The step's accuracy and
+/// energy-balance measures are not computed (NaN in the summary and steps.csv,
+/// active_nodes = -1). Files (rank 0 unless said): steps.csv, displacement.csv (last
+/// step), and the snapshots as one .vtu piece per rank (each rank writes its own), one
+/// .pvtu per snapshot and series.pvd.
 SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress);
 
 }  // namespace contact::petsc
