@@ -39,10 +39,10 @@ class DistributedBody {
 
   int dim() const { return dim_; }
   DM dm() const { return dm_; }
-  Mat stiffness() const {
-    return K_;
-  }  ///< K_FF [N/m], MATMPIAIJ over the owned free dofs
-  Vec lumped_mass() const { return m_; }  ///< [kg] per owned free dof
+  /// K_FF [N/m], MATMPIAIJ over the owned free dofs.
+  Mat stiffness() const { return K_; }
+  /// The lumped mass [kg] per owned free dof.
+  Vec lumped_mass() const { return m_; }
   const std::string& partitioner() const { return partitioner_; }
   /// Wall time of the set-up phases on this rank [s]: DMPlex creation and distribution
   /// with the node data; section; K and mass assembly.
