@@ -2,7 +2,8 @@
 // scene: the final displacement (gathered on rank 0) and the per-step sums of the normal
 // and friction forces agree to 1e-12 of their largest value, on 1, 2 and 4 ranks (ctest
 // runs this executable under mpiexec -n 1, 2, 4). The scenes: a Hex8 box and a 2D Quad4
-// block (with a roller side: Dirichlet components) dropped onto a plane with friction.
+// block (with a roller side: Dirichlet components) dropped onto a plane with friction, and
+// two cells (on 4 ranks: ranks without a cell or a contact node).
 #define CATCH_CONFIG_RUNNER
 #include <petscsys.h>
 
@@ -91,6 +92,39 @@ initial_velocity = [0.0, -0.5]
 step = "explicit"
 )";
 
+// Two Quad4 cells: on 4 ranks two ranks have no cell and no contact node.
+const char* const kTwoCells2d = R"(
+name = "two-cells-2d"
+[geometry]
+type = "rectangle"
+origin = [0.0, 0.0]
+size = [1.0, 0.2]
+cells = [2, 1]
+element = "quad4"
+contact = ["ymin"]
+[material]
+young_modulus = 2e8
+poisson_ratio = 0.3
+density = 7800
+mass = "lumped"
+[loads]
+body_force = [20000.0, -76518.0]
+[obstacle]
+type = "plane"
+normal = [0.0, 1.0]
+offset = -0.001
+normal_source = "obstacle"
+[friction]
+coefficient = 0.3
+[time]
+dt = 5e-5
+end_time = 0.005
+initial_state = "velocity"
+initial_velocity = [0.0, -0.5]
+[solver]
+step = "explicit"
+)";
+
 int Rank() {
   int rank = 0;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
@@ -117,7 +151,8 @@ double MaxAbs(const std::vector<contact::StepRecord>& records,
 
 TEST_CASE("the explicit step on MPI ranks follows the serial trajectory") {
   const auto [name, text] =
-      GENERATE(std::make_pair("box3d", kBox3d), std::make_pair("block2d", kBlock2d));
+      GENERATE(std::make_pair("box3d", kBox3d), std::make_pair("block2d", kBlock2d),
+               std::make_pair("two_cells", kTwoCells2d));
   const contact::Scene scene = LoadSceneText(text, name);
   REQUIRE(contact::petsc::WhyNotDistributed(scene).empty());
   const contact::SceneResult parallel =
