@@ -4,17 +4,26 @@
 //                          [--ncp-function fb|min|penalized-fb] [--dt S] [--friction F]
 //                          [--friction-formulation lagged-bound|coulomb-fc] [--end-time S]
 //                          [--output DIR] [--quiet]
+//   mpiexec -n R contact-sim SCENE.toml ...   (built with PETSc: the explicit step on R ranks,
+//                                             docs/petsc.md "Contact scenes on MPI ranks")
 #include <cxxopts.hpp>
 #include <signal.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <csignal>
+#include <cstdlib>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "contact/scene.hpp"
 #include "ncp/output_file.hpp"
+#ifdef CONTACT_SIM_WITH_PETSC
+#include <petscsys.h>
+
+#include "contact/petsc/distributed_scene.hpp"
+#endif
 
 namespace {
 
@@ -53,6 +62,68 @@ std::string TomlString(const std::string& s) {
   return out + "\"";
 }
 
+/// MPI and PETSc when the process was started by mpiexec (OpenMPI, MPICH/PMI or PMIx
+/// set these): a plain `contact-sim SCENE.toml` initializes neither and runs as it always
+/// did. PETSc's options come from the environment variable PETSC_OPTIONS (the command line
+/// is contact-sim's). On ranks other than 0 stdout and stderr go to /dev/null; a rank's own
+/// failure is still printed, on the stderr kept in error_fd.
+class MpiSession {
+ public:
+  MpiSession() {
+#ifdef CONTACT_SIM_WITH_PETSC
+    const bool launched = std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE") ||
+                          std::getenv("PMIX_RANK");
+    if (!launched) return;
+    if (PetscInitialize(nullptr, nullptr, nullptr, nullptr) != 0) {
+      std::fprintf(stderr, "contact-sim: PetscInitialize failed\n");
+      std::exit(1);
+    }
+    active_ = true;
+    MPI_Comm_rank(PETSC_COMM_WORLD, &rank_);
+    MPI_Comm_size(PETSC_COMM_WORLD, &size_);
+    // A one-process MPI stub (e.g. of a sequential MUMPS) found before libmpi makes every
+    // rank rank 0 of 1: refuse rather than run R copies of the serial run.
+    const char* launched_size = std::getenv("OMPI_COMM_WORLD_SIZE");
+    if (launched_size && std::atoi(launched_size) != size_) {
+      std::fprintf(stderr, "contact-sim: mpiexec started %s processes but MPI reports %d: MPI_Init is bound to "
+                           "a one-process stub (link libmpi before Ipopt's sequential MUMPS)\n", launched_size, size_);
+      std::exit(1);
+    }
+    if (rank_ != 0) {
+      error_fd_ = dup(2);
+      if (!std::freopen("/dev/null", "w", stdout) || !std::freopen("/dev/null", "w", stderr)) error_fd_ = -1;
+    }
+#endif
+  }
+  ~MpiSession() {
+#ifdef CONTACT_SIM_WITH_PETSC
+    if (active_) PetscFinalize();
+#endif
+  }
+  MpiSession(const MpiSession&) = delete;
+  MpiSession& operator=(const MpiSession&) = delete;
+
+  bool active() const { return active_; }
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  /// A failure of this rank alone: printed (on rank > 0 with its rank), then every rank
+  /// is stopped (MPI_Abort) - the others may be waiting for this one.
+  [[noreturn]] void AbortRun(const std::string& what) const {
+    const std::string line = "contact-sim: " + (rank_ > 0 ? "[rank " + std::to_string(rank_) + "] " : "") + what + "\n";
+    if (rank_ == 0) std::fputs(line.c_str(), stderr);
+    else if (error_fd_ >= 0 && write(error_fd_, line.data(), line.size()) < 0) {}
+#ifdef CONTACT_SIM_WITH_PETSC
+    MPI_Abort(PETSC_COMM_WORLD, 1);
+#endif
+    std::exit(1);
+  }
+
+ private:
+  bool active_ = false;
+  int rank_ = 0, size_ = 1;
+  int error_fd_ = -1;
+};
+
 /// The command line; "scene" is the positional argument.
 cxxopts::Options MakeCli() {
   cxxopts::Options cli("contact-sim", "Elastodynamic contact of a body with a rigid obstacle");
@@ -68,6 +139,7 @@ cxxopts::Options MakeCli() {
       "tolerance", "override solver.tolerance", cxxopts::value<std::string>())(
       "output", "override output.directory", cxxopts::value<std::string>())(
       "no-output", "write no files")(
+      "distributed", "run through PETSc DMPlex even on one MPI rank (under mpiexec: the explicit step)")(
       "quiet", "no progress lines, notes or warnings; a run that does not complete prints its "
                "reason once and no table")(
       "h,help", "show this help");
@@ -116,7 +188,7 @@ void PrintReport(std::FILE* table, const contact::Scene& scene, const contact::S
 }
 
 /// The --json summary object.
-nlohmann::json JsonSummary(const contact::Scene& scene, const contact::SceneResult& r) {
+nlohmann::json JsonSummary(const contact::Scene& scene, const contact::SceneResult& r, int ranks) {
   const contact::DynamicSummary& s = r.summary;
   nlohmann::json j;
   j["scene"] = scene.name;
@@ -144,8 +216,30 @@ nlohmann::json JsonSummary(const contact::Scene& scene, const contact::SceneResu
   j["dofs"] = r.num_dofs;
   j["free_dofs"] = r.num_free_dofs;
   j["contact_nodes"] = r.num_contact_nodes;
+  j["ranks"] = ranks;
   if (s.max_ipopt_relative_difference >= 0) j["max_ipopt_relative_difference"] = s.max_ipopt_relative_difference;
   return j;
+}
+
+/// The scene on the MPI ranks (contact::petsc): only the explicit step; a scene it cannot
+/// run is refused alike on every rank. Between steps it reads no stop request (mpiexec
+/// passes SIGINT on and the run ends there).
+contact::SceneResult RunDistributed(const contact::Scene& scene, const MpiSession& mpi, bool progress) {
+#ifdef CONTACT_SIM_WITH_PETSC
+  const std::string why_not = contact::petsc::WhyNotDistributed(scene);
+  if (!why_not.empty())
+    throw contact::SceneError(why_not + " [" + std::to_string(mpi.size()) + " MPI ranks]");
+  try {
+    return contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, progress);
+  } catch (const contact::SceneError&) {
+    throw;  // refused on every rank
+  } catch (const std::exception& e) {
+    mpi.AbortRun(e.what());
+  }
+#else
+  (void)scene, (void)progress;
+  mpi.AbortRun("built without PETSc");
+#endif
 }
 
 }  // namespace
@@ -155,6 +249,7 @@ nlohmann::json JsonSummary(const contact::Scene& scene, const contact::SceneResu
 // output file could not be written (its name and the reason on stderr), 128 + the signal
 // (130 SIGINT, 143 SIGTERM) for a run stopped by a signal after a finished step.
 int main(int argc, char** argv) {
+  const MpiSession mpi;
   cxxopts::Options cli = MakeCli();
   cxxopts::ParseResult args;
   try {
@@ -176,6 +271,12 @@ int main(int argc, char** argv) {
     std::cerr << "contact-sim: usage error: no scene file given\n" << cli.help() << std::endl;
     return 2;
   }
+  if (args.count("distributed") && !mpi.active()) {
+    std::cerr << "contact-sim: usage error: --distributed needs a contact-sim built with PETSc and started "
+                 "by mpiexec\n";
+    return 2;
+  }
+  const bool distributed = mpi.active() && (mpi.size() > 1 || args.count("distributed") > 0);
   const bool json = args.count("json") > 0, quiet = args.count("quiet") > 0;
   contact::Scene scene;
   contact::SceneResult r;
@@ -185,9 +286,13 @@ int main(int argc, char** argv) {
       for (const std::string& w : scene.warnings) std::fprintf(stderr, "contact-sim: warning: %s\n", w.c_str());
     if (args.count("output")) scene.output_directory = args["output"].as<std::string>();
     if (args.count("no-output")) scene.output_directory.clear();
-    scene.dynamics.stop_requested = &g_stop_requested;
-    InstallSignalHandlers();
-    r = contact::RunScene(scene, !quiet);
+    if (distributed) {
+      r = RunDistributed(scene, mpi, !quiet);
+    } else {
+      scene.dynamics.stop_requested = &g_stop_requested;
+      InstallSignalHandlers();
+      r = contact::RunScene(scene, !quiet);
+    }
   } catch (const ncp::OutputError& e) {
     std::cerr << "contact-sim: output failed, the run is incomplete: " << e.what() << std::endl;
     return 3;
@@ -198,7 +303,7 @@ int main(int argc, char** argv) {
   const contact::DynamicSummary& s = r.summary;
   // The JSON first: if stdout cannot take it, the run's result is lost - exit 3 without a
   // report that says completed.
-  if (json) std::cout << JsonSummary(scene, r).dump(2) << std::endl;
+  if (json) std::cout << JsonSummary(scene, r, mpi.size()).dump(2) << std::endl;
   if (json && (std::fflush(stdout) != 0 || std::ferror(stdout))) {
     std::fprintf(stderr, "contact-sim: writing the JSON summary to stdout failed: the result is lost\n");
     return 3;

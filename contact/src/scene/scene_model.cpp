@@ -7,6 +7,7 @@
 #include "contact/gmsh_reader.hpp"
 #include "contact/scene.hpp"
 #include "scene/scene_error.hpp"
+#include "scene/scene_load.hpp"
 
 namespace contact {
 namespace {
@@ -63,10 +64,7 @@ std::function<void(double, Eigen::VectorXd*)> LoadHistoryOf(const Scene& scene, 
   const LoadHistory history = scene.load_history;
   const double ramp = scene.ramp_time;
   return [f_free, t0, history, ramp](double t, Eigen::VectorXd* f) {
-    double factor = 1.0;
-    if (history == LoadHistory::kStep) factor = t > t0 + 1e-12 * std::max(1.0, std::abs(t0)) ? 1.0 : 0.0;
-    if (history == LoadHistory::kRamp) factor = std::min(std::max((t - t0) / ramp, 0.0), 1.0);
-    *f = factor * f_free;
+    *f = internal::LoadHistoryFactor(history, t0, ramp, t) * f_free;
   };
 }
 
@@ -102,6 +100,18 @@ SceneModel BuildModel(const Scene& scene, Mesh mesh) {
 }
 
 }  // namespace
+
+double internal::LoadHistoryFactor(LoadHistory history, double t0, double ramp_time, double t) {
+  if (history == LoadHistory::kStep) return t > t0 + 1e-12 * std::max(1.0, std::abs(t0)) ? 1.0 : 0.0;
+  if (history == LoadHistory::kRamp) return std::min(std::max((t - t0) / ramp_time, 0.0), 1.0);
+  return 1.0;
+}
+
+Vector internal::SceneLoadVector(const Scene& scene, const SceneModel& built) {
+  Vector f_full = built.body->BodyForceLoad(scene.body_force);
+  if (scene.traction.size()) f_full += built.body->TractionLoad(scene.traction);
+  return built.dofs.RestrictVector(f_full);
+}
 
 std::function<void(double, Eigen::VectorXd*)> SceneLoad(const Scene& scene, const SceneModel& built,
                                                         const Eigen::VectorXd& body_force) {

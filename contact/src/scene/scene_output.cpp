@@ -28,12 +28,7 @@ SceneOutput::SceneOutput(const Scene& scene, const SceneModel& built, int marked
   std::error_code error;
   std::filesystem::create_directories(directory_, error);
   if (error) throw ncp::OutputError("cannot create directory", directory_.string(), error.value());
-  steps_csv_ = Open("steps.csv",
-       "step,time,newton_iterations,jacobian_evaluations,residual_evaluations,seconds,kinetic_energy,"
-       "strain_energy,external_work,normal_contact_work,friction_dissipation,energy_balance_error,"
-       "normal_force_sum,friction_force_sum,max_penetration,active_nodes,equilibrium_residual,"
-       "complementarity_residual,friction_residual,force_accuracy,displacement_accuracy",
-       false);
+  steps_csv_ = Open("steps.csv", kStepsCsvHeader, false);
   stress_csv_ = Open("contact_stress.csv",
                      "time,node," + coords + ",normal_stress," + tangents + ",gap,normal_force", false);
   if (marked_ >= 0) history_csv_ = Open("node_history.csv", "time,normal_stress,friction_stress", false);
@@ -110,14 +105,22 @@ void SceneOutput::WriteMesh() {
   elements_file.Close();
 }
 
-void SceneOutput::WriteStepRow(const StepRecord& r) {
-  steps_csv_.stream() << r.step << ',' << r.time << ',' << r.newton_iterations << ',' << r.jacobian_evaluations << ','
-             << r.residual_evaluations << ',' << r.seconds << ',' << r.kinetic << ',' << r.strain << ','
-             << r.external_work << ',' << r.normal_contact_work << ',' << r.friction_dissipation << ','
-             << r.energy_balance_error << ',' << r.normal_force_sum << ',' << r.tangent_force_sum << ','
-             << r.max_penetration << ',' << r.active_nodes << ',' << r.equilibrium_residual << ','
-             << r.complementarity_residual << ',' << r.friction_residual << ',' << r.force_accuracy << ','
-             << r.displacement_accuracy << '\n';
+void SceneOutput::WriteStepRow(const StepRecord& r) { WriteStepsCsvRow(r, &steps_csv_.stream()); }
+
+const char* const kStepsCsvHeader =
+    "step,time,newton_iterations,jacobian_evaluations,residual_evaluations,seconds,kinetic_energy,"
+    "strain_energy,external_work,normal_contact_work,friction_dissipation,energy_balance_error,"
+    "normal_force_sum,friction_force_sum,max_penetration,active_nodes,equilibrium_residual,"
+    "complementarity_residual,friction_residual,force_accuracy,displacement_accuracy";
+
+void WriteStepsCsvRow(const StepRecord& r, std::ostream* out) {
+  *out << r.step << ',' << r.time << ',' << r.newton_iterations << ',' << r.jacobian_evaluations << ','
+       << r.residual_evaluations << ',' << r.seconds << ',' << r.kinetic << ',' << r.strain << ','
+       << r.external_work << ',' << r.normal_contact_work << ',' << r.friction_dissipation << ','
+       << r.energy_balance_error << ',' << r.normal_force_sum << ',' << r.tangent_force_sum << ','
+       << r.max_penetration << ',' << r.active_nodes << ',' << r.equilibrium_residual << ','
+       << r.complementarity_residual << ',' << r.friction_residual << ',' << r.force_accuracy << ','
+       << r.displacement_accuracy << '\n';
 }
 
 std::pair<double, Eigen::VectorXd> SceneOutput::Stress(size_t k, const ContactSystem::Result& contact,

@@ -20,6 +20,10 @@
 
 namespace contact::internal {
 
+/// steps.csv: its header line (without the newline) and one row per step.
+extern const char* const kStepsCsvHeader;
+void WriteStepsCsvRow(const StepRecord& r, std::ostream* out);
+
 class SceneOutput {
  public:
   /// Opens the files, writes the mesh and, for a prescribed initial state, the snapshot of

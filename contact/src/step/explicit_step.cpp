@@ -4,19 +4,15 @@
 #include <stdexcept>
 #include <string>
 
+#include "step/explicit_contact_node.hpp"
 #include "step/step_method.hpp"
 
 namespace contact::internal {
 namespace {
 
-// The step with a diagonal S (StepMethod::kExplicit). Node by node, in the local frame of
-// its free components (S restricted to a node is m I, so the rotation keeps it diagonal):
-//   m y + q = F,  F = (-lambda, tau):
-//   normal:  y_n = -q_n / m predicted; if it would close past the obstacle
-//            (s - u0_n - y_n < 0) then y_n = s - u0_n and lambda = -(m y_n + q_n) >= 0;
-//   tangent: stick (y_T = 0, tau = q_T) if |q_T| <= g, else slide with tau = g q_T / |q_T|
-//            and y_T = (tau - q_T) / m - the return map onto the friction disc.
-// Non-contact dofs: y = -q / m. The result is the exact solution of the step system.
+// The step with a diagonal S (StepMethod::kExplicit): node by node in closed form
+// (SolveExplicitContactNode, explicit_contact_node.hpp); non-contact dofs y = -q / m. The
+// result is the exact solution of the step system.
 class ExplicitStep : public StepAlgorithm {
  public:
   ExplicitStep(int dim, const Eigen::SparseMatrix<double>& S, const std::vector<ContactNode>& nodes)
@@ -64,44 +60,15 @@ class ExplicitStep : public StepAlgorithm {
     out.slip.setZero(dim_ - 1, N);
     for (Eigen::Index c = 0; c < N; ++c) {
       const ContactNode& node = nodes_[static_cast<size_t>(c)];
-      const Eigen::Vector3d frame[3] = {node.normal, node.tangent1, node.tangent2};
-      int slots[3] = {0, 0, 0}, axes[3] = {0, 0, 0}, num_free = 0;
-      for (int a = 0; a < dim_; ++a)
-        if (node.dofs[a] >= 0) slots[num_free] = node.dofs[a], axes[num_free++] = a;
-      const double m = diagonal_(slots[0]);
-      auto local = [&](const Eigen::VectorXd& v, int a) {
-        double sum = 0.0;
-        for (int b = 0; b < num_free; ++b) sum += frame[a](axes[b]) * v(slots[b]);
-        return sum;
-      };
-      // Normal.
-      const double qn = local(q, 0), u0n = local(u0, 0);
-      double yn = -qn / m, lambda = 0.0;
-      if (gap(c) - u0n - yn < 0.0) {
-        yn = gap(c) - u0n;
-        lambda = -(m * yn + qn);
-      }
-      // Tangent: the return map onto |tau| <= g.
-      const double g = bound.size() ? bound(c) : 0.0;
-      Eigen::Vector2d qt = Eigen::Vector2d::Zero(), yt = Eigen::Vector2d::Zero(), tau = Eigen::Vector2d::Zero();
-      for (int a = 1; a < num_free; ++a) qt(a - 1) = local(q, a);
-      if (g > 0.0 && qt.norm() <= g) {
-        tau = qt;  // stick: y_T = 0
-      } else {
-        tau = g > 0.0 ? Eigen::Vector2d(g * qt / qt.norm()) : Eigen::Vector2d::Zero();
-        yt = (tau - qt) / m;
-      }
-      // Back to the global components of the node.
-      for (int b = 0; b < num_free; ++b) {
-        double v = frame[0](axes[b]) * yn;
-        for (int a = 1; a < num_free; ++a) v += frame[a](axes[b]) * yt(a - 1);
-        out.x(slots[b]) = v;
-      }
-      out.normal_force(c) = lambda;
-      out.gap(c) = gap(c) - u0n - yn;
-      for (int a = 1; a < num_free; ++a) {
-        out.tangent_force(a - 1, c) = tau(a - 1);
-        out.slip(a - 1, c) = yt(a - 1);
+      const int first_free = node.dofs[0] >= 0 ? node.dofs[0] : node.dofs[1] >= 0 ? node.dofs[1] : node.dofs[2];
+      const ExplicitNodeStep step =
+          SolveExplicitContactNode(dim_, node, diagonal_(first_free), gap(c), bound.size() ? bound(c) : 0.0,
+                                   q.data(), u0.data(), out.x.data());
+      out.normal_force(c) = step.normal_force;
+      out.gap(c) = step.gap;
+      for (int a = 0; a < dim_ - 1; ++a) {
+        out.tangent_force(a, c) = step.tangent_force(a);
+        out.slip(a, c) = step.slip(a);
       }
     }
   }

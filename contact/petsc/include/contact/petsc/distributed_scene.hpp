@@ -1,0 +1,33 @@
+/// \file distributed_scene.hpp
+/// A contact scene on the MPI ranks of a communicator through PETSc (docs/petsc.md,
+/// "Contact scenes on MPI ranks"): the mesh of the scene handed to DMPlex and partitioned
+/// by DMPlexDistribute, K assembled per rank into a MATMPIAIJ with the element kernels of
+/// contact/ (contact::ElasticBody on each rank's cells), the lumped mass a Vec, and the
+/// explicit central-difference step (StepMethod::kExplicit) on each rank's own nodes.
+/// PetscInitialize is the caller's.
+#pragma once
+
+#include <mpi.h>
+
+#include <string>
+
+#include "contact/scene.hpp"
+
+namespace contact::petsc {
+
+/// Empty if RunSceneDistributed can run `scene`; otherwise one sentence naming the
+/// scene's step (or setting) and what the distributed run supports.
+std::string WhyNotDistributed(const Scene& scene);
+
+/// Runs the scene on the ranks of `comm` (collective; every rank passes the same scene).
+/// Throws std::invalid_argument with WhyNotDistributed's sentence for a scene it cannot
+/// run. On rank 0 the result is complete: summary (status, records, u = the final
+/// displacement on the free dofs in the serial numbering) and files_written; on the other
+/// ranks the summary has the status and the step count only. The step's accuracy and
+/// energy-balance measures are not computed (NaN in the summary and steps.csv,
+/// active_nodes = -1). Files (rank 0 unless said): steps.csv, displacement.csv (last
+/// step), and the snapshots as one .vtu piece per rank (each rank writes its own), one
+/// .pvtu per snapshot and series.pvd.
+SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress);
+
+}  // namespace contact::petsc

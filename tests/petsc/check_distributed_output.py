@@ -1,0 +1,132 @@
+#!/usr/bin/python3
+"""contact-sim on 2 MPI ranks against the serial contact-sim on the same scene, through the
+files a user opens: series.pvd lists one .pvtu per snapshot, VTK's own parallel reader
+(vtkXMLPUnstructuredGridReader) reads the last one - its cells are the mesh's, its points
+(the pieces share their partition-boundary vertices) the mesh's nodes once merged, its
+displacement the serial displacement.csv to its 10 printed digits - steps.csv has the
+serial rows' contact force sums (the 1e-12 comparison of the trajectories themselves is
+test_distributed_scene.cpp's, in one process without the files' rounding), --json reports ranks = 2; and a scene whose step is not
+explicit is refused once, with exit code 1, naming the step."""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import vtk
+
+SCENE = """
+name = "box-drop-output"
+[geometry]
+type = "box"
+origin = [0.0, 0.0, 0.0]
+size = [0.2, 0.2, 0.1]
+cells = [6, 5, 3]
+element = "hex8"
+contact = ["zmin"]
+fixed = ["xmin"]
+fixed_components = [0]
+[material]
+young_modulus = 2e8
+poisson_ratio = 0.3
+density = 7800
+mass = "lumped"
+[loads]
+body_force = [20000.0, 5000.0, -76518.0]
+[obstacle]
+type = "plane"
+normal = [0.0, 0.0, 1.0]
+offset = -0.001
+normal_source = "obstacle"
+[friction]
+coefficient = 0.3
+[time]
+dt = 2e-5
+end_time = 0.004
+initial_state = "velocity"
+initial_velocity = [0.0, 0.0, -0.5]
+[solver]
+step = "explicit"
+[output]
+snapshot_every = 50
+"""
+SAME = 1e-9  # relative: the CSV files print 10 significant digits
+
+
+def read_csv(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def main():
+    p = argparse.ArgumentParser()
+    p.add_argument("--mpiexec", required=True)
+    p.add_argument("--contact-sim", required=True)
+    p.add_argument("--workdir", required=True)
+    a = p.parse_args()
+    os.makedirs(a.workdir, exist_ok=True)
+    scene = os.path.join(a.workdir, "box_drop_output.toml")
+    with open(scene, "w") as f:
+        f.write(SCENE)
+    serial_dir, mpi_dir = os.path.join(a.workdir, "serial"), os.path.join(a.workdir, "mpi2")
+    mpi = [a.mpiexec, "-n", "2", "--oversubscribe", a.contact_sim]
+    subprocess.run([a.contact_sim, scene, "--quiet", "--output", serial_dir], check=True)
+    run = subprocess.run(mpi + [scene, "--quiet", "--json", "--output", mpi_dir], check=True,
+                         capture_output=True, text=True)
+    summary = json.loads(run.stdout)
+    assert summary["ranks"] == 2 and summary["status"] == "completed", summary
+    assert summary["step_method"] == "explicit", summary
+
+    # The mesh of the serial run: nodes with coordinates, elements.
+    nodes = read_csv(os.path.join(serial_dir, "mesh_nodes.csv"))
+    num_elements = len(read_csv(os.path.join(serial_dir, "mesh_elements.csv")))
+    xyz = np.array([[float(n["x"]), float(n["y"]), float(n["z"])] for n in nodes])
+    u_serial = np.array([[float(r["ux"]), float(r["uy"]), float(r["uz"])]
+                         for r in read_csv(os.path.join(serial_dir, "displacement.csv"))
+                         if abs(float(r["time"]) - 0.004) < 1e-9])
+    assert u_serial.shape == xyz.shape, (u_serial.shape, xyz.shape)
+
+    # series.pvd -> the last .pvtu, read by VTK's parallel reader.
+    series = ET.parse(os.path.join(mpi_dir, "series.pvd")).getroot()
+    files = [d.get("file") for d in series.iter("DataSet")]
+    assert len(files) == 1 + 200 // 50, files  # step 0, every 50th step (the last among them)
+    reader = vtk.vtkXMLPUnstructuredGridReader()
+    reader.SetFileName(os.path.join(mpi_dir, files[-1]))
+    reader.Update()
+    grid = reader.GetOutput()
+    assert reader.GetNumberOfPieces() == 2, reader.GetNumberOfPieces()
+    assert grid.GetNumberOfCells() == num_elements, (grid.GetNumberOfCells(), num_elements)
+    points = np.array([grid.GetPoint(i) for i in range(grid.GetNumberOfPoints())])
+    u_piece = np.array([grid.GetPointData().GetArray("displacement").GetTuple3(i)
+                        for i in range(grid.GetNumberOfPoints())])
+    index = {tuple(np.round(x, 8)): i for i, x in enumerate(xyz)}  # (mesh_nodes.csv: 10 digits)
+    matched = [index[tuple(np.round(x, 8))] for x in points]
+    assert len(set(matched)) == len(nodes), (len(set(matched)), len(nodes))
+    u_max = np.abs(u_serial).max()
+    difference = np.abs(u_piece - u_serial[matched]).max()
+    assert u_max > 1e-4 and difference <= SAME * u_max, (difference, u_max)
+
+    # steps.csv: the same rows' contact force sums.
+    rows_serial = read_csv(os.path.join(serial_dir, "steps.csv"))
+    rows_mpi = read_csv(os.path.join(mpi_dir, "steps.csv"))
+    assert len(rows_mpi) == len(rows_serial) == 200, (len(rows_mpi), len(rows_serial))
+    for column in ("normal_force_sum", "friction_force_sum"):
+        s = np.array([float(r[column]) for r in rows_serial])
+        m = np.array([float(r[column]) for r in rows_mpi])
+        assert s.max() > 0 and np.abs(m - s).max() <= SAME * np.abs(s).max(), column
+
+    # Another step on 2 ranks: refused, once, naming the step and what is supported.
+    refused = subprocess.run(mpi + [scene, "--step", "condensed", "--no-output"], capture_output=True, text=True)
+    assert refused.returncode == 1, refused
+    lines = [l for l in refused.stderr.splitlines() if "condensed" in l]
+    assert len(lines) == 1 and "explicit" in lines[0], refused.stderr
+    print(f"ok: {len(files)} snapshots, {grid.GetNumberOfPoints()} piece points = {len(nodes)} nodes merged, "
+          f"{num_elements} cells; |u_mpi - u_serial| = {difference:.3g} m of {u_max:.3g} m")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
