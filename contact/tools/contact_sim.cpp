@@ -3,7 +3,7 @@
 //   contact-sim SCENE.toml [--json] [--step auto|condensed|sparse|full|explicit|ipopt]
 //                          [--ncp-function fb|min|penalized-fb] [--dt S] [--friction F]
 //                          [--friction-formulation lagged-bound|coulomb-fc] [--end-time S]
-//                          [--output DIR] [--quiet]
+//                          [--output DIR] [--resume] [--quiet]
 #include <cxxopts.hpp>
 #include <signal.h>
 
@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "contact/scene.hpp"
+#include "contact/simulation.hpp"
 #include "ncp/output_file.hpp"
 
 namespace {
@@ -68,6 +69,9 @@ cxxopts::Options MakeCli() {
       "tolerance", "override solver.tolerance", cxxopts::value<std::string>())(
       "output", "override output.directory", cxxopts::value<std::string>())(
       "no-output", "write no files")(
+      "resume", "continue the run from the checkpoint in the output directory (checkpoint.bin, "
+                "written every output.checkpoint_every steps and when interrupted); the scene "
+                "and its overrides must be the same")(
       "quiet", "no progress lines, notes or warnings; a run that does not complete prints its "
                "reason once and no table")(
       "h,help", "show this help");
@@ -150,9 +154,9 @@ nlohmann::json JsonSummary(const contact::Scene& scene, const contact::SceneResu
 
 }  // namespace
 
-// Exit codes: 0 completed, 1 refused input (scene, mesh, option value) or a run that did not
-// complete, 2 usage error (unknown option, missing scene, option without its value), 3 an
-// output file could not be written (its name and the reason on stderr), 128 + the signal
+// Exit codes: 0 completed, 1 refused input (scene, mesh, option value, a --resume without a
+// usable checkpoint of the same scene) or a run that did not complete, 2 usage error
+// (unknown option, missing scene, option without its value), 3 an output file could not be written (its name and the reason on stderr), 128 + the signal
 // (130 SIGINT, 143 SIGTERM) for a run stopped by a signal after a finished step.
 int main(int argc, char** argv) {
   cxxopts::Options cli = MakeCli();
@@ -187,7 +191,13 @@ int main(int argc, char** argv) {
     if (args.count("no-output")) scene.output_directory.clear();
     scene.dynamics.stop_requested = &g_stop_requested;
     InstallSignalHandlers();
-    r = contact::RunScene(scene, !quiet);
+    contact::SceneRunOptions run;
+    run.progress = !quiet;
+    run.resume = args.count("resume") > 0;
+    r = contact::RunScene(scene, run);
+  } catch (const contact::CheckpointError& e) {
+    std::cerr << "contact-sim: cannot resume: " << e.what() << std::endl;
+    return 1;
   } catch (const ncp::OutputError& e) {
     std::cerr << "contact-sim: output failed, the run is incomplete: " << e.what() << std::endl;
     return 3;

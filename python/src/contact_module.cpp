@@ -333,6 +333,7 @@ PYBIND11_MODULE(_contact, m) {
       "Dynamic contact of an elastic body with a rigid obstacle (C++ core of the contact "
       "package)";
   py::register_exception<contact::SceneError>(m, "SceneError", PyExc_ValueError);
+  py::register_exception<contact::CheckpointError>(m, "CheckpointError", PyExc_ValueError);
 
   py::class_<contact::Scene>(m, "Scene",
                              "A scene read from a TOML file (examples/scenes/README.md).")
@@ -417,6 +418,10 @@ PYBIND11_MODULE(_contact, m) {
       .def("set_body_force", [](SceneStepper& s, const py::object& b) {
              s.sim().SetBodyForce(VectorArg("the body force [N/m^3]", b, s.dim()));
            }, py::arg("body_force"))
+      .def("save", [](const SceneStepper& s, const std::string& path) { s.sim().SaveCheckpoint(path); },
+           py::arg("path"), "the checkpoint of the state (contact::Simulation::SaveCheckpoint)")
+      .def("load_checkpoint", [](SceneStepper& s, const std::string& path) { s.sim().LoadCheckpoint(path); },
+           py::arg("path"), "the state of a checkpoint of the same scene (contact::Simulation::LoadCheckpoint)")
       .def("move_obstacle", [](SceneStepper& s, const py::object& d) {
              s.sim().MoveObstacle(VectorArg("the obstacle translation [m]", d, s.dim()));
            }, py::arg("translation"));
