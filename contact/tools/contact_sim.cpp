@@ -206,6 +206,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   const contact::DynamicSummary& s = r.summary;
+  if (r.resumed_from_step >= 0 && !quiet)
+    std::fprintf(stderr, "contact-sim: resumed from the checkpoint of step %d\n", r.resumed_from_step);
   // The JSON first: if stdout cannot take it, the run's result is lost - exit 3 without a
   // report that says completed.
   if (json) std::cout << JsonSummary(scene, r).dump(2) << std::endl;

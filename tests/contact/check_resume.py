@@ -133,8 +133,11 @@ def main():
         if args.mode == "rerun":
             r = run(base + ["--output", b])
             check(r.returncode == 0, f"run into B: exit {r.returncode}\n{r.stderr[-800:]}")
-            r = run(base + ["--output", b, "--resume"])
+            r = run([args.contact_sim, scene, *args.overrides, "--output", b, "--resume"])
             check(r.returncode == 0, f"resumed run: exit {r.returncode}\n{r.stderr[-800:]}")
+            last = (total - 1) // args.checkpoint_every * args.checkpoint_every
+            check(f"resumed from the checkpoint of step {last}\n" in r.stderr,
+                  f"no 'resumed from the checkpoint of step {last}' on stderr:\n{r.stderr[-800:]}")
         elif args.mode == "interrupt":
             cmd = [args.contact_sim, scene, *args.overrides, "--output", b]
             process = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
@@ -171,7 +174,8 @@ def main():
                 data = f.read()
             for what, bad, expected in [("truncated", data[: size // 2], "truncated"),
                                         ("corrupt", data[:100] + bytes([data[100] ^ 1]) + data[101:], "checksum"),
-                                        ("empty", b"", "truncated"),
+                                        ("empty", b"", "not a contact checkpoint"),
+                                        ("header only", data[:40], "truncated"),
                                         ("not a checkpoint", b"name = 'x'\n" * 10, "not a contact checkpoint")]:
                 with open(os.path.join(b, "checkpoint.bin"), "wb") as f:
                     f.write(bad)

@@ -122,6 +122,7 @@ struct SceneResult {
   DynamicSummary summary;
   int num_dofs = 0, num_free_dofs = 0, num_contact_nodes = 0, num_elements = 0;
   int marked_node = -1;  ///< mesh node of the history output, -1 if none
+  int resumed_from_step = -1;  ///< the checkpoint's step of a resumed run, -1 if not resumed
   std::vector<std::string> files_written;
 };
 

@@ -58,8 +58,10 @@ SceneResult RunScene(const Scene& scene, const SceneRunOptions& run) {
   };
   Simulation simulation(stepped);
   std::optional<internal::OutputPositions> positions;
-  if (run.resume)
+  if (run.resume) {
     positions = internal::OutputPositions::Decode(simulation.LoadCheckpoint(checkpoint.string()), checkpoint.string());
+    result.resumed_from_step = simulation.step_index();
+  }
 
   const SceneModel& built = simulation.scene_model();
   const Mesh& mesh = built.body->mesh();

@@ -376,7 +376,8 @@ Scene LoadScene(const std::string& path, const SceneOverrides& overrides) {
   Scene s;
   s.text = ReadSceneText(path);
   const toml::value root = ParseScene(path, s.text, overrides);
-  for (const auto& [key, literal] : overrides) s.text += "\n# override: " + key + " = " + literal;
+  if (!overrides.empty() && !s.text.empty() && s.text.back() != '\n') s.text += '\n';
+  for (const auto& [key, literal] : overrides) s.text += "# override: " + key + " = " + literal + "\n";
   s.source = path;
   const fs::path base = fs::path(path).parent_path();
   const Table top(&root, "", path);
