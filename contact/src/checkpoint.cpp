@@ -11,7 +11,8 @@
 
 namespace contact {
 
-CheckpointError::CheckpointError(const std::string& message) : std::runtime_error(message) {}
+CheckpointError::CheckpointError(const std::string& message)
+    : std::runtime_error(message) {}
 
 namespace internal {
 namespace {
@@ -43,7 +44,9 @@ class Writing {
     out_.Raw(m.data(), sizeof(double) * static_cast<std::size_t>(m.size()));
   }
   template <class Enum, class = std::enable_if_t<std::is_enum_v<Enum>>>
-  void operator()(const char* what, Enum e) { (*this)(what, static_cast<std::int64_t>(e)); }
+  void operator()(const char* what, Enum e) {
+    (*this)(what, static_cast<std::int64_t>(e));
+  }
 
  private:
   BinaryWriter& out_;
@@ -53,7 +56,9 @@ class Reading {
  public:
   explicit Reading(BinaryReader* in) : in_(*in) {}
   void operator()(const char* what, std::int64_t& v) { v = in_.Int(what); }
-  void operator()(const char* what, int& v) { v = static_cast<int>(Bounded(what, -(1LL << 31), (1LL << 31) - 1)); }
+  void operator()(const char* what, int& v) {
+    v = static_cast<int>(Bounded(what, -(1LL << 31), (1LL << 31) - 1));
+  }
   void operator()(const char* what, std::uint64_t& v) { v = in_.Unsigned(what); }
   void operator()(const char* what, bool& v) { v = Bounded(what, 0, 1) != 0; }
   void operator()(const char* what, double& v) { v = in_.Double(what); }
@@ -65,8 +70,9 @@ class Reading {
   void operator()(const char* what, Eigen::MatrixXd& m) {
     const std::uint64_t rows = in_.Unsigned(what), cols = in_.Unsigned(what);
     if (rows != 0 && cols > in_.left() / sizeof(double) / rows)
-      in_.Fail(std::string(what) + ": a " + std::to_string(rows) + " x " + std::to_string(cols) +
-               " matrix does not fit into the " + std::to_string(in_.left()) + " bytes left");
+      in_.Fail(std::string(what) + ": a " + std::to_string(rows) + " x " +
+               std::to_string(cols) + " matrix does not fit into the " +
+               std::to_string(in_.left()) + " bytes left");
     m.resize(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
     in_.Raw(m.data(), sizeof(double) * static_cast<std::size_t>(m.size()), what);
   }
@@ -79,8 +85,8 @@ class Reading {
   std::int64_t Bounded(const char* what, std::int64_t low, std::int64_t high) {
     const std::int64_t v = in_.Int(what);
     if (v < low || v > high)
-      in_.Fail(std::string(what) + " = " + std::to_string(v) + " is outside [" + std::to_string(low) + ", " +
-               std::to_string(high) + "]");
+      in_.Fail(std::string(what) + " = " + std::to_string(v) + " is outside [" +
+               std::to_string(low) + ", " + std::to_string(high) + "]");
     return v;
   }
   BinaryReader& in_;
@@ -231,15 +237,18 @@ std::uint64_t ModelFingerprint(const DynamicModel& model, const DynamicOptions& 
   for (const ContactNode& c : model.contact_nodes) {
     HashBytes(&c.node, 1, &hash);
     HashBytes(c.dofs, 3, &hash);
-    for (const Eigen::Vector3d* v : {&c.normal, &c.tangent1, &c.tangent2}) HashBytes(v->data(), 3, &hash);
+    for (const Eigen::Vector3d* v : {&c.normal, &c.tangent1, &c.tangent2})
+      HashBytes(v->data(), 3, &hash);
     HashBytes(&c.gap, 1, &hash);
     HashBytes(&c.area, 1, &hash);
   }
-  const double numbers[] = {options.dt, options.start_time, options.end_time, options.friction_coefficient,
-                            options.ncp.tolerance};
+  const double numbers[] = {options.dt, options.start_time, options.end_time,
+                            options.friction_coefficient, options.ncp.tolerance};
   HashBytes(numbers, std::size(numbers), &hash);
-  const int choices[] = {static_cast<int>(options.step_method), static_cast<int>(options.friction_formulation),
-                         static_cast<int>(options.initial_state), static_cast<int>(options.ncp.ncp_function)};
+  const int choices[] = {static_cast<int>(options.step_method),
+                         static_cast<int>(options.friction_formulation),
+                         static_cast<int>(options.initial_state),
+                         static_cast<int>(options.ncp.ncp_function)};
   HashBytes(choices, std::size(choices), &hash);
   return hash;
 }
@@ -266,28 +275,31 @@ void WriteCheckpoint(const std::string& path, const CheckpointData& data) {
 CheckpointData ParseCheckpoint(std::string_view bytes, const std::string& name) {
   BinaryReader header(bytes, name);
   char magic[sizeof kMagic];
-  if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+  if (bytes.size() < sizeof kMagic ||
+      std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     header.Fail("not a contact checkpoint (the file does not start with \"NCPCKPT\")");
   if (bytes.size() < kHeaderBytes + 8)
-    header.Fail("truncated: " + std::to_string(bytes.size()) + " bytes, a checkpoint has at least " +
-                std::to_string(kHeaderBytes + 8));
+    header.Fail("truncated: " + std::to_string(bytes.size()) +
+                " bytes, a checkpoint has at least " + std::to_string(kHeaderBytes + 8));
   header.Raw(magic, sizeof magic, "magic");
   std::uint32_t version = 0, mark = 0;
   header.Raw(&version, sizeof version, "format version");
   if (version != kCheckpointVersion)
-    header.Fail("format version " + std::to_string(version) + ", this build reads version " +
-                std::to_string(kCheckpointVersion));
+    header.Fail("format version " + std::to_string(version) +
+                ", this build reads version " + std::to_string(kCheckpointVersion));
   header.Raw(&mark, sizeof mark, "byte-order mark");
   if (mark != kByteOrderMark) header.Fail("written on a machine of the other byte order");
   const std::uint64_t length = header.Unsigned("payload length");
   if (length != bytes.size() - (kHeaderBytes + 8))
     header.Fail("truncated or extended: the header announces " + std::to_string(length) +
-                " bytes of state, the file has " + std::to_string(bytes.size()) + " bytes in all (expected " +
-                std::to_string(length + kHeaderBytes + 8) + ")");
+                " bytes of state, the file has " + std::to_string(bytes.size()) +
+                " bytes in all (expected " + std::to_string(length + kHeaderBytes + 8) +
+                ")");
   const std::string_view payload = bytes.substr(kHeaderBytes, length);
   std::uint64_t checksum = 0;
   std::memcpy(&checksum, bytes.data() + kHeaderBytes + length, sizeof checksum);
-  if (checksum != Fnv1a(payload)) header.Fail("corrupt: the checksum of the state does not match");
+  if (checksum != Fnv1a(payload))
+    header.Fail("corrupt: the checksum of the state does not match");
   CheckpointData data;
   BinaryReader in(payload, name);
   Reading io(&in);
@@ -299,15 +311,19 @@ CheckpointData ParseCheckpoint(std::string_view bytes, const std::string& name) 
 
 CheckpointData ReadCheckpoint(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
-  if (!file) throw CheckpointError("cannot read checkpoint '" + path + "': " + std::strerror(errno));
+  if (!file)
+    throw CheckpointError("cannot read checkpoint '" + path +
+                          "': " + std::strerror(errno));
   file.seekg(0, std::ios::end);
   const std::streamoff size = file.tellg();
   if (size < 0 || static_cast<std::uint64_t>(size) > kMaxCheckpointBytes)
-    throw CheckpointError("checkpoint '" + path + "': not a regular file of at most 1 TiB");
+    throw CheckpointError("checkpoint '" + path +
+                          "': not a regular file of at most 1 TiB");
   file.seekg(0);
   std::string bytes(static_cast<std::size_t>(size), '\0');
   if (!file.read(bytes.data(), size))
-    throw CheckpointError("cannot read checkpoint '" + path + "': " + std::strerror(errno));
+    throw CheckpointError("cannot read checkpoint '" + path +
+                          "': " + std::strerror(errno));
   return ParseCheckpoint(bytes, path);
 }
 
@@ -338,15 +354,15 @@ std::string BinaryReader::String(const char* what) {
 std::uint64_t BinaryReader::Count(const char* what, std::size_t element_bytes) {
   const std::uint64_t n = Unsigned(what);
   if (n > left() / element_bytes)
-    Fail(std::string(what) + ": " + std::to_string(n) + " elements do not fit into the " + std::to_string(left()) +
-         " bytes left");
+    Fail(std::string(what) + ": " + std::to_string(n) + " elements do not fit into the " +
+         std::to_string(left()) + " bytes left");
   return n;
 }
 
 void BinaryReader::Raw(void* p, std::size_t n, const char* what) {
   if (n > left())
-    Fail("truncated at byte " + std::to_string(offset_) + " reading " + what + " (" + std::to_string(n) +
-         " bytes needed, " + std::to_string(left()) + " left)");
+    Fail("truncated at byte " + std::to_string(offset_) + " reading " + what + " (" +
+         std::to_string(n) + " bytes needed, " + std::to_string(left()) + " left)");
   if (n) std::memcpy(p, bytes_.data() + offset_, n);
   offset_ += n;
 }
