@@ -222,6 +222,11 @@ int main(int argc, char** argv) {
   if (!completed)
     std::fprintf(stderr, "contact-sim: %s: %s (%s)\n", scene.source.c_str(), contact::ToString(s.status),
                  s.message.c_str());
+  if (s.status == contact::DynamicStatus::kInterrupted && r.checkpoint_step >= 0)
+    std::fprintf(stderr,
+                 "contact-sim: checkpoint of step %d written into %s; the same command with --resume "
+                 "continues the run\n",
+                 r.checkpoint_step, scene.output_directory.c_str());
   if (completed || (!quiet && s.steps > 0)) PrintReport(table, scene, r);
   if (!r.files_written.empty() && !quiet)
     std::fprintf(stderr, "  wrote %zu files into %s\n", r.files_written.size(), scene.output_directory.c_str());

@@ -157,6 +157,8 @@ def main():
                 if match:
                     n = int(match.group(1))
                     check(steps_rows(b) == n, f"steps.csv has {steps_rows(b)} rows after the interrupt at step {n}")
+                    check(f"checkpoint of step {n} written into {b}" in err,
+                          f"no 'checkpoint of step {n} written' on stderr:\n{err[-800:]}")
                     print(f"interrupted at step {n} of {total}")
             r = run(base + ["--output", b, "--resume"])
             check(r.returncode == 0, f"resumed run: exit {r.returncode}\n{r.stderr[-800:]}")

@@ -123,6 +123,7 @@ struct SceneResult {
   int num_dofs = 0, num_free_dofs = 0, num_contact_nodes = 0, num_elements = 0;
   int marked_node = -1;  ///< mesh node of the history output, -1 if none
   int resumed_from_step = -1;  ///< the checkpoint's step of a resumed run, -1 if not resumed
+  int checkpoint_step = -1;    ///< the step of the last checkpoint this run wrote, -1 if none
   std::vector<std::string> files_written;
 };
 

@@ -79,6 +79,7 @@ SceneResult RunScene(const Scene& scene, const SceneRunOptions& run) {
   const auto save_checkpoint = [&] {
     simulation.SaveCheckpoint(checkpoint.string(),
                               writer.Positions(simulation.step_index(), simulation.time()).Encode());
+    result.checkpoint_step = simulation.step_index();
   };
   while (simulation.state() == SimulationState::kRunning) {
     simulation.Step(1);
