@@ -12,8 +12,9 @@ Then, by MODE:
   interrupt  a run into B gets SIGINT after its first checkpoint is written (exit 130,
              "interrupted at step N"); `--resume` into B goes on to the end.
   refuse     --resume is refused (exit 1, message on stderr) without a checkpoint, with a
-             truncated and a corrupt one, and with a changed scene text (naming both hashes
-             and the line that differs); B is left as it was.
+             truncated and a corrupt one, with a changed scene text (naming both hashes
+             and the line that differs) or override, and (tests/fuzz/square_msh.toml) a
+             changed mesh file; B is left as it was.
 The resumed B must equal A: every CSV, .vtu and .pvd byte for byte, except steps.csv's
 `seconds` column (wall-clock time), or with --tolerance REL every number to REL relative
 (|a - b| <= REL max(|a|, |b|)); the largest relative difference is printed.
@@ -107,6 +108,28 @@ def compare_directories(a, b, tolerance):
     return worst
 
 
+def check_mesh_change(contact_sim, work):
+    """tests/fuzz/square_msh.toml with its square.msh: a byte appended to the mesh file after
+    the run makes --resume refuse, naming the mesh file and both hashes."""
+    fuzz = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "fuzz")
+    mesh_dir = os.path.join(work, "mesh")
+    os.makedirs(mesh_dir)
+    for name in ("square_msh.toml", "square.msh"):
+        shutil.copy(os.path.join(fuzz, name), mesh_dir)
+    scene = os.path.join(mesh_dir, "square_msh.toml")
+    with open(scene, "a") as f:
+        f.write("\n[output]\ncheckpoint_every = 30\n")
+    out = os.path.join(mesh_dir, "out")
+    r = run([contact_sim, scene, "--quiet", "--output", out])
+    check(r.returncode == 0, f"mesh scene: exit {r.returncode}\n{r.stderr[-800:]}")
+    with open(os.path.join(mesh_dir, "square.msh"), "a") as f:
+        f.write("\n")
+    r = run([contact_sim, scene, "--quiet", "--output", out, "--resume"])
+    check(r.returncode == 1 and "the mesh file changed" in r.stderr and "square.msh" in r.stderr
+          and r.stderr.count("0x") >= 2,
+          f"--resume after the mesh file changed: exit {r.returncode}, stderr {r.stderr[-600:]!r}")
+
+
 def steps_rows(directory):
     return len(csv_numbers(os.path.join(directory, "steps.csv"))[1])
 
@@ -197,6 +220,7 @@ def main():
             r = run(base + ["--output", b, "--resume", "--dt", "1e-7"])
             check(r.returncode == 1 and "the scene changed" in r.stderr and "override" in r.stderr,
                   f"--resume with another override: exit {r.returncode}, stderr {r.stderr[-600:]!r}")
+            check_mesh_change(args.contact_sim, work)
             print("refusals:", "ok" if not FAILURES else "failed")
             # B (a copy of A) must be untouched by the refused resumes.
         worst = compare_directories(a, b, args.tolerance)
