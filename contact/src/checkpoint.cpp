@@ -69,7 +69,11 @@ class Reading {
   }
   void operator()(const char* what, Eigen::MatrixXd& m) {
     const std::uint64_t rows = in_.Unsigned(what), cols = in_.Unsigned(what);
-    if (rows != 0 && cols > in_.left() / sizeof(double) / rows)
+    // (Each dimension bounded too: a 0 x 2^63 matrix holds no entries but is no Eigen
+    // size.)
+    constexpr std::uint64_t kMaxDimension = std::uint64_t{1} << 31;
+    if (rows > kMaxDimension || cols > kMaxDimension ||
+        (rows != 0 && cols > in_.left() / sizeof(double) / rows))
       in_.Fail(std::string(what) + ": a " + std::to_string(rows) + " x " +
                std::to_string(cols) + " matrix does not fit into the " +
                std::to_string(in_.left()) + " bytes left");
