@@ -200,7 +200,8 @@ class Result:
         the Simulation that was saved, bit for bit.  Raises contact.CheckpointError (a
         ValueError) when the file is missing, truncated or corrupt or of another scene (the
         message names both hashes and the first line that differs).  ``result()`` holds the
-        snapshots of the steps after the load; ``records`` and ``summary`` all steps."""
+        snapshots of the steps after the load (as the uninterrupted run's after the checkpoint's
+        step); ``records`` and ``summary`` all steps."""
         sim = cls(scene, base_dir, **overrides)
         sim._core.load_checkpoint(os.fspath(path))
         return sim
@@ -358,7 +359,8 @@ class Simulation:
         the Simulation that was saved, bit for bit.  Raises contact.CheckpointError (a
         ValueError) when the file is missing, truncated or corrupt or of another scene (the
         message names both hashes and the first line that differs).  ``result()`` holds the
-        snapshots of the steps after the load; ``records`` and ``summary`` all steps."""
+        snapshots of the steps after the load (as the uninterrupted run's after the checkpoint's
+        step); ``records`` and ``summary`` all steps."""
         sim = cls(scene, base_dir, **overrides)
         sim._core.load_checkpoint(os.fspath(path))
         return sim

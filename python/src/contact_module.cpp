@@ -225,6 +225,14 @@ class SceneStepper {
     return contact::ToString(sim_.state());
   }
 
+  /// The state of a checkpoint; the stress times its steps reached are not collected again.
+  void LoadCheckpoint(const std::string& path) {
+    sim_.LoadCheckpoint(path);
+    const double dt = sim_.options().dt;
+    while (sim_.step_index() > 0 && !pending_.empty() && sim_.time() >= pending_.front() - 0.5 * dt)
+      pending_.erase(pending_.begin());
+  }
+
   contact::Simulation& sim() { return sim_; }
   const contact::Simulation& sim() const { return sim_; }
   int dim() const { return built_.body->mesh().dim; }
@@ -420,7 +428,7 @@ PYBIND11_MODULE(_contact, m) {
            }, py::arg("body_force"))
       .def("save", [](const SceneStepper& s, const std::string& path) { s.sim().SaveCheckpoint(path); },
            py::arg("path"), "the checkpoint of the state (contact::Simulation::SaveCheckpoint)")
-      .def("load_checkpoint", [](SceneStepper& s, const std::string& path) { s.sim().LoadCheckpoint(path); },
+      .def("load_checkpoint", &SceneStepper::LoadCheckpoint,
            py::arg("path"), "the state of a checkpoint of the same scene (contact::Simulation::LoadCheckpoint)")
       .def("move_obstacle", [](SceneStepper& s, const py::object& d) {
              s.sim().MoveObstacle(VectorArg("the obstacle translation [m]", d, s.dim()));

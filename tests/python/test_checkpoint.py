@@ -59,6 +59,12 @@ def test_resumed_equals_uninterrupted(tmp_path, scene, overrides, k):
     np.testing.assert_array_equal(resumed.obstacle_translation, np.full(whole.dim, 1e-6))
     resumed.step(10**6)
     assert_same(whole, resumed)
+    # The snapshots after the load: those of the uninterrupted run after step k (stress
+    # times reached before the checkpoint are not collected again), with the same numbers.
+    times_k = whole.records["time"][k - 1]
+    after = [i for i, t in enumerate(whole.result().output_times) if t > times_k]
+    np.testing.assert_array_equal(resumed.result().output_times, whole.result().output_times[after])
+    np.testing.assert_array_equal(resumed.result().displacement, whole.result().displacement[after])
 
 
 def test_refusals(tmp_path):
