@@ -4,7 +4,7 @@
 # builds the libFuzzer targets with clang, ASan and UBSan in build-fuzz (NCP_BUILD_FUZZERS)
 # and runs each target for SECONDS (default 60) from a corpus seeded with the examples' and
 # tests' files (plus tests/fuzz/regressions/<target>/). TARGETS: space-separated names, default
-# all four: fuzz_scene fuzz_gmsh_mesh fuzz_siconos_dat fuzz_fclib (the FCLIB target reads
+# all five: fuzz_scene fuzz_gmsh_mesh fuzz_siconos_dat fuzz_fclib fuzz_checkpoint (the FCLIB target reads
 # through ncp's own HDF5 reader, ncp/fc/src/fclib_hdf5.cpp, which throws where libfclib exited). FUZZ_SEED=N makes a
 # run reproducible (libFuzzer -seed=N; default: libFuzzer's random seed). Crash inputs go to
 # build-fuzz/findings/<target>/; a crash fails the script - fix it and copy the input into
@@ -12,7 +12,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-60}"
-targets="${2:-fuzz_scene fuzz_gmsh_mesh fuzz_siconos_dat fuzz_fclib}"
+targets="${2:-fuzz_scene fuzz_gmsh_mesh fuzz_siconos_dat fuzz_fclib fuzz_checkpoint}"
 jobs="${FUZZ_BUILD_JOBS:-2}"
 if ! command -v clang++ >/dev/null; then
   echo "fuzz.sh: clang++ not found (Debian packages clang libclang-rt-14-dev, scripts/setup.sh)" >&2
@@ -37,6 +37,7 @@ seeds_of() {
     fuzz_gmsh_mesh) ls examples/scenes/*.msh tests/fuzz/*.msh ;;
     fuzz_siconos_dat) find data/fc3d -name '*.dat' -size -20k ;;  # small seeds: fast mutations
     fuzz_fclib) ls data/fc3d/*.hdf5 ;;
+    fuzz_checkpoint) ls tests/fuzz/*.ckpt ;;
     *) echo "fuzz.sh: unknown target $1" >&2; exit 2 ;;
   esac
 }

@@ -16,6 +16,7 @@
 
 #include "contact/simulation.hpp"
 #include "contact/static_contact.hpp"
+#include "checkpoint.hpp"
 #include "critical_time_step.hpp"
 #include "energy_balance.hpp"
 #include "mass_inverse.hpp"
@@ -205,6 +206,22 @@ class CentralDifferences {
   const Eigen::VectorXd& gaps() const { return gap0_; }
   double force_scale() const { return force_scale_; }
   const StepRecord& first_inaccurate() const { return first_inaccurate_; }
+
+  /// What a checkpoint needs besides State and the summary.
+  void Save(internal::CheckpointData* data) const {
+    data->gaps = gap0_;
+    data->energy = energy_;
+    data->warm_start = method_->WarmStart();
+    data->first_inaccurate = first_inaccurate_;
+  }
+  /// Restores Save's part (sizes checked by the caller; the warm start's by the method,
+  /// which throws std::invalid_argument before it changes anything).
+  void Restore(const internal::CheckpointData& data) {
+    method_->SetWarmStart(data.warm_start);
+    SetGaps(data.gaps);
+    energy_ = data.energy;
+    first_inaccurate_ = data.first_inaccurate;
+  }
 
  private:
   // Q^k = M (u^{k-1} - u^k) / dt^2 + K u^k - f^k (eq. 73), q = Q^k dt^2 / m_max (eq. 81), the
@@ -455,6 +472,13 @@ struct Simulation::Impl {
     }
   }
 
+  /// The state after step k for a checkpoint (the caller checks that there is one).
+  void Save(internal::CheckpointData* data) const;
+  /// Checks that `data` is a state of this run (CheckpointError naming what differs).
+  void Check(const internal::CheckpointData& data) const;
+  /// Replaces the state with data (checked).
+  void Restore(const internal::CheckpointData& data);
+
   const Clock::time_point start;
   const DynamicModel& model;
   const DynamicOptions options;
@@ -467,6 +491,109 @@ struct Simulation::Impl {
   SimulationState run_state = SimulationState::kRunning;
   double last_progress = 0.0;  // [s] since start
 };
+
+void Simulation::Impl::Save(internal::CheckpointData* data) const {
+  internal::CheckpointIdentity& id = data->identity;
+  id.model_hash = internal::ModelFingerprint(model, options);
+  id.dim = model.dim;
+  id.free_dofs = model.K.rows();
+  id.contact_nodes = static_cast<std::int64_t>(model.contact_nodes.size());
+  id.num_steps = num_steps;
+  id.step_method = static_cast<std::int64_t>(summary.step_method);
+  data->k = k;
+  data->u = state.u;
+  data->u_previous = state.u_previous;
+  data->lambda = state.lambda;
+  data->Ku = state.Ku;
+  data->Mdu_previous = state.Mdu_previous;
+  data->du = state.du;
+  data->contact_force_max = state.contact_force_max;
+  data->contact = state.contact;
+  integrator->Save(data);
+  data->summary = summary;
+}
+
+namespace {
+
+std::string Hex(std::uint64_t v) {
+  char buffer[24];
+  std::snprintf(buffer, sizeof buffer, "0x%016llx", static_cast<unsigned long long>(v));
+  return buffer;
+}
+
+// CheckpointError unless `size` == `expected` (or 0 when `empty_ok`).
+void CheckSize(const char* what, Eigen::Index size, Eigen::Index expected, bool empty_ok = false) {
+  if (size == expected || (empty_ok && size == 0)) return;
+  throw CheckpointError(std::string(what) + " has " + std::to_string(size) +
+                        " entries, this run has " + std::to_string(expected));
+}
+
+}  // namespace
+
+void Simulation::Impl::Check(const internal::CheckpointData& d) const {
+  const internal::CheckpointIdentity& id = d.identity;
+ const auto differs = [](const std::string& what, const std::string& saved, const std::string& now) {
+    throw CheckpointError("it is of another run: " + what + " " + saved + " in the checkpoint, " + now +
+                          " now");
+  };
+  const Eigen::Index n = model.K.rows();
+  const auto N = static_cast<Eigen::Index>(model.contact_nodes.size());
+  if (id.dim != model.dim) differs("dim", std::to_string(id.dim), std::to_string(model.dim));
+  if (id.free_dofs != n) differs("free dofs", std::to_string(id.free_dofs), std::to_string(n));
+  if (id.contact_nodes != N) differs("contact nodes", std::to_string(id.contact_nodes), std::to_string(N));
+  if (id.num_steps != num_steps) differs("time steps", std::to_string(id.num_steps), std::to_string(num_steps));
+  if (id.step_method != static_cast<std::int64_t>(summary.step_method))
+    differs("step method", ToString(static_cast<StepMethod>(id.step_method)), ToString(summary.step_method));
+  const std::uint64_t fingerprint = internal::ModelFingerprint(model, options);
+  if (id.model_hash != fingerprint)
+    differs("the model (K, M, contact nodes, dt, times, friction, step method, tolerance) has fingerprint",
+            Hex(id.model_hash), Hex(fingerprint));
+  if (d.k < 0 || d.k > num_steps || d.summary.records.size() != static_cast<size_t>(d.k))
+    throw CheckpointError("its step index " + std::to_string(d.k) + " does not fit its " +
+                          std::to_string(d.summary.records.size()) + " step records and " +
+                          std::to_string(num_steps) + " steps");
+  for (const auto& [what, v] : {std::pair<const char*, const Eigen::VectorXd*>{"u", &d.u}, {"u_previous", &d.u_previous},
+                                {"K u", &d.Ku}, {"M du", &d.Mdu_previous}, {"du", &d.du}})
+    CheckSize(what, v->size(), n);
+  CheckSize("lambda", d.lambda.size(), N);
+  CheckSize("the gaps", d.gaps.size(), N);
+  CheckSize("the final displacement", d.summary.u.size(), n, true);
+  const bool stepped = d.k > 0;  // (before the first step the contact result is empty)
+  CheckSize("the contact result's du", d.contact.x.size(), n, !stepped);
+  CheckSize("the contact result's normal forces", d.contact.normal_force.size(), N, !stepped);
+  CheckSize("the contact result's gaps", d.contact.gap.size(), N, !stepped);
+  CheckSize("the contact result's friction forces", d.contact.tangent_force.size(), (model.dim - 1) * N, !stepped);
+  CheckSize("the contact result's slips", d.contact.slip.size(), (model.dim - 1) * N, !stepped);
+  if (d.contact.tangent_force.size() && d.contact.tangent_force.rows() != model.dim - 1)
+    throw CheckpointError("its friction forces have " + std::to_string(d.contact.tangent_force.rows()) +
+                          " rows, this run " + std::to_string(model.dim - 1));
+}
+
+void Simulation::Impl::Restore(const internal::CheckpointData& d) {
+  try {
+    integrator->Restore(d);  // (the warm start first: it may refuse before anything changes)
+  } catch (const std::invalid_argument& e) {
+    throw CheckpointError(std::string("it does not fit this run: ") + e.what());
+  }
+  state.u = d.u;
+  state.u_previous = d.u_previous;
+  state.lambda = d.lambda;
+  state.Ku = d.Ku;
+  state.Mdu_previous = d.Mdu_previous;
+  state.du = d.du;
+  state.contact_force_max = d.contact_force_max;
+  state.contact = d.contact;
+  const double seconds = summary.seconds;
+  summary = d.summary;
+  summary.seconds += seconds;
+  summary.status = DynamicStatus::kNotRun;  // (an interrupted run's checkpoint goes on)
+  summary.u = state.u;
+  summary.records.reserve(static_cast<size_t>(std::max(0L, num_steps)));
+  k = d.k;
+  run_state = SimulationState::kRunning;
+  summary.message = "running: " + std::to_string(k) + " of " + std::to_string(num_steps) + " steps";
+  if (k >= num_steps) Finish();
+}
 
 Simulation::Simulation(const DynamicModel& model, DynamicOptions options)
     : impl_(std::make_unique<Impl>(model, std::move(options))) {}
@@ -499,6 +626,39 @@ const DynamicSummary& Simulation::summary() const { return impl_->summary; }
 const std::vector<StepRecord>& Simulation::records() const { return impl_->summary.records; }
 const DynamicModel& Simulation::model() const { return impl_->model; }
 const DynamicOptions& Simulation::options() const { return impl_->options; }
+
+void Simulation::SaveCheckpoint(const std::string& path, const std::string& application_data) const {
+  const Impl& s = *impl_;
+  if (!s.integrator || (s.run_state == SimulationState::kFailed && s.summary.status != DynamicStatus::kInterrupted))
+    throw std::logic_error("contact::Simulation::SaveCheckpoint: no state to continue from (" + s.summary.message + ")");
+  internal::CheckpointData data;
+  s.Save(&data);
+  if (scene_) SaveScene(&data);
+  data.application_data = application_data;
+  internal::WriteCheckpoint(path, data);
+}
+
+std::string Simulation::LoadCheckpoint(const std::string& path) {
+  Impl& s = *impl_;
+  if (!s.integrator)
+    throw std::logic_error("contact::Simulation::LoadCheckpoint: the run was refused (" + s.summary.message + ")");
+  const internal::CheckpointData data = internal::ReadCheckpoint(path);
+  try {
+    if (scene_) CheckScene(data);  // the scene text and mesh first: the clearest message
+    s.Check(data);
+  } catch (const CheckpointError& e) {
+    throw CheckpointError("checkpoint '" + path + "': " + e.what());
+  }
+  s.Restore(data);
+  if (scene_) RestoreScene(data);
+  return data.application_data;
+}
+
+std::unique_ptr<Simulation> Simulation::Load(const std::string& path, const Scene& scene) {
+  auto simulation = std::make_unique<Simulation>(scene);
+  simulation->LoadCheckpoint(path);
+  return simulation;
+}
 
 const Eigen::VectorXd& Simulation::displacement() const {
   if (!impl_->integrator)

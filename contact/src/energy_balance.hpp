@@ -20,6 +20,7 @@ struct EnergyBalance {
   double external_work = 0.0, normal_work = 0.0, friction_dissipation = 0.0;
   double work_scale = 0.0;  ///< sum of |external work increments|
 
+  EnergyBalance() = default;  ///< zero (a checkpoint fills it)
   /// At the start: Ku = K u^0, Mdu = M (u^0 - u^{-1}).
   EnergyBalance(const Eigen::VectorXd& u, const Eigen::VectorXd& u_previous,
                 const Eigen::VectorXd& Ku, const Eigen::VectorXd& Mdu, double dt);

@@ -411,4 +411,9 @@ std::string VtuSeriesWriter::Write(int step, const ContactSnapshot& snapshot) {
   return path;
 }
 
+void VtuSeriesWriter::Continue(std::vector<std::pair<double, std::string>> snapshots) {
+  snapshots_ = std::move(snapshots);
+  WritePvd(pvd_path(), snapshots_);
+}
+
 }  // namespace contact

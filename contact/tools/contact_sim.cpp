@@ -3,7 +3,7 @@
 //   contact-sim SCENE.toml [--json] [--step auto|condensed|sparse|full|explicit|ipopt]
 //                          [--ncp-function fb|min|penalized-fb] [--dt S] [--friction F]
 //                          [--friction-formulation lagged-bound|coulomb-fc] [--end-time S]
-//                          [--output DIR] [--quiet]
+//                          [--output DIR] [--resume] [--quiet]
 //   mpiexec -n R contact-sim SCENE.toml ...   (built with PETSc: the explicit step on R ranks,
 //                                             docs/petsc.md "Contact scenes on MPI ranks")
 #include <cxxopts.hpp>
@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "contact/scene.hpp"
+#include "contact/simulation.hpp"
 #include "ncp/output_file.hpp"
 #ifdef CONTACT_SIM_WITH_PETSC
 #include <petscsys.h>
@@ -140,6 +141,9 @@ cxxopts::Options MakeCli() {
       "output", "override output.directory", cxxopts::value<std::string>())(
       "no-output", "write no files")(
       "distributed", "run through PETSc DMPlex even on one MPI rank (under mpiexec: the explicit step)")(
+      "resume", "continue the run from the checkpoint in the output directory (checkpoint.bin, "
+                "written every output.checkpoint_every steps and when interrupted); the scene "
+                "and its overrides must be the same")(
       "quiet", "no progress lines, notes or warnings; a run that does not complete prints its "
                "reason once and no table")(
       "h,help", "show this help");
@@ -244,9 +248,9 @@ contact::SceneResult RunDistributed(const contact::Scene& scene, const MpiSessio
 
 }  // namespace
 
-// Exit codes: 0 completed, 1 refused input (scene, mesh, option value) or a run that did not
-// complete, 2 usage error (unknown option, missing scene, option without its value), 3 an
-// output file could not be written (its name and the reason on stderr), 128 + the signal
+// Exit codes: 0 completed, 1 refused input (scene, mesh, option value, a --resume without a
+// usable checkpoint of the same scene) or a run that did not complete, 2 usage error
+// (unknown option, missing scene, option without its value), 3 an output file could not be written (its name and the reason on stderr), 128 + the signal
 // (130 SIGINT, 143 SIGTERM) for a run stopped by a signal after a finished step.
 int main(int argc, char** argv) {
   const MpiSession mpi;
@@ -287,12 +291,22 @@ int main(int argc, char** argv) {
     if (args.count("output")) scene.output_directory = args["output"].as<std::string>();
     if (args.count("no-output")) scene.output_directory.clear();
     if (distributed) {
+      if (args.count("resume"))
+        throw contact::SceneError("--resume is not supported on MPI ranks yet (checkpoints are "
+                                  "written by one-process runs only) [" +
+                                  std::to_string(mpi.size()) + " MPI ranks]");
       r = RunDistributed(scene, mpi, !quiet);
     } else {
       scene.dynamics.stop_requested = &g_stop_requested;
       InstallSignalHandlers();
-      r = contact::RunScene(scene, !quiet);
+      contact::SceneRunOptions run;
+      run.progress = !quiet;
+      run.resume = args.count("resume") > 0;
+      r = contact::RunScene(scene, run);
     }
+  } catch (const contact::CheckpointError& e) {
+    std::cerr << "contact-sim: cannot resume: " << e.what() << std::endl;
+    return 1;
   } catch (const ncp::OutputError& e) {
     std::cerr << "contact-sim: output failed, the run is incomplete: " << e.what() << std::endl;
     return 3;
@@ -301,6 +315,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   const contact::DynamicSummary& s = r.summary;
+  if (r.resumed_from_step >= 0 && !quiet)
+    std::fprintf(stderr, "contact-sim: resumed from the checkpoint of step %d\n", r.resumed_from_step);
   // The JSON first: if stdout cannot take it, the run's result is lost - exit 3 without a
   // report that says completed.
   if (json) std::cout << JsonSummary(scene, r, mpi.size()).dump(2) << std::endl;
@@ -315,6 +331,11 @@ int main(int argc, char** argv) {
   if (!completed)
     std::fprintf(stderr, "contact-sim: %s: %s (%s)\n", scene.source.c_str(), contact::ToString(s.status),
                  s.message.c_str());
+  if (s.status == contact::DynamicStatus::kInterrupted && r.checkpoint_step >= 0)
+    std::fprintf(stderr,
+                 "contact-sim: checkpoint of step %d written into %s; the same command with --resume "
+                 "continues the run\n",
+                 r.checkpoint_step, scene.output_directory.c_str());
   if (completed || (!quiet && s.steps > 0)) PrintReport(table, scene, r);
   if (!r.files_written.empty() && !quiet)
     std::fprintf(stderr, "  wrote %zu files into %s\n", r.files_written.size(), scene.output_directory.c_str());

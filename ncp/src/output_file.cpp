@@ -42,6 +42,22 @@ OutputFile OutputFile::OpenAtomic(const std::string& path) {
   return OutputFile(path, partial, OpenForWriting(partial));
 }
 
+OutputFile OutputFile::OpenAppend(const std::string& path, long long keep_bytes) {
+  int fd;
+  do {
+    fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+  } while (fd < 0 && errno == EINTR);
+  if (fd < 0) throw OutputError("cannot open", path, errno);
+  OutputFile file(path, path, fd);  // (closes fd on a throw below)
+  struct stat existing {};
+  if (::fstat(fd, &existing) != 0) throw OutputError("cannot inspect", path, errno);
+  if (keep_bytes < 0 || existing.st_size < keep_bytes) throw OutputError("shorter than expected", path, EINVAL);
+  if (::ftruncate(fd, static_cast<off_t>(keep_bytes)) != 0) throw OutputError("cannot cut back", path, errno);
+  if (::lseek(fd, static_cast<off_t>(keep_bytes), SEEK_SET) < 0) throw OutputError("cannot seek in", path, errno);
+  file.committed_bytes_ = keep_bytes;
+  return file;
+}
+
 OutputFile::OutputFile(OutputFile&& other) noexcept
     : path_(std::move(other.path_)),
       written_path_(std::move(other.written_path_)),

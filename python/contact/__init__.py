@@ -21,12 +21,12 @@ import warnings as _warnings
 
 import numpy as np
 
-from ._contact import STEP_FIELDS, SUMMARY_FIELDS, Scene, SceneError
+from ._contact import STEP_FIELDS, SUMMARY_FIELDS, CheckpointError, Scene, SceneError
 from . import _contact
 from ncp import _did_you_mean  # one suggestion rule for both packages
 
 __all__ = ["load_scene", "scene_from_dict", "run", "Simulation", "example_path", "Result", "Scene",
-           "SceneError", "STEP_FIELDS", "SUMMARY_FIELDS", "OVERRIDES"]
+           "SceneError", "CheckpointError", "STEP_FIELDS", "SUMMARY_FIELDS", "OVERRIDES"]
 
 #: Keyword overrides of ``load_scene`` and ``run`` -> scene keys (contact-sim's --dt, ...).
 OVERRIDES = {"dt": "time.dt", "end_time": "time.end_time", "friction": "friction.coefficient",
@@ -186,6 +186,26 @@ class Result:
             raise ValueError(f"contact: point must have {self.contact_coordinates.shape[1]} coordinates")
         return int(np.argmin(np.linalg.norm(self.contact_coordinates - point, axis=1)))
 
+    def save(self, path):
+        """Writes the state after the current step to `path` (binary, atomically: path.partial
+        renamed when complete): everything the next steps read, the summary with every step's
+        record, the body force and obstacle translation, and the scene's text and hash.
+        Raises RuntimeError naming the file and the reason if it cannot be written."""
+        self._core.save(os.fspath(path))
+
+    @classmethod
+    def load(cls, path, scene, base_dir=".", **overrides):
+        """The Simulation of `scene` (a Scene, a path or a dict, with the overrides of
+        ``run``) continued from the checkpoint at `path`: its steps from there are those of
+        the Simulation that was saved, bit for bit.  Raises contact.CheckpointError (a
+        ValueError) when the file is missing, truncated or corrupt or of another scene (the
+        message names both hashes and the first line that differs).  ``result()`` holds the
+        snapshots of the steps after the load (as the uninterrupted run's after the checkpoint's
+        step); ``records`` and ``summary`` all steps."""
+        sim = cls(scene, base_dir, **overrides)
+        sim._core.load_checkpoint(os.fspath(path))
+        return sim
+
     @property
     def completed(self):
         return self.summary["status"] == "completed"
@@ -292,6 +312,10 @@ class Simulation:
     contact_gaps (C,) [m]: s_c, the gaps at u = 0 for the obstacle where it is now
     summary: dict as Result.summary (status "not-run" until the end), records: {name: (steps,)}
     body_force (dim,) [N/m^3], obstacle_translation (dim,) [m]
+
+    Checkpoints: ``sim.save(path)`` writes the state; ``contact.Simulation.load(path, scene)``
+    continues from it (same scene and overrides, else contact.CheckpointError) and steps on
+    exactly as the Simulation that was saved.
     """
 
     def __init__(self, scene, base_dir=".", **overrides):
@@ -320,6 +344,26 @@ class Simulation:
         in the scene - absolute, not an increment.  The gaps s_c are recomputed from the moved
         obstacle; the contact frames (normals) are kept (small displacements)."""
         self._core.move_obstacle(_finite_vector(translation, "obstacle translation"))
+
+    def save(self, path):
+        """Writes the state after the current step to `path` (binary, atomically: path.partial
+        renamed when complete): everything the next steps read, the summary with every step's
+        record, the body force and obstacle translation, and the scene's text and hash.
+        Raises RuntimeError naming the file and the reason if it cannot be written."""
+        self._core.save(os.fspath(path))
+
+    @classmethod
+    def load(cls, path, scene, base_dir=".", **overrides):
+        """The Simulation of `scene` (a Scene, a path or a dict, with the overrides of
+        ``run``) continued from the checkpoint at `path`: its steps from there are those of
+        the Simulation that was saved, bit for bit.  Raises contact.CheckpointError (a
+        ValueError) when the file is missing, truncated or corrupt or of another scene (the
+        message names both hashes and the first line that differs).  ``result()`` holds the
+        snapshots of the steps after the load (as the uninterrupted run's after the checkpoint's
+        step); ``records`` and ``summary`` all steps."""
+        sim = cls(scene, base_dir, **overrides)
+        sim._core.load_checkpoint(os.fspath(path))
+        return sim
 
     @property
     def completed(self):

@@ -225,6 +225,14 @@ class SceneStepper {
     return contact::ToString(sim_.state());
   }
 
+  /// The state of a checkpoint; the stress times its steps reached are not collected again.
+  void LoadCheckpoint(const std::string& path) {
+    sim_.LoadCheckpoint(path);
+    const double dt = sim_.options().dt;
+    while (sim_.step_index() > 0 && !pending_.empty() && sim_.time() >= pending_.front() - 0.5 * dt)
+      pending_.erase(pending_.begin());
+  }
+
   contact::Simulation& sim() { return sim_; }
   const contact::Simulation& sim() const { return sim_; }
   int dim() const { return built_.body->mesh().dim; }
@@ -333,6 +341,7 @@ PYBIND11_MODULE(_contact, m) {
       "Dynamic contact of an elastic body with a rigid obstacle (C++ core of the contact "
       "package)";
   py::register_exception<contact::SceneError>(m, "SceneError", PyExc_ValueError);
+  py::register_exception<contact::CheckpointError>(m, "CheckpointError", PyExc_ValueError);
 
   py::class_<contact::Scene>(m, "Scene",
                              "A scene read from a TOML file (examples/scenes/README.md).")
@@ -417,6 +426,10 @@ PYBIND11_MODULE(_contact, m) {
       .def("set_body_force", [](SceneStepper& s, const py::object& b) {
              s.sim().SetBodyForce(VectorArg("the body force [N/m^3]", b, s.dim()));
            }, py::arg("body_force"))
+      .def("save", [](const SceneStepper& s, const std::string& path) { s.sim().SaveCheckpoint(path); },
+           py::arg("path"), "the checkpoint of the state (contact::Simulation::SaveCheckpoint)")
+      .def("load_checkpoint", &SceneStepper::LoadCheckpoint,
+           py::arg("path"), "the state of a checkpoint of the same scene (contact::Simulation::LoadCheckpoint)")
       .def("move_obstacle", [](SceneStepper& s, const py::object& d) {
              s.sim().MoveObstacle(VectorArg("the obstacle translation [m]", d, s.dim()));
            }, py::arg("translation"));

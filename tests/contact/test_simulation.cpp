@@ -3,6 +3,10 @@
 // are recomputed exactly as the scene builds them; misuse throws naming the value.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <string>
 #include <limits>
 
 #include "block_on_floor.hpp"
@@ -140,6 +144,69 @@ TEST_CASE("Simulation rejects misuse naming the value", "[simulation][errors]") 
   CHECK(refused.summary().status == DynamicStatus::kRefusedUnstable);
   CHECK(refused.Step(5) == SimulationState::kFailed);
   CHECK_THROWS_WITH(refused.displacement(), Catch::Contains("no state"));
+}
+
+}  // namespace
+}  // namespace contact
+
+namespace contact {
+namespace {
+
+// A checkpoint after k steps, loaded into a new Simulation of the same model and stepped to
+// the end, is the uninterrupted run bit for bit - for every step method (the warm start of
+// the Newton and ncp::fc steps included: the block slides, so friction forces are carried).
+TEST_CASE("Simulation checkpoint: loaded and stepped on is the uninterrupted run bit for bit",
+          "[simulation][checkpoint]") {
+  const StepMethod method =
+      GENERATE(StepMethod::kFull, StepMethod::kCondensed, StepMethod::kExplicit, StepMethod::kSparse);
+  CAPTURE(ToString(method));
+  const SceneModel built = BuildSceneModel(SlidingBlock(method));
+  const DynamicSummary run = RunDynamics(built.model, built.options);
+  REQUIRE(run.status == DynamicStatus::kCompleted);
+  const std::string path = "test_simulation_checkpoint_" + std::string(ToString(method)) + ".ckpt";
+  {
+    Simulation first(built.model, built.options);
+    first.Step(17);
+    first.SaveCheckpoint(path, "app data");
+  }
+  Simulation second(built.model, built.options);
+  CHECK(second.LoadCheckpoint(path) == "app data");
+  CHECK(second.step_index() == 17);
+  CHECK(second.time() == run.records[16].time);
+  second.Step(1000);
+  RequireSameRecords(run, second.summary());
+  CHECK(second.summary().newton_iterations == run.newton_iterations);
+  CHECK(second.summary().friction_restarts == run.friction_restarts);
+  CHECK(second.summary().max_friction_residual == run.max_friction_residual);
+  std::remove(path.c_str());
+}
+
+TEST_CASE("Simulation checkpoint: another model, a truncated or corrupt file is refused",
+          "[simulation][checkpoint]") {
+  const SceneModel built = BuildSceneModel(SlidingBlock(StepMethod::kCondensed));
+  const std::string path = "test_simulation_checkpoint_refused.ckpt";
+  Simulation sim(built.model, built.options);
+  sim.Step(3);
+  sim.SaveCheckpoint(path);
+  DynamicOptions other_dt = built.options;
+  other_dt.dt *= 0.5;
+  Simulation other(built.model, other_dt);
+  CHECK_THROWS_WITH(other.LoadCheckpoint(path), Catch::Contains("of another run") && Catch::Contains("time steps"));
+  CHECK(other.step_index() == 0);  // unchanged
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const auto write = [&](const std::string& text) { std::ofstream(path, std::ios::binary) << text; };
+  write(bytes.substr(0, bytes.size() - 1));
+  CHECK_THROWS_AS(sim.LoadCheckpoint(path), CheckpointError);
+  std::string flipped = bytes;
+  flipped[bytes.size() / 2] ^= 1;
+  write(flipped);
+  CHECK_THROWS_WITH(sim.LoadCheckpoint(path), Catch::Contains("checksum"));
+  std::remove(path.c_str());
+  CHECK_THROWS_WITH(sim.LoadCheckpoint(path), Catch::Contains("cannot read checkpoint"));
 }
 
 }  // namespace

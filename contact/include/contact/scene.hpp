@@ -40,9 +40,15 @@ enum class LoadHistory {
 };
 enum class MassKind { kConsistent, kLumped };
 
+/// output.checkpoint_every when the scene does not set it [steps].
+inline constexpr int kDefaultCheckpointEvery = 100;
+
 struct Scene {
   std::string name;
   std::string source;  ///< the file it was read from
+  /// The file's text as read, with one line "# override: table.key = literal" per
+  /// command-line override: what a checkpoint is compared with.
+  std::string text;
 
   // Geometry: exactly one of rectangle / box / msh_file.
   int dim = 0;
@@ -73,6 +79,10 @@ struct Scene {
   /// end_time < dt), one sentence each naming the key; contact-sim prints them.
   std::vector<std::string> warnings;
   int snapshot_every = 0;            ///< VTK snapshot every n steps (0 = first and last only)
+  /// contact-sim writes output_directory/checkpoint.bin every n steps (0 = only when
+  /// interrupted) and on SIGINT / SIGTERM; RunScene with SceneRunOptions::resume continues
+  /// from it.
+  int checkpoint_every = kDefaultCheckpointEvery;
   std::optional<Eigen::VectorXd> marked_point;  ///< history of the contact node nearest to it
 };
 
@@ -112,13 +122,32 @@ struct SceneResult {
   DynamicSummary summary;
   int num_dofs = 0, num_free_dofs = 0, num_contact_nodes = 0, num_elements = 0;
   int marked_node = -1;  ///< mesh node of the history output, -1 if none
+  int resumed_from_step = -1;  ///< the checkpoint's step of a resumed run, -1 if not resumed
+  int checkpoint_step = -1;    ///< the step of the last checkpoint this run wrote, -1 if none
   std::vector<std::string> files_written;
 };
+
+/// How RunScene runs.
+struct SceneRunOptions {
+  bool progress = false;  ///< progress lines on stderr
+  /// Continue from output_directory/checkpoint.bin (kCheckpointFile): the state of its step,
+  /// the CSVs cut back to their rows up to that step and appended to, the VTK series
+  /// continued. Throws CheckpointError (contact/simulation.hpp) when there is no checkpoint,
+  /// it is corrupt or truncated, or it is of another scene (text with overrides, mesh file)
+  /// or model, and when an output file is shorter than the checkpoint recorded.
+  bool resume = false;
+};
+
+/// The checkpoint's name in the output directory.
+inline constexpr const char* kCheckpointFile = "checkpoint.bin";
 
 /// Builds the model (mesh, K, M, loads, contact frames), runs the time loop and writes the
 /// outputs into scene.output_directory: steps.csv (one row per step), contact_stress.csv
 /// (per contact node at the stress times and the end), node_history.csv (marked node),
-/// and VTK snapshots. Progress lines go to stderr when `progress` is set.
+/// VTK snapshots, and checkpoint.bin every scene.checkpoint_every steps and when the run is
+/// interrupted (DynamicOptions::stop_requested).
+SceneResult RunScene(const Scene& scene, const SceneRunOptions& options);
+/// RunScene(scene, {progress}).
 SceneResult RunScene(const Scene& scene, bool progress);
 
 }  // namespace contact

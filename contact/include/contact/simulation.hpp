@@ -11,11 +11,27 @@
 /// of the next step), the start guess du = u^k - u^{k-1} [m], the step method's warm start
 /// (the previous friction forces), the energy accumulators (external and contact work), the
 /// summary so far, the contact gaps s_c [m] and the load function.
+///
+/// Checkpoints: SaveCheckpoint writes all of this but the load function (a scene
+/// Simulation's load is rebuilt from the saved body force; a model's must be set again with
+/// SetLoad) to one binary file, and LoadCheckpoint / Load continue from it: the steps after
+/// it are the same as those of the run that was never stopped, bit for bit (the state is
+/// stored to the bit and every step method is deterministic). The file (format in
+/// contact/src/checkpoint.hpp, version 1): magic "NCPCKPT\n", format version, byte-order
+/// mark, payload length, payload, FNV-1a 64 checksum of the payload. The payload holds the
+/// run's identity (the scene file's text with its command-line overrides and its hash, the
+/// gmsh mesh file's name and hash, a fingerprint of K, M, the contact nodes and the
+/// options that shape the trajectory, the sizes), the step index k, u^k, u^{k-1}, lambda^k,
+/// K u^k, M (u^k - u^{k-1}), the start guess, |r^k|_inf, the last step's contact result,
+/// s_c, the energy accumulators, the step method's warm start, the summary with every step's
+/// record, the body force and obstacle translation, and the caller's application data.
 #pragma once
 
 #include <Eigen/Core>
 #include <functional>
 #include <memory>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "contact/dynamics.hpp"
@@ -25,6 +41,17 @@ namespace contact {
 
 struct Scene;
 struct SceneModel;
+namespace internal {
+struct CheckpointData;
+}
+
+/// A checkpoint that cannot be used: missing, unreadable, truncated, corrupt (checksum), of
+/// another format version, or of another run (another scene text, mesh file, model or
+/// step method: the message names what differs, with both hashes).
+class CheckpointError : public std::runtime_error {
+ public:
+  explicit CheckpointError(const std::string& message);
+};
 
 /// Where a Simulation stands.
 enum class SimulationState {
@@ -91,6 +118,24 @@ class Simulation {
   void SetContactGaps(const Eigen::VectorXd& gaps);
   const Eigen::VectorXd& contact_gaps() const;  ///< s_c [m]
 
+  /// Writes the state after step k (step_index()) to `path`, atomically (path.partial
+  /// renamed when complete; a failed write throws ncp::OutputError and leaves an older
+  /// checkpoint at `path` as it was). application_data: bytes stored with it and returned by
+  /// LoadCheckpoint (contact-sim keeps the positions of its output files there). Throws
+  /// std::logic_error for a refused run (no state) or one that failed (its state is not a
+  /// state to continue from).
+  void SaveCheckpoint(const std::string& path, const std::string& application_data = {}) const;
+  /// Replaces the state with the one of the checkpoint at `path` and returns its application
+  /// data. The checkpoint must be of the same run: for a scene Simulation the same scene
+  /// text (with the same overrides) and mesh file bytes, for every Simulation the same model
+  /// fingerprint, sizes and step method - otherwise CheckpointError says what differs and
+  /// the state is unchanged. A scene Simulation gets the saved body force and obstacle
+  /// translation; a model Simulation keeps its load function (set it with SetLoad).
+  std::string LoadCheckpoint(const std::string& path);
+  /// A Simulation of `scene` continued from the checkpoint at `path` (Simulation(scene),
+  /// then LoadCheckpoint). Throws CheckpointError, SceneError, std::invalid_argument.
+  static std::unique_ptr<Simulation> Load(const std::string& path, const Scene& scene);
+
   /// Scene simulations only (std::logic_error otherwise):
   /// the built scene (mesh, dofs, frames);
   const SceneModel& scene_model() const;
@@ -117,6 +162,12 @@ class Simulation {
   explicit Simulation(std::shared_ptr<SceneData> scene);
   Simulation(std::shared_ptr<SceneData> scene, const DynamicModel& model, DynamicOptions options);
   SceneData& RequireScene(const char* what) const;
+  /// The scene's part of a checkpoint (identity, body force, translation): scene_simulation.cpp.
+  void SaveScene(internal::CheckpointData* data) const;
+  /// Checks the scene's identity against the checkpoint's (CheckpointError naming what
+  /// differs) without changing anything.
+  void CheckScene(const internal::CheckpointData& data) const;
+  void RestoreScene(const internal::CheckpointData& data);
   std::shared_ptr<SceneData> scene_;  // before impl_: impl_ refers to its model
   std::unique_ptr<Impl> impl_;
 };

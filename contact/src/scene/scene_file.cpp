@@ -208,9 +208,9 @@ std::string ReadSceneText(const std::string& path) {
 /// Parses the scene text and applies the overrides: each "table.key" = TOML literal replaces
 /// the file's value before validation, so it is checked (and named in messages, at "command
 /// line") like a value of the file.
-toml::value ParseScene(const std::string& path, const SceneOverrides& overrides) {
+toml::value ParseScene(const std::string& path, const std::string& scene_text, const SceneOverrides& overrides) {
   toml::value root;
-  std::istringstream text(ReadSceneText(path));
+  std::istringstream text(scene_text);
   try {
     root = toml::parse(text, path);
   } catch (const std::exception& e) {
@@ -356,6 +356,7 @@ void ReadOutput(const Table& out, const fs::path& base, Scene* s) {
   }
   if (out.Has("stress_times")) s->stress_times = out.Numbers("stress_times", kTimeOrZero);
   s->snapshot_every = out.Integer("snapshot_every", Range{0, kMaxTimeSteps, ""}, 0);
+  s->checkpoint_every = out.Integer("checkpoint_every", Range{0, kMaxTimeSteps, ""}, kDefaultCheckpointEvery);
   if (out.Has("marked_point")) s->marked_point = out.Vec("marked_point", kCoordinate, s->dim);
   out.RejectUnknownKeys();
 }
@@ -372,8 +373,11 @@ void WarnAboutStressTimes(Scene* s) {
 }  // namespace
 
 Scene LoadScene(const std::string& path, const SceneOverrides& overrides) {
-  const toml::value root = ParseScene(path, overrides);
   Scene s;
+  s.text = ReadSceneText(path);
+  const toml::value root = ParseScene(path, s.text, overrides);
+  if (!overrides.empty() && !s.text.empty() && s.text.back() != '\n') s.text += '\n';
+  for (const auto& [key, literal] : overrides) s.text += "# override: " + key + " = " + literal + "\n";
   s.source = path;
   const fs::path base = fs::path(path).parent_path();
   const Table top(&root, "", path);

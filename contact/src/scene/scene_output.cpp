@@ -3,12 +3,42 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "checkpoint.hpp"
+#include "contact/simulation.hpp"
 #include "contact/vtk_writer.hpp"
 
 namespace contact::internal {
 
+std::string OutputPositions::Encode() const {
+  BinaryWriter out;
+  out.Int(step);
+  out.Double(time);
+  out.Unsigned(csv_bytes.size());
+  for (const auto& [name, bytes] : csv_bytes) out.String(name), out.Int(bytes);
+  out.Unsigned(snapshots.size());
+  for (const auto& [t, name] : snapshots) out.Double(t), out.String(name);
+  return out.bytes();
+}
+
+OutputPositions OutputPositions::Decode(const std::string& bytes, const std::string& checkpoint) {
+  BinaryReader in(bytes, checkpoint);
+  OutputPositions p;
+  p.step = static_cast<int>(in.Int("output step"));
+  p.time = in.Double("output time");
+  for (std::uint64_t i = 0, n = in.Count("output files", 16); i < n; ++i) {
+    std::string name = in.String("output file name");
+    p.csv_bytes.emplace_back(std::move(name), in.Int("output file size"));
+  }
+  for (std::uint64_t i = 0, n = in.Count("snapshots", 16); i < n; ++i) {
+    const double t = in.Double("snapshot time");
+    p.snapshots.emplace_back(t, in.String("snapshot name"));
+  }
+  if (in.left() != 0) in.Fail("output positions: " + std::to_string(in.left()) + " bytes after the last field");
+  return p;
+}
+
 SceneOutput::SceneOutput(const Scene& scene, const SceneModel& built, int marked,
-                         std::vector<std::string>* files_written)
+                         std::vector<std::string>* files_written, const OutputPositions* resume)
     : scene_(scene),
       mesh_(built.body->mesh()),
       dofs_(built.dofs),
@@ -28,12 +58,17 @@ SceneOutput::SceneOutput(const Scene& scene, const SceneModel& built, int marked
   std::error_code error;
   std::filesystem::create_directories(directory_, error);
   if (error) throw ncp::OutputError("cannot create directory", directory_.string(), error.value());
-  steps_csv_ = Open("steps.csv", kStepsCsvHeader, false);
-  stress_csv_ = Open("contact_stress.csv",
-                     "time,node," + coords + ",normal_stress," + tangents + ",gap,normal_force", false);
-  if (marked_ >= 0) history_csv_ = Open("node_history.csv", "time,normal_stress,friction_stress", false);
+  steps_csv_ = OpenCsv("steps.csv", kStepsCsvHeader, resume);
+  stress_csv_ = OpenCsv("contact_stress.csv",
+                        "time,node," + coords + ",normal_stress," + tangents + ",gap,normal_force", resume);
+  if (marked_ >= 0) history_csv_ = OpenCsv("node_history.csv", "time,normal_stress,friction_stress", resume);
   WriteMesh();
-  displacement_csv_ = Open("displacement.csv", dim_ == 2 ? "time,node,ux,uy" : "time,node,ux,uy,uz", false);
+  displacement_csv_ = OpenCsv("displacement.csv", dim_ == 2 ? "time,node,ux,uy" : "time,node,ux,uy,uz", resume);
+  if (resume) {  // the stress times the steps up to resume->step consumed, the series so far
+    if (resume->step > 0) ReachedStressTime(resume->time);
+    series_.Continue(resume->snapshots);
+    return;
+  }
   const DynamicOptions& options = built.options;
   if (options.initial_state == InitialState::kPrescribed)  // u^0, v^0 known before the run
     WriteSnapshot(0, InitialContactSnapshot(dim_, options.start_time, dofs_.Expand(options.u0),
@@ -62,6 +97,31 @@ void SceneOutput::WriteStep(const StepRecord& record, const Eigen::VectorXd& u,
   // The step's rows go to the files together, so each file ends at a whole step.
   for (ncp::OutputFile* csv : {&steps_csv_, &history_csv_, &stress_csv_, &displacement_csv_})
     if (csv->is_open()) csv->Commit();
+}
+
+OutputPositions SceneOutput::Positions(int step, double time) const {
+  OutputPositions p;
+  p.step = step;
+  p.time = time;
+  for (const ncp::OutputFile* csv : {&steps_csv_, &history_csv_, &stress_csv_, &displacement_csv_})
+    if (csv->is_open())
+      p.csv_bytes.emplace_back(std::filesystem::path(csv->path()).filename().string(), csv->committed_bytes());
+  p.snapshots = series_.snapshots();
+  return p;
+}
+
+ncp::OutputFile SceneOutput::OpenCsv(const std::string& name, const std::string& header,
+                                     const OutputPositions* resume) {
+  if (!resume) return Open(name, header, false);
+  for (const auto& [file, bytes] : resume->csv_bytes)
+    if (file == name) {
+      const std::string path = (directory_ / name).string();
+      ncp::OutputFile csv = ncp::OutputFile::OpenAppend(path, bytes);
+      csv.stream().precision(10);
+      files_written_->push_back(path);
+      return csv;
+    }
+  throw CheckpointError("the checkpoint has no position of " + name + " (written by another version?)");
 }
 
 void SceneOutput::Finish() {

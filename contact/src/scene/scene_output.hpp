@@ -5,7 +5,9 @@
 // Every write is checked (ncp::OutputFile): a failed one throws ncp::OutputError naming the
 // file. The CSVs grow by whole rows, committed after each step, so after a failure or an
 // interrupt they hold complete rows up to the last step written; the mesh files and the
-// snapshots are written atomically (NAME.partial renamed when complete).
+// snapshots are written atomically (NAME.partial renamed when complete). A resumed run
+// (OutputPositions from its checkpoint) cuts each CSV back to its size at the checkpoint's
+// step and appends, and continues the VTK series.
 #pragma once
 
 #include <Eigen/Core>
@@ -24,6 +26,18 @@ namespace contact::internal {
 extern const char* const kStepsCsvHeader;
 void WriteStepsCsvRow(const StepRecord& r, std::ostream* out);
 
+/// Where the outputs stand after a step: what a checkpoint keeps to continue them.
+struct OutputPositions {
+  int step = 0;       ///< the step they end with
+  double time = 0.0;  ///< its time [s]
+  std::vector<std::pair<std::string, long long>> csv_bytes;  ///< file name, committed bytes
+  std::vector<std::pair<double, std::string>> snapshots;     ///< the .pvd's (time, file)
+  /// As bytes (BinaryWriter; the checkpoint's application data) and back. Decode throws
+  /// CheckpointError naming `checkpoint` on bytes it cannot read.
+  std::string Encode() const;
+  static OutputPositions Decode(const std::string& bytes, const std::string& checkpoint);
+};
+
 class SceneOutput {
  public:
   /// Opens the files, writes the mesh and, for a prescribed initial state, the snapshot of
@@ -31,8 +45,14 @@ class SceneOutput {
   /// path to *files_written; writes nothing without scene.output_directory. marked: index
   /// into built.frames.nodes of the node_history.csv node, -1 for none. `built` must
   /// outlive this.
+  /// With `resume`: continues the files of a run stopped after resume->step instead (the
+  /// mesh rewritten, no start snapshot; CheckpointError if a CSV is missing from it,
+  /// ncp::OutputError if a CSV is shorter than recorded).
   SceneOutput(const Scene& scene, const SceneModel& built, int marked,
-              std::vector<std::string>* files_written);
+              std::vector<std::string>* files_written, const OutputPositions* resume = nullptr);
+
+  /// The positions after the last WriteStep (of `step` at `time`).
+  OutputPositions Positions(int step, double time) const;
 
   /// After each step (DynamicOptions::on_step): u = u^{k+1} on the free dofs [m], contact
   /// forces in system units (times force_scale for newtons).
@@ -45,6 +65,8 @@ class SceneOutput {
  private:
   /// Opens directory/name (atomically for a file written whole at once) with its header.
   ncp::OutputFile Open(const std::string& name, const std::string& header, bool atomic);
+  /// A CSV: opened with its header, or with `resume` continued at its recorded size.
+  ncp::OutputFile OpenCsv(const std::string& name, const std::string& header, const OutputPositions* resume);
   /// Nodes with the number of fixed components and the contact flag (a node of Gamma_c that
   /// keeps a free dof), and the connectivity.
   void WriteMesh();

@@ -44,6 +44,11 @@ class CondensedStep : public StepAlgorithm {
     return out;
   }
 
+  Eigen::MatrixXd WarmStart() const override { return newton_.kept_friction(); }
+  void SetWarmStart(const Eigen::MatrixXd& warm_start) override {
+    newton_.RestoreFriction(warm_start, dim_ - 1, static_cast<Eigen::Index>(nodes_.size()));
+  }
+
  private:
   /// x_c = H x.
   Eigen::VectorXd Restrict(const Eigen::VectorXd& x) const { return delassus_.H() * x; }

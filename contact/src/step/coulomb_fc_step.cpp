@@ -46,6 +46,12 @@ class CoulombFcStep : public StepAlgorithm {
                                                options.friction_coefficient, FcOptions(options));
   }
 
+  Eigen::MatrixXd WarmStart() const override { return coulomb_->previous_forces(); }
+  void SetWarmStart(const Eigen::MatrixXd& warm_start) override {
+    if (warm_start.cols() > 1) throw std::invalid_argument("the warm start must be one column of forces");
+    coulomb_->RestorePreviousForces(warm_start.size() ? Eigen::VectorXd(warm_start.col(0)) : Eigen::VectorXd());
+  }
+
   StepOutcome Solve(const StepData& step, ContactSystem::Result* result) override {
     const auto start = std::chrono::steady_clock::now();
     delassus_.SolveS(step.q, &full_);

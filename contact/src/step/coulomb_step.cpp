@@ -170,4 +170,11 @@ bool CoulombStep::Solve(const Eigen::VectorXd& x_free, const Eigen::VectorXd& ga
   return converged;
 }
 
+void CoulombStep::RestorePreviousForces(const Eigen::VectorXd& r) {
+  if (r.size() != 0 && r.size() != E_.rows())
+    throw std::invalid_argument("the warm start (previous contact forces) has " + std::to_string(r.size()) +
+                                " entries, this run has " + std::to_string(E_.rows()) + " local components");
+  r_previous_ = r;
+}
+
 }  // namespace contact::internal

@@ -83,6 +83,13 @@ class CoulombStep {
   bool Solve(const Eigen::VectorXd& x_free, const Eigen::VectorXd& gap0, double force_scale,
              double displacement_scale, double tolerance, Outcome* out);
 
+  /// The previous call's forces r (system units; empty before the first solved step), the
+  /// start of the next call: a checkpoint's warm start.
+  const Eigen::VectorXd& previous_forces() const { return r_previous_; }
+  /// Restores previous_forces() of a checkpoint: empty or one r per local component (dim per
+  /// node). Throws std::invalid_argument otherwise.
+  void RestorePreviousForces(const Eigen::VectorXd& r);
+
   /// W_fc = E W E' (system units; empty when matrix-free), for tests.
   const Eigen::MatrixXd& local_delassus() const { return W_fc_; }
   /// E: local components (normal, tangents per node) from the contact unknowns.

@@ -9,7 +9,7 @@ namespace {
 class FullStep : public StepAlgorithm {
  public:
   FullStep(const DynamicModel& model, double m_max, const ncp::Options& ncp_options, bool friction)
-      : system_(model.dim, model.M / m_max, model.contact_nodes), newton_(ncp_options, friction) {}
+      : dim_(model.dim), system_(model.dim, model.M / m_max, model.contact_nodes), newton_(ncp_options, friction) {}
 
   StepOutcome Solve(const StepData& step, ContactSystem::Result* result) override {
     system_.SetGaps(step.gap);
@@ -22,7 +22,14 @@ class FullStep : public StepAlgorithm {
     return out;
   }
 
+  Eigen::MatrixXd WarmStart() const override { return newton_.kept_friction(); }
+  void SetWarmStart(const Eigen::MatrixXd& warm_start) override {
+    newton_.RestoreFriction(warm_start, dim_ - 1,
+                            static_cast<Eigen::Index>(system_.nodes().size()));
+  }
+
  private:
+  int dim_;
   ContactSystem system_;  // S = M / m_max
   NewtonStep newton_;
   ncp::Vector z_;

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <stdexcept>
+#include <string>
 
 #include "contact/contact_system.hpp"
 #include "ncp/solver.hpp"
@@ -28,6 +30,17 @@ class NewtonStep {
   /// Keeps the friction forces of a solved step (local frames, system units) for the next.
   void KeepFriction(const ContactSystem::Result& result) {
     if (friction_) friction_previous_ = result.tangent_force;
+  }
+  /// The kept friction forces ((dim-1) x nodes; empty before the first solved step).
+  const Eigen::MatrixXd& kept_friction() const { return friction_previous_; }
+  /// Restores kept_friction() of a checkpoint: empty, or rows x nodes of this system.
+  /// Throws std::invalid_argument otherwise.
+  void RestoreFriction(const Eigen::MatrixXd& friction, Eigen::Index rows, Eigen::Index nodes) {
+    if (friction.size() != 0 && (!friction_ || friction.rows() != rows || friction.cols() != nodes))
+      throw std::invalid_argument("the warm start (previous friction forces) is " +
+                                  std::to_string(friction.rows()) + " x " + std::to_string(friction.cols()) +
+                                  ", this run keeps " + (friction_ ? std::to_string(rows) + " x " + std::to_string(nodes) : std::string("none")));
+    friction_previous_ = friction;
   }
 
  private:

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "contact/convex_qp.hpp"
@@ -57,6 +58,16 @@ class StepAlgorithm {
   /// Solves one step: *result gets du (result->x, [m]) and the contact forces, gaps and
   /// slips (ContactSystem::Result, system units). Reuses *result's storage.
   virtual StepOutcome Solve(const StepData& step, ContactSystem::Result* result) = 0;
+  /// What a step keeps for the next one (the warm start: the previous friction forces,
+  /// system units), for a checkpoint (contact/simulation.hpp); empty if nothing is kept.
+  virtual Eigen::MatrixXd WarmStart() const { return {}; }
+  /// Restores what WarmStart returned. Throws std::invalid_argument on a size that does not
+  /// fit the method (a checkpoint of another run).
+  virtual void SetWarmStart(const Eigen::MatrixXd& warm_start) {
+    if (warm_start.size() != 0)
+      throw std::invalid_argument("this step method keeps no warm start, the checkpoint has " +
+                                  std::to_string(warm_start.size()) + " numbers");
+  }
 };
 
 /// The method that runs: options.step_method, or for kAuto condensed or sparse by the

@@ -38,6 +38,10 @@ class OutputFile {
   /// Writes `path`.partial; Close() renames it to `path`. Throws OutputError if it cannot
   /// be created.
   static OutputFile OpenAtomic(const std::string& path);
+  /// Continues an existing file: cuts it to its first `keep_bytes` bytes and appends (a
+  /// resumed run's CSV). Throws OutputError if it cannot be opened or cut, or holds fewer
+  /// than keep_bytes bytes (EINVAL: it is not the file that was written).
+  static OutputFile OpenAppend(const std::string& path, long long keep_bytes);
 
   OutputFile() = default;  ///< not open
   OutputFile(OutputFile&& other) noexcept;
@@ -50,6 +54,8 @@ class OutputFile {
   bool is_open() const { return fd_ >= 0; }
   /// The final name (not the .partial of an atomic file).
   const std::string& path() const { return path_; }
+  /// Bytes of the committed records in the file (with the kept part of OpenAppend).
+  long long committed_bytes() const { return committed_bytes_; }
 
   /// The formatting buffer of the current record (precision and flags persist).
   std::ostream& stream() { return buffer_; }
