@@ -16,6 +16,7 @@
 #include "box_mcp.hpp"
 #include "globalization.hpp"
 #include "ncp_function_internal.hpp"
+#include "strategy.hpp"
 
 namespace ncp {
 namespace {
@@ -152,6 +153,14 @@ bool Options::IsValid(std::string* error) const {
   if (!(stagnation_tolerance >= 0.0 && stagnation_tolerance < 1.0))
     return fail("Options::stagnation_tolerance must lie in [0, 1), got " +
                 Fmt("%g", stagnation_tolerance));
+  if (hybrid_window < 0 || hybrid_window > kMaxStagnationWindow)
+    return fail("Options::hybrid_window must lie in [0, " + std::to_string(kMaxStagnationWindow) +
+                "] iterations, got " + std::to_string(hybrid_window));
+  if (!(hybrid_decrease > 0.0 && hybrid_decrease < 1.0))
+    return fail("Options::hybrid_decrease must lie in (0, 1), got " + Fmt("%g", hybrid_decrease));
+  if (!(hybrid_budget_per_unknown > 0.0))
+    return fail("Options::hybrid_budget_per_unknown must be > 0 (or +inf) iterations, got " +
+                Fmt("%g", hybrid_budget_per_unknown));
   if (!(max_seconds > 0.0))
     return fail("Options::max_seconds must be > 0 (or +inf), got " + Fmt("%g", max_seconds));
   if (!(factorization_flop_rate >= 0.0) || !std::isfinite(factorization_flop_rate))
@@ -180,6 +189,7 @@ std::string Summary::BriefReport() const {
       << " Jacobian / " << residual_evaluations << " residual evaluations, ||Phi||_inf = "
       << Fmt("%.3e", final_phi_inf) << ", " << Fmt("%.3g", total_time_s) << " s";
   if (merit_restarts > 0) out << ", " << merit_restarts << " merit restarts";
+  if (!strategy_switches.empty()) out << ", " << strategy_switches.size() << " strategy switches";
   return out.str();
 }
 
@@ -199,6 +209,8 @@ std::string Summary::FullReport() const {
       << "  gradient steps           " << gradient_steps << "\n"
       << "  regularized (LM) steps   " << regularized_steps << "\n"
       << "  merit restarts           " << merit_restarts << "\n"
+      << "  strategy switches        " << strategy_switches.size()
+      << internal::StrategySwitchSuffix(strategy_switches) << "\n"
       << "  linear solver failures   " << linear_solver_failures << "\n"
       << "  descent test failures    " << descent_test_failures << "\n"
       << "  backtracks               " << backtracks << "\n"
@@ -264,6 +276,9 @@ struct Solver::Workspace {
   // The nonmonotone Armijo reference and the stagnation test (globalization.hpp).
   internal::NonmonotoneReference armijo_reference;
   internal::StagnationTest stagnation;
+  // The hybrid default (Options::hybrid, strategy.hpp).
+  internal::StrategySchedule schedule;
+  internal::StrategyProgress progress;
 
   /// Sizes every vector of the iteration for n unknowns and m equations (zeros).
   void Resize(int n, int m) {
@@ -463,13 +478,17 @@ class Solver::Iteration {
       if (have_jacobian_ && jacobian_ok_) converged_ = roundoff_limited_ = WithinRoundoffFloor();
       if (!Report(k)) return;
       if (TestStop(k)) {
-        if (Restart(k)) continue;
+        if (Restart(k) || SwitchStrategy(k, SwitchReason::kStuck)) continue;
         return;
       }
+      if (LeaveStrategy(k)) continue;
       const Direction direction = ChooseDirection(k);
-      if (finished_) return;
+      if (finished_) {
+        if (SwitchStrategy(k, SwitchReason::kStuck)) continue;
+        return;
+      }
       if (!LineSearch(k, direction)) {
-        if (Restart(k)) continue;
+        if (Restart(k) || SwitchStrategy(k, SwitchReason::kStuck)) continue;
         return;
       }
       Accept(direction);
@@ -507,6 +526,10 @@ class Solver::Iteration {
     function_ = o_.ncp_function;
     restarts_left_ = o_.merit_restarts;
     first_k_ = 0;
+    regularized_ = o_.regularized_direction;
+    strategy_start_ = 0;
+    w_.schedule.Reset(o_);
+    w_.progress.Reset(o_, n_);
 
     if (!Evaluate(x_, &w_.E, &w_.A, &w_.B, &w_.phi)) {
       w_.phi.setConstant(std::numeric_limits<double>::quiet_NaN());
@@ -723,7 +746,7 @@ class Solver::Iteration {
                    " and gradient_fallback is off");
       return Direction::kNewton;  // Algorithm 1 without step 2's fallback
     }
-    if (o_.regularized_direction && RegularizedDirection() && PassesDescentTest()) {
+    if (regularized_ && RegularizedDirection() && PassesDescentTest()) {
       ++s_.regularized_steps;
       return Direction::kRegularized;
     }
@@ -913,6 +936,65 @@ class Solver::Iteration {
     return true;
   }
 
+  // ---- the hybrid default (Options::hybrid, strategy.hpp) ---------------------------
+  // Records iterate k; true when the strategy was left for slow progress or its budget and
+  // the next one continues from its best point.
+  bool LeaveStrategy(int k) {
+    if (!o_.hybrid) return false;
+    const size_t kk = static_cast<size_t>(k - first_k_);
+    w_.progress.Observe(kk, psi_, x_, k);
+    SwitchReason reason = SwitchReason::kStuck;
+    return w_.progress.ShouldLeave(kk, k - strategy_start_, o_, &reason) && SwitchStrategy(k, reason);
+  }
+
+  // The next strategy of the schedule continues from the smallest-psi point of this one
+  // (its MixedProblem::RestartPoint), at iterate k; Phi, psi, the nonmonotone memory, the
+  // stagnation window and the progress test start afresh. kStuck applies to a solve that
+  // ended at a non-solution stationary point, in a failed line search or a failed Newton
+  // solve; false (nothing changed) when no strategy is left or the point cannot be evaluated.
+  bool SwitchStrategy(int k, SwitchReason reason) {
+    if (!o_.hybrid) return false;
+    const bool stuck = s_.termination == TerminationType::kStationaryPoint ||
+                       s_.termination == TerminationType::kLineSearchFailure ||
+                       s_.termination == TerminationType::kLinearSolverFailure;
+    if (reason == SwitchReason::kStuck && !(finished_ && stuck)) return false;
+    const Strategy from{function_, regularized_};
+    if (!w_.schedule.Advance(from)) return false;
+    const Strategy& to = w_.schedule.current();
+    // A stuck strategy may not have recorded iterate k (TestStop came first).
+    w_.progress.Observe(static_cast<size_t>(k - first_k_), psi_, x_, k);
+    w_.x_trial = w_.progress.best_x();
+    function_ = to.ncp_function;  // Evaluate() uses function_
+    if (!problem_.RestartPoint(&w_.x_trial) || w_.x_trial.size() != n_ ||
+        !Evaluate(w_.x_trial, &w_.Et, &w_.At, &w_.Bt, &w_.phi_trial) || !AllFinite(w_.phi_trial)) {
+      function_ = from.ncp_function;
+      return false;
+    }
+    StrategySwitch record;
+    record.iteration = k;
+    record.from_strategy = from;
+    record.to_strategy = to;
+    record.reason = reason;
+    record.best_iteration = w_.progress.best_iteration();
+    record.best_psi = w_.progress.best_psi();
+    s_.strategy_switches.push_back(record);
+    x_.swap(w_.x_trial);
+    w_.E.swap(w_.Et);
+    w_.A.swap(w_.At);
+    w_.B.swap(w_.Bt);
+    w_.phi.swap(w_.phi_trial);
+    regularized_ = to.regularized_direction;
+    if (o_.keep_trace && !s_.trace.empty()) s_.trace.pop_back();  // iterate k is reported anew
+    finished_ = false;
+    s_.termination = TerminationType::kNotSolved;
+    first_k_ = strategy_start_ = k;
+    if (o_.log_to_stderr)
+      std::fprintf(stderr, "strategy %s -> %s at iteration %d (%s), from iteration %d\n",
+                   internal::StrategyName(from).c_str(), internal::StrategyName(to).c_str(), k,
+                   ToString(reason), record.best_iteration);
+    return true;
+  }
+
   // ---- step 4: x^{k+1} = x^k + t d ---------------------------------------------------
   void Accept(Direction direction) {
     x_.swap(w_.x_trial);
@@ -933,6 +1015,7 @@ class Solver::Iteration {
     s_.termination = type;
     s_.message = message;
     if (s_.merit_restarts > 0) s_.message += internal::RestartSuffix(s_.merit_restarts);
+    s_.message += internal::StrategySwitchSuffix(s_.strategy_switches);
     s_.final_phi_inf = w_.phi.lpNorm<Eigen::Infinity>();
     s_.final_psi = 0.5 * w_.phi.squaredNorm();
     s_.symbolic_factorizations = SymbolicFactorizations() - symbolic_before_;
@@ -953,6 +1036,8 @@ class Solver::Iteration {
   double threshold_ = 0.0;
   NcpFunction function_ = NcpFunction::kFischerBurmeister;  // the current merit (restarts switch it)
   int restarts_left_ = 0, first_k_ = 0;                      // first_k_: iterate of the last (re)start
+  bool regularized_ = false;   // the current strategy tries the LM direction (hybrid switches it)
+  int strategy_start_ = 0;     // iterate the current strategy of the hybrid began at
   IterationRecord record_;
   // Iterate k.
   double phi_inf_ = 0.0, psi_ = 0.0, grad_inf_ = 0.0, slope_ = 0.0, step_ = 0.0;
