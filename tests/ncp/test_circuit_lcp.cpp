@@ -313,5 +313,8 @@ TEST_CASE("circuit scan (diagnostic)", "[.scan]") {
                 plain.free_rows, ToString(plain.summary.termination), plain.summary.iterations,
                 plain.natural_residual, ToString(hybrid.summary.termination), hybrid.summary.iterations,
                 hybrid.natural_residual, hybrid.summary.strategy_switches.size());
+    for (const ncp::StrategySwitch& w : hybrid.summary.strategy_switches)
+      std::printf("      -> %s%s at %d (%s)\n", ToString(w.to_strategy.ncp_function),
+                  w.to_strategy.regularized_direction ? "+lm" : "", w.iteration, ToString(w.reason));
   }
 }
