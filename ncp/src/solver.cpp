@@ -109,6 +109,7 @@ Options Options::Algorithm1() {
   options.regularized_direction = false;
   options.gradient_fallback = true;
   options.merit_restarts = 0;
+  options.hybrid = false;
   return options;
 }
 

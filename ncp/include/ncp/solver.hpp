@@ -206,7 +206,7 @@ struct Options {
   IterationCallback callback;
 
   /// Algorithm 1 of the thesis with its published constants (rho = 1e-8, p = 2.1,
-  /// beta = 1e-4, monotone Armijo, d = -grad psi as the only fallback).
+  /// beta = 1e-4, monotone Armijo, d = -grad psi as the only fallback, one strategy).
   static Options Algorithm1();
 
   /// Rejects settings outside their ranges; *error says which and why.
