@@ -21,9 +21,9 @@ int main(int argc, char** argv) {
   if (markdown) {
     std::printf(
         "| problem | n | start | function | status | iterations | Jacobian evals | "
-        "residual evals | merit restarts | ||Phi||_inf | natural residual | documented "
-        "failure |\n"
-        "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+        "residual evals | merit restarts | strategy switches | ||Phi||_inf | natural residual | "
+        "documented failure |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   } else {
     std::printf("%-26s %6s %-9s %-19s %-20s %5s %5s %6s %4s %10s %10s\n", "problem", "n",
                 "start", "function", "status", "iter", "jac", "res", "rst", "|Phi|inf",
@@ -47,12 +47,17 @@ int main(int argc, char** argv) {
         // A claimed success whose recomputed residual is large counts as a failure.
         if (summary.IsSolutionUsable() && !(residual <= 1e-8)) ++false_claims;
         if (documented) ++expected;
+        // The hybrid default's switches (Options::hybrid): "penalized-fb@51 min@101 ...".
+        std::string switches;
+        for (const ncp::StrategySwitch& w : summary.strategy_switches)
+          switches += std::string(switches.empty() ? "" : " ") + ncp::ToString(w.to_strategy.ncp_function) +
+                      (w.to_strategy.regularized_direction ? "+lm" : "") + "@" + std::to_string(w.iteration);
         if (markdown) {
-          std::printf("| %s | %d | %s | %s | %s | %d | %d | %d | %d | %.2e | %.2e | %s |\n",
+          std::printf("| %s | %d | %s | %s | %s | %d | %d | %d | %d | %s | %.2e | %.2e | %s |\n",
                       p.name.c_str(), p.NumVariables(), start.label.c_str(),
                       ncp::ToString(function), ncp::ToString(summary.termination),
                       summary.iterations, summary.jacobian_evaluations,
-                      summary.residual_evaluations, summary.merit_restarts,
+                      summary.residual_evaluations, summary.merit_restarts, switches.c_str(),
                       summary.final_phi_inf, residual,
                       documented ? "yes" : "");
         } else {
@@ -63,6 +68,7 @@ int main(int argc, char** argv) {
                       summary.residual_evaluations, summary.merit_restarts,
                       summary.final_phi_inf, residual,
                       documented ? "  (documented failure)" : "");
+          if (!switches.empty()) std::printf("%28s strategies: %s\n", "", switches.c_str());
         }
       }
     }

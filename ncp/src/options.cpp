@@ -6,6 +6,7 @@
 
 #include "format_number.hpp"
 #include "ncp/solver.hpp"
+#include "strategy.hpp"
 
 namespace ncp {
 
@@ -20,6 +21,7 @@ Options Options::Algorithm1() {
   options.regularized_direction = false;
   options.gradient_fallback = true;
   options.merit_restarts = 0;
+  options.hybrid = false;
   return options;
 }
 
@@ -71,6 +73,15 @@ bool Options::IsValid(std::string* error) const {
   if (!(stagnation_tolerance >= 0.0 && stagnation_tolerance < 1.0))
     return fail("Options::stagnation_tolerance must lie in [0, 1), got " +
                 FormatNumber("%g", stagnation_tolerance));
+  if (hybrid_window < 0 || hybrid_window > kMaxStagnationWindow)
+    return fail("Options::hybrid_window must lie in [0, " + std::to_string(kMaxStagnationWindow) +
+                "] iterations, got " + std::to_string(hybrid_window));
+  if (!(hybrid_decrease > 0.0 && hybrid_decrease < 1.0))
+    return fail("Options::hybrid_decrease must lie in (0, 1), got " +
+                FormatNumber("%g", hybrid_decrease));
+  if (!(hybrid_budget_per_unknown > 0.0))
+    return fail("Options::hybrid_budget_per_unknown must be > 0 (or +inf) iterations, got " +
+                FormatNumber("%g", hybrid_budget_per_unknown));
   if (!(max_seconds > 0.0))
     return fail("Options::max_seconds must be > 0 (or +inf), got " +
                 FormatNumber("%g", max_seconds));
@@ -104,6 +115,7 @@ std::string Summary::BriefReport() const {
       << " residual evaluations, ||Phi||_inf = " << FormatNumber("%.3e", final_phi_inf)
       << ", " << FormatNumber("%.3g", total_time_s) << " s";
   if (merit_restarts > 0) out << ", " << merit_restarts << " merit restarts";
+  if (!strategy_switches.empty()) out << ", " << strategy_switches.size() << " strategy switches";
   return out.str();
 }
 
@@ -123,6 +135,8 @@ std::string Summary::FullReport() const {
       << "  gradient steps           " << gradient_steps << "\n"
       << "  regularized (LM) steps   " << regularized_steps << "\n"
       << "  merit restarts           " << merit_restarts << "\n"
+      << "  strategy switches        " << strategy_switches.size()
+      << internal::StrategySwitchSuffix(strategy_switches) << "\n"
       << "  linear solver failures   " << linear_solver_failures << "\n"
       << "  descent test failures    " << descent_test_failures << "\n"
       << "  backtracks               " << backtracks << "\n"

@@ -16,6 +16,7 @@
 #include "globalization.hpp"
 #include "linear_solver.hpp"
 #include "ncp_function_internal.hpp"
+#include "strategy.hpp"
 #include "workspace.hpp"
 
 namespace ncp {
@@ -125,13 +126,17 @@ class Solver::Iteration {
         iterate_.converged = iterate_.roundoff_limited = WithinRoundoffFloor();
       if (!Report(k)) return;
       if (TestStop(k)) {
-        if (Restart(k)) continue;
+        if (Restart(k) || SwitchStrategy(k, SwitchReason::kStuck)) continue;
         return;
       }
+      if (LeaveStrategy(k)) continue;
       const Direction direction = ChooseDirection(k);
-      if (finished_) return;
+      if (finished_) {
+        if (SwitchStrategy(k, SwitchReason::kStuck)) continue;
+        return;
+      }
       if (!LineSearch(k, direction)) {
-        if (Restart(k)) continue;
+        if (Restart(k) || SwitchStrategy(k, SwitchReason::kStuck)) continue;
         return;
       }
       Accept(direction);
@@ -165,6 +170,10 @@ class Solver::Iteration {
     function_ = options_.ncp_function;
     restarts_left_ = options_.merit_restarts;
     first_k_ = 0;
+    regularized_ = options_.regularized_direction;
+    strategy_start_ = 0;
+    work_.schedule.Reset(options_);
+    work_.progress.Reset(options_, n_);
 
     if (!Evaluate(x_, &work_.E, &work_.A, &work_.B, &work_.phi)) {
       work_.phi.setConstant(std::numeric_limits<double>::quiet_NaN());
@@ -396,7 +405,7 @@ class Solver::Iteration {
                    " and gradient_fallback is off");
       return Direction::kNewton;  // Algorithm 1 without step 2's fallback
     }
-    if (options_.regularized_direction && RegularizedDirection() && PassesDescentTest()) {
+    if (regularized_ && RegularizedDirection() && PassesDescentTest()) {
       ++summary_.regularized_steps;
       return Direction::kRegularized;
     }
@@ -586,6 +595,67 @@ class Solver::Iteration {
     return true;
   }
 
+  // ---- the hybrid default (Options::hybrid, strategy.hpp) ---------------------------
+  // Records iterate k; true when the strategy was left for slow progress or its budget and
+  // the next one continues from its best point.
+  bool LeaveStrategy(int k) {
+    if (!options_.hybrid) return false;
+    const size_t kk = static_cast<size_t>(k - first_k_);
+    work_.progress.Observe(kk, iterate_.psi, x_, k);
+    SwitchReason reason = SwitchReason::kStuck;
+    return work_.progress.ShouldLeave(kk, k - strategy_start_, options_, &reason) &&
+           SwitchStrategy(k, reason);
+  }
+
+  // The next strategy of the schedule continues from the smallest-psi point of this one
+  // (its MixedProblem::RestartPoint), at iterate k; Phi, psi, the nonmonotone memory, the
+  // stagnation window and the progress test start afresh. kStuck applies to a solve that
+  // ended at a non-solution stationary point, in a failed line search or a failed Newton
+  // solve; false (nothing changed) when no strategy is left or the point cannot be evaluated.
+  bool SwitchStrategy(int k, SwitchReason reason) {
+    if (!options_.hybrid) return false;
+    const bool stuck = summary_.termination == TerminationType::kStationaryPoint ||
+                       summary_.termination == TerminationType::kLineSearchFailure ||
+                       summary_.termination == TerminationType::kLinearSolverFailure;
+    if (reason == SwitchReason::kStuck && !(finished_ && stuck)) return false;
+    const Strategy from{function_, regularized_};
+    if (!work_.schedule.Advance(from)) return false;
+    const Strategy& to = work_.schedule.current();
+    // A stuck strategy may not have recorded iterate k (TestStop came first).
+    work_.progress.Observe(static_cast<size_t>(k - first_k_), iterate_.psi, x_, k);
+    work_.x_trial = work_.progress.best_x();
+    function_ = to.ncp_function;  // Evaluate() uses function_
+    if (!problem_.RestartPoint(&work_.x_trial) || work_.x_trial.size() != n_ ||
+        !Evaluate(work_.x_trial, &work_.Et, &work_.At, &work_.Bt, &work_.phi_trial) ||
+        !AllFinite(work_.phi_trial)) {
+      function_ = from.ncp_function;
+      return false;
+    }
+    StrategySwitch record;
+    record.iteration = k;
+    record.from_strategy = from;
+    record.to_strategy = to;
+    record.reason = reason;
+    record.best_iteration = work_.progress.best_iteration();
+    record.best_psi = work_.progress.best_psi();
+    summary_.strategy_switches.push_back(record);
+    x_.swap(work_.x_trial);
+    work_.E.swap(work_.Et);
+    work_.A.swap(work_.At);
+    work_.B.swap(work_.Bt);
+    work_.phi.swap(work_.phi_trial);
+    regularized_ = to.regularized_direction;
+    if (options_.keep_trace && !summary_.trace.empty()) summary_.trace.pop_back();  // iterate k anew
+    finished_ = false;
+    summary_.termination = TerminationType::kNotSolved;
+    first_k_ = strategy_start_ = k;
+    if (options_.log_to_stderr)
+      std::fprintf(stderr, "strategy %s -> %s at iteration %d (%s), from iteration %d\n",
+                   internal::StrategyName(from).c_str(), internal::StrategyName(to).c_str(), k,
+                   ToString(reason), record.best_iteration);
+    return true;
+  }
+
   // ---- step 4: x^{k+1} = x^k + t d ---------------------------------------------------
   void Accept(Direction direction) {
     x_.swap(work_.x_trial);
@@ -606,6 +676,7 @@ class Solver::Iteration {
     summary_.termination = type;
     summary_.message = message;
     if (summary_.merit_restarts > 0) summary_.message += internal::RestartSuffix(summary_.merit_restarts);
+    summary_.message += internal::StrategySwitchSuffix(summary_.strategy_switches);
     summary_.final_phi_inf = work_.phi.lpNorm<Eigen::Infinity>();
     summary_.final_psi = 0.5 * work_.phi.squaredNorm();
     summary_.symbolic_factorizations = SymbolicFactorizations() - symbolic_before_;
@@ -626,6 +697,8 @@ class Solver::Iteration {
   double threshold_ = 0.0;
   NcpFunction function_ = NcpFunction::kFischerBurmeister;  // the current merit (restarts switch it)
   int restarts_left_ = 0, first_k_ = 0;                      // first_k_: iterate of the last (re)start
+  bool regularized_ = false;  // the current strategy tries the LM direction (hybrid switches it)
+  int strategy_start_ = 0;    // iterate the current strategy of the hybrid began at
   IterationRecord record_;
   bool finished_ = false;  // Finish was called (a restart clears it)
   // Iterate k: what the phases of one iteration find out about x^k, set afresh by BeginIterate.

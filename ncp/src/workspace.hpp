@@ -15,6 +15,7 @@
 #include "linear_solver.hpp"
 #include "ncp/solver.hpp"
 #include "sparse_pattern.hpp"
+#include "strategy.hpp"
 
 namespace ncp {
 
@@ -61,6 +62,9 @@ struct Solver::Workspace {
   // The nonmonotone Armijo reference and the stagnation test (globalization.hpp).
   internal::NonmonotoneReference armijo_reference;
   internal::StagnationTest stagnation;
+  // The hybrid default (Options::hybrid, strategy.hpp).
+  internal::StrategySchedule schedule;
+  internal::StrategyProgress progress;
 
   /// Sizes every vector of the iteration for n unknowns and m equations (zeros).
   void Resize(int n, int m);

@@ -21,13 +21,13 @@ import difflib
 import numpy as np
 import scipy.sparse as sp
 
-from ._ncp import (IterationRecord, LinearSolverType, NcpFunction, Options, Summary,
-                   TerminationType, _reference)
+from ._ncp import (IterationRecord, LinearSolverType, NcpFunction, Options, Strategy,
+                   StrategySwitch, Summary, SwitchReason, TerminationType, _reference)
 from . import _ncp
 
 __all__ = ["solve", "solve_ncp", "solve_lcp", "solve_mixed", "make_options", "SolveError", "Options",
            "Summary", "IterationRecord", "NcpFunction", "LinearSolverType",
-           "TerminationType", "INFINITE_BOUND"]
+           "TerminationType", "Strategy", "StrategySwitch", "SwitchReason", "INFINITE_BOUND"]
 
 #: Bounds of at least this magnitude are infinite (the GAMS / PATH convention).
 INFINITE_BOUND = 1e20

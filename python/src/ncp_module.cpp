@@ -189,6 +189,10 @@ void BindOptions(py::module_& m) {
       ("nonmonotone_memory", &Options::nonmonotone_memory, "Armijo reference: largest psi of the last this many iterates (1: monotone)")
       ("regularized_direction", &Options::regularized_direction, "try a Levenberg-Marquardt direction before -grad psi")
       ("merit_restarts", &Options::merit_restarts, "stuck FB-family solve: restart with the other member (FB <-> penalized FB), at most this often")
+      ("hybrid", &Options::hybrid, "a strategy that stops progressing hands its best point to the next (penalized FB, min, FB+LM, penalized FB+LM)")
+      ("hybrid_window", &Options::hybrid_window, "iterations of the hybrid's slow-progress test (0: off)")
+      ("hybrid_decrease", &Options::hybrid_decrease, "slow progress: min psi fell by less than this factor over the window, in (0, 1)")
+      ("hybrid_budget_per_unknown", &Options::hybrid_budget_per_unknown, "a strategy's budget: max(hybrid_window, this * n) iterations")
       ("infinite_bound", &Options::infinite_bound, "box MCP: |bound| >= this is infinite")
       ("project_start_point", &Options::project_start_point, "box MCP: project the start point onto [l, u]")
       ("roundoff_ulps", &Options::roundoff_ulps,
@@ -239,6 +243,28 @@ void BindSummary(py::module_& m) {
       ("time_s", &IterationRecord::time_s, "wall time since the start [s]");
   // clang-format on
 
+  py::class_<ncp::Strategy> strategy(m, "Strategy", "A strategy of the hybrid default.");
+  // clang-format off
+  FieldTable<ncp::Strategy>(strategy, false)
+      ("ncp_function", &ncp::Strategy::ncp_function, "the NCP function")
+      ("regularized_direction", &ncp::Strategy::regularized_direction, "the Levenberg-Marquardt direction before -grad psi");
+  // clang-format on
+  strategy.def("__repr__", [](const ncp::Strategy& s) {
+    return std::string("<ncp.Strategy ") + ToString(s.ncp_function) +
+           (s.regularized_direction ? "+lm" : "") + ">";
+  });
+  py::class_<ncp::StrategySwitch> change(m, "StrategySwitch",
+                                         "A switch of the hybrid default (Options.hybrid).");
+  // clang-format off
+  FieldTable<ncp::StrategySwitch>(change, false)
+      ("iteration", &ncp::StrategySwitch::iteration, "k at which the new strategy starts")
+      ("from_strategy", &ncp::StrategySwitch::from_strategy, "the strategy left")
+      ("to_strategy", &ncp::StrategySwitch::to_strategy, "the strategy taken")
+      ("reason", &ncp::StrategySwitch::reason, "STUCK, SLOW_PROGRESS or BUDGET")
+      ("best_iteration", &ncp::StrategySwitch::best_iteration, "k of the point the new strategy starts from")
+      ("best_psi", &ncp::StrategySwitch::best_psi, "psi of the strategy left at that point");
+  // clang-format on
+
   py::class_<Summary> cls(m, "Summary",
                           "ncp::Summary: status, message, counts, residuals, timings.");
   cls.def(py::init<>());
@@ -261,6 +287,7 @@ void BindSummary(py::module_& m) {
       ("backtracks", &Summary::backtracks, "total halvings in the line search")
       ("regularized_steps", &Summary::regularized_steps, "steps along the Levenberg-Marquardt direction")
       ("merit_restarts", &Summary::merit_restarts, "restarts switching FB <-> penalized FB")
+      ("strategy_switches", &Summary::strategy_switches, "StrategySwitch per switch of the hybrid default")
       ("projected_start_components", &Summary::projected_start_components, "start components moved onto [l, u]")
       ("projected_final_components", &Summary::projected_final_components, "components of the last iterate moved onto [l, u]")
       ("infeasibility_certificate", &Summary::infeasibility_certificate, "INFEASIBLE: the Farkas certificate y (else empty)")
@@ -356,6 +383,8 @@ PYBIND11_MODULE(_ncp, m) {
                      "linear solver of J d = -Phi");
   bindings::BindEnum(m, "TerminationType", ncp::kLastTerminationType,
                      "why a solve stopped");
+  bindings::BindEnum(m, "SwitchReason", ncp::kLastSwitchReason,
+                     "why the hybrid default left a strategy");
   BindOptions(m);
   BindSummary(m);
 

@@ -123,7 +123,12 @@ TEST_CASE("every collection problem from every start, FB and min, every backend"
         if (const KnownSolverFailure* known =
                 FindKnownSolverFailure(p.name, start.label, function, backend)) {
           INFO("known failure of this solver (not of the problem): " << known->observed);
-          CHECK_FALSE(run.summary.IsSolutionUsable());
+          // Observed with a single strategy; the hybrid default (Options::hybrid) solves
+          // many of them: then the claim is checked like any other.
+          if (run.summary.IsSolutionUsable()) {
+            CHECK(run.natural_residual <= kResidualTolerance);
+            continue;
+          }
           CHECK(HonestFailure(run.summary.termination));
           CHECK(run.natural_residual > kResidualTolerance);
           continue;

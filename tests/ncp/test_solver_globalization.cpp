@@ -251,6 +251,7 @@ TEST_CASE("colvdual: FB stalls at a stationary point of psi_FB, the merit restar
   for (const auto& start : problem.starts) {
     ncp::Options without;
     without.merit_restarts = 0;
+    without.hybrid = false;  // one strategy (the hybrid default's switches solve it too)
     const ncp::test::Run stalled = ncp::test::SolveFrom(problem, start.x, without);
     INFO(start.label << ", no restarts: " << stalled.summary.BriefReport());
     // Measured: stationary-point after ~60 iterations, ||Phi||_inf ~ 0.14.
@@ -275,6 +276,7 @@ TEST_CASE("merit restarts: the min function and Algorithm 1 never restart", "[so
   ncp::collection::TestProblem problem = ncp::collection::ColvilleDual();
   ncp::Options min_options;
   min_options.ncp_function = NcpFunction::kMin;
+  min_options.hybrid = false;  // (the hybrid default switches to penalized FB, which restarts)
   const ncp::test::Run with_min = ncp::test::SolveFrom(problem, problem.starts[0].x, min_options);
   CHECK(with_min.summary.merit_restarts == 0);
   const ncp::test::Run thesis = ncp::test::SolveFrom(problem, problem.starts[0].x, ncp::Options::Algorithm1());

@@ -53,6 +53,25 @@ def test_collection_problem_through_python_callbacks_matches_cpp(name, start, fu
         assert natural_residual(x, p["F"](x), p["lower"], p["upper"]) <= 1e-8
 
 
+def test_hybrid_default_records_its_switches_and_solves_where_one_strategy_does_not():
+    # hansmcp from GAMS' start with the min function: min alone ends at max_iterations; the
+    # hybrid default leaves it for slow progress and converges (docs/ncp.md, Hybrid default).
+    p = ncp._reference.problem("hansmcp")
+    x0 = p["starts"]["gams"]
+    x, s = ncp.solve(p["F"], p["J"], x0, p["lower"], p["upper"], ncp_function="min")
+    assert s.termination == ncp.TerminationType.CONVERGED
+    assert natural_residual(x, p["F"](x), p["lower"], p["upper"]) <= 1e-8
+    assert len(s.strategy_switches) >= 1
+    first = s.strategy_switches[0]
+    assert first.from_strategy.ncp_function == ncp.NcpFunction.MIN
+    assert first.to_strategy.ncp_function != ncp.NcpFunction.MIN
+    assert first.reason in (ncp.SwitchReason.SLOW_PROGRESS, ncp.SwitchReason.BUDGET, ncp.SwitchReason.STUCK)
+    assert 0 <= first.best_iteration <= first.iteration and first.best_psi >= 0.0
+    assert "strategies: min -> " in s.message
+    x1, s1 = ncp.solve(p["F"], p["J"], x0, p["lower"], p["upper"], ncp_function="min", hybrid=False)
+    assert s1.termination != ncp.TerminationType.CONVERGED and not s1.strategy_switches
+
+
 def test_numpy_nash_cournot_matches_cpp_nash5():
     options = ncp.make_options(keep_trace=True)
     x0 = np.full(5, 10.0)

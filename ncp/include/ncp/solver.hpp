@@ -49,6 +49,35 @@ struct IterationRecord {
   double time_s = 0.0;          ///< wall time since the solve started
 };
 
+/// Why the hybrid default (Options::hybrid) left a strategy for the next one.
+enum class SwitchReason {
+  kStuck,         ///< the strategy ended at a non-solution stationary point of its merit
+                  ///< function, in a failed line search or a failed Newton solve (after
+                  ///< its merit restarts, Options::merit_restarts)
+  kSlowProgress,  ///< its best psi fell by less than the factor Options::hybrid_decrease
+                  ///< over the last Options::hybrid_window iterations
+  kBudget,        ///< it used its iteration budget (Options::hybrid_budget_per_unknown)
+};
+constexpr SwitchReason kLastSwitchReason = SwitchReason::kBudget;
+const char* ToString(SwitchReason reason);
+
+/// One strategy of the hybrid default: an NCP function and whether the
+/// Levenberg-Marquardt direction is tried before -grad psi.
+struct Strategy {
+  NcpFunction ncp_function = NcpFunction::kFischerBurmeister;
+  bool regularized_direction = false;
+};
+
+/// A switch of the hybrid default, recorded in Summary::strategy_switches.
+struct StrategySwitch {
+  int iteration = 0;     ///< k of the iterate the new strategy starts from
+  Strategy from_strategy;  ///< the strategy left
+  Strategy to_strategy;    ///< the strategy taken
+  SwitchReason reason = SwitchReason::kStuck;
+  int best_iteration = 0;     ///< k at which from_strategy reached that point (smallest psi)
+  double best_psi = 0.0;      ///< psi (merit of from_strategy) at that point, where to_strategy starts
+};
+
 /// Return false to stop the solve (TerminationType::kUserAbort).
 using IterationCallback = std::function<bool(const IterationRecord&)>;
 
@@ -114,6 +143,33 @@ struct Options {
   /// penalized FB function). No effect with the min function. 0 turns restarts off; the
   /// default 6 was chosen on the problem collection (docs/ncp-measurements.md).
   int merit_restarts = 6;
+  /// Hybrid default: a strategy (NCP function, direction) that stops making progress hands
+  /// its best iterate to the next strategy instead of ending the solve. The sequence is the
+  /// requested one (ncp_function, regularized_direction) followed by penalized FB, min, FB
+  /// with the Levenberg-Marquardt direction and penalized FB with it, each taken once
+  /// (skipping the requested one). A strategy is left (Summary::strategy_switches) when
+  ///  - it ends stuck: a non-solution stationary point, a failed line search, a failed
+  ///    Newton solve without fallback (merit_restarts are used up first);
+  ///  - slow progress: its smallest psi fell by less than the factor hybrid_decrease over
+  ///    the last hybrid_window iterations (Newton's local phase takes many orders of
+  ///    magnitude per window; a gradient-like crawl or linear convergence at a singular
+  ///    solution does not);
+  ///  - budget: it took max(hybrid_window, hybrid_budget_per_unknown * n) iterations.
+  /// The next strategy starts from the point of smallest psi of the strategy left
+  /// (MixedProblem::RestartPoint of it). max_iterations and max_seconds count all
+  /// strategies. The last strategy runs until the ordinary stopping tests. false: one
+  /// strategy (with merit restarts), the solver before the hybrid default.
+  bool hybrid = true;
+  /// Window of the slow-progress test [iterations] (0 turns the test off). The defaults of
+  /// the window and of hybrid_decrease were chosen on the problem collection
+  /// (docs/ncp.md, "Hybrid default").
+  int hybrid_window = 50;
+  /// Slow progress when min psi now > hybrid_decrease * min psi hybrid_window iterations
+  /// ago; in (0, 1). 0.01: two orders of magnitude of psi (one of ||Phi||) per window.
+  double hybrid_decrease = 0.01;
+  /// Iteration budget of one strategy = max(hybrid_window, hybrid_budget_per_unknown * n);
+  /// > 0 (+inf: no budget).
+  double hybrid_budget_per_unknown = 10.0;
   /// Largest i tried in the step 2^-i; failing it ends with kLineSearchFailure.
   int max_backtracks = 60;
   /// A pair belongs to the degenerate set gamma when hypot(A_j, B_j) <= this (DFK: 0).
@@ -150,7 +206,7 @@ struct Options {
   IterationCallback callback;
 
   /// Algorithm 1 of the thesis with its published constants (rho = 1e-8, p = 2.1,
-  /// beta = 1e-4, monotone Armijo, d = -grad psi as the only fallback).
+  /// beta = 1e-4, monotone Armijo, d = -grad psi as the only fallback, one strategy).
   static Options Algorithm1();
 
   /// Rejects settings outside their ranges; *error says which and why.
@@ -174,6 +230,9 @@ struct Summary {
   int gradient_steps = -1;           ///< steps with d = -grad psi
   int regularized_steps = -1;        ///< steps along the Levenberg-Marquardt direction
   int merit_restarts = -1;           ///< switches FB <-> penalized FB (Options::merit_restarts)
+  /// Options::hybrid: every switch of strategy, in order (empty when the first one solved
+  /// the problem or the hybrid is off).
+  std::vector<StrategySwitch> strategy_switches;
   int linear_solver_failures = -1;   ///< Newton solves that failed (singular, non-finite)
   int descent_test_failures = -1;    ///< Newton directions rejected by eq. (22)
   int backtracks = -1;               ///< total halvings in the line search
