@@ -1,5 +1,7 @@
 #include "block_delassus.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 
 namespace ncp::fc::internal {
@@ -16,14 +18,38 @@ BlockDelassus::BlockDelassus(const FrictionProblem& problem)
     }
   row_ptr_.assign(1, 0);
   diagonal_.resize(num_contacts_);
+  std::vector<std::map<int, int>> index(num_contacts_);  // block (a, b) -> its k
   for (int a = 0; a < num_contacts_; ++a) {
     for (const auto& [b, block] : rows[a]) {
       if (b == a) diagonal_[a] = static_cast<int>(blocks_.size());
+      index[a][b] = static_cast<int>(blocks_.size());
       block_col_.push_back(b);
       blocks_.push_back(block);
     }
     row_ptr_.push_back(static_cast<int>(blocks_.size()));
   }
+  // Where each stored entry of W goes, for SetScaledValues.
+  value_block_.reserve(problem.W.nonZeros());
+  value_entry_.reserve(problem.W.nonZeros());
+  for (int k = 0; k < problem.W.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(problem.W, k); it; ++it) {
+      value_block_.push_back(index[it.row() / d_].at(static_cast<int>(it.col()) / d_));
+      value_entry_.push_back(static_cast<int>(it.row() % d_ + 3 * (it.col() % d_)));
+    }
+}
+
+bool BlockDelassus::SetScaledValues(double scale, const SparseMatrix& W0, SparseMatrix* W) {
+  const Eigen::Index n = W0.nonZeros();
+  double* values = W->valuePtr();
+  const double* values0 = W0.valuePtr();
+  bool finite = true;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    values[k] = scale * values0[k];
+    finite = finite && std::isfinite(values[k]);
+  }
+  if (!finite) return false;
+  for (Eigen::Index k = 0; k < n; ++k) blocks_[value_block_[k]].data()[value_entry_[k]] = values[k];
+  return true;
 }
 
 Eigen::Vector3d BlockDelassus::RowTimes(int a, const Vector& r) const {
@@ -36,22 +62,45 @@ Eigen::Vector3d BlockDelassus::RowTimes(int a, const Vector& r) const {
   return sum;
 }
 
-void BlockDelassus::AssembleJacobian(const std::vector<Block>& A,
-                                     const std::vector<Block>& B, SparseMatrix* J) const {
+void BlockDelassus::BuildJacobianPattern(SparseMatrix* J) {
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(blocks_.size() * d_ * d_);
+  for (int a = 0; a < num_contacts_; ++a)
+    for (int k = row_ptr_[a]; k < row_ptr_[a + 1]; ++k)
+      for (int j = 0; j < d_; ++j)
+        for (int i = 0; i < d_; ++i) entries.emplace_back(d_ * a + i, d_ * block_col_[k] + j, 0.0);
+  const int n = d_ * num_contacts_;
+  J->resize(n, n);
+  J->setFromTriplets(entries.begin(), entries.end());
+  J->makeCompressed();
+  jacobian_slot_.resize(entries.size());
+  for (int a = 0; a < num_contacts_; ++a)
+    for (int k = row_ptr_[a]; k < row_ptr_[a + 1]; ++k)
+      for (int j = 0; j < d_; ++j) {
+        const int column = d_ * block_col_[k] + j;
+        const int* begin = J->innerIndexPtr() + J->outerIndexPtr()[column];
+        const int* end = J->innerIndexPtr() + J->outerIndexPtr()[column + 1];
+        for (int i = 0; i < d_; ++i)
+          jacobian_slot_[static_cast<size_t>((k * d_ + j) * d_ + i)] =
+              static_cast<int>(std::lower_bound(begin, end, d_ * a + i) - J->innerIndexPtr());
+      }
+  jacobian_values_ = J->valuePtr();
+}
+
+void BlockDelassus::AssembleJacobian(const std::vector<Block>& A, const std::vector<Block>& B,
+                                     SparseMatrix* J) {
+  if (J->valuePtr() == nullptr || J->valuePtr() != jacobian_values_ || !J->isCompressed())
+    BuildJacobianPattern(J);
+  double* values = J->valuePtr();
   for (int a = 0; a < num_contacts_; ++a)
     for (int k = row_ptr_[a]; k < row_ptr_[a + 1]; ++k) {
       const int b = block_col_[k];
       Block Jab = B[a] * blocks_[k];
       if (b == a) Jab += A[a];
+      const int* slot = jacobian_slot_.data() + static_cast<size_t>(k * d_ * d_);
       for (int j = 0; j < d_; ++j)
-        for (int i = 0; i < d_; ++i)
-          entries.emplace_back(d_ * a + i, d_ * b + j, Jab(i, j));
+        for (int i = 0; i < d_; ++i) values[slot[j * d_ + i]] = Jab(i, j);
     }
-  const int n = d_ * num_contacts_;
-  J->resize(n, n);
-  J->setFromTriplets(entries.begin(), entries.end());
 }
 
 }  // namespace ncp::fc::internal
