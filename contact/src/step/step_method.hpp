@@ -59,10 +59,16 @@ class StepAlgorithm {
   virtual StepOutcome Solve(const StepData& step, ContactSystem::Result* result) = 0;
 };
 
-/// The method that runs: options.step_method, or for kAuto condensed or sparse by the
-/// size of the contact set (contact/dynamics_types.hpp). Throws std::invalid_argument for
-/// the sparse step with friction posed with the lagged bound (FrictionFormulation::kLaggedBound).
-StepMethod ResolveStepMethod(const DynamicModel& model, const DynamicOptions& options);
+/// The predicted time per step of the explicit, condensed and sparse steps for the run
+/// (`mass`: M^-1 with its factor) and the cheapest, kAuto's choice (StepCostPrediction).
+StepCostPrediction PredictStepCost(const DynamicModel& model, const DynamicOptions& options,
+                                   const MassInverse& mass);
+
+/// The method that runs: options.step_method, or for kAuto PredictStepCost's choice.
+/// Throws std::invalid_argument for the sparse step with friction posed with the lagged
+/// bound (FrictionFormulation::kLaggedBound).
+StepMethod ResolveStepMethod(const DynamicModel& model, const DynamicOptions& options,
+                             const MassInverse& mass);
 
 /// The step method of `options` (ResolveStepMethod), set up for the model. `mass` (M^-1)
 /// must outlive the result. Throws std::invalid_argument when the method cannot take the
