@@ -55,13 +55,14 @@ def main():
         methods = (["explicit"] if mass == "lumped" else []) + ["condensed", "sparse", "auto"]
         for method in methods:
             j = run(sim, scene, method, args.timeout)
-            phases = j.get("phase_seconds", {})
-            predicted = j.get("predicted_step_seconds", {})
+            phases = {k: j.get(k + "_seconds", "") for k in ("assembly", "mass_solve", "contact_solve", "accuracy_check")}
+            predicted = {k: j.get("predicted_%s_step_seconds" % k, "") for k in ("explicit", "condensed", "sparse")}
+            predicted["auto_choice"] = j.get("auto_choice", "")
             row = {
                 "scene": os.path.basename(scene), "mass": mass, "method": method,
                 "ran": j.get("step_method", ""), "status": j.get("status", ""),
                 "seconds": j.get("seconds", ""), "steps": j.get("steps", ""),
-                "assembly_s": phases.get("assembly", ""), "mass_solves_s": phases.get("mass_solves", ""),
+                "assembly_s": phases.get("assembly", ""), "mass_solves_s": phases.get("mass_solve", ""),
                 "contact_solve_s": phases.get("contact_solve", ""),
                 "accuracy_check_s": phases.get("accuracy_check", ""),
                 "mass_solves": j.get("mass_solves", ""), "newton_iterations": j.get("newton_iterations", ""),

@@ -43,8 +43,11 @@ StepCostPrediction PredictStepCost(const DynamicModel& model, const DynamicOptio
   const double common = 2.0 * static_cast<double>(model.M.nonZeros() + model.K.nonZeros()) / kSparseFlopRate +
                         20.0 * static_cast<double>(model.M.rows()) / kSparseFlopRate;
   // The explicit step: node by node, in closed form; the same step as the others only with a
-  // lumped M and friction (if any) as the lagged bound.
-  if (mass.diagonal() && (!friction || lagged)) p.explicit_seconds = common;
+  // lumped M (the same mass in every component of a contact node) and friction (if any) as
+  // the lagged bound.
+  if (mass.diagonal() && (!friction || lagged) &&
+      UnequalLumpedMassNode(model.dim, model.M.diagonal(), model.contact_nodes) < 0)
+    p.explicit_seconds = common;
   const double solve = 4.0 * mass.factor_nonzeros() / kSparseFlopRate;  // one solve with M
   const double steps = std::max(1.0, std::floor((options.end_time - options.start_time) / options.dt));
   // Condensed: n_u contact unknowns; W formed by n_u solves with M once (and inverted once,

@@ -93,6 +93,9 @@ std::unique_ptr<StepAlgorithm> MakeCoulombFcStep(const DynamicModel& model, Mass
 std::unique_ptr<StepAlgorithm> MakeSparseStep(const DynamicModel& model, MassInverse* mass, double m_max,
                                               const DynamicOptions& options);
 std::unique_ptr<StepAlgorithm> MakeExplicitStep(const DynamicModel& model, double m_max);
+/// The explicit step's condition on a lumped mass (diagonal: of M, or of S = M / m_max): the
+/// mesh node of the first contact node whose free components have different masses, or -1.
+int UnequalLumpedMassNode(int dim, const Eigen::VectorXd& diagonal, const std::vector<ContactNode>& nodes);
 std::unique_ptr<StepAlgorithm> MakeIpoptStep(const DynamicModel& model, double m_max,
                                              double tolerance);
 

@@ -18,37 +18,29 @@ BlockDelassus::BlockDelassus(const FrictionProblem& problem)
     }
   row_ptr_.assign(1, 0);
   diagonal_.resize(num_contacts_);
-  std::vector<std::map<int, int>> index(num_contacts_);  // block (a, b) -> its k
   for (int a = 0; a < num_contacts_; ++a) {
     for (const auto& [b, block] : rows[a]) {
       if (b == a) diagonal_[a] = static_cast<int>(blocks_.size());
-      index[a][b] = static_cast<int>(blocks_.size());
       block_col_.push_back(b);
       blocks_.push_back(block);
     }
     row_ptr_.push_back(static_cast<int>(blocks_.size()));
   }
-  // Where each stored entry of W goes, for SetScaledValues.
-  value_block_.reserve(problem.W.nonZeros());
-  value_entry_.reserve(problem.W.nonZeros());
-  for (int k = 0; k < problem.W.outerSize(); ++k)
-    for (SparseMatrix::InnerIterator it(problem.W, k); it; ++it) {
-      value_block_.push_back(index[it.row() / d_].at(static_cast<int>(it.col()) / d_));
-      value_entry_.push_back(static_cast<int>(it.row() % d_ + 3 * (it.col() % d_)));
-    }
+  blocks0_ = blocks_;  // W0's blocks, for SetScaledValues
 }
 
 bool BlockDelassus::SetScaledValues(double scale, const SparseMatrix& W0, SparseMatrix* W) {
-  const Eigen::Index n = W0.nonZeros();
-  double* values = W->valuePtr();
-  const double* values0 = W0.valuePtr();
-  bool finite = true;
-  for (Eigen::Index k = 0; k < n; ++k) {
-    values[k] = scale * values0[k];
-    finite = finite && std::isfinite(values[k]);
+  // Contiguous passes (vectorized): W's values, then the blocks from their unscaled copy.
+  Eigen::Map<Vector> values(W->valuePtr(), W0.nonZeros());
+  values = scale * Eigen::Map<const Vector>(W0.valuePtr(), W0.nonZeros());
+  if (!values.allFinite()) {
+    values = Eigen::Map<const Vector>(W0.valuePtr(), W0.nonZeros()) * scale_;  // (as before)
+    return false;
   }
-  if (!finite) return false;
-  for (Eigen::Index k = 0; k < n; ++k) blocks_[value_block_[k]].data()[value_entry_[k]] = values[k];
+  const Eigen::Index n = 9 * static_cast<Eigen::Index>(blocks_.size());
+  if (n > 0)
+    Eigen::Map<Vector>(blocks_.front().data(), n) = scale * Eigen::Map<const Vector>(blocks0_.front().data(), n);
+  scale_ = scale;
   return true;
 }
 

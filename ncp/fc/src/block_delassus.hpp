@@ -24,9 +24,8 @@ class BlockDelassus {
   const Block& BlockAt(int k) const { return blocks_[k]; }
   /// sum_b W_ab r_b over the blocks of row a (d entries, padded to 3 with zeros).
   Eigen::Vector3d RowTimes(int a, const Vector& r) const;
-  /// *W = scale W0 entry by entry and the blocks likewise, for W0 with the pattern given to
-  /// the constructor (same nonzeros in the same order; *W shares it). False (nothing
-  /// changed in the blocks) when an entry is not finite.
+  /// *W = scale W0 entry by entry and the blocks likewise, for W0 the W given to the
+  /// constructor (*W has its pattern). False (nothing changed) when an entry is not finite.
   bool SetScaledValues(double scale, const SparseMatrix& W0, SparseMatrix* W);
   /// J = A + B W with A, B block diagonal (one Block per contact); every entry of every
   /// block is stored, zeros included, so J's sparsity pattern never changes: the first call
@@ -41,7 +40,8 @@ class BlockDelassus {
   int d_, num_contacts_;
   std::vector<int> row_ptr_, block_col_, diagonal_;
   std::vector<Block> blocks_;
-  std::vector<int> value_block_, value_entry_;  // per stored entry of W: block and (i + 3 j)
+  std::vector<Block> blocks0_;  // the blocks of the W given to the constructor
+  double scale_ = 1.0;          // blocks_ = scale_ blocks0_
   std::vector<int> jacobian_slot_;              // d^2 per block, (i, j) column-major
   const double* jacobian_values_ = nullptr;     // J's value array when the slots were set
 };
