@@ -10,9 +10,9 @@ namespace {
 // Rates and counts of the cost model of StepMethod::kAuto (PredictStepCost). The rates: a
 // solve with M's CHOLMOD factor took 0.23-0.29 ms for 4 x 1.3e5 flops on the rocker
 // (examples/scenes/rocker_incline_3d.toml), the products and load of its steps 0.13 ms. The
-// counts per step: fitted to the time of each method on every example scene
-// (benchmarks/results/contact/step_cost/, docs/contact.md "Cost per step": the fit that keeps
-// auto closest to the fastest method on all of them); measured there, the sparse step takes
+// counts per step: fitted to the time of each method on every example scene in an earlier
+// run of benchmarks/results/contact/step_cost/ (docs/contact.md "Cost per step": the fit that
+// kept auto closest to the fastest method on all of them); measured there, the sparse step takes
 // 1.5-2x the Newton steps of the condensed one (it runs Alart-Curnier alone) and 4-10
 // solves with M per Newton step.
 constexpr double kSparseFlopRate = 2.0e9;      // [flop/s] sparse products and triangular solves
