@@ -167,7 +167,7 @@ class CentralDifferences {
  public:
   CentralDifferences(const DynamicModel& model, const DynamicOptions& options,
                      internal::MassInverse* mass, State* state, DynamicSummary* summary)
-      : model_(model), options_(options), state_(*state), summary_(*summary), dt_(options.dt),
+      : model_(model), options_(options), mass_(mass), state_(*state), summary_(*summary), dt_(options.dt),
         m_max_(internal::MaxAbsEntry(model.M)),
         force_scale_(m_max_ / (dt_ * dt_)),
         method_(internal::MakeStepAlgorithm(model, options, mass, m_max_)),
@@ -176,7 +176,8 @@ class CentralDifferences {
     // The frictionless reference of compare_with_ipopt, next to any other step method.
     if (options.compare_with_ipopt && options.step_method != StepMethod::kIpopt)
       reference_ = std::make_unique<internal::IpoptQp>(model, m_max_, options.ncp.tolerance);
-    summary->step_method = internal::ResolveStepMethod(model, options);
+    summary->step_method = internal::ResolveStepMethod(model, options, *mass);
+    summary->predicted_cost = internal::PredictStepCost(model, options, *mass);
     gap0_.resize(static_cast<Eigen::Index>(nodes_.size()));
     for (size_t c = 0; c < nodes_.size(); ++c) gap0_(static_cast<Eigen::Index>(c)) = nodes_[c].gap;
   }
@@ -188,7 +189,15 @@ class CentralDifferences {
     rec.step = static_cast<int>(k + 1);
     rec.time = options_.start_time + static_cast<double>(k) * dt_ + dt_;
     const internal::StepScales scales = LoadStep(k);
-    if (!SolveStep(k, scales, &rec)) return false;
+    const auto solve_start = Clock::now();
+    summary_.assembly_seconds += std::chrono::duration<double>(solve_start - step_start).count();
+    const double mass_seconds = mass_->solve_seconds();
+    const long mass_solves = mass_->solves();
+    const bool solved = SolveStep(k, scales, &rec);
+    summary_.mass_solve_seconds += mass_->solve_seconds() - mass_seconds;
+    summary_.mass_solves += mass_->solves() - mass_solves;
+    summary_.contact_solve_seconds += Seconds(solve_start) - (mass_->solve_seconds() - mass_seconds);
+    if (!solved) return false;
     MeasureStep(scales, &rec);
     rec.seconds = Seconds(step_start);
     Accumulate(rec);
@@ -281,11 +290,13 @@ class CentralDifferences {
   // u^{k+1}, the contact forces r^{k+1} = M (u^{k+1} - 2u^k + u^{k-1}) / dt^2 + K u^k - f^k
   // [N], the accuracy asked for and reached (step_accuracy.hpp), the energies, the forces.
   void MeasureStep(const internal::StepScales& scales, StepRecord* rec) {
+    const auto products_start = Clock::now();
     State& s = state_;
     s.du = s.contact.x;
     s.u_next = s.u + s.du;
     internal::SymmetricMultiply(model_.M, s.du, &s.Mdu);
     internal::SymmetricMultiply(model_.K, s.u_next, &s.Ku_next);
+    const auto check_start = Clock::now();
     s.r = s.Mdu / (dt_ * dt_) + s.Q;
     internal::SetAskedAccuracy(options_.ncp.tolerance, scales, s.Q, s.Mdu, dt_, s.u_next, gap0_, rec);
     internal::MeasureStepAccuracy(model_.dim, nodes_, s.r, s.contact, force_scale_,
@@ -300,6 +311,9 @@ class CentralDifferences {
     // In contact: a normal force above the step's force accuracy [N]; below it the force is
     // round-off of a node in flight (e.g. 3.9e-19 N after a bounce), not contact.
     rec->active_nodes = static_cast<int>((s.lambda_next.array() > rec->force_accuracy).count());
+    const double check_seconds = Seconds(check_start);
+    summary_.accuracy_check_seconds += check_seconds;
+    summary_.assembly_seconds += Seconds(products_start) - check_seconds;
   }
 
   // The summary's maxima and counts, the record, and the caller's on_step.
@@ -361,6 +375,7 @@ class CentralDifferences {
 
   const DynamicModel& model_;
   const DynamicOptions& options_;
+  internal::MassInverse* mass_;  // M^-1 of the run (its solve timers: the mass-solve phase)
   State& state_;
   DynamicSummary& summary_;
   const double dt_;

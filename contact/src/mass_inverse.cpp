@@ -1,6 +1,7 @@
 #include "mass_inverse.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
@@ -32,8 +33,15 @@ MassInverse::MassInverse(const Eigen::SparseMatrix<double>& M, const std::string
 }
 
 void MassInverse::Solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) {
+  const auto start = std::chrono::steady_clock::now();
   if (factor_) factor_->Solve(b, x);
   else *x = b.cwiseQuotient(diagonal_);
+  solve_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ++solves_;
+}
+
+double MassInverse::factor_nonzeros() const {
+  return factor_ ? factor_->factor_nonzeros() : static_cast<double>(diagonal_.size());
 }
 
 void MassInverse::Solve(const Eigen::MatrixXd& B, Eigen::MatrixXd* X) {

@@ -204,6 +204,17 @@ nlohmann::json JsonSummary(const contact::Scene& scene, const contact::SceneResu
   j["residual_evaluations"] = s.residual_evaluations;
   j["friction_restarts"] = s.friction_restarts;
   j["seconds"] = s.seconds;
+  // Time per phase (flat keys: the summary stays one level deep).
+  j["assembly_seconds"] = s.assembly_seconds;
+  j["mass_solve_seconds"] = s.mass_solve_seconds;
+  j["contact_solve_seconds"] = s.contact_solve_seconds;
+  j["accuracy_check_seconds"] = s.accuracy_check_seconds;
+  j["mass_solves"] = s.mass_solves;
+  // The prediction of step = auto (seconds per step, -1: the method does not apply).
+  j["predicted_explicit_step_seconds"] = s.predicted_cost.explicit_seconds;
+  j["predicted_condensed_step_seconds"] = s.predicted_cost.condensed_seconds;
+  j["predicted_sparse_step_seconds"] = s.predicted_cost.sparse_seconds;
+  j["auto_choice"] = contact::ToString(s.predicted_cost.choice);
   j["max_penetration"] = s.max_penetration;
   j["max_equilibrium_residual"] = s.max_equilibrium_residual;
   j["max_complementarity_residual"] = s.max_complementarity_residual;

@@ -414,16 +414,17 @@ namespace {
 
 // A 2 x 1 m steel block of 8 x 4 Q4 thrown at the floor y >= 0 with v = (1, -1) m/s, f_c =
 // 0.3: its bottom nodes hit the floor in the first steps and slide on it.
-contact::SceneModel ThrownBlock(contact::StepMethod method) {
+contact::SceneModel ThrownBlock(contact::StepMethod method,
+                                contact::FrictionFormulation formulation =
+                                    contact::FrictionFormulation::kLaggedBound,
+                                int steps = 30) {
   using namespace contact;
   Scene scene = testing::SteelBlockOnFloor(method == StepMethod::kExplicit ? MassKind::kLumped
                                                                            : MassKind::kConsistent);
-  scene.dynamics.end_time = 30 * scene.dynamics.dt;
+  scene.dynamics.end_time = steps * scene.dynamics.dt;
   scene.dynamics.step_method = method;
-  // The Newton steps of ContactSystem (eq. 94). The implicit-Coulomb condensed step
-  // (kCoulombFc) is not allocation-free: ncp::fc allocates in every solve (547 allocations
-  // per step measured on this scene).
-  scene.dynamics.friction_formulation = FrictionFormulation::kLaggedBound;
+  // kLaggedBound: the Newton steps of ContactSystem (eq. 94); kCoulombFc: ncp::fc.
+  scene.dynamics.friction_formulation = formulation;
   scene.dynamics.initial_state = InitialState::kPrescribed;
   scene.initial_velocity = Eigen::Vector2d(1.0, -1.0);
   return BuildSceneModel(scene);
@@ -474,5 +475,63 @@ TEST_CASE("RunDynamics: the explicit time loop allocates nothing, Newton steps a
     // The Newton iterations allocate nothing (test above); per step remain the start point,
     // the extracted result and the Summary's message: a few, whatever the iteration count.
     CHECK(most <= 24);
+  }
+}
+
+// Implicit Coulomb (kCoulombFc) by ncp::fc: the condensed step keeps one ncp::fc::Solver for
+// the run (W's block form, rho, the Jacobian's pattern, the work vectors), so a step
+// allocates a constant few; the sparse step sets up its matrix-free Newton (work vectors,
+// GMRES basis) per solve with Newton iterations: a constant per Newton step, whatever the
+// size of the problem.
+TEST_CASE("RunDynamics: the coulomb-fc condensed and sparse steps allocate a bounded few per step",
+          "[contact][allocation][dynamics]") {
+  const contact::StepMethod method =
+      GENERATE(contact::StepMethod::kCondensed, contact::StepMethod::kSparse);
+  CAPTURE(contact::ToString(method));
+  constexpr int kSteps = 200;
+  contact::SceneModel built = ThrownBlock(method, contact::FrictionFormulation::kCoulombFc, kSteps);
+  std::vector<long> marks;
+  std::vector<int> iterations;
+  marks.reserve(kSteps);
+  iterations.reserve(kSteps);
+  double friction_force = 0.0;
+  built.options.on_step = [&](const contact::StepRecord& r, const Eigen::VectorXd&,
+                              const contact::ContactSystem::Result&, double) {
+    marks.push_back(AllocationCount());
+    iterations.push_back(r.newton_iterations);
+    friction_force = std::max(friction_force, r.tangent_force_sum);
+  };
+  AllocationLog log;
+  const contact::DynamicSummary s = contact::RunDynamics(built.model, built.options);
+  log.Stop();
+  INFO(s.message);
+  REQUIRE(s.status == contact::DynamicStatus::kCompleted);
+  REQUIRE(marks.size() == static_cast<size_t>(kSteps));
+  CHECK(friction_force > 0.0);  // it slid with friction
+  // Steps 5..kSteps: the most allocations of a step without and with Newton iterations, and
+  // the most per Newton iteration.
+  long most_idle = 0, most = 0, total = 0, newton = 0;
+  double most_per_iteration = 0.0;
+  for (size_t k = 4; k + 1 < marks.size(); ++k) {
+    const long ours = log.Ours(marks[k], marks[k + 1]);
+    const int its = iterations[k + 1];
+    total += ours;
+    newton += its;
+    most = std::max(most, ours);
+    if (its == 0) most_idle = std::max(most_idle, ours);
+    else most_per_iteration = std::max(most_per_iteration, static_cast<double>(ours) / its);
+  }
+  std::printf("RunDynamics coulomb-fc %s: %ld allocations in steps 5-%d (%ld Newton iterations), at most "
+              "%ld in a step, %ld in a step without Newton iterations, %.1f per Newton iteration\n",
+              contact::ToString(method), total, kSteps, newton, most, most_idle, most_per_iteration);
+  REQUIRE(newton > 0);
+  // A step whose start point already solves it (the previous step's forces) allocates
+  // nothing; a step with Newton iterations a few blocks per iteration (the attempt
+  // sequence, the reduced system's size, GMRES's basis), not growing with the problem.
+  CHECK(most_idle == 0);
+  if (method == contact::StepMethod::kCondensed) {
+    CHECK(most <= 16);
+  } else {
+    CHECK(most_per_iteration <= 32.0);
   }
 }

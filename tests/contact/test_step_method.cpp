@@ -203,24 +203,40 @@ TEST_CASE("The sparse step refuses the thesis friction formulation", "[contact][
                     Catch::Contains("implicit Coulomb (coulomb-fc) only"));
 }
 
-TEST_CASE("auto: the condensed step for small contact sets, the sparse one above the crossover",
-          "[contact][dynamics][step_method]") {
-  DynamicModel model;
-  model.dim = 3;
-  DynamicOptions options;  // step_method = kAuto by default
+TEST_CASE("auto: the method of least predicted cost per step", "[contact][dynamics][step_method]") {
+  const MassKind kind = GENERATE(MassKind::kLumped, MassKind::kConsistent);
+  CAPTURE(kind == MassKind::kLumped ? "lumped" : "consistent");
+  const SceneModel built = BuildSceneModel(testing::SteelBlockOnFloor(kind));
+  const DynamicModel& model = built.model;
+  internal::MassInverse mass(model.M, "test: ");
+  DynamicOptions options = built.options;  // step_method = kAuto by default
   REQUIRE(options.step_method == StepMethod::kAuto);
-  const int nodes_at_crossover = kAutoSparseUnknowns / 3;  // with friction: 3 unknowns a node
-  model.contact_nodes.resize(static_cast<size_t>(nodes_at_crossover));
-  options.friction_coefficient = 0.3;
-  CHECK(internal::ResolveStepMethod(model, options) == StepMethod::kCondensed);
-  model.contact_nodes.resize(static_cast<size_t>(nodes_at_crossover + 1));
-  CHECK(internal::ResolveStepMethod(model, options) == StepMethod::kSparse);
-  options.friction_formulation = FrictionFormulation::kLaggedBound;  // only the condensed step has it
-  CHECK(internal::ResolveStepMethod(model, options) == StepMethod::kCondensed);
-  options.friction_coefficient = 0.0;  // frictionless: one unknown a node
-  CHECK(internal::ResolveStepMethod(model, options) == StepMethod::kCondensed);
-  model.contact_nodes.resize(static_cast<size_t>(kAutoSparseUnknowns + 1));
-  CHECK(internal::ResolveStepMethod(model, options) == StepMethod::kSparse);
+  for (const double friction : {0.0, 0.3})
+    for (const FrictionFormulation formulation :
+         {FrictionFormulation::kCoulombFc, FrictionFormulation::kLaggedBound}) {
+      CAPTURE(friction, ToString(formulation));
+      options.friction_coefficient = friction;
+      options.friction_formulation = formulation;
+      const StepCostPrediction p = internal::PredictStepCost(model, options, mass);
+      const bool lagged = friction > 0.0 && formulation == FrictionFormulation::kLaggedBound;
+      // Explicit only with a lumped M where it solves the same step; sparse not with the
+      // lagged bound; condensed always.
+      CHECK((p.explicit_seconds > 0.0) == (kind == MassKind::kLumped && !(friction > 0.0 && !lagged)));
+      CHECK((p.sparse_seconds > 0.0) == !lagged);
+      CHECK(p.condensed_seconds > 0.0);
+      // The choice is the cheapest that applies, and what ResolveStepMethod runs.
+      double best = p.condensed_seconds;
+      for (const double t : {p.explicit_seconds, p.sparse_seconds})
+        if (t > 0.0) best = std::min(best, t);
+      const double chosen = p.choice == StepMethod::kExplicit    ? p.explicit_seconds
+                            : p.choice == StepMethod::kSparse    ? p.sparse_seconds
+                            : p.choice == StepMethod::kCondensed ? p.condensed_seconds
+                                                                 : -1.0;
+      CHECK(chosen == best);
+      CHECK(internal::ResolveStepMethod(model, options, mass) == p.choice);
+      // With a lumped M the explicit step costs least whenever it applies.
+      if (p.explicit_seconds > 0.0) CHECK(p.choice == StepMethod::kExplicit);
+    }
   options.step_method = StepMethod::kFull;  // an explicit choice stays
-  CHECK(internal::ResolveStepMethod(model, options) == StepMethod::kFull);
+  CHECK(internal::ResolveStepMethod(model, options, mass) == StepMethod::kFull);
 }

@@ -69,6 +69,18 @@ struct DynamicSummary {
   /// again from the neutral friction start (see ContactSystem::StartPoint).
   int friction_restarts = 0;
   double seconds = 0.0;
+  /// Where the steps' time went, summed over the run [s] (docs/contact.md, "Cost per step"):
+  /// assembly (the load f^k, Q^k, the step's scales and the products M du, K u^{k+1}), the
+  /// solves with M's factor inside the step method (mass_solves of them: two per step plus,
+  /// for the sparse step, one per product with W), the contact solve proper (the step
+  /// method's time without its mass solves) and the accuracy check (residuals recomputed,
+  /// energies).
+  double assembly_seconds = 0.0, mass_solve_seconds = 0.0, contact_solve_seconds = 0.0,
+         accuracy_check_seconds = 0.0;
+  long mass_solves = 0;
+  /// The cost per step that StepMethod::kAuto predicts for each method it chooses among
+  /// (contact/src/step/step_method.cpp, docs/contact.md "Cost per step") and its choice.
+  StepCostPrediction predicted_cost;
   double max_penetration = 0.0;        ///< over all steps [m]
   /// Largest per-step measures over the run (see StepRecord) [N].
   double max_equilibrium_residual = 0.0, max_complementarity_residual = 0.0,

@@ -65,15 +65,22 @@ enum class StepMethod {
                ///< (min 1/2 du' S du + q' du subject to the linearized non-penetration),
                ///< solved by Ipopt's interior-point method (Waechter and Biegler 2006); the
                ///< reference solver of compare_with_ipopt
-  kAuto,       ///< kCondensed up to kAutoSparseUnknowns unknowns of its dense system (dim
-               ///< per contact node with friction, 1 without), kSparse above; kCondensed
-               ///< whenever the friction formulation is kLaggedBound
-               ///< (DynamicSummary::step_method tells which ran)
+  kAuto,       ///< the method of least predicted cost per step (StepCostPrediction):
+               ///< kExplicit when M is lumped and it solves the same step (frictionless or
+               ///< kLaggedBound), else kCondensed or kSparse; kCondensed whenever the friction
+               ///< formulation is kLaggedBound with a consistent M
+               ///< (DynamicSummary::step_method and predicted_cost tell which ran and why)
 };
-/// The crossover of StepMethod::kAuto in unknowns of the condensed system: measured by
-/// contact-scaling-bench's face series (benchmarks/results/contact/scaling/README.md).
-constexpr int kAutoSparseUnknowns = 600;
 const char* ToString(StepMethod m);
+
+/// StepMethod::kAuto's prediction of the time of one step [s] of each method it chooses
+/// among, from the sizes of the run (free dofs, nonzeros of K, M and of M's Cholesky factor,
+/// contact unknowns) and measured rates (contact/src/step/step_method.cpp); < 0: the method
+/// cannot take the run. `choice`: the cheapest.
+struct StepCostPrediction {
+  double explicit_seconds = -1.0, condensed_seconds = -1.0, sparse_seconds = -1.0;
+  StepMethod choice = StepMethod::kAuto;
+};
 
 /// How a step with friction (f_c > 0) poses Coulomb's law (condensed step only for kCoulombFc).
 enum class FrictionFormulation {

@@ -23,6 +23,11 @@ CoulombStep::CoulombStep(int dim, const Eigen::MatrixXd& W, std::vector<ContactN
     options_.linear_solver = ncp::LinearSolverType::kDenseLU;
   W_fc_ = E_ * W * E_.transpose();
   W_fc_ = 0.5 * (W_fc_ + W_fc_.transpose());
+  // The solver keeps W_fc's structure for the run; per step only its scale F / D and q change.
+  problem_.W = W_fc_.sparseView(0.0, 0.0);
+  problem_.q = Eigen::VectorXd::Zero(problem_.size());
+  solver_ = std::make_unique<ncp::fc::Solver>(problem_);
+  problem_.W = ncp::SparseMatrix();  // (the solver holds it)
 }
 
 CoulombStep::CoulombStep(int dim, Operator apply_W, const Eigen::VectorXd& W_diagonal,
@@ -90,11 +95,13 @@ double CoulombStep::SolveScaled(const Eigen::VectorXd& q_fc, double F, double D,
   const Eigen::Index num_contacts = problem_.num_contacts;
   // Asked: ||e'||_2 <= kNaturalMapMargin tolerance (+ the round-off of u', 16 ulp of its
   // terms, as ContactSystem); ncp::fc's measure is relative to 1 + ||q'||_2.
-  const Eigen::VectorXd q = q_fc / D;
+  q_ = q_fc / D;
+  const Eigen::VectorXd& q = q_;
   const double eps = std::numeric_limits<double>::epsilon();
   const double q_norm = q.norm();
   const double roundoff = ContactSystem::kRoundoffUlps * eps * q.lpNorm<Eigen::Infinity>();
-  ncp::fc::Options options = options_;
+  ncp::fc::Options& options = solve_options_;
+  options = options_;
   options.tolerance = (kNaturalMapMargin * tolerance + roundoff) / (1.0 + q_norm);
   // Required: the tolerance; below it Newton stops where its steps no longer halve the
   // error (the round-off of W' r' + q', which grows with the contact set: at 484 nodes
@@ -107,9 +114,9 @@ double CoulombStep::SolveScaled(const Eigen::VectorXd& q_fc, double F, double D,
     operator_scale_ = F / D;
     ncp::fc::Solve(options, operator_problem_, r, summary);
   } else {
-    problem_.q = q;
-    problem_.W = ((F / D) * W_fc_).sparseView(0.0, 0.0);
-    ncp::fc::Solve(options, problem_, r, summary);
+    solver_->ScaleW(F / D);
+    solver_->SetQ(q);
+    solver_->Solve(options, r, summary);
   }
   // A local tangent along a constrained axis (empty row of E) transmits no force to the
   // body: its component of r is arbitrary in the problem and set to 0. Then r_c onto C_mu
@@ -117,29 +124,35 @@ double CoulombStep::SolveScaled(const Eigen::VectorXd& q_fc, double F, double D,
   for (Eigen::Index i = 0; i < r->size(); ++i)
     if (!transmits_[static_cast<size_t>(i)]) (*r)(i) = 0.0;
   for (Eigen::Index c = 0; c < num_contacts; ++c) ncp::fc::ProjectOnCone(problem_.mu(c), dim_, r->data() + dim_ * c);
-  if (!matrix_free_) return ncp::fc::NaturalMapError(problem_, *r) * (1.0 + q_norm);
-  Eigen::VectorXd u;
-  operator_problem_.apply_W(*r, &u);
-  u += q;
-  return ncp::fc::NaturalMapResidual(dim_, problem_.mu, *r, u);
+  if (matrix_free_) {
+    operator_problem_.apply_W(*r, &u_);
+  } else {
+    u_.noalias() = solver_->problem().W * *r;
+  }
+  u_ += q;
+  return ncp::fc::NaturalMapResidual(dim_, problem_.mu, *r, u_);
 }
 
 bool CoulombStep::Solve(const Eigen::VectorXd& x_free, const Eigen::VectorXd& gap0, double force_scale,
                         double displacement_scale, double tolerance, Outcome* out) {
-  const std::string who = "contact::CoulombStep::Solve: ";
   const Eigen::Index num_contacts = problem_.num_contacts;
- if (x_free.size() != E_.cols() || gap0.size() != num_contacts)
-    throw std::invalid_argument(who + "x_free has " + std::to_string(x_free.size()) + " entries (expected " +
+  const char* who = "contact::CoulombStep::Solve: ";
+  if (x_free.size() != E_.cols() || gap0.size() != num_contacts)
+    throw std::invalid_argument(who + std::string("x_free has " + std::to_string(x_free.size()) + " entries (expected " +
                                 std::to_string(E_.cols()) + "), gap0 " + std::to_string(gap0.size()) +
-                                " (expected " + std::to_string(num_contacts) + ")");
+                                " (expected " + std::to_string(num_contacts) + ")"));
   if (!(force_scale > 0.0) || !(displacement_scale > 0.0) || !(tolerance > 0.0))
-    throw std::invalid_argument(who + "the scales F, D and the tolerance must be > 0");
+    throw std::invalid_argument(who + std::string("the scales F, D and the tolerance must be > 0"));
   const double F = force_scale, D = displacement_scale;
 
-  Eigen::VectorXd q_fc = E_ * x_free;
+  Eigen::VectorXd& q_fc = q_fc_;
+  q_fc.noalias() = E_ * x_free;
   for (Eigen::Index c = 0; c < num_contacts; ++c) q_fc(dim_ * c) += gap0(c);
-  Eigen::VectorXd r = r_previous_.size() == q_fc.size() ? Eigen::VectorXd(r_previous_ / F)
-                                                        : Eigen::VectorXd::Zero(q_fc.size());
+  Eigen::VectorXd& r = r_;
+  if (r_previous_.size() == q_fc.size())
+    r = r_previous_ / F;
+  else
+    r.setZero(q_fc.size());
   out->natural_map_residual = SolveScaled(q_fc, F, D, tolerance, &r, &out->summary);
   // The margin is best effort (round-off of W' r' can stop Newton short of it): the step is
   // solved when the required bound holds at the returned (projected) r, recomputed.
@@ -154,7 +167,8 @@ bool CoulombStep::Solve(const Eigen::VectorXd& x_free, const Eigen::VectorXd& ga
   ContactSystem::Result& contact = out->contact;
   apply_W_(out->force, &contact.x);
   contact.x += x_free;
-  const Eigen::VectorXd local = E_ * contact.x;
+  Eigen::VectorXd& local = local_;
+  local.noalias() = E_ * contact.x;
   contact.normal_force.resize(num_contacts);
   contact.gap.resize(num_contacts);
   contact.tangent_force.resize(dim_ - 1, num_contacts);

@@ -33,6 +33,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "contact/contact_system.hpp"
@@ -112,11 +113,14 @@ class CoulombStep {
   Eigen::MatrixXd W_fc_;   // E W E' (dense form)
   Eigen::VectorXd diagonal_fc_;  // approximate diag(E W E') (matrix-free form)
   ncp::fc::Options options_;
-  ncp::fc::FrictionProblem problem_;        // scaled, rebuilt per step (values only)
+  ncp::fc::FrictionProblem problem_;        // sizes, mu; W = W_fc unscaled (dense form)
+  std::unique_ptr<ncp::fc::Solver> solver_;  // problem_ kept for the run (dense form)
+  ncp::fc::Options solve_options_;          // options_ with this step's tolerances
   ncp::fc::OperatorProblem operator_problem_;  // the same, matrix-free
   double operator_scale_ = 1.0;             // F / D of the current step (matrix-free)
   Eigen::VectorXd spread_, applied_;        // buffers of the matrix-free product
   Eigen::VectorXd r_previous_;        // system units; empty before the first step
+  Eigen::VectorXd q_, q_fc_, r_, u_, local_;  // work vectors (no allocation per step)
 };
 
 }  // namespace contact::internal

@@ -21,17 +21,11 @@ class ExplicitStep : public StepAlgorithm {
     if (!IsDiagonal(S) || !(diagonal_.minCoeff() > 0.0))
       throw std::invalid_argument("contact::RunDynamics: the explicit step needs a lumped "
                                   "(diagonal) mass matrix; use mass = \"lumped\" or another step");
-    for (const ContactNode& node : nodes_) {
-      double m = -1.0;
-      for (int a = 0; a < dim_; ++a) {
-        if (node.dofs[a] < 0) continue;
-        if (m >= 0.0 && std::abs(diagonal_(node.dofs[a]) - m) > 1e-12 * m)
-          throw std::invalid_argument("contact::RunDynamics: the explicit step needs the same "
-                                      "lumped mass in every component of contact node " +
-                                      std::to_string(node.node));
-        m = diagonal_(node.dofs[a]);
-      }
-    }
+    const int unequal = UnequalLumpedMassNode(dim_, diagonal_, nodes_);
+    if (unequal >= 0)
+      throw std::invalid_argument("contact::RunDynamics: the explicit step needs the same "
+                                  "lumped mass in every component of contact node " +
+                                  std::to_string(unequal));
   }
 
   /// du and the contact result, in system units, for S du + q = F with bounds g (no
@@ -79,6 +73,18 @@ class ExplicitStep : public StepAlgorithm {
 };
 
 }  // namespace
+
+int UnequalLumpedMassNode(int dim, const Eigen::VectorXd& diagonal, const std::vector<ContactNode>& nodes) {
+  for (const ContactNode& node : nodes) {
+    double m = -1.0;
+    for (int a = 0; a < dim; ++a) {
+      if (node.dofs[a] < 0) continue;
+      if (m >= 0.0 && std::abs(diagonal(node.dofs[a]) - m) > 1e-12 * m) return node.node;
+      m = diagonal(node.dofs[a]);
+    }
+  }
+  return -1;
+}
 
 std::unique_ptr<StepAlgorithm> MakeExplicitStep(const DynamicModel& model, double m_max) {
   return std::make_unique<ExplicitStep>(model.dim, model.M / m_max, model.contact_nodes);

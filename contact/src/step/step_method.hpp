@@ -70,10 +70,16 @@ class StepAlgorithm {
   }
 };
 
-/// The method that runs: options.step_method, or for kAuto condensed or sparse by the
-/// size of the contact set (contact/dynamics_types.hpp). Throws std::invalid_argument for
-/// the sparse step with friction posed with the lagged bound (FrictionFormulation::kLaggedBound).
-StepMethod ResolveStepMethod(const DynamicModel& model, const DynamicOptions& options);
+/// The predicted time per step of the explicit, condensed and sparse steps for the run
+/// (`mass`: M^-1 with its factor) and the cheapest, kAuto's choice (StepCostPrediction).
+StepCostPrediction PredictStepCost(const DynamicModel& model, const DynamicOptions& options,
+                                   const MassInverse& mass);
+
+/// The method that runs: options.step_method, or for kAuto PredictStepCost's choice.
+/// Throws std::invalid_argument for the sparse step with friction posed with the lagged
+/// bound (FrictionFormulation::kLaggedBound).
+StepMethod ResolveStepMethod(const DynamicModel& model, const DynamicOptions& options,
+                             const MassInverse& mass);
 
 /// The step method of `options` (ResolveStepMethod), set up for the model. `mass` (M^-1)
 /// must outlive the result. Throws std::invalid_argument when the method cannot take the
@@ -98,6 +104,9 @@ std::unique_ptr<StepAlgorithm> MakeCoulombFcStep(const DynamicModel& model, Mass
 std::unique_ptr<StepAlgorithm> MakeSparseStep(const DynamicModel& model, MassInverse* mass, double m_max,
                                               const DynamicOptions& options);
 std::unique_ptr<StepAlgorithm> MakeExplicitStep(const DynamicModel& model, double m_max);
+/// The explicit step's condition on a lumped mass (diagonal: of M, or of S = M / m_max): the
+/// mesh node of the first contact node whose free components have different masses, or -1.
+int UnequalLumpedMassNode(int dim, const Eigen::VectorXd& diagonal, const std::vector<ContactNode>& nodes);
 std::unique_ptr<StepAlgorithm> MakeIpoptStep(const DynamicModel& model, double m_max,
                                              double tolerance);
 

@@ -1,5 +1,7 @@
 #include "block_delassus.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 
 namespace ncp::fc::internal {
@@ -24,6 +26,22 @@ BlockDelassus::BlockDelassus(const FrictionProblem& problem)
     }
     row_ptr_.push_back(static_cast<int>(blocks_.size()));
   }
+  blocks0_ = blocks_;  // W0's blocks, for SetScaledValues
+}
+
+bool BlockDelassus::SetScaledValues(double scale, const SparseMatrix& W0, SparseMatrix* W) {
+  // Contiguous passes (vectorized): W's values, then the blocks from their unscaled copy.
+  Eigen::Map<Vector> values(W->valuePtr(), W0.nonZeros());
+  values = scale * Eigen::Map<const Vector>(W0.valuePtr(), W0.nonZeros());
+  if (!values.allFinite()) {
+    values = Eigen::Map<const Vector>(W0.valuePtr(), W0.nonZeros()) * scale_;  // (as before)
+    return false;
+  }
+  const Eigen::Index n = 9 * static_cast<Eigen::Index>(blocks_.size());
+  if (n > 0)
+    Eigen::Map<Vector>(blocks_.front().data(), n) = scale * Eigen::Map<const Vector>(blocks0_.front().data(), n);
+  scale_ = scale;
+  return true;
 }
 
 Eigen::Vector3d BlockDelassus::RowTimes(int a, const Vector& r) const {
@@ -36,22 +54,45 @@ Eigen::Vector3d BlockDelassus::RowTimes(int a, const Vector& r) const {
   return sum;
 }
 
-void BlockDelassus::AssembleJacobian(const std::vector<Block>& A,
-                                     const std::vector<Block>& B, SparseMatrix* J) const {
+void BlockDelassus::BuildJacobianPattern(SparseMatrix* J) {
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(blocks_.size() * d_ * d_);
+  for (int a = 0; a < num_contacts_; ++a)
+    for (int k = row_ptr_[a]; k < row_ptr_[a + 1]; ++k)
+      for (int j = 0; j < d_; ++j)
+        for (int i = 0; i < d_; ++i) entries.emplace_back(d_ * a + i, d_ * block_col_[k] + j, 0.0);
+  const int n = d_ * num_contacts_;
+  J->resize(n, n);
+  J->setFromTriplets(entries.begin(), entries.end());
+  J->makeCompressed();
+  jacobian_slot_.resize(entries.size());
+  for (int a = 0; a < num_contacts_; ++a)
+    for (int k = row_ptr_[a]; k < row_ptr_[a + 1]; ++k)
+      for (int j = 0; j < d_; ++j) {
+        const int column = d_ * block_col_[k] + j;
+        const int* begin = J->innerIndexPtr() + J->outerIndexPtr()[column];
+        const int* end = J->innerIndexPtr() + J->outerIndexPtr()[column + 1];
+        for (int i = 0; i < d_; ++i)
+          jacobian_slot_[static_cast<size_t>((k * d_ + j) * d_ + i)] =
+              static_cast<int>(std::lower_bound(begin, end, d_ * a + i) - J->innerIndexPtr());
+      }
+  jacobian_values_ = J->valuePtr();
+}
+
+void BlockDelassus::AssembleJacobian(const std::vector<Block>& A, const std::vector<Block>& B,
+                                     SparseMatrix* J) {
+  if (J->valuePtr() == nullptr || J->valuePtr() != jacobian_values_ || !J->isCompressed())
+    BuildJacobianPattern(J);
+  double* values = J->valuePtr();
   for (int a = 0; a < num_contacts_; ++a)
     for (int k = row_ptr_[a]; k < row_ptr_[a + 1]; ++k) {
       const int b = block_col_[k];
       Block Jab = B[a] * blocks_[k];
       if (b == a) Jab += A[a];
+      const int* slot = jacobian_slot_.data() + static_cast<size_t>(k * d_ * d_);
       for (int j = 0; j < d_; ++j)
-        for (int i = 0; i < d_; ++i)
-          entries.emplace_back(d_ * a + i, d_ * b + j, Jab(i, j));
+        for (int i = 0; i < d_; ++i) values[slot[j * d_ + i]] = Jab(i, j);
     }
-  const int n = d_ * num_contacts_;
-  J->resize(n, n);
-  J->setFromTriplets(entries.begin(), entries.end());
 }
 
 }  // namespace ncp::fc::internal

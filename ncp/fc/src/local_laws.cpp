@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "ncp/fc/error.hpp"
@@ -178,15 +179,16 @@ void EvaluateLaw(Formulation formulation, int d, double mu, const Rho& rho, doub
     FischerBurmeisterLaw(d, mu, r, u, phi, A, B);
 }
 
-std::string ErrorReport(const Options& options, bool converged, double error) {
-  std::ostringstream out;
-  out << "natural-map error " << error;
+void ErrorReport(const Options& options, bool converged, double error, std::string* out) {
+  char buffer[160];
   if (converged && error > options.tolerance)
-    out << " <= acceptable tolerance " << options.acceptable_tolerance << " (round-off floor; tolerance "
-        << options.tolerance << ")";
+    std::snprintf(buffer, sizeof buffer,
+                  "natural-map error %g <= acceptable tolerance %g (round-off floor; tolerance %g)", error,
+                  options.acceptable_tolerance, options.tolerance);
   else
-    out << (converged ? " <= " : " > ") << "tolerance " << options.tolerance;
-  return out.str();
+    std::snprintf(buffer, sizeof buffer, "natural-map error %g %s tolerance %g", error,
+                  converged ? "<=" : ">", options.tolerance);
+  out->assign(buffer);
 }
 
 std::vector<std::pair<Formulation, double>> AttemptSequence(Formulation formulation) {

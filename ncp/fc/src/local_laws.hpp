@@ -97,7 +97,7 @@ class AttemptProgress {
 };
 
 /// "natural-map error e <= tolerance t" (or "<= acceptable tolerance a (round-off floor)",
-/// or "> tolerance t").
-std::string ErrorReport(const Options& options, bool converged, double error);
+/// or "> tolerance t") into *out (assigned: no allocation when its capacity suffices).
+void ErrorReport(const Options& options, bool converged, double error, std::string* out);
 
 }  // namespace ncp::fc::internal

@@ -16,22 +16,24 @@
 namespace ncp::fc {
 
 void OperatorProblem::Validate() const {
-  const std::string who = "ncp::fc::OperatorProblem" + (name.empty() ? "" : " '" + name + "'") + ": ";
-  if (dimension != 2 && dimension != 3)
-    throw std::invalid_argument(who + "dimension must be 2 or 3, got " + std::to_string(dimension));
-  if (num_contacts < 0) throw std::invalid_argument(who + "num_contacts must be >= 0");
-  if (!apply_W) throw std::invalid_argument(who + "apply_W is not set");
+  // The message is built only when a check fails (Validate runs once per solve).
+  auto fail = [this](const std::string& what) {
+    throw std::invalid_argument("ncp::fc::OperatorProblem" + (name.empty() ? "" : " '" + name + "'") +
+                                ": " + what);
+  };
+  if (dimension != 2 && dimension != 3) fail("dimension must be 2 or 3, got " + std::to_string(dimension));
+  if (num_contacts < 0) fail("num_contacts must be >= 0");
+  if (!apply_W) fail("apply_W is not set");
   auto check = [&](const Vector& v, Eigen::Index expected, const char* what) {
     if (v.size() != expected)
-      throw std::invalid_argument(who + what + " must have " + std::to_string(expected) +
-                                  " entries, got " + std::to_string(v.size()));
-    if (!v.allFinite()) throw std::invalid_argument(who + what + " has non-finite entries");
+      fail(what + (" must have " + std::to_string(expected) + " entries, got " + std::to_string(v.size())));
+    if (!v.allFinite()) fail(what + std::string(" has non-finite entries"));
   };
   check(q, size(), "q");
   check(diagonal, size(), "diagonal");
   check(mu, num_contacts, "mu");
-  if ((mu.array() < 0.0).any()) throw std::invalid_argument(who + "mu must be >= 0");
-  if ((diagonal.array() < 0.0).any()) throw std::invalid_argument(who + "diagonal must be >= 0");
+  if ((mu.array() < 0.0).any()) fail("mu must be >= 0");
+  if ((diagonal.array() < 0.0).any()) fail("diagonal must be >= 0");
 }
 
 namespace {
@@ -75,13 +77,12 @@ class OperatorNewton {
     summary_->final_error = error;
     if (error <= options_.tolerance) status = Termination::kConverged;
     summary_->termination = status;
-    std::ostringstream message;
-    message << internal::ErrorReport(options_, status == Termination::kConverged, error) << " after "
-            << summary_->iterations
-            << " Newton steps, " << summary_->krylov_iterations << " GMRES iterations, "
-            << summary_->attempts << " attempts";
-    if (status != Termination::kConverged) message << "; last ended: " << ToString(status);
-    summary_->message = message.str();
+    internal::ErrorReport(options_, status == Termination::kConverged, error, &summary_->message);
+    char counts[160];
+    std::snprintf(counts, sizeof counts, " after %d Newton steps, %d GMRES iterations, %d attempts",
+                  summary_->iterations, summary_->krylov_iterations, summary_->attempts);
+    summary_->message += counts;
+    if (status != Termination::kConverged) (summary_->message += "; last ended: ") += ToString(status);
   }
 
  private:

@@ -12,6 +12,7 @@
 /// Convergence is tested on Siconos' natural-map error (error.hpp), not on ||Phi||.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -171,5 +172,40 @@ struct Summary {
 /// numerical trouble ends with a Termination instead.
 void Solve(const Options& options, const FrictionProblem& problem, Vector* r,
            Summary* summary);
+
+namespace internal {
+class NewtonSolver;
+}
+
+/// Repeated solves of one problem whose q and scale of W change between solves but not its
+/// structure (the steps of a time stepper): the problem is validated once, and W's block
+/// form, rho per contact, the Jacobian's pattern, the linear solver's symbolic analysis and
+/// the work vectors are kept, so that a solve allocates nothing in its Newton iterations
+/// (dense LU) and only the Summary's trace and message grow. Solve(options, problem, r,
+/// summary) above is one Solver used once.
+class Solver {
+ public:
+  /// Throws std::invalid_argument as FrictionProblem::Validate.
+  explicit Solver(FrictionProblem problem);
+  ~Solver();
+  Solver(const Solver&) = delete;
+  Solver& operator=(const Solver&) = delete;
+
+  /// W = scale W0, W0 the W given to the constructor (a change of units of r or u).
+  /// Throws std::invalid_argument when scale or an entry of scale W0 is not finite.
+  void ScaleW(double scale);
+  /// New q (size dimension n_c, finite; else std::invalid_argument).
+  void SetQ(const Vector& q);
+  const FrictionProblem& problem() const { return problem_; }
+  /// As Solve(options, problem(), r, summary); *summary's trace and message storage is
+  /// reused.
+  void Solve(const Options& options, Vector* r, Summary* summary);
+
+ private:
+  FrictionProblem problem_;
+  SparseMatrix W0_;
+  double scale_ = 1.0;  // W = scale_ W0_
+  std::unique_ptr<internal::NewtonSolver> newton_;
+};
 
 }  // namespace ncp::fc
