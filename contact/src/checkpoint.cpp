@@ -137,6 +137,11 @@ void SummaryFields(Io& io, Summary& s) {
   io("summary.residual_evaluations", s.residual_evaluations);
   io("summary.friction_restarts", s.friction_restarts);
   io("summary.seconds", s.seconds);
+  io("summary.assembly_seconds", s.assembly_seconds);
+  io("summary.mass_solve_seconds", s.mass_solve_seconds);
+  io("summary.contact_solve_seconds", s.contact_solve_seconds);
+  io("summary.accuracy_check_seconds", s.accuracy_check_seconds);
+  io("summary.mass_solves", s.mass_solves);
   io("summary.max_penetration", s.max_penetration);
   io("summary.max_equilibrium_residual", s.max_equilibrium_residual);
   io("summary.max_complementarity_residual", s.max_complementarity_residual);
