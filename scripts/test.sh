@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, and runs the whole test suite with ctest.
+# Installs what is missing, checks the formatting, builds, and runs the whole test suite
+# with ctest.
 #   scripts/test.sh --sanitize   the same with AddressSanitizer + UBSan (scripts/sanitize.sh)
 # With CI set in the environment (CI=true, as CI services set it) both run, one after the
 # other (measured from a fresh clone: see docs/errors-and-limits.md), then scripts/fuzz.sh
@@ -11,6 +12,8 @@ if [[ "${1:-}" == "--sanitize" ]]; then
   exec bash scripts/sanitize.sh "$@"
 fi
 bash scripts/setup.sh
+# The sources as .clang-format says (scripts/format.sh rewrites them), before the build.
+bash scripts/format.sh --check
 bash scripts/build.sh
 (cd build && ctest --output-on-failure -j "$(nproc)")
 if [[ -n "${CI:-}" ]]; then

@@ -25,7 +25,6 @@ double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-
 }  // namespace
 
 int main(int argc, char** argv) {

@@ -14,19 +14,21 @@
 //    stress (rho c v0) and the rebound velocity (-v0) of the mass-weighted mean;
 //  - sliding block: stopping distance v0^2 / (2 mu g) of the mass-weighted mean;
 //  - incline: acceleration g (sin theta - mu cos theta) fitted after t = 0.1 s;
-//  - thesis scenes (no exact solution): tolerance and dt sweeps: ||u - u_ref||_2 / ||u_ref||_2
+//  - thesis scenes (no exact solution): tolerance and dt sweeps: ||u - u_ref||_2 /
+//  ||u_ref||_2
 //    of the final displacement against the same mesh at the smallest dt / 1e-12 tolerance
 //    (FB); mesh sweep: the final displacement of the scene's marked point against the
 //    finest mesh.
-// "reference_error" (tolerance sweep only) is the final-field difference against the FB run
-// at tolerance 1e-12 on the same discretization: the solver's part of the error.
+// "reference_error" (tolerance sweep only) is the final-field difference against the FB
+// run at tolerance 1e-12 on the same discretization: the solver's part of the error.
 //
 // Independent check: for every step from the third on, the contact forces are recomputed
-// from three consecutive displacements, r = M (u^{k+1} - 2 u^k + u^{k-1}) / dt^2 + K u^k - f^k,
-// lambda_c = -n_c . r_c, gap_c = s_c - n_c . u_c^{k+1}, and the normal complementarity
-// residual max_c |min(gap_c, lambda_c dt^2 / M_max)| (metres, the units of the solver's
-// tolerance) is compared with the claimed convergence: above max(10 tol, 1e-9) m
-// (Ipopt: 1e-6 m) a "completed" run is reported as "inaccurate". (Friction is not checked.)
+// from three consecutive displacements, r = M (u^{k+1} - 2 u^k + u^{k-1}) / dt^2 + K u^k
+// - f^k, lambda_c = -n_c . r_c, gap_c = s_c - n_c . u_c^{k+1}, and the normal
+// complementarity residual max_c |min(gap_c, lambda_c dt^2 / M_max)| (metres, the units
+// of the solver's tolerance) is compared with the claimed convergence: above max(10 tol,
+// 1e-9) m (Ipopt: 1e-6 m) a "completed" run is reported as "inaccurate". (Friction is not
+// checked.)
 //
 // Statuses: converged, failed (solver failure in some step), unstable (energy blow-up),
 // refused (dt > dt_crit without allow_unstable_time_step), inaccurate, skipped.
@@ -89,17 +91,21 @@ struct Row {
 /// What one run left behind for the error measurement.
 struct Track {
   std::vector<double> time, normal_force, mean_x;
-  Eigen::VectorXd u_final;        ///< free dofs
-  Eigen::VectorXd marked_final;   ///< displacement of the marked node
+  Eigen::VectorXd u_final;       ///< free dofs
+  Eigen::VectorXd marked_final;  ///< displacement of the marked node
   double recomputed_residual = 0.0, max_penetration = 0.0;
 };
 
 const char* SolverName(StepSolver s) {
   switch (s) {
-    case StepSolver::kFischerBurmeister: return "fb";
-    case StepSolver::kMin: return "min";
-    case StepSolver::kPenalizedFischerBurmeister: return "penalized-fb";
-    case StepSolver::kIpopt: return "ipopt";
+    case StepSolver::kFischerBurmeister:
+      return "fb";
+    case StepSolver::kMin:
+      return "min";
+    case StepSolver::kPenalizedFischerBurmeister:
+      return "penalized-fb";
+    case StepSolver::kIpopt:
+      return "ipopt";
   }
   return "unknown";
 }
@@ -107,8 +113,12 @@ const char* SolverName(StepSolver s) {
 /// Ipopt: the Ipopt step method; else the scene's step method with the NCP function.
 void UseSolver(StepSolver s, contact::DynamicOptions* options) {
   switch (s) {
-    case StepSolver::kIpopt: options->step_method = contact::StepMethod::kIpopt; return;
-    case StepSolver::kMin: options->ncp.ncp_function = ncp::NcpFunction::kMin; return;
+    case StepSolver::kIpopt:
+      options->step_method = contact::StepMethod::kIpopt;
+      return;
+    case StepSolver::kMin:
+      options->ncp.ncp_function = ncp::NcpFunction::kMin;
+      return;
     case StepSolver::kPenalizedFischerBurmeister:
       options->ncp.ncp_function = ncp::NcpFunction::kPenalizedFischerBurmeister;
       return;
@@ -120,12 +130,18 @@ void UseSolver(StepSolver s, contact::DynamicOptions* options) {
 
 std::string Status(const contact::DynamicSummary& s) {
   switch (s.status) {
-    case DynamicStatus::kCompleted: return "converged";
-    case DynamicStatus::kSolverFailure: return "failed";
-    case DynamicStatus::kEnergyBlowUp: return "unstable";
-    case DynamicStatus::kRefusedUnstable: return "refused";
-    case DynamicStatus::kAccuracyNotReached: return "inaccurate";
-    default: return "not-run";
+    case DynamicStatus::kCompleted:
+      return "converged";
+    case DynamicStatus::kSolverFailure:
+      return "failed";
+    case DynamicStatus::kEnergyBlowUp:
+      return "unstable";
+    case DynamicStatus::kRefusedUnstable:
+      return "refused";
+    case DynamicStatus::kAccuracyNotReached:
+      return "inaccurate";
+    default:
+      return "not-run";
   }
 }
 
@@ -145,12 +161,15 @@ struct Built {
   int marked_node = -1;
 };
 
-std::unique_ptr<Built> Build(const contact::Scene& base, double mesh_factor, double end_time) {
+std::unique_ptr<Built> Build(const contact::Scene& base, double mesh_factor,
+                             double end_time) {
   auto b = std::make_unique<Built>();
   b->scene = base;
   b->scene.output_directory.clear();
   if (end_time > 0) b->scene.dynamics.end_time = end_time;
-  auto scale = [&](int c) { return c == 1 ? 1 : std::max(1, static_cast<int>(std::lround(c * mesh_factor))); };
+  auto scale = [&](int c) {
+    return c == 1 ? 1 : std::max(1, static_cast<int>(std::lround(c * mesh_factor)));
+  };
   if (b->scene.rectangle)
     for (int& c : b->scene.rectangle->cells) c = scale(c);
   if (b->scene.box)
@@ -167,7 +186,8 @@ std::unique_ptr<Built> Build(const contact::Scene& base, double mesh_factor, dou
   b->mass_x = Eigen::VectorXd::Zero(M.rows());
   const auto& free = b->model.dofs.FreeDofs();
   for (size_t i = 0; i < free.size(); ++i)
-    if (free[i] % dim == 0) b->mass_x(static_cast<Eigen::Index>(i)) = row_sums(static_cast<Eigen::Index>(i));
+    if (free[i] % dim == 0)
+      b->mass_x(static_cast<Eigen::Index>(i)) = row_sums(static_cast<Eigen::Index>(i));
   if (b->scene.marked_point) {
     const Eigen::MatrixXd& nodes = b->model.body->mesh().nodes;
     double best = INFINITY;
@@ -179,7 +199,8 @@ std::unique_ptr<Built> Build(const contact::Scene& base, double mesh_factor, dou
   return b;
 }
 
-/// dt <= fraction * dt_crit with end_time / dt an integer (all runs end at the same time).
+/// dt <= fraction * dt_crit with end_time / dt an integer (all runs end at the same
+/// time).
 double StepFor(const Built& b, double fraction) {
   const double span = b.scene.dynamics.end_time - b.scene.dynamics.start_time;
   const double n = std::ceil(span / (fraction * b.dt_crit) - 1e-9);
@@ -233,9 +254,11 @@ Row RunOne(const Built& b, const RunSettings& rs, Track* track) {
       for (const contact::ContactNode& c : model.contact_nodes) {
         double un = 0.0, rn = 0.0;
         for (int a = 0; a < dim; ++a)
-          if (c.dofs[a] >= 0) un += c.normal(a) * u(c.dofs[a]), rn += c.normal(a) * r(c.dofs[a]);
+          if (c.dofs[a] >= 0)
+            un += c.normal(a) * u(c.dofs[a]), rn += c.normal(a) * r(c.dofs[a]);
         const double gap = c.gap - un, lambda_m = -rn * dt * dt / b.m_max;
-        track->recomputed_residual = std::max(track->recomputed_residual, std::abs(std::min(gap, lambda_m)));
+        track->recomputed_residual =
+            std::max(track->recomputed_residual, std::abs(std::min(gap, lambda_m)));
         track->max_penetration = std::max(track->max_penetration, -gap);
       }
     }
@@ -259,18 +282,21 @@ Row RunOne(const Built& b, const RunSettings& rs, Track* track) {
     track->marked_final = full.segment(dim * b.marked_node, dim);
   }
   if (row.status == "converged") {
-    const double limit = rs.solver == StepSolver::kIpopt ? 1e-6 : std::max(10 * rs.tolerance, 1e-9);
+    const double limit =
+        rs.solver == StepSolver::kIpopt ? 1e-6 : std::max(10 * rs.tolerance, 1e-9);
     if (row.recomputed_residual > limit) {
       row.status = "inaccurate";
-      row.message = "recomputed normal complementarity residual " + Fmt("%.3g", row.recomputed_residual) +
-                    " m > " + Fmt("%.3g", limit) + " m";
+      row.message = "recomputed normal complementarity residual " +
+                    Fmt("%.3g", row.recomputed_residual) + " m > " + Fmt("%.3g", limit) +
+                    " m";
     }
   }
   return row;
 }
 
 // ------------------------------------------------------------------- exact solutions
-double Slope(const std::vector<double>& t, const std::vector<double>& y, double t0, double t1) {
+double Slope(const std::vector<double>& t, const std::vector<double>& y, double t0,
+             double t1) {
   double n = 0, st = 0, sy = 0, stt = 0, sty = 0;
   for (size_t i = 0; i < t.size(); ++i) {
     if (t[i] < t0 || t[i] > t1) continue;
@@ -286,26 +312,31 @@ void ExactError(const Built& b, ErrorKind kind, const Track& t, Row* row) {
   const double E = s.material.youngs_modulus, rho = s.material.density;
   if (t.time.empty()) return;
   if (kind == ErrorKind::kBarImpact) {
-    const double L = s.rectangle->size[0], h = s.rectangle->size[1], v0 = s.initial_velocity(0);
+    const double L = s.rectangle->size[0], h = s.rectangle->size[1],
+                 v0 = s.initial_velocity(0);
     const double c = std::sqrt(E / rho), T = 2 * L / c, sigma = rho * c * v0;
     int on = 0, plateau = 0;
     double plateau_force = 0;
     for (size_t k = 0; k < t.time.size(); ++k) {
       if (t.normal_force[k] <= 0.01 * sigma * h) continue;
       ++on;
-      if (t.time[k] > 0.1 * T && t.time[k] < 0.9 * T) plateau_force += t.normal_force[k], ++plateau;
+      if (t.time[k] > 0.1 * T && t.time[k] < 0.9 * T)
+        plateau_force += t.normal_force[k], ++plateau;
     }
     const double duration = (on * row->dt - T) / T;
     const double stress = plateau ? (plateau_force / plateau / h - sigma) / sigma : NAN;
     const double rebound = (Slope(t.time, t.mean_x, 1.15 * T, 1e9) + v0) / v0;
     row->error = std::max({std::abs(duration), std::abs(stress), std::abs(rebound)});
-    row->error_detail = "duration=" + Fmt("%+.3e", duration) + ";stress=" + Fmt("%+.3e", stress) +
+    row->error_detail = "duration=" + Fmt("%+.3e", duration) +
+                        ";stress=" + Fmt("%+.3e", stress) +
                         ";rebound=" + Fmt("%+.3e", rebound);
   } else if (kind == ErrorKind::kSlidingBlock) {
-    const double g = -s.body_force(1) / rho, v0 = s.initial_velocity(0), mu = row->friction;
+    const double g = -s.body_force(1) / rho, v0 = s.initial_velocity(0),
+                 mu = row->friction;
     const double exact = v0 * v0 / (2 * mu * g);
     row->error = std::abs(t.mean_x.back() - exact) / exact;
-    row->error_detail = "distance=" + Fmt("%.6e", t.mean_x.back()) + ";exact=" + Fmt("%.6e", exact);
+    row->error_detail =
+        "distance=" + Fmt("%.6e", t.mean_x.back()) + ";exact=" + Fmt("%.6e", exact);
   } else if (kind == ErrorKind::kIncline) {
     const double g = s.body_force.norm() / rho, sin_t = s.body_force(0) / (rho * g),
                  cos_t = -s.body_force(1) / (rho * g), mu = row->friction;
@@ -330,7 +361,8 @@ double RelativeDifference(const Eigen::VectorXd& u, const Eigen::VectorXd& ref) 
 std::string CsvField(const std::string& s) {
   if (s.find_first_of(",\"\n") == std::string::npos) return s;
   std::string q = "\"";
-  for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch == '\n' ? ' ' : ch);
+  for (char ch : s)
+    q += ch == '"' ? std::string("\"\"") : std::string(1, ch == '\n' ? ' ' : ch);
   return q + "\"";
 }
 std::string Num(double x) {
@@ -340,29 +372,38 @@ std::string Num(double x) {
 std::string JsonString(const std::string& s) {
   std::string q = "\"";
   for (char ch : s) {
-    if (ch == '"' || ch == '\\') q += '\\', q += ch;
-    else if (ch == '\n') q += "\\n";
-    else if (static_cast<unsigned char>(ch) < 0x20) q += ' ';
-    else q += ch;
+    if (ch == '"' || ch == '\\')
+      q += '\\', q += ch;
+    else if (ch == '\n')
+      q += "\\n";
+    else if (static_cast<unsigned char>(ch) < 0x20)
+      q += ' ';
+    else
+      q += ch;
   }
   return q + "\"";
 }
 std::string JsonNum(double x) { return std::isfinite(x) ? Fmt("%.9g", x) : "null"; }
 
 const char* kCsvHeader =
-    "family,scene,sweep,setting,solver,status,steps,newton_iterations,jacobian_evaluations,"
-    "residual_evaluations,seconds,error,reference_error,max_penetration,energy_balance_error,"
-    "recomputed_residual,tolerance,dt,dt_crit,dt_ratio,friction,mesh_factor,dofs,error_detail,message";
+    "family,scene,sweep,setting,solver,status,steps,newton_iterations,jacobian_"
+    "evaluations,"
+    "residual_evaluations,seconds,error,reference_error,max_penetration,energy_balance_"
+    "error,"
+    "recomputed_residual,tolerance,dt,dt_crit,dt_ratio,friction,mesh_factor,dofs,error_"
+    "detail,message";
 
 std::string CsvRow(const Row& r) {
   std::ostringstream o;
-  o << CsvField(r.family) << ',' << CsvField(r.scene) << ',' << r.sweep << ',' << CsvField(r.setting) << ','
-    << r.solver << ',' << r.status << ',' << r.steps << ',' << r.newton << ',' << r.jacobians << ','
-    << r.residuals << ',' << Num(r.seconds) << ',' << Num(r.error) << ',' << Num(r.reference_error) << ','
-    << Num(r.max_penetration) << ',' << Num(r.energy_balance) << ',' << Num(r.recomputed_residual) << ','
-    << Num(r.tolerance) << ',' << Num(r.dt) << ',' << Num(r.dt_crit) << ',' << Num(r.dt_ratio) << ','
-    << Num(r.friction) << ',' << Num(r.mesh_factor) << ',' << r.dofs << ',' << CsvField(r.error_detail)
-    << ',' << CsvField(r.message);
+  o << CsvField(r.family) << ',' << CsvField(r.scene) << ',' << r.sweep << ','
+    << CsvField(r.setting) << ',' << r.solver << ',' << r.status << ',' << r.steps << ','
+    << r.newton << ',' << r.jacobians << ',' << r.residuals << ',' << Num(r.seconds)
+    << ',' << Num(r.error) << ',' << Num(r.reference_error) << ','
+    << Num(r.max_penetration) << ',' << Num(r.energy_balance) << ','
+    << Num(r.recomputed_residual) << ',' << Num(r.tolerance) << ',' << Num(r.dt) << ','
+    << Num(r.dt_crit) << ',' << Num(r.dt_ratio) << ',' << Num(r.friction) << ','
+    << Num(r.mesh_factor) << ',' << r.dofs << ',' << CsvField(r.error_detail) << ','
+    << CsvField(r.message);
   return o.str();
 }
 
@@ -372,7 +413,8 @@ std::string JsonRow(const Row& r) {
     << ",\"sweep\":" << JsonString(r.sweep) << ",\"setting\":" << JsonString(r.setting)
     << ",\"solver\":" << JsonString(r.solver) << ",\"status\":" << JsonString(r.status)
     << ",\"steps\":" << r.steps << ",\"newton_iterations\":" << r.newton
-    << ",\"jacobian_evaluations\":" << r.jacobians << ",\"residual_evaluations\":" << r.residuals
+    << ",\"jacobian_evaluations\":" << r.jacobians
+    << ",\"residual_evaluations\":" << r.residuals
     << ",\"seconds\":" << JsonNum(r.seconds) << ",\"error\":" << JsonNum(r.error)
     << ",\"reference_error\":" << JsonNum(r.reference_error)
     << ",\"max_penetration\":" << JsonNum(r.max_penetration)
@@ -380,8 +422,9 @@ std::string JsonRow(const Row& r) {
     << ",\"recomputed_residual\":" << JsonNum(r.recomputed_residual)
     << ",\"tolerance\":" << JsonNum(r.tolerance) << ",\"dt\":" << JsonNum(r.dt)
     << ",\"dt_crit\":" << JsonNum(r.dt_crit) << ",\"dt_ratio\":" << JsonNum(r.dt_ratio)
-    << ",\"friction\":" << JsonNum(r.friction) << ",\"mesh_factor\":" << JsonNum(r.mesh_factor)
-    << ",\"dofs\":" << r.dofs << ",\"error_detail\":" << JsonString(r.error_detail)
+    << ",\"friction\":" << JsonNum(r.friction)
+    << ",\"mesh_factor\":" << JsonNum(r.mesh_factor) << ",\"dofs\":" << r.dofs
+    << ",\"error_detail\":" << JsonString(r.error_detail)
     << ",\"message\":" << JsonString(r.message) << "}";
   return o.str();
 }
@@ -395,13 +438,17 @@ struct Bench {
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
 
   void Add(Row r) {
-    // A run that did not reach the end has no error (its partial trajectory is not compared).
-    if (r.status != "converged" && r.status != "inaccurate") r.error = r.reference_error = NAN;
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::fprintf(stderr, "[%6.1fs] %-10s %-28s %-9s %-16s %-12s %-10s err %-9s %6.3fs %s\n", elapsed,
-                 r.family.c_str(), r.scene.c_str(), r.sweep.c_str(), r.setting.c_str(), r.solver.c_str(),
-                 r.status.c_str(), Num(r.error).c_str(), r.seconds,
-                 r.status == "converged" ? "" : r.message.substr(0, 90).c_str());
+    // A run that did not reach the end has no error (its partial trajectory is not
+    // compared).
+    if (r.status != "converged" && r.status != "inaccurate")
+      r.error = r.reference_error = NAN;
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::fprintf(
+        stderr, "[%6.1fs] %-10s %-28s %-9s %-16s %-12s %-10s err %-9s %6.3fs %s\n",
+        elapsed, r.family.c_str(), r.scene.c_str(), r.sweep.c_str(), r.setting.c_str(),
+        r.solver.c_str(), r.status.c_str(), Num(r.error).c_str(), r.seconds,
+        r.status == "converged" ? "" : r.message.substr(0, 90).c_str());
     csv.stream() << CsvRow(r) << '\n';
     csv.Commit();
     rows.push_back(std::move(r));
@@ -418,7 +465,8 @@ struct Bench {
     const contact::Scene base = contact::LoadScene(examples + "/" + e.file);
     const double fc = base.friction_coefficient;
     const bool exact = e.kind != ErrorKind::kReference;
-    auto fill = [&](Row* r, const char* sweep, const std::string& setting, double mesh_factor) {
+    auto fill = [&](Row* r, const char* sweep, const std::string& setting,
+                    double mesh_factor) {
       r->family = e.family;
       r->scene = base.name;
       r->sweep = sweep;
@@ -433,9 +481,11 @@ struct Bench {
       Track ref_track;
       RunOne(*b, {StepSolver::kFischerBurmeister, 1e-12, dt, fc}, &ref_track);
       const std::vector<double> ncp_tols =
-          quick ? std::vector<double>{1e-4, 1e-10} : std::vector<double>{1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
+          quick ? std::vector<double>{1e-4, 1e-10}
+                : std::vector<double>{1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
       const std::vector<double> ipopt_tols =
-          quick ? std::vector<double>{1e-6, 1e-14} : std::vector<double>{1e-4, 1e-6, 1e-8, 1e-10, 1e-12, 1e-14};
+          quick ? std::vector<double>{1e-6, 1e-14}
+                : std::vector<double>{1e-4, 1e-6, 1e-8, 1e-10, 1e-12, 1e-14};
       for (StepSolver solver : Solvers(fc))
         for (double tol : solver == StepSolver::kIpopt ? ipopt_tols : ncp_tols) {
           Track t;
@@ -465,7 +515,8 @@ struct Bench {
         const double dt = StepFor(*b, fraction);
         for (StepSolver solver : Solvers(fc)) {
           Track t;
-          Row r = RunOne(*b, {solver, solver == StepSolver::kIpopt ? 1e-14 : 1e-10, dt, fc}, &t);
+          Row r = RunOne(
+              *b, {solver, solver == StepSolver::kIpopt ? 1e-14 : 1e-10, dt, fc}, &t);
           fill(&r, "dt", "dt=" + Fmt("%.3g", fraction) + "dt_crit", 1.0);
           if (r.status != "skipped") {
             if (exact)
@@ -478,13 +529,16 @@ struct Bench {
       }
     }
 
-    // Mesh sweep at a fixed dt / dt_crit; thesis scenes against the finest mesh (marked point).
+    // Mesh sweep at a fixed dt / dt_crit; thesis scenes against the finest mesh (marked
+    // point).
     {
       Eigen::VectorXd ref_marked;
       if (!exact) {
         auto b = Build(base, e.mesh_factors.back(), e.end_time);
         Track t;
-        const Row r = RunOne(*b, {StepSolver::kFischerBurmeister, 1e-10, StepFor(*b, e.mesh_courant), fc}, &t);
+        const Row r = RunOne(
+            *b, {StepSolver::kFischerBurmeister, 1e-10, StepFor(*b, e.mesh_courant), fc},
+            &t);
         ref_marked = t.marked_final;
       }
       for (size_t i = 0; i < e.mesh_factors.size(); ++i) {
@@ -493,7 +547,10 @@ struct Bench {
         auto b = Build(base, factor, e.end_time);
         for (StepSolver solver : Solvers(fc)) {
           Track t;
-          Row r = RunOne(*b, {solver, solver == StepSolver::kIpopt ? 1e-14 : 1e-10, StepFor(*b, e.mesh_courant), fc}, &t);
+          Row r = RunOne(*b,
+                         {solver, solver == StepSolver::kIpopt ? 1e-14 : 1e-10,
+                          StepFor(*b, e.mesh_courant), fc},
+                         &t);
           fill(&r, "mesh", "cells x" + Fmt("%g", factor), factor);
           if (r.status != "skipped") {
             if (exact)
@@ -510,16 +567,21 @@ struct Bench {
   void Stability(const std::string& file, double end_time) {
     const contact::Scene base = contact::LoadScene(examples + "/" + file);
     auto b = Build(base, 1.0, end_time);
-    const std::vector<double> ratios = quick ? std::vector<double>{0.5, 1.5}
-                                             : std::vector<double>{0.25, 0.5, 0.75, 0.9, 1.0, 1.1, 1.25, 1.5, 2.0};
+    const std::vector<double> ratios =
+        quick ? std::vector<double>{0.5, 1.5}
+              : std::vector<double>{0.25, 0.5, 0.75, 0.9, 1.0, 1.1, 1.25, 1.5, 2.0};
     const std::vector<double> frictions =
-        quick ? std::vector<double>{0.0, 0.5} : std::vector<double>{0.0, 0.1, 0.5, 1.0, 5.0};
+        quick ? std::vector<double>{0.0, 0.5}
+              : std::vector<double>{0.0, 0.1, 0.5, 1.0, 5.0};
     for (double fc : frictions)
       for (double ratio : ratios)
         for (StepSolver solver : Solvers(0.0)) {
           Track t;
           // Exactly ratio * dt_crit (the run's end time may overshoot by < dt).
-          Row r = RunOne(*b, {solver, solver == StepSolver::kIpopt ? 1e-14 : 1e-10, ratio * b->dt_crit, fc}, &t);
+          Row r = RunOne(*b,
+                         {solver, solver == StepSolver::kIpopt ? 1e-14 : 1e-10,
+                          ratio * b->dt_crit, fc},
+                         &t);
           r.family = "stability";
           r.scene = base.name;
           r.sweep = "stability";
@@ -538,11 +600,16 @@ int main(int argc, char** argv) {
   bool json = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--quick") bench.quick = true;
-    else if (a == "--json") json = true;
-    else if (a == "--csv" && i + 1 < argc) csv_path = argv[++i];
-    else if (a == "--examples" && i + 1 < argc) bench.examples = argv[++i];
-    else if (a == "--only" && i + 1 < argc) only = argv[++i];
+    if (a == "--quick")
+      bench.quick = true;
+    else if (a == "--json")
+      json = true;
+    else if (a == "--csv" && i + 1 < argc)
+      csv_path = argv[++i];
+    else if (a == "--examples" && i + 1 < argc)
+      bench.examples = argv[++i];
+    else if (a == "--only" && i + 1 < argc)
+      only = argv[++i];
     else {
       std::fprintf(stderr,
                    "usage: %s [--quick] [--csv FILE] [--json] [--examples DIR] "
@@ -563,15 +630,55 @@ int main(int argc, char** argv) {
 
   // dt fractions of the scene's dt_crit; the bar's Courant 1 is the exact-wave step.
   std::vector<SceneEntry> scenes = {
-      {"validation", "validation/bar_impact.toml", ErrorKind::kBarImpact, {0.25, 0.5, 1, 2},
-       {1.0, 0.5, 0.25, 0.125}, 0.5, -1},
-      {"validation", "validation/sliding_block.toml", ErrorKind::kSlidingBlock, {0.5, 1, 2},
-       {0.9, 0.5, 0.25}, 0.5, 0.4},
-      {"validation", "validation/incline.toml", ErrorKind::kIncline, {0.5, 1, 2}, {0.9, 0.5, 0.25}, 0.5, 0.25},
-      {"thesis", "thesis/frictionless_3d.toml", ErrorKind::kReference, {0.5, 1, 2}, {0.9, 0.5, 0.25}, 0.5, -1},
-      {"thesis", "thesis/friction_3d.toml", ErrorKind::kReference, {1, 2, 4}, {0.9, 0.5, 0.25}, 0.5, -1},
-      {"thesis", "thesis/friction_2d_flat.toml", ErrorKind::kReference, {1, 2, 4}, {0.9, 0.5, 0.25}, 0.5, -1},
-      {"thesis", "thesis/friction_2d_curved.toml", ErrorKind::kReference, {1, 2, 4}, {0.9, 0.5, 0.25}, 0.5, -1},
+      {"validation",
+       "validation/bar_impact.toml",
+       ErrorKind::kBarImpact,
+       {0.25, 0.5, 1, 2},
+       {1.0, 0.5, 0.25, 0.125},
+       0.5,
+       -1},
+      {"validation",
+       "validation/sliding_block.toml",
+       ErrorKind::kSlidingBlock,
+       {0.5, 1, 2},
+       {0.9, 0.5, 0.25},
+       0.5,
+       0.4},
+      {"validation",
+       "validation/incline.toml",
+       ErrorKind::kIncline,
+       {0.5, 1, 2},
+       {0.9, 0.5, 0.25},
+       0.5,
+       0.25},
+      {"thesis",
+       "thesis/frictionless_3d.toml",
+       ErrorKind::kReference,
+       {0.5, 1, 2},
+       {0.9, 0.5, 0.25},
+       0.5,
+       -1},
+      {"thesis",
+       "thesis/friction_3d.toml",
+       ErrorKind::kReference,
+       {1, 2, 4},
+       {0.9, 0.5, 0.25},
+       0.5,
+       -1},
+      {"thesis",
+       "thesis/friction_2d_flat.toml",
+       ErrorKind::kReference,
+       {1, 2, 4},
+       {0.9, 0.5, 0.25},
+       0.5,
+       -1},
+      {"thesis",
+       "thesis/friction_2d_curved.toml",
+       ErrorKind::kReference,
+       {1, 2, 4},
+       {0.9, 0.5, 0.25},
+       0.5,
+       -1},
   };
   try {
     if (only.empty() || only == "workprecision") {
@@ -604,13 +711,15 @@ int main(int argc, char** argv) {
   if (json) {
     std::printf("[\n");
     for (size_t i = 0; i < bench.rows.size(); ++i)
-      std::printf("%s%s\n", JsonRow(bench.rows[i]).c_str(), i + 1 < bench.rows.size() ? "," : "");
+      std::printf("%s%s\n", JsonRow(bench.rows[i]).c_str(),
+                  i + 1 < bench.rows.size() ? "," : "");
     std::printf("]\n");
     if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
       std::fprintf(stderr, "contact-bench: writing the JSON to stdout failed\n");
       return 3;
     }
   }
-  std::fprintf(stderr, "contact-bench: %zu rows written to %s\n", bench.rows.size(), csv_path.c_str());
+  std::fprintf(stderr, "contact-bench: %zu rows written to %s\n", bench.rows.size(),
+               csv_path.c_str());
   return 0;
 }

@@ -1,5 +1,5 @@
-// Least-squares slope p of log(y) = p log(x) + c: the fitted exponent of y ~ x^p, shared by
-// the contact benchmarks.
+// Least-squares slope p of log(y) = p log(x) + c: the fitted exponent of y ~ x^p, shared
+// by the contact benchmarks.
 #pragma once
 
 #include <cmath>

@@ -1,33 +1,33 @@
 // contact-scaling-bench: the cost of one time step against the size of the body, for the
-// three step methods of RunDynamics (full thesis system, condensed on the contact unknowns,
-// explicit per node with lumped mass).
+// three step methods of RunDynamics (full thesis system, condensed on the contact
+// unknowns, explicit per node with lumped mass).
 //
-// Scene: a steel box (E = 210 GPa, nu = 0.3, rho = 7850 kg/m^3) of cubic Hex8 cells of side
-// h = 1 / n m, resting on the flat rigid floor z >= 0 (its bottom face z = 0 is the contact
-// boundary, gap 0) and thrown at it with the uniform velocity (1, 0, -1) m/s: from the first
-// step on, the bottom face is pressed onto the floor (and slides on it with f_c = 0.5). No
-// Dirichlet condition. dt = 0.3 h / c_p (c_p = sqrt((lambda + 2 mu) / rho)), below dt_crit
-// of both masses (RunDynamics checks it).
-// Three series:
+// Scene: a steel box (E = 210 GPa, nu = 0.3, rho = 7850 kg/m^3) of cubic Hex8 cells of
+// side h = 1 / n m, resting on the flat rigid floor z >= 0 (its bottom face z = 0 is the
+// contact boundary, gap 0) and thrown at it with the uniform velocity (1, 0, -1) m/s:
+// from the first step on, the bottom face is pressed onto the floor (and slides on it
+// with f_c = 0.5). No Dirichlet condition. dt = 0.3 h / c_p (c_p = sqrt((lambda + 2 mu) /
+// rho)), below dt_crit of both masses (RunDynamics checks it). Three series:
 //   cube:   n x n x n cells, n = 6 ... 69 (10^3 ... 1.03 x 10^6 dofs);
 //   column: a fixed contact face of 14 x 14 cells and 7 ... 448 cells in height: the
 //           interior grows, the contact set does not (the condensed step's target);
 //   face:   a slab of n x n x --face-layers cells, n = 9 ... 99 (10^2 ... 10^4 contact
 //           nodes), consistent mass, f_c = --face-friction (0.3): the contact face grows
 //           with the body (the sparse step's target). Per case also one sparse Cholesky
-//           factorization of M (CHOLMOD, analysis included) and one solve with it, timed in
-//           the same process after the run, and the step's time in units of them.
+//           factorization of M (CHOLMOD, analysis included) and one solve with it, timed
+//           in the same process after the run, and the step's time in units of them.
 // Methods: full, condensed and sparse with the consistent mass, explicit with the lumped
-// mass; cube and column each frictionless and with f_c = 0.5. Every case runs in its own child process (fork), so its
-// peak resident memory (ru_maxrss) is its own, and a case over --time-limit is killed.
+// mass; cube and column each frictionless and with f_c = 0.5. Every case runs in its own
+// child process (fork), so its peak resident memory (ru_maxrss) is its own, and a case
+// over --time-limit is killed.
 //
-// Per case: dofs, contact nodes, model build time (mesh, K, M, contact frames), RunDynamics
-// set-up (dt_crit, factorization, Delassus operator), mean time per step over steps 2..N
-// (the first step includes one-off symbolic work and is reported apart) and of it the
-// complementarity solve (StepRecord::solve_seconds), Newton iterations
-// per step, the time of one product y = K x (SymmetricMultiply, the product RunDynamics
-// uses; the fastest of 21 after the run), their ratio, and the peak memory. The summary
-// fits time per step = c dofs^p per series, method and friction (least squares in log-log).
+// Per case: dofs, contact nodes, model build time (mesh, K, M, contact frames),
+// RunDynamics set-up (dt_crit, factorization, Delassus operator), mean time per step over
+// steps 2..N (the first step includes one-off symbolic work and is reported apart) and of
+// it the complementarity solve (StepRecord::solve_seconds), Newton iterations per step,
+// the time of one product y = K x (SymmetricMultiply, the product RunDynamics uses; the
+// fastest of 21 after the run), their ratio, and the peak memory. The summary fits time
+// per step = c dofs^p per series, method and friction (least squares in log-log).
 //
 // Usage: contact-scaling-bench [--csv FILE] [--max-dofs N] [--steps N] [--quick] ...
 //        (--help lists all options)
@@ -35,6 +35,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <Eigen/CholmodSupport>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -42,7 +43,6 @@
 #include <contact/mesh_generation.hpp>
 #include <contact/obstacle.hpp>
 #include <contact/scene.hpp>
-#include <Eigen/CholmodSupport>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -78,9 +78,11 @@ struct Row {
   std::string status = "not-run", message;
   long long dofs = 0;
   int contact_nodes = 0, steps = 0;
-  double build_s = 0, setup_s = 0, first_step_s = 0, step_s = 0, solve_s = 0, newton_per_step = 0;
+  double build_s = 0, setup_s = 0, first_step_s = 0, step_s = 0, solve_s = 0,
+         newton_per_step = 0;
   double matvec_s = 0, ratio = 0, peak_mb = 0, dt = 0;
-  double factor_s = 0, mass_solve_s = 0, step_over_factor = 0;  // Cholesky of M (face series)
+  double factor_s = 0, mass_solve_s = 0,
+         step_over_factor = 0;  // Cholesky of M (face series)
 };
 
 contact::StepMethod MethodOf(const std::string& m) {
@@ -124,21 +126,26 @@ Row RunCase(const Case& c, int steps, double tolerance) {
   box.side_roles[contact::Side::kZMin] = contact::BoundaryRole::kContact;
   scene.box = box;
   scene.material = contact::IsotropicMaterial{210e9, 0.3, 7850};
-  scene.mass = c.method == "explicit" ? contact::MassKind::kLumped : contact::MassKind::kConsistent;
+  scene.mass = c.method == "explicit" ? contact::MassKind::kLumped
+                                      : contact::MassKind::kConsistent;
   scene.body_force = Eigen::VectorXd::Zero(3);
-  scene.obstacle = std::make_shared<contact::HalfSpace>(contact::HalfSpace::ObstacleBelow(3, 2, 0.0));
+  scene.obstacle =
+      std::make_shared<contact::HalfSpace>(contact::HalfSpace::ObstacleBelow(3, 2, 0.0));
   scene.friction_coefficient = c.friction;
-  if (c.method == "sparse" || c.series == "face")  // implicit Coulomb (the sparse step's only form)
+  if (c.method == "sparse" ||
+      c.series == "face")  // implicit Coulomb (the sparse step's only form)
     scene.dynamics.friction_formulation = contact::FrictionFormulation::kCoulombFc;
   const double E = scene.material.youngs_modulus, nu = scene.material.poisson_ratio;
-  const double c_p = std::sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / scene.material.density);
+  const double c_p =
+      std::sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / scene.material.density);
   scene.dynamics.dt = 0.3 * h / c_p;
   scene.dynamics.end_time = steps * scene.dynamics.dt;
   scene.dynamics.step_method = MethodOf(c.method);
   scene.dynamics.initial_state = contact::InitialState::kPrescribed;
   scene.dynamics.ncp.tolerance = tolerance;
   scene.initial_velocity = Eigen::Vector3d(1.0, 0.0, -1.0);
-  contact::SceneModel built = contact::BuildSceneModel(scene, contact::MakeStructuredBoxMesh(box));
+  contact::SceneModel built =
+      contact::BuildSceneModel(scene, contact::MakeStructuredBoxMesh(box));
   row.build_s = SecondsSince(build_start);
   row.dofs = built.model.K.rows();
   row.contact_nodes = static_cast<int>(built.model.contact_nodes.size());
@@ -191,16 +198,17 @@ const char* kHeader =
 std::string ToCsv(const Row& r) {
   std::ostringstream o;
   o.precision(6);
-  o << r.c.series << ',' << r.c.n << ',' << r.c.nz << ',' << r.c.method << ',' << r.c.friction << ','
-    << r.dofs << ',' << r.contact_nodes << ',' << r.dt << ',' << r.status << ',' << r.steps << ','
-    << r.build_s << ',' << r.setup_s << ',' << r.first_step_s << ',' << r.step_s << ','
-    << r.solve_s << ',' << r.newton_per_step << ',' << r.matvec_s << ',' << r.ratio << ',' << r.peak_mb << ','
-    << r.factor_s << ',' << r.mass_solve_s << ',' << r.step_over_factor << ',' << Csv(r.message);
+  o << r.c.series << ',' << r.c.n << ',' << r.c.nz << ',' << r.c.method << ','
+    << r.c.friction << ',' << r.dofs << ',' << r.contact_nodes << ',' << r.dt << ','
+    << r.status << ',' << r.steps << ',' << r.build_s << ',' << r.setup_s << ','
+    << r.first_step_s << ',' << r.step_s << ',' << r.solve_s << ',' << r.newton_per_step
+    << ',' << r.matvec_s << ',' << r.ratio << ',' << r.peak_mb << ',' << r.factor_s << ','
+    << r.mass_solve_s << ',' << r.step_over_factor << ',' << Csv(r.message);
   return o.str();
 }
 
-// Forks, runs the case in the child (which writes its CSV row into a pipe) and returns the
-// row with the child's peak memory; a crash or the time limit gives a row saying so.
+// Forks, runs the case in the child (which writes its CSV row into a pipe) and returns
+// the row with the child's peak memory; a crash or the time limit gives a row saying so.
 Row RunIsolated(const Case& c, int steps, double tolerance, int time_limit) {
   Row row;
   row.c = c;
@@ -235,14 +243,17 @@ Row RunIsolated(const Case& c, int steps, double tolerance, int time_limit) {
   std::string text;
   char buffer[4096];
   ssize_t got;
-  while ((got = read(fds[0], buffer, sizeof buffer)) > 0) text.append(buffer, static_cast<size_t>(got));
+  while ((got = read(fds[0], buffer, sizeof buffer)) > 0)
+    text.append(buffer, static_cast<size_t>(got));
   close(fds[0]);
   int wstatus = 0;
   struct rusage usage {};
   wait4(pid, &wstatus, 0, &usage);
-  const double peak_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss in KB
+  const double peak_mb =
+      static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss in KB
   if (text.empty()) {
-    row.status = WIFSIGNALED(wstatus) && WTERMSIG(wstatus) == SIGALRM ? "time-limit" : "crashed";
+    row.status =
+        WIFSIGNALED(wstatus) && WTERMSIG(wstatus) == SIGALRM ? "time-limit" : "crashed";
     row.message = row.status == "time-limit"
                       ? "stopped after " + std::to_string(time_limit) + " s"
                       : "child ended with status " + std::to_string(wstatus);
@@ -279,30 +290,43 @@ Row RunIsolated(const Case& c, int steps, double tolerance, int time_limit) {
   return row;
 }
 
-
 }  // namespace
 
 int RunBenchmark(int argc, char** argv) {
-  cxxopts::Options cli("contact-scaling-bench",
-                       "Time per contact step against the number of dofs (see the file header)");
-  cli.add_options()
-      ("csv", "write the rows to this CSV file", cxxopts::value<std::string>())
-      ("max-dofs", "largest body [dofs]", cxxopts::value<double>()->default_value("1.1e6"))
-      ("full-max-dofs", "largest body for the full step", cxxopts::value<double>()->default_value("4e4"))
-      ("condensed-max-unknowns", "largest condensed contact system (contact nodes frictionless, "
-       "3 x nodes with friction: its dense LU costs O(unknowns^3) per Newton iteration)",
-       cxxopts::value<int>()->default_value("1500"))
-      ("steps", "time steps per case", cxxopts::value<int>()->default_value("20"))
-      ("tolerance", "relative tolerance of each step in its own scales (DynamicOptions: ncp.tolerance; the library default)", cxxopts::value<double>()->default_value("1e-10"))
-      ("time-limit", "seconds per case (the child is killed after)", cxxopts::value<int>()->default_value("900"))
-      ("series", "cube, column, face or all", cxxopts::value<std::string>()->default_value("all"))
-      ("methods", "step methods to run (full, condensed, sparse, explicit; the face series "
-       "runs only condensed and sparse)", cxxopts::value<std::vector<std::string>>()->default_value("full,condensed,sparse,explicit"))
-      ("face-layers", "cells through the slab of the face series", cxxopts::value<int>()->default_value("8"))
-      ("face-friction", "f_c of the face series", cxxopts::value<double>()->default_value("0.3"))
-      ("frictions", "friction coefficients to run", cxxopts::value<std::vector<double>>()->default_value("0,0.5"))
-      ("quick", "small sizes and 3 steps (smoke test)")
-      ("h,help", "show this help");
+  cxxopts::Options cli(
+      "contact-scaling-bench",
+      "Time per contact step against the number of dofs (see the file header)");
+  cli.add_options()("csv", "write the rows to this CSV file",
+                    cxxopts::value<std::string>())(
+      "max-dofs", "largest body [dofs]",
+      cxxopts::value<double>()->default_value("1.1e6"))(
+      "full-max-dofs", "largest body for the full step",
+      cxxopts::value<double>()->default_value("4e4"))(
+      "condensed-max-unknowns",
+      "largest condensed contact system (contact nodes frictionless, "
+      "3 x nodes with friction: its dense LU costs O(unknowns^3) per Newton iteration)",
+      cxxopts::value<int>()->default_value("1500"))(
+      "steps", "time steps per case", cxxopts::value<int>()->default_value("20"))(
+      "tolerance",
+      "relative tolerance of each step in its own scales (DynamicOptions: ncp.tolerance; "
+      "the library default)",
+      cxxopts::value<double>()->default_value("1e-10"))(
+      "time-limit", "seconds per case (the child is killed after)",
+      cxxopts::value<int>()->default_value("900"))(
+      "series", "cube, column, face or all",
+      cxxopts::value<std::string>()->default_value("all"))(
+      "methods",
+      "step methods to run (full, condensed, sparse, explicit; the face series "
+      "runs only condensed and sparse)",
+      cxxopts::value<std::vector<std::string>>()->default_value(
+          "full,condensed,sparse,explicit"))("face-layers",
+                                             "cells through the slab of the face series",
+                                             cxxopts::value<int>()->default_value("8"))(
+      "face-friction", "f_c of the face series",
+      cxxopts::value<double>()->default_value("0.3"))(
+      "frictions", "friction coefficients to run",
+      cxxopts::value<std::vector<double>>()->default_value("0,0.5"))(
+      "quick", "small sizes and 3 steps (smoke test)")("h,help", "show this help");
   cxxopts::ParseResult args;
   try {
     args = cli.parse(argc, argv);
@@ -326,7 +350,8 @@ int RunBenchmark(int argc, char** argv) {
   const auto frictions = args["frictions"].as<std::vector<double>>();
   for (const std::string& m : methods)
     if (m != "full" && m != "condensed" && m != "sparse" && m != "explicit") {
-      std::cerr << "contact-scaling-bench: unknown method '" << m << "' (full, condensed, sparse, explicit)\n";
+      std::cerr << "contact-scaling-bench: unknown method '" << m
+                << "' (full, condensed, sparse, explicit)\n";
       return 2;
     }
   for (double f : frictions)
@@ -341,11 +366,13 @@ int RunBenchmark(int argc, char** argv) {
   const int face_layers = args["face-layers"].as<int>();
   const double face_friction = args["face-friction"].as<double>();
   if (face_layers < 1 || !(face_friction >= 0.0)) {
-    std::cerr << "contact-scaling-bench: --face-layers >= 1 and --face-friction >= 0 needed\n";
+    std::cerr
+        << "contact-scaling-bench: --face-layers >= 1 and --face-friction >= 0 needed\n";
     return 2;
   }
   if (!(max_dofs > 0) || steps < 2 || time_limit < 1) {
-    std::cerr << "contact-scaling-bench: --max-dofs > 0, --steps >= 2 and --time-limit >= 1 needed\n";
+    std::cerr << "contact-scaling-bench: --max-dofs > 0, --steps >= 2 and --time-limit "
+                 ">= 1 needed\n";
     return 2;
   }
 
@@ -354,7 +381,8 @@ int RunBenchmark(int argc, char** argv) {
   std::vector<Row> skipped;
   auto add = [&](const std::string& name, int n, int nz) {
     for (const std::string& method : methods)
-      for (double friction : name == "face" ? std::vector<double>{face_friction} : frictions) {
+      for (double friction :
+           name == "face" ? std::vector<double>{face_friction} : frictions) {
         if (name == "face" && method != "condensed" && method != "sparse") continue;
         Case c{name, n, nz, method, friction};
         if (c.Dofs() > max_dofs) continue;
@@ -363,7 +391,8 @@ int RunBenchmark(int argc, char** argv) {
         if (c.method == "full" && c.Dofs() > full_max)
           reason = "full step limited to --full-max-dofs";
         if (c.method == "condensed" && unknowns > condensed_max_unknowns)
-          reason = "about " + std::to_string(unknowns) + " condensed unknowns > --condensed-max-unknowns";
+          reason = "about " + std::to_string(unknowns) +
+                   " condensed unknowns > --condensed-max-unknowns";
         if (reason.empty()) {
           cases.push_back(c);
         } else {
@@ -378,15 +407,20 @@ int RunBenchmark(int argc, char** argv) {
       }
   };
   if (series == "cube" || series == "all")
-    for (int n : quick ? std::vector<int>{3, 5} : std::vector<int>{6, 9, 14, 21, 31, 46, 69}) add("cube", n, n);
+    for (int n :
+         quick ? std::vector<int>{3, 5} : std::vector<int>{6, 9, 14, 21, 31, 46, 69})
+      add("cube", n, n);
   if (series == "column" || series == "all")
-    for (int nz : quick ? std::vector<int>{2, 4} : std::vector<int>{7, 14, 28, 56, 112, 224, 448})
+    for (int nz :
+         quick ? std::vector<int>{2, 4} : std::vector<int>{7, 14, 28, 56, 112, 224, 448})
       add("column", quick ? 3 : 14, nz);
   if (series == "face" || series == "all")
-    for (int n : quick ? std::vector<int>{4, 6} : std::vector<int>{9, 14, 21, 31, 46, 69, 99})
+    for (int n :
+         quick ? std::vector<int>{4, 6} : std::vector<int>{9, 14, 21, 31, 46, 69, 99})
       add("face", n, quick ? 2 : face_layers);
 
-  ncp::OutputFile csv;  // one committed row per case: a stopped benchmark keeps whole rows
+  ncp::OutputFile
+      csv;  // one committed row per case: a stopped benchmark keeps whole rows
   if (args.count("csv")) {
     csv = ncp::OutputFile::Open(args["csv"].as<std::string>());
     csv.stream() << kHeader << "\n";
@@ -394,20 +428,26 @@ int RunBenchmark(int argc, char** argv) {
   for (const Row& r : skipped)
     if (csv.is_open()) csv.stream() << ToCsv(r) << "\n";
   if (csv.is_open()) csv.Commit();
-  std::printf("# %zu cases, %d steps each (%zu skipped); times in seconds, memory in MB\n",
-              cases.size(), steps, skipped.size());
-  std::printf("%-6s %4s %4s %-9s %4s %9s %6s %-10s %8s %8s %10s %10s %7s %10s %8s %8s %9s %9s %9s\n", "series",
-              "n", "nz", "method", "f_c", "dofs", "nodes", "status", "build", "setup", "step", "solve",
-              "newton", "K x", "step/Kx", "peak_MB", "chol(M)", "solve(M)", "step/chol");
+  std::printf(
+      "# %zu cases, %d steps each (%zu skipped); times in seconds, memory in MB\n",
+      cases.size(), steps, skipped.size());
+  std::printf(
+      "%-6s %4s %4s %-9s %4s %9s %6s %-10s %8s %8s %10s %10s %7s %10s %8s %8s %9s %9s "
+      "%9s\n",
+      "series", "n", "nz", "method", "f_c", "dofs", "nodes", "status", "build", "setup",
+      "step", "solve", "newton", "K x", "step/Kx", "peak_MB", "chol(M)", "solve(M)",
+      "step/chol");
   std::vector<Row> rows;
   for (const Case& c : cases) {
     const Row r = RunIsolated(c, steps, tolerance, time_limit);
     rows.push_back(r);
-    std::printf("%-6s %4d %4d %-9s %4.1f %9lld %6d %-10s %8.3f %8.3f %10.3e %10.3e %7.2f %10.3e %8.2f %8.0f %9.3e %9.3e %9.3f\n",
-                c.series.c_str(), c.n, c.nz, c.method.c_str(), c.friction, r.dofs, r.contact_nodes,
-                r.status.substr(0, 10).c_str(), r.build_s, r.setup_s, r.step_s, r.solve_s,
-                r.newton_per_step, r.matvec_s, r.ratio, r.peak_mb, r.factor_s, r.mass_solve_s,
-                r.step_over_factor);
+    std::printf(
+        "%-6s %4d %4d %-9s %4.1f %9lld %6d %-10s %8.3f %8.3f %10.3e %10.3e %7.2f %10.3e "
+        "%8.2f %8.0f %9.3e %9.3e %9.3f\n",
+        c.series.c_str(), c.n, c.nz, c.method.c_str(), c.friction, r.dofs,
+        r.contact_nodes, r.status.substr(0, 10).c_str(), r.build_s, r.setup_s, r.step_s,
+        r.solve_s, r.newton_per_step, r.matvec_s, r.ratio, r.peak_mb, r.factor_s,
+        r.mass_solve_s, r.step_over_factor);
     if (r.status != "completed") std::printf("       %s\n", r.message.c_str());
     std::fflush(stdout);
     if (csv.is_open()) {
@@ -418,12 +458,14 @@ int RunBenchmark(int argc, char** argv) {
   if (csv.is_open()) csv.Close();
 
   // Fitted exponents of the time per step (completed cases with >= 3 sizes).
-  std::printf("# fitted exponent p of time per step = c dofs^p (steps 2..N), and of K x\n");
+  std::printf(
+      "# fitted exponent p of time per step = c dofs^p (steps 2..N), and of K x\n");
   std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> fits, matvec;
   for (const Row& r : rows) {
     if (r.status != "completed") continue;
     char key[96];
-    std::snprintf(key, sizeof key, "%s %s f_c=%g", r.c.series.c_str(), r.c.method.c_str(), r.c.friction);
+    std::snprintf(key, sizeof key, "%s %s f_c=%g", r.c.series.c_str(), r.c.method.c_str(),
+                  r.c.friction);
     fits[key].first.push_back(static_cast<double>(r.dofs));
     fits[key].second.push_back(r.step_s);
     matvec[r.c.series].first.push_back(static_cast<double>(r.dofs));
@@ -432,17 +474,19 @@ int RunBenchmark(int argc, char** argv) {
   for (const auto& [key, xy] : fits)
     if (xy.first.size() >= 3)
       std::printf("#   %-28s p = %.3f over %zu sizes (%.3g .. %.3g dofs)\n", key.c_str(),
-                  LogLogSlope(xy.first, xy.second), xy.first.size(), xy.first.front(), xy.first.back());
+                  LogLogSlope(xy.first, xy.second), xy.first.size(), xy.first.front(),
+                  xy.first.back());
   for (const auto& [key, xy] : matvec)
     if (xy.first.size() >= 3)
-      std::printf("#   %-28s p = %.3f\n", (key + " K x").c_str(), LogLogSlope(xy.first, xy.second));
+      std::printf("#   %-28s p = %.3f\n", (key + " K x").c_str(),
+                  LogLogSlope(xy.first, xy.second));
   int failures = 0;
   for (const Row& r : rows) failures += r.status != "completed";
   return failures == 0 ? 0 : 1;
 }
 
-// Exit codes: 0 every case completed, 1 some case did not, 2 usage, 3 the CSV could not be
-// written (its name and the reason on stderr).
+// Exit codes: 0 every case completed, 1 some case did not, 2 usage, 3 the CSV could not
+// be written (its name and the reason on stderr).
 int main(int argc, char** argv) {
   std::signal(SIGXFSZ, SIG_IGN);  // a file-size limit: EFBIG, reported, not a kill
   try {

@@ -21,8 +21,9 @@ struct PeerRun {
 
 bool PeerAvailable();
 std::string PeerDescription();
-/// The solvers for a problem dimension: 3D (fc3d_driver) NSN_AC, NSN_FB, NSN_NM, NSGS, ADMM
-/// as siconos-nsn-ac, ...; 2D (fc2d_driver) NSGS and Lemke as siconos-nsgs, siconos-lemke.
+/// The solvers for a problem dimension: 3D (fc3d_driver) NSN_AC, NSN_FB, NSN_NM, NSGS,
+/// ADMM as siconos-nsn-ac, ...; 2D (fc2d_driver) NSGS and Lemke as siconos-nsgs,
+/// siconos-lemke.
 std::vector<std::string> PeerSolvers(int dimension);
 
 /// Solves with Siconos: a .dat file through Siconos' own reader, anything else (HDF5)

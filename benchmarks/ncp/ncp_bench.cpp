@@ -11,18 +11,19 @@
 //   converged            the solver claims a solution
 //   max_iterations       its iteration limit was reached
 //   time_limit           stopped by (ncp) or exceeded (Siconos) the per-run time limit
-//   stationary_point     stopped at / stagnated near a stationary point of the merit function
-//   line_search_failure  no acceptable step
-//   numerical_error      singular Newton system, NaN/Inf, failed evaluation
-//   failure              a peer failure without finer information (Siconos info != 0)
-//   not_applicable       the solver cannot take this problem (size, bounds, nonlinearity)
+//   stationary_point     stopped at / stagnated near a stationary point of the merit
+//   function line_search_failure  no acceptable step numerical_error      singular Newton
+//   system, NaN/Inf, failed evaluation failure              a peer failure without finer
+//   information (Siconos info != 0) not_applicable       the solver cannot take this
+//   problem (size, bounds, nonlinearity)
 // `solved` is 1 only if status = converged AND the natural residual recomputed here,
-// ||x - mid(l, u, x - F(x))||_inf, is <= 1e-6 (kAcceptedResidual below): a claimed success
-// with a larger residual counts as a failure. A run that is not solved is charged the time
-// limit in `charged_time_s` (the quantity the performance profiles use).
+// ||x - mid(l, u, x - F(x))||_inf, is <= 1e-6 (kAcceptedResidual below): a claimed
+// success with a larger residual counts as a failure. A run that is not solved is charged
+// the time limit in `charged_time_s` (the quantity the performance profiles use).
 //
 // Usage: ncp-bench [--quick] [--csv FILE] [--json] [--time-limit S]
-//                  [--tolerances 1e-8,1e-10] [--dense-max-n N] [--peer-max-n N] [--max-n N]
+//                  [--tolerances 1e-8,1e-10] [--dense-max-n N] [--peer-max-n N] [--max-n
+//                  N]
 //                  [--small-timing FILE] [--skip-table]
 // --small-timing adds the side-by-side time per iteration against Siconos on the problems
 // with n <= 10 (small_timing.hpp) and writes it to FILE; --skip-table runs only that.
@@ -118,38 +119,56 @@ struct Row {
 std::string MapStatus(ncp::TerminationType t) {
   using T = ncp::TerminationType;
   switch (t) {
-    case T::kConverged: return "converged";
-    case T::kMaxIterations: return "max_iterations";
-    case T::kUserAbort: return "failure";  // no callback stops ncp here
-    case T::kTimeLimit: return "time_limit";
-    case T::kInfeasible: return "infeasible";
-    case T::kStationaryPoint: return "stationary_point";
-    case T::kLineSearchFailure: return "line_search_failure";
+    case T::kConverged:
+      return "converged";
+    case T::kMaxIterations:
+      return "max_iterations";
+    case T::kUserAbort:
+      return "failure";  // no callback stops ncp here
+    case T::kTimeLimit:
+      return "time_limit";
+    case T::kInfeasible:
+      return "infeasible";
+    case T::kStationaryPoint:
+      return "stationary_point";
+    case T::kLineSearchFailure:
+      return "line_search_failure";
     case T::kLinearSolverFailure:
     case T::kNonFiniteValues:
-    case T::kEvaluationFailure: return "numerical_error";
-    case T::kNotSolved: return "failure";
+    case T::kEvaluationFailure:
+      return "numerical_error";
+    case T::kNotSolved:
+      return "failure";
   }
   return "failure";
 }
 
 const char* ShortName(ncp::LinearSolverType t) {
   switch (t) {
-    case ncp::LinearSolverType::kDenseLU: return "dense";
-    case ncp::LinearSolverType::kSparseLU: return "sparselu";
-    case ncp::LinearSolverType::kUmfpack: return "umfpack";
-    case ncp::LinearSolverType::kKlu: return "klu";
-    case ncp::LinearSolverType::kCholmod: return "cholmod";
-    case ncp::LinearSolverType::kAuto: return "auto";
+    case ncp::LinearSolverType::kDenseLU:
+      return "dense";
+    case ncp::LinearSolverType::kSparseLU:
+      return "sparselu";
+    case ncp::LinearSolverType::kUmfpack:
+      return "umfpack";
+    case ncp::LinearSolverType::kKlu:
+      return "klu";
+    case ncp::LinearSolverType::kCholmod:
+      return "cholmod";
+    case ncp::LinearSolverType::kAuto:
+      return "auto";
   }
   return "?";
 }
 
 const char* ShortName(ncp::NcpFunction f) {
   switch (f) {
-    case ncp::NcpFunction::kFischerBurmeister: return "fb";
-    case ncp::NcpFunction::kMin: return "min";
-    case ncp::NcpFunction::kPenalizedFischerBurmeister: return "pfb";
+    case ncp::NcpFunction::kFischerBurmeister:
+      return "fb";
+    case ncp::NcpFunction::kMin:
+      return "min";
+    case ncp::NcpFunction::kPenalizedFischerBurmeister:
+      return "pfb";
   }
   return "?";
 }
@@ -248,12 +267,14 @@ std::vector<BenchProblem> MakeProblems(const Settings& settings) {
   }
   for (int n : sizes_lcp)
     if (n <= settings.max_n)
-      problems.push_back(MakeBenchProblem("random-plcp", n, ncp::collection::RandomPLcp(n)));
+      problems.push_back(
+          MakeBenchProblem("random-plcp", n, ncp::collection::RandomPLcp(n)));
   return problems;
 }
 
-Row RunOne(const Settings& settings, BenchProblem& b, const ncp::collection::StartPoint& start,
-           const SolverConfig& config, double tolerance) {
+Row RunOne(const Settings& settings, BenchProblem& b,
+           const ncp::collection::StartPoint& start, const SolverConfig& config,
+           double tolerance) {
   TestProblem& p = b.problem;
   Row row;
   row.family = b.family;
@@ -295,12 +316,11 @@ Row RunOne(const Settings& settings, BenchProblem& b, const ncp::collection::Sta
                           config.peer == ncp_bench::PeerMethod::kLcpNewtonMin)
                            ? "min"
                            : "fb";
-    row.linear_solver = config.peer == ncp_bench::PeerMethod::kLcpLemke ? "pivoting"
-                                                                          : "dense";
-    const ncp_bench::PeerResult r = ncp_bench::RunPeer(config.peer, b.peer, start.x,
-                                                       tolerance, kMaxIterations,
-                                                       settings.peer_max_n,
-                                                       settings.time_limit_s);
+    row.linear_solver =
+        config.peer == ncp_bench::PeerMethod::kLcpLemke ? "pivoting" : "dense";
+    const ncp_bench::PeerResult r =
+        ncp_bench::RunPeer(config.peer, b.peer, start.x, tolerance, kMaxIterations,
+                           settings.peer_max_n, settings.time_limit_s);
     if (!r.applicable) {
       row.status = "not_applicable";
       row.native_status = r.reason;
@@ -360,9 +380,10 @@ std::string CsvLine(const Row& r) {
   s << Sanitize(r.family) << ',' << Sanitize(r.problem) << ',' << r.size << ',' << r.n
     << ',' << Sanitize(r.start) << ',' << r.solver << ',' << r.ncp_function << ','
     << r.linear_solver << ',' << Number(r.tolerance) << ',' << r.status << ','
-    << Sanitize(r.native_status) << ',' << (r.solved ? 1 : 0) << ',' << r.iterations << ','
-    << r.jacobian_evaluations << ',' << r.residual_evaluations << ',' << Number(r.time_s)
-    << ',' << Number(r.charged_time_s) << ',' << Number(r.natural_residual);
+    << Sanitize(r.native_status) << ',' << (r.solved ? 1 : 0) << ',' << r.iterations
+    << ',' << r.jacobian_evaluations << ',' << r.residual_evaluations << ','
+    << Number(r.time_s) << ',' << Number(r.charged_time_s) << ','
+    << Number(r.natural_residual);
   return s.str();
 }
 
@@ -384,9 +405,11 @@ std::string JsonObject(const Row& r) {
     << ",\"solver\":" << JsonString(r.solver)
     << ",\"ncp_function\":" << JsonString(r.ncp_function)
     << ",\"linear_solver\":" << JsonString(r.linear_solver)
-    << ",\"tolerance\":" << JsonNumber(r.tolerance) << ",\"status\":" << JsonString(r.status)
+    << ",\"tolerance\":" << JsonNumber(r.tolerance)
+    << ",\"status\":" << JsonString(r.status)
     << ",\"native_status\":" << JsonString(r.native_status)
-    << ",\"solved\":" << (r.solved ? "true" : "false") << ",\"iterations\":" << r.iterations
+    << ",\"solved\":" << (r.solved ? "true" : "false")
+    << ",\"iterations\":" << r.iterations
     << ",\"jacobian_evaluations\":" << r.jacobian_evaluations
     << ",\"residual_evaluations\":" << r.residual_evaluations
     << ",\"time_s\":" << JsonNumber(r.time_s)
@@ -443,7 +466,8 @@ Settings ParseArguments(int argc, char** argv) {
       s.tolerances_given = true;
       std::stringstream list(value());
       std::string item;
-      while (std::getline(list, item, ',')) s.tolerances.push_back(std::atof(item.c_str()));
+      while (std::getline(list, item, ','))
+        s.tolerances.push_back(std::atof(item.c_str()));
       for (double t : s.tolerances)
         if (!(t > 0.0)) Usage("tolerances must be positive");
       if (s.tolerances.empty()) Usage("--tolerances needs at least one value");
@@ -465,7 +489,8 @@ Settings ParseArguments(int argc, char** argv) {
     }
   }
   if (s.quick && !s.tolerances_given) s.tolerances = {1e-8};
-  if (s.skip_table && s.small_timing_path.empty()) Usage("--skip-table needs --small-timing FILE");
+  if (s.skip_table && s.small_timing_path.empty())
+    Usage("--skip-table needs --small-timing FILE");
   return s;
 }
 
@@ -476,8 +501,9 @@ int RunBenchmark(int argc, char** argv) {
   // Progress goes to stderr when stdout carries the JSON.
   std::ostream& log = settings.json ? std::cerr : std::cout;
   log << "ncp-bench: peer = " << ncp_bench::PeerDescription()
-      << (ncp_bench::PeerAvailable() ? "" : " (Siconos not found at configure time: "
-                                            "running our solvers only)")
+      << (ncp_bench::PeerAvailable() ? ""
+                                     : " (Siconos not found at configure time: "
+                                       "running our solvers only)")
       << ", time limit " << settings.time_limit_s << " s, accepted natural residual "
       << kAcceptedResidual << (settings.quick ? ", quick mode" : "") << "\n";
 
@@ -491,7 +517,8 @@ int RunBenchmark(int argc, char** argv) {
   const std::vector<SolverConfig> configs = SolverConfigs();
   std::vector<Row> rows;
   char line[256];
-  if (!settings.small_timing_path.empty() && !RunSmallTiming(settings, problems, log)) return 1;
+  if (!settings.small_timing_path.empty() && !RunSmallTiming(settings, problems, log))
+    return 1;
   for (BenchProblem& b : problems) {
     if (settings.skip_table) break;
     for (const ncp::collection::StartPoint& start : b.problem.starts) {

@@ -24,11 +24,16 @@ namespace ncp_bench {
 
 const char* PeerName(PeerMethod method) {
   switch (method) {
-    case PeerMethod::kMcpNewtonFb: return "siconos-mcp-fb";
-    case PeerMethod::kMcpNewtonMin: return "siconos-mcp-min";
-    case PeerMethod::kLcpLemke: return "siconos-lcp-lemke";
-    case PeerMethod::kLcpNewtonFb: return "siconos-lcp-fb";
-    case PeerMethod::kLcpNewtonMin: return "siconos-lcp-min";
+    case PeerMethod::kMcpNewtonFb:
+      return "siconos-mcp-fb";
+    case PeerMethod::kMcpNewtonMin:
+      return "siconos-mcp-min";
+    case PeerMethod::kLcpLemke:
+      return "siconos-lcp-lemke";
+    case PeerMethod::kLcpNewtonFb:
+      return "siconos-lcp-fb";
+    case PeerMethod::kLcpNewtonMin:
+      return "siconos-lcp-min";
   }
   return "siconos-unknown";
 }
@@ -56,10 +61,10 @@ namespace {
 /// How Siconos' unknown z_k relates to the original x_i = offset_k + sign_k z_k, and the
 /// row k of Siconos' function is sign_k F_i (see siconos_peer.hpp).
 struct VariableMap {
-  int num_equations = 0;        ///< n1: free variables, ordered first
-  std::vector<int> original;    ///< i for every Siconos index k
-  std::vector<double> sign;     ///< +1 (lower bound or free) or -1 (upper bound)
-  std::vector<double> offset;   ///< l_i, u_i or 0
+  int num_equations = 0;       ///< n1: free variables, ordered first
+  std::vector<int> original;   ///< i for every Siconos index k
+  std::vector<double> sign;    ///< +1 (lower bound or free) or -1 (upper bound)
+  std::vector<double> offset;  ///< l_i, u_i or 0
 };
 
 /// Builds the map; false when a variable has two finite bounds.
@@ -113,7 +118,8 @@ struct McpEnvironment {
   /// Siconos cannot be interrupted; past this deadline the callbacks return NaN, which
   /// ends its Newton iteration within a few evaluations (the run is then a time_limit).
   /// time_point::max(): no limit (the clock is then not read).
-  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  std::chrono::steady_clock::time_point deadline =
+      std::chrono::steady_clock::time_point::max();
 
   bool PastDeadline() const {
     return deadline != std::chrono::steady_clock::time_point::max() &&
@@ -126,7 +132,8 @@ void ComputeMcpFunction(void* env, int n, double* z, double* w) {
   ++e->residual_evaluations;
   ToOriginal(*e->map, z, &e->x);
   // Siconos' callbacks cannot report failure: a non-evaluable point becomes NaN.
-  if (e->PastDeadline() || !e->F->Evaluate(e->x, &e->Fx)) e->Fx.setConstant(std::numeric_limits<double>::quiet_NaN());
+  if (e->PastDeadline() || !e->F->Evaluate(e->x, &e->Fx))
+    e->Fx.setConstant(std::numeric_limits<double>::quiet_NaN());
   for (int k = 0; k < n; ++k) w[k] = e->map->sign[k] * e->Fx[e->map->original[k]];
 }
 
@@ -159,8 +166,7 @@ double Seconds(std::chrono::steady_clock::time_point start) {
 }  // namespace
 
 PeerResult RunPeer(PeerMethod method, const PeerProblem& problem, const ncp::Vector& x0,
-                   double tolerance, int max_iterations, int max_n,
-                   double time_limit_s) {
+                   double tolerance, int max_iterations, int max_n, double time_limit_s) {
   PeerResult result;
   const int n = static_cast<int>(x0.size());
   if (n > max_n) {
@@ -197,11 +203,21 @@ PeerResult RunPeer(PeerMethod method, const PeerProblem& problem, const ncp::Vec
 
   int solver_id = 0;
   switch (method) {
-    case PeerMethod::kMcpNewtonFb: solver_id = SICONOS_MCP_NEWTON_FB_FBLSA; break;
-    case PeerMethod::kMcpNewtonMin: solver_id = SICONOS_MCP_NEWTON_MIN_FBLSA; break;
-    case PeerMethod::kLcpLemke: solver_id = SICONOS_LCP_LEMKE; break;
-    case PeerMethod::kLcpNewtonFb: solver_id = SICONOS_LCP_NEWTON_FB_FBLSA; break;
-    case PeerMethod::kLcpNewtonMin: solver_id = SICONOS_LCP_NEWTON_MIN_FBLSA; break;
+    case PeerMethod::kMcpNewtonFb:
+      solver_id = SICONOS_MCP_NEWTON_FB_FBLSA;
+      break;
+    case PeerMethod::kMcpNewtonMin:
+      solver_id = SICONOS_MCP_NEWTON_MIN_FBLSA;
+      break;
+    case PeerMethod::kLcpLemke:
+      solver_id = SICONOS_LCP_LEMKE;
+      break;
+    case PeerMethod::kLcpNewtonFb:
+      solver_id = SICONOS_LCP_NEWTON_FB_FBLSA;
+      break;
+    case PeerMethod::kLcpNewtonMin:
+      solver_id = SICONOS_LCP_NEWTON_MIN_FBLSA;
+      break;
   }
   SolverOptions* options = solver_options_create(solver_id);
   // Lemke counts pivots, and a solution may need up to ~n of them: give it 10 n.
@@ -218,10 +234,12 @@ PeerResult RunPeer(PeerMethod method, const PeerProblem& problem, const ncp::Vec
     env.x.resize(n);
     env.Fx.resize(n);
     env.position.resize(static_cast<size_t>(n));
-    for (int k = 0; k < n; ++k) env.position[static_cast<size_t>(map.original[static_cast<size_t>(k)])] = k;
+    for (int k = 0; k < n; ++k)
+      env.position[static_cast<size_t>(map.original[static_cast<size_t>(k)])] = k;
     if (std::isfinite(time_limit_s))
-      env.deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                 std::chrono::duration<double>(time_limit_s));
+      env.deadline =
+          start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                      std::chrono::duration<double>(time_limit_s));
     MixedComplementarityProblem mcp{};
     mcp.n1 = map.num_equations;
     mcp.n2 = n - map.num_equations;

@@ -3,7 +3,8 @@
 /// benchmark builds (and says so) without the peer.
 ///
 /// Mapping of the box MCP  l <= x <= u  perp  F(x)  onto Siconos' MCP (n1 equations
-/// G(z) = 0 with z free, then n2 pairs 0 <= z perp H(z) >= 0; MixedComplementarityProblem.h):
+/// G(z) = 0 with z free, then n2 pairs 0 <= z perp H(z) >= 0;
+/// MixedComplementarityProblem.h):
 ///   free variable  (l = -inf, u = +inf):  x_i = z_k,        row  F_i     (an equation)
 ///   lower bound only (u = +inf):          x_i = l_i + z_k,  row  F_i     (a pair)
 ///   upper bound only (l = -inf):          x_i = u_i - z_k,  row -F_i     (a pair)
@@ -33,7 +34,7 @@ const char* PeerName(PeerMethod method);
 /// What a peer run produced, in the benchmark's own terms.
 struct PeerResult {
   bool applicable = false;
-  std::string reason;         ///< why not applicable
+  std::string reason;  ///< why not applicable
   bool claimed_success = false;
   std::string native_status;  ///< e.g. "info=0"
   int iterations = -1;
@@ -53,8 +54,8 @@ std::string PeerDescription();
 struct PeerProblem {
   ncp::SquareFunction* F = nullptr;
   ncp::Vector lower, upper;
-  bool affine = false;    ///< F(x) = M x + q verified at random points
-  ncp::SparseMatrix M;    ///< F' when affine
+  bool affine = false;  ///< F(x) = M x + q verified at random points
+  ncp::SparseMatrix M;  ///< F' when affine
 };
 
 /// Solves with the given Siconos method from x0 with Siconos' tolerance `tolerance` and

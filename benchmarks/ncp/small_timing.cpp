@@ -51,9 +51,9 @@ std::vector<SmallTimingRow> TimeSmallProblems(const std::vector<SmallTimingCase>
   const ncp::Options options = TimingOptions(tolerance);
   const double no_limit = std::numeric_limits<double>::infinity();
   char line[256];
-  std::snprintf(line, sizeof line, "\n%-16s %-6s %3s %9s %9s %12s %12s %12s %7s\n", "problem",
-                "start", "n", "ncp its", "sic. its", "ncp us/it", "reused us/it", "sic. us/it",
-                "ratio");
+  std::snprintf(line, sizeof line, "\n%-16s %-6s %3s %9s %9s %12s %12s %12s %7s\n",
+                "problem", "start", "n", "ncp its", "sic. its", "ncp us/it",
+                "reused us/it", "sic. us/it", "ratio");
   log << line;
   for (const SmallTimingCase& c : cases) {
     ncp::SquareFunction& F = *c.peer->F;
@@ -72,7 +72,8 @@ std::vector<SmallTimingRow> TimeSmallProblems(const std::vector<SmallTimingCase>
     };
     PeerResult peer;
     auto run_peer = [&]() {
-      peer = RunPeer(PeerMethod::kMcpNewtonFb, *c.peer, c.x0, tolerance, kMaxIterations, 1000, no_limit);
+      peer = RunPeer(PeerMethod::kMcpNewtonFb, *c.peer, c.x0, tolerance, kMaxIterations,
+                     1000, no_limit);
     };
     // One untimed call each: iteration counts, status, warm caches.
     run_ncp();
@@ -87,7 +88,8 @@ std::vector<SmallTimingRow> TimeSmallProblems(const std::vector<SmallTimingCase>
     row.ncp_iterations = summary.iterations;
     row.peer_converged = peer.claimed_success;
     row.peer_iterations = peer.iterations;
-    const int calls = std::max(1, static_cast<int>(kBatchSeconds / std::max(summary.total_time_s, 1e-7)));
+    const int calls = std::max(
+        1, static_cast<int>(kBatchSeconds / std::max(summary.total_time_s, 1e-7)));
     std::vector<double> ncp_s, reused_s, peer_s;
     for (int round = 0; round < kRounds; ++round) {
       ncp_s.push_back(SecondsPerCall(calls, run_ncp));
@@ -97,17 +99,18 @@ std::vector<SmallTimingRow> TimeSmallProblems(const std::vector<SmallTimingCase>
     row.ncp_us = 1e6 * Median(ncp_s);
     row.ncp_reused_us = 1e6 * Median(reused_s);
     row.peer_us = 1e6 * Median(peer_s);
-    std::snprintf(line, sizeof line, "%-16s %-6s %3d %9d %9d %12.3f %12.3f %12.3f %7.2f%s\n",
-                  row.problem.c_str(), row.start.c_str(), row.n, row.ncp_iterations,
-                  row.peer_iterations, row.ncp_us_per_iteration(), row.ncp_reused_us_per_iteration(),
-                  row.peer_us_per_iteration(),
-                  row.ncp_us_per_iteration() / row.peer_us_per_iteration(),
-                  row.ncp_converged && row.peer_converged ? "" : "  (not both converged)");
+    std::snprintf(
+        line, sizeof line, "%-16s %-6s %3d %9d %9d %12.3f %12.3f %12.3f %7.2f%s\n",
+        row.problem.c_str(), row.start.c_str(), row.n, row.ncp_iterations,
+        row.peer_iterations, row.ncp_us_per_iteration(),
+        row.ncp_reused_us_per_iteration(), row.peer_us_per_iteration(),
+        row.ncp_us_per_iteration() / row.peer_us_per_iteration(),
+        row.ncp_converged && row.peer_converged ? "" : "  (not both converged)");
     log << line << std::flush;
     rows.push_back(row);
   }
-  // Summary over the cases both solved: geometric mean, median and worst ratio per iteration,
-  // for ncp::Solve (set-up in every call) and for a Solver kept between calls.
+  // Summary over the cases both solved: geometric mean, median and worst ratio per
+  // iteration, for ncp::Solve (set-up in every call) and for a Solver kept between calls.
   auto summarize = [&](const char* what, double (SmallTimingRow::*ncp_time)() const) {
     std::vector<double> ratios;
     for (const SmallTimingRow& r : rows)
@@ -120,11 +123,12 @@ std::vector<SmallTimingRow> TimeSmallProblems(const std::vector<SmallTimingCase>
       log_sum += std::log(q);
       if (q <= 1.0) ++at_most_one;
     }
-    std::snprintf(line, sizeof line,
-                  "time per iteration %s / Siconos MCP FB over %zu cases both solved: geometric "
-                  "mean %.2f, median %.2f, largest %.2f; ncp faster or equal in %d\n",
-                  what, ratios.size(), std::exp(log_sum / static_cast<double>(ratios.size())),
-                  Median(ratios), *std::max_element(ratios.begin(), ratios.end()), at_most_one);
+    std::snprintf(
+        line, sizeof line,
+        "time per iteration %s / Siconos MCP FB over %zu cases both solved: geometric "
+        "mean %.2f, median %.2f, largest %.2f; ncp faster or equal in %d\n",
+        what, ratios.size(), std::exp(log_sum / static_cast<double>(ratios.size())),
+        Median(ratios), *std::max_element(ratios.begin(), ratios.end()), at_most_one);
     log << line;
   };
   summarize("ncp::Solve (one call)", &SmallTimingRow::ncp_us_per_iteration);
@@ -133,12 +137,15 @@ std::vector<SmallTimingRow> TimeSmallProblems(const std::vector<SmallTimingCase>
 }
 
 void WriteSmallTimingCsv(const std::vector<SmallTimingRow>& rows, std::ostream& out) {
-  out << "problem,start,n,ncp_converged,siconos_converged,ncp_iterations,siconos_iterations,"
-         "ncp_us_per_call,ncp_reused_us_per_call,siconos_us_per_call,ncp_us_per_iteration,"
+  out << "problem,start,n,ncp_converged,siconos_converged,ncp_iterations,siconos_"
+         "iterations,"
+         "ncp_us_per_call,ncp_reused_us_per_call,siconos_us_per_call,ncp_us_per_"
+         "iteration,"
          "ncp_reused_us_per_iteration,siconos_us_per_iteration,ratio_per_iteration\n";
   for (const SmallTimingRow& r : rows) {
     char line[512];
-    std::snprintf(line, sizeof line, "%s,%s,%d,%d,%d,%d,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n",
+    std::snprintf(line, sizeof line,
+                  "%s,%s,%d,%d,%d,%d,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n",
                   r.problem.c_str(), r.start.c_str(), r.n, r.ncp_converged ? 1 : 0,
                   r.peer_converged ? 1 : 0, r.ncp_iterations, r.peer_iterations, r.ncp_us,
                   r.ncp_reused_us, r.peer_us, r.ncp_us_per_iteration(),

@@ -1,13 +1,13 @@
 /// \file small_timing.hpp
 /// Time per iteration of ncp against Siconos' MCP Newton-FB (SICONOS_MCP_NEWTON_FB_FBLSA)
 /// on the small problems of the collection (n <= 10), side by side in one run: for every
-/// (problem, start) the two solvers are timed in alternating batches, so that both see the
-/// same load of the shared machine, and the result is the ratio of their medians.
+/// (problem, start) the two solvers are timed in alternating batches, so that both see
+/// the same load of the shared machine, and the result is the ratio of their medians.
 ///
-/// A call is one complete solve from the start point, set-up included, as a user makes it:
-/// ncp::Solve(options, F, l, u, x, summary) with default options (a fresh Solver each call,
-/// kAuto = dense LU here) and RunPeer (options, matrix and variable map created each call).
-/// A third column times ncp::Solver::Solve on one Solver kept between calls.
+/// A call is one complete solve from the start point, set-up included, as a user makes
+/// it: ncp::Solve(options, F, l, u, x, summary) with default options (a fresh Solver each
+/// call, kAuto = dense LU here) and RunPeer (options, matrix and variable map created
+/// each call). A third column times ncp::Solver::Solve on one Solver kept between calls.
 #pragma once
 
 #include <ostream>

@@ -1,4 +1,5 @@
-// Bueler's radially symmetric obstacle problem; the math is stated in bueler_obstacle.hpp.
+// Bueler's radially symmetric obstacle problem; the math is stated in
+// bueler_obstacle.hpp.
 #include "bueler_obstacle.hpp"
 
 #include <algorithm>
@@ -18,26 +19,35 @@ struct GridSpacing {
 };
 
 GridSpacing SpacingOf(const DMDALocalInfo& info) {
-  return {(kDomainMax - kDomainMin) / (info.mx - 1), (kDomainMax - kDomainMin) / (info.my - 1)};
+  return {(kDomainMax - kDomainMin) / (info.mx - 1),
+          (kDomainMax - kDomainMin) / (info.my - 1)};
 }
 
-double NodeX(const DMDALocalInfo& info, PetscInt i) { return kDomainMin + i * SpacingOf(info).hx; }
-double NodeY(const DMDALocalInfo& info, PetscInt j) { return kDomainMin + j * SpacingOf(info).hy; }
+double NodeX(const DMDALocalInfo& info, PetscInt i) {
+  return kDomainMin + i * SpacingOf(info).hx;
+}
+double NodeY(const DMDALocalInfo& info, PetscInt j) {
+  return kDomainMin + j * SpacingOf(info).hy;
+}
 
 bool OnBoundary(const DMDALocalInfo& info, PetscInt i, PetscInt j) {
   return i == 0 || j == 0 || i == info.mx - 1 || j == info.my - 1;
 }
 
 /// Value of neighbour (i, j): its Dirichlet value on the boundary, else the unknown.
-double NeighbourValue(const DMDALocalInfo& info, PetscScalar** u, PetscInt i, PetscInt j) {
+double NeighbourValue(const DMDALocalInfo& info, PetscScalar** u, PetscInt i,
+                      PetscInt j) {
   return OnBoundary(info, i, j) ? ExactSolution(NodeX(info, i), NodeY(info, j)) : u[j][i];
 }
 
 }  // namespace
 
 double FreeBoundaryRadius() {
-  // g(a) = a^2 (log 2 - log a) - (1 - a^2): g(0+) = -1 < 0, g(1) = log 2 > 0, g increasing.
-  auto g = [](double a) { return a * a * (std::log(kOuterRadius) - std::log(a)) - (1.0 - a * a); };
+  // g(a) = a^2 (log 2 - log a) - (1 - a^2): g(0+) = -1 < 0, g(1) = log 2 > 0, g
+  // increasing.
+  auto g = [](double a) {
+    return a * a * (std::log(kOuterRadius) - std::log(a)) - (1.0 - a * a);
+  };
   double lo = 1e-3, hi = 1.0 - 1e-12;
   for (int k = 0; k < 200 && hi - lo > 4e-16; ++k) {
     const double mid = 0.5 * (lo + hi);
@@ -49,7 +59,8 @@ double FreeBoundaryRadius() {
 double Obstacle(double x, double y) {
   const double r = std::hypot(x, y);
   if (r <= kSkirtRadius) return std::sqrt(1.0 - r * r);
-  return std::sqrt(1.0 - kSkirtRadius * kSkirtRadius) + HemisphereSlope(kSkirtRadius) * (r - kSkirtRadius);
+  return std::sqrt(1.0 - kSkirtRadius * kSkirtRadius) +
+         HemisphereSlope(kSkirtRadius) * (r - kSkirtRadius);
 }
 
 double ExactSolution(double x, double y) {
@@ -64,32 +75,40 @@ PetscErrorCode CreateGrid(MPI_Comm comm, PetscInt nodes_per_side, DM* da) {
   PetscFunctionBeginUser;
   PetscCheck(nodes_per_side >= 3, comm, PETSC_ERR_ARG_OUTOFRANGE,
              "grid: nodes per side = %" PetscInt_FMT ", accepted >= 3", nodes_per_side);
-  PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_STAR, nodes_per_side,
-                         nodes_per_side, PETSC_DECIDE, PETSC_DECIDE, 1, 1, nullptr, nullptr, da));
+  PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_STAR,
+                         nodes_per_side, nodes_per_side, PETSC_DECIDE, PETSC_DECIDE, 1, 1,
+                         nullptr, nullptr, da));
   PetscCall(DMSetUp(*da));
-  PetscCall(DMDASetUniformCoordinates(*da, kDomainMin, kDomainMax, kDomainMin, kDomainMax, 0.0, 0.0));
+  PetscCall(DMDASetUniformCoordinates(*da, kDomainMin, kDomainMax, kDomainMin, kDomainMax,
+                                      0.0, 0.0));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FormResidualLocal(DMDALocalInfo* info, PetscScalar** u, PetscScalar** f, void*) {
+PetscErrorCode FormResidualLocal(DMDALocalInfo* info, PetscScalar** u, PetscScalar** f,
+                                 void*) {
   PetscFunctionBeginUser;
   const GridSpacing h = SpacingOf(*info);
   for (PetscInt j = info->ys; j < info->ys + info->ym; ++j) {
     for (PetscInt i = info->xs; i < info->xs + info->xm; ++i) {
       if (OnBoundary(*info, i, j)) {
-        f[j][i] = h.diagonal() * (u[j][i] - ExactSolution(NodeX(*info, i), NodeY(*info, j)));
+        f[j][i] =
+            h.diagonal() * (u[j][i] - ExactSolution(NodeX(*info, i), NodeY(*info, j)));
         continue;
       }
-      f[j][i] = h.diagonal() * u[j][i] -
-                h.hy / h.hx * (NeighbourValue(*info, u, i + 1, j) + NeighbourValue(*info, u, i - 1, j)) -
-                h.hx / h.hy * (NeighbourValue(*info, u, i, j + 1) + NeighbourValue(*info, u, i, j - 1));
+      f[j][i] =
+          h.diagonal() * u[j][i] -
+          h.hy / h.hx *
+              (NeighbourValue(*info, u, i + 1, j) + NeighbourValue(*info, u, i - 1, j)) -
+          h.hx / h.hy *
+              (NeighbourValue(*info, u, i, j + 1) + NeighbourValue(*info, u, i, j - 1));
     }
   }
   PetscCall(PetscLogFlops(10.0 * info->xm * info->ym));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FormJacobianLocal(DMDALocalInfo* info, PetscScalar**, Mat J, Mat P, void*) {
+PetscErrorCode FormJacobianLocal(DMDALocalInfo* info, PetscScalar**, Mat J, Mat P,
+                                 void*) {
   PetscFunctionBeginUser;
   const GridSpacing h = SpacingOf(*info);
   for (PetscInt j = info->ys; j < info->ys + info->ym; ++j) {
@@ -103,7 +122,8 @@ PetscErrorCode FormJacobianLocal(DMDALocalInfo* info, PetscScalar**, Mat J, Mat 
       if (!OnBoundary(*info, i, j)) {
         const PetscInt di[4] = {1, -1, 0, 0}, dj[4] = {0, 0, 1, -1};
         for (int k = 0; k < 4; ++k) {
-          if (OnBoundary(*info, i + di[k], j + dj[k])) continue;  // a Dirichlet value, not an unknown
+          if (OnBoundary(*info, i + di[k], j + dj[k]))
+            continue;  // a Dirichlet value, not an unknown
           cols[count] = MatStencil{0, j + dj[k], i + di[k], 0};
           values[count++] = -(di[k] != 0 ? h.hy / h.hx : h.hx / h.hy);
         }
@@ -154,7 +174,8 @@ PetscErrorCode FormBounds(DM da, Vec lower, Vec upper) {
   PetscCall(DMDAVecGetArray(da, lower, &l));
   for (PetscInt j = info.ys; j < info.ys + info.ym; ++j) {
     for (PetscInt i = info.xs; i < info.xs + info.xm; ++i) {
-      l[j][i] = OnBoundary(info, i, j) ? PETSC_NINFINITY : Obstacle(NodeX(info, i), NodeY(info, j));
+      l[j][i] = OnBoundary(info, i, j) ? PETSC_NINFINITY
+                                       : Obstacle(NodeX(info, i), NodeY(info, j));
     }
   }
   PetscCall(DMDAVecRestoreArray(da, lower, &l));
@@ -195,8 +216,10 @@ PetscErrorCode ComputeErrorVsExact(DM da, Vec u, ErrorVsExact* error) {
   }
   PetscCall(DMDAVecRestoreArrayRead(da, u, &v));
   double max_norm = 0.0, sum_squares = 0.0;
-  PetscCallMPI(MPI_Allreduce(&local[0], &max_norm, 1, MPI_DOUBLE, MPI_MAX, PetscObjectComm((PetscObject)da)));
-  PetscCallMPI(MPI_Allreduce(&local[1], &sum_squares, 1, MPI_DOUBLE, MPI_SUM, PetscObjectComm((PetscObject)da)));
+  PetscCallMPI(MPI_Allreduce(&local[0], &max_norm, 1, MPI_DOUBLE, MPI_MAX,
+                             PetscObjectComm((PetscObject)da)));
+  PetscCallMPI(MPI_Allreduce(&local[1], &sum_squares, 1, MPI_DOUBLE, MPI_SUM,
+                             PetscObjectComm((PetscObject)da)));
   const GridSpacing h = SpacingOf(info);
   error->max_norm = max_norm;
   error->discrete_l2 = std::sqrt(h.hx * h.hy * sum_squares);
@@ -227,7 +250,8 @@ PetscErrorCode ComputeNaturalResidual(DM da, Vec u, double* natural_residual) {
   PetscCall(VecRestoreArrayRead(u, &uv));
   double area = 0.0;
   PetscCall(CellArea(da, &area));
-  PetscCallMPI(MPI_Allreduce(&local, natural_residual, 1, MPI_DOUBLE, MPI_MAX, PetscObjectComm((PetscObject)da)));
+  PetscCallMPI(MPI_Allreduce(&local, natural_residual, 1, MPI_DOUBLE, MPI_MAX,
+                             PetscObjectComm((PetscObject)da)));
   *natural_residual /= area;
   PetscCall(VecDestroy(&f));
   PetscCall(VecDestroy(&lower));

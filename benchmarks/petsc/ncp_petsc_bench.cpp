@@ -1,15 +1,19 @@
 // ncp-petsc-bench: Bueler's radially symmetric obstacle problem (bueler_obstacle.hpp) on
-// DMDA grids from 10^4 to 10^6+ unknowns, solved by ncp::petsc::Solver (FB or min semismooth
-// Newton, nested iteration) and by PETSc's SNESVI (SSLS and RSLS, with and without
-// -snes_grid_sequence), each with the same KSP/PC families (MUMPS LU, Krylov + PCMG, + hypre,
-// + GAMG: CG GMRES where the Newton matrix is not symmetric). One CSV row per (solver configuration, grid) on the ranks of the run:
+// DMDA grids from 10^4 to 10^6+ unknowns, solved by ncp::petsc::Solver (FB or min
+// semismooth Newton, nested iteration) and by PETSc's SNESVI (SSLS and RSLS, with and
+// without -snes_grid_sequence), each with the same KSP/PC families (MUMPS LU, Krylov +
+// PCMG, + hypre,
+// + GAMG: CG GMRES where the Newton matrix is not symmetric). One CSV row per (solver
+// configuration, grid) on the ranks of the run:
 //
-//   mpiexec -n 2 ncp-petsc-bench --grids 129,257 --solvers ncp-fb-seq-mg,rsls-seq-mg --csv out.csv
+//   mpiexec -n 2 ncp-petsc-bench --grids 129,257 --solvers ncp-fb-seq-mg,rsls-seq-mg
+//   --csv out.csv
 //
-// Configuration names: <kind>[-seq]-<linear>, kind in {ncp-fb, ncp-min, ssls, rsls}, linear in
-// {lu, mg, hypre, gamg}; --list prints them, --print-header the CSV header. Exit status 0 when every row ran (whatever the
-// solvers' statuses), 1 on bad arguments or a PETSc error. benchmarks/petsc/run.sh runs the
-// whole table; benchmarks/results/petsc/README.md has the results.
+// Configuration names: <kind>[-seq]-<linear>, kind in {ncp-fb, ncp-min, ssls, rsls},
+// linear in {lu, mg, hypre, gamg}; --list prints them, --print-header the CSV header.
+// Exit status 0 when every row ran (whatever the solvers' statuses), 1 on bad arguments
+// or a PETSc error. benchmarks/petsc/run.sh runs the whole table;
+// benchmarks/results/petsc/README.md has the results.
 #include <petscsys.h>
 
 #include <cstdio>
@@ -26,33 +30,41 @@ namespace ncp_petsc_bench {
 namespace {
 
 const char* const kCsvHeader =
-    "solver,ranks,n,grid,coarse_grid,linear,ksp,grid_sequencing,newton_iterations,total_newton_iterations,"
-    "ksp_iterations,seconds,cpu_seconds,error_vs_exact,error_l2,natural_residual,status,native_status,"
+    "solver,ranks,n,grid,coarse_grid,linear,ksp,grid_sequencing,newton_iterations,total_"
+    "newton_iterations,"
+    "ksp_iterations,seconds,cpu_seconds,error_vs_exact,error_l2,natural_residual,status,"
+    "native_status,"
     "peak_rss_mib";
 
 const char* LinearName(LinearFamily linear) {
   switch (linear) {
-    case LinearFamily::kMumpsLu: return "lu";
-    case LinearFamily::kMultigrid: return "mg";
-    case LinearFamily::kHypre: return "hypre";
-    case LinearFamily::kGamg: return "gamg";
+    case LinearFamily::kMumpsLu:
+      return "lu";
+    case LinearFamily::kMultigrid:
+      return "mg";
+    case LinearFamily::kHypre:
+      return "hypre";
+    case LinearFamily::kGamg:
+      return "gamg";
   }
   return "?";
 }
 
 std::vector<RunConfig> AllConfigs() {
   std::vector<RunConfig> configs;
-  const std::pair<const char*, SolverKind> kinds[] = {{"ncp-fb", SolverKind::kNcpFischerBurmeister},
-                                                      {"ncp-min", SolverKind::kNcpMin},
-                                                      {"ssls", SolverKind::kSnesViSsls},
-                                                      {"rsls", SolverKind::kSnesViRsls}};
-  const LinearFamily families[] = {LinearFamily::kMumpsLu, LinearFamily::kMultigrid, LinearFamily::kHypre,
-                                   LinearFamily::kGamg};
+  const std::pair<const char*, SolverKind> kinds[] = {
+      {"ncp-fb", SolverKind::kNcpFischerBurmeister},
+      {"ncp-min", SolverKind::kNcpMin},
+      {"ssls", SolverKind::kSnesViSsls},
+      {"rsls", SolverKind::kSnesViRsls}};
+  const LinearFamily families[] = {LinearFamily::kMumpsLu, LinearFamily::kMultigrid,
+                                   LinearFamily::kHypre, LinearFamily::kGamg};
   for (const auto& [kind_name, kind] : kinds) {
     for (bool sequencing : {false, true}) {
       for (LinearFamily linear : families) {
-        configs.push_back({std::string(kind_name) + (sequencing ? "-seq-" : "-") + LinearName(linear), kind,
-                           sequencing, linear});
+        configs.push_back(
+            {std::string(kind_name) + (sequencing ? "-seq-" : "-") + LinearName(linear),
+             kind, sequencing, linear});
       }
     }
   }
@@ -79,12 +91,14 @@ struct Arguments {
   std::vector<char*> petsc_argv;  ///< what is left for PetscInitialize
 };
 
-double ParseNumber(const std::string& key, const std::string& value, double min, double max) {
+double ParseNumber(const std::string& key, const std::string& value, double min,
+                   double max) {
   char* end = nullptr;
   const double x = std::strtod(value.c_str(), &end);
   if (value.empty() || *end != '\0' || !(x >= min && x <= max)) {
     std::ostringstream message;
-    message << key << " = '" << value << "': accepted a number in [" << min << ", " << max << "]";
+    message << key << " = '" << value << "': accepted a number in [" << min << ", " << max
+            << "]";
     throw std::invalid_argument(message.str());
   }
   return x;
@@ -126,9 +140,11 @@ Arguments ParseArguments(int argc, char** argv) {
     } else if (key == "--list") {
       args.list = true;
     } else if (key.rfind("--", 0) == 0) {
-      throw std::invalid_argument("unknown option " + key +
-                                  " (accepted: --grids --coarse --solvers --tolerance --check-tolerance "
-                                  "--ksp-rtol --max-newton --csv --append --list --print-header; PETSc options -xxx)");
+      throw std::invalid_argument(
+          "unknown option " + key +
+          " (accepted: --grids --coarse --solvers --tolerance --check-tolerance "
+          "--ksp-rtol --max-newton --csv --append --list --print-header; PETSc options "
+          "-xxx)");
     } else {
       args.petsc_argv.push_back(argv[k]);
     }
@@ -137,22 +153,27 @@ Arguments ParseArguments(int argc, char** argv) {
   return args;
 }
 
-const RunConfig& FindConfig(const std::vector<RunConfig>& configs, const std::string& name) {
+const RunConfig& FindConfig(const std::vector<RunConfig>& configs,
+                            const std::string& name) {
   for (const RunConfig& c : configs) {
     if (c.name == name) return c;
   }
-  throw std::invalid_argument("--solvers: unknown configuration '" + name + "' (--list prints them)");
+  throw std::invalid_argument("--solvers: unknown configuration '" + name +
+                              "' (--list prints them)");
 }
 
-std::string CsvRow(const RunConfig& config, const RunSettings& settings, const RunResult& r) {
+std::string CsvRow(const RunConfig& config, const RunSettings& settings,
+                   const RunResult& r) {
   std::ostringstream o;
   o.precision(6);
   o << config.name << ',' << r.ranks << ',' << r.n << ',' << settings.grid << ','
-    << (config.grid_sequencing ? settings.coarse_grid : settings.grid) << ',' << LinearName(config.linear)
-    << ',' << KspDescription(config.linear, config.kind) << ',' << (config.grid_sequencing ? 1 : 0) << ',' << r.newton_iterations << ','
-    << r.total_newton_iterations << ',' << r.ksp_iterations << ',' << r.seconds << ',' << r.cpu_seconds
-    << ',' << r.error_max << ',' << r.error_l2 << ',' << r.natural_residual << ',' << r.status << ','
-    << r.native_status << ',' << r.peak_rss_mib;
+    << (config.grid_sequencing ? settings.coarse_grid : settings.grid) << ','
+    << LinearName(config.linear) << ',' << KspDescription(config.linear, config.kind)
+    << ',' << (config.grid_sequencing ? 1 : 0) << ',' << r.newton_iterations << ','
+    << r.total_newton_iterations << ',' << r.ksp_iterations << ',' << r.seconds << ','
+    << r.cpu_seconds << ',' << r.error_max << ',' << r.error_l2 << ','
+    << r.natural_residual << ',' << r.status << ',' << r.native_status << ','
+    << r.peak_rss_mib;
   return o.str();
 }
 
@@ -160,7 +181,8 @@ PetscErrorCode RunAll(const Arguments& args) {
   PetscFunctionBeginUser;
   const std::vector<RunConfig> configs = AllConfigs();
   if (args.list) {
-    for (const RunConfig& c : configs) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s\n", c.name.c_str()));
+    for (const RunConfig& c : configs)
+      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s\n", c.name.c_str()));
     PetscFunctionReturn(0);
   }
   PetscMPIInt rank;
@@ -168,7 +190,8 @@ PetscErrorCode RunAll(const Arguments& args) {
   FILE* csv = nullptr;
   if (rank == 0 && !args.csv.empty()) {
     csv = std::fopen(args.csv.c_str(), args.append ? "a" : "w");
-    PetscCheck(csv, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "--csv %s: cannot open for writing", args.csv.c_str());
+    PetscCheck(csv, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN,
+               "--csv %s: cannot open for writing", args.csv.c_str());
     if (!args.append || std::ftell(csv) == 0) std::fprintf(csv, "%s\n", kCsvHeader);
     std::fflush(csv);
   }
@@ -179,13 +202,15 @@ PetscErrorCode RunAll(const Arguments& args) {
       RunSettings settings = args.settings;
       settings.grid = grid;
       RunResult result;
-      if (config.kind == SolverKind::kNcpFischerBurmeister || config.kind == SolverKind::kNcpMin) {
+      if (config.kind == SolverKind::kNcpFischerBurmeister ||
+          config.kind == SolverKind::kNcpMin) {
         PetscCall(RunNcp(config, settings, &result));
       } else {
         PetscCall(RunSnesVi(config, settings, &result));
       }
       // Never trust a claimed success: the recomputed natural residual must agree.
-      if (result.status == "converged" && !(result.natural_residual <= settings.check_tolerance)) {
+      if (result.status == "converged" &&
+          !(result.natural_residual <= settings.check_tolerance)) {
         result.status = "false_convergence";
       }
       const std::string row = CsvRow(config, settings, result);

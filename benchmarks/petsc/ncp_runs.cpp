@@ -1,7 +1,8 @@
 // The ncp rows: ncp::petsc::Solver (FB or min semismooth Newton) on the obstacle
 // problem, with nested iteration when asked: solve on the coarse grid, interpolate the
-// solution bilinearly (DMRefine + DMCreateInterpolation) to the next grid as its start point,
-// and repeat up to the finest grid (full multigrid's outer loop; Bueler 2021, ch. 12).
+// solution bilinearly (DMRefine + DMCreateInterpolation) to the next grid as its start
+// point, and repeat up to the finest grid (full multigrid's outer loop; Bueler 2021, ch.
+// 12).
 #include <petscdmda.h>
 
 #include <sstream>
@@ -15,13 +16,20 @@ namespace {
 
 std::string StatusOf(ncp::TerminationType termination) {
   switch (termination) {
-    case ncp::TerminationType::kConverged: return "converged";
-    case ncp::TerminationType::kMaxIterations: return "max_iterations";
-    case ncp::TerminationType::kTimeLimit: return "time_limit";
-    case ncp::TerminationType::kStationaryPoint: return "stationary_point";
-    case ncp::TerminationType::kLineSearchFailure: return "line_search_failure";
-    case ncp::TerminationType::kNonFiniteValues: return "numerical_error";
-    default: return "failure";
+    case ncp::TerminationType::kConverged:
+      return "converged";
+    case ncp::TerminationType::kMaxIterations:
+      return "max_iterations";
+    case ncp::TerminationType::kTimeLimit:
+      return "time_limit";
+    case ncp::TerminationType::kStationaryPoint:
+      return "stationary_point";
+    case ncp::TerminationType::kLineSearchFailure:
+      return "line_search_failure";
+    case ncp::TerminationType::kNonFiniteValues:
+      return "numerical_error";
+    default:
+      return "failure";
   }
 }
 
@@ -50,22 +58,26 @@ struct GridLevel {
 };
 
 /// Solves the obstacle problem on `level` from x (start in, solution out).
-PetscErrorCode SolveOnGrid(const RunConfig& config, const RunSettings& settings, const GridLevel& level,
-                           int mg_levels, Vec x, ncp::Summary* summary, int* ksp_iterations) {
+PetscErrorCode SolveOnGrid(const RunConfig& config, const RunSettings& settings,
+                           const GridLevel& level, int mg_levels, Vec x,
+                           ncp::Summary* summary, int* ksp_iterations) {
   PetscFunctionBeginUser;
   const std::string prefix = OptionsPrefix(config);
-  PetscCall(PetscOptionsInsertString(nullptr, LinearOptions(config.linear, config.kind, prefix, settings, mg_levels).c_str()));
+  PetscCall(PetscOptionsInsertString(
+      nullptr,
+      LinearOptions(config.linear, config.kind, prefix, settings, mg_levels).c_str()));
   ncp::Options options;
-  options.ncp_function = config.kind == SolverKind::kNcpMin ? ncp::NcpFunction::kMin
-                                                             : ncp::NcpFunction::kFischerBurmeister;
+  options.ncp_function = config.kind == SolverKind::kNcpMin
+                             ? ncp::NcpFunction::kMin
+                             : ncp::NcpFunction::kFischerBurmeister;
   double area = 0.0;
   PetscCall(CellArea(level.da, &area));
   options.tolerance = settings.tolerance * area;  // F is -Laplace u times the cell area
   options.max_iterations = settings.max_newton_iterations;
   ncp::petsc::Solver solver(PetscObjectComm((PetscObject)level.da), options, prefix);
   if (config.linear == LinearFamily::kMultigrid) {
-    // PCMG builds its hierarchy by coarsening this grid; the Newton matrix D_a + D_b F' is
-    // not a rediscretization, so the coarse operators are Galerkin products P^T A P.
+    // PCMG builds its hierarchy by coarsening this grid; the Newton matrix D_a + D_b F'
+    // is not a rediscretization, so the coarse operators are Galerkin products P^T A P.
     PetscCall(KSPSetDM(solver.ksp(), level.da));
     PetscCall(KSPSetDMActive(solver.ksp(), PETSC_FALSE));
     PC pc;
@@ -87,7 +99,8 @@ PetscErrorCode SolveOnGrid(const RunConfig& config, const RunSettings& settings,
 
 }  // namespace
 
-PetscErrorCode RunNcp(const RunConfig& config, const RunSettings& settings, RunResult* result) {
+PetscErrorCode RunNcp(const RunConfig& config, const RunSettings& settings,
+                      RunResult* result) {
   PetscFunctionBeginUser;
   const MPI_Comm comm = PETSC_COMM_WORLD;
   int levels = 0;
@@ -97,7 +110,8 @@ PetscErrorCode RunNcp(const RunConfig& config, const RunSettings& settings, RunR
 
   GridLevel level;
   DM grid;
-  PetscCall(CreateGrid(comm, config.grid_sequencing ? settings.coarse_grid : settings.grid, &grid));
+  PetscCall(CreateGrid(
+      comm, config.grid_sequencing ? settings.coarse_grid : settings.grid, &grid));
   PetscCall(level.Create(grid));
   Vec x;
   PetscCall(DMCreateGlobalVector(level.da, &x));
@@ -122,13 +136,15 @@ PetscErrorCode RunNcp(const RunConfig& config, const RunSettings& settings, RunR
     }
     // Multigrid levels: the refinements made so far (directly made grids: by halving).
     const int mg_levels = config.grid_sequencing ? k + 1 : (levels > 0 ? levels : 1);
-    PetscCall(SolveOnGrid(config, settings, level, mg_levels, x, &summary, &ksp_iterations));
+    PetscCall(
+        SolveOnGrid(config, settings, level, mg_levels, x, &summary, &ksp_iterations));
     total_steps += summary.iterations;
     if (!summary.IsSolutionUsable()) break;
   }
   PetscCall(FinishMeasurements(comm, wall_start, cpu_start, result));
 
-  result->n = settings.grid * settings.grid;  // a sequence that stopped early reports the goal
+  result->n =
+      settings.grid * settings.grid;  // a sequence that stopped early reports the goal
   result->newton_iterations = summary.iterations;
   result->total_newton_iterations = total_steps;
   result->ksp_iterations = ksp_iterations;

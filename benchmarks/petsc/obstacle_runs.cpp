@@ -18,10 +18,14 @@ bool HasSymmetricNewtonMatrix(SolverKind kind) { return kind == SolverKind::kSne
 std::string KspDescription(LinearFamily linear, SolverKind kind) {
   const std::string krylov = HasSymmetricNewtonMatrix(kind) ? "cg" : "gmres";
   switch (linear) {
-    case LinearFamily::kMumpsLu: return "preonly+lu";
-    case LinearFamily::kMultigrid: return krylov + "+mg";
-    case LinearFamily::kHypre: return krylov + "+hypre";
-    case LinearFamily::kGamg: return krylov + "+gamg";
+    case LinearFamily::kMumpsLu:
+      return "preonly+lu";
+    case LinearFamily::kMultigrid:
+      return krylov + "+mg";
+    case LinearFamily::kHypre:
+      return krylov + "+hypre";
+    case LinearFamily::kGamg:
+      return krylov + "+gamg";
   }
   return "?";
 }
@@ -34,17 +38,19 @@ std::string LinearOptions(LinearFamily linear, SolverKind kind, const std::strin
   o.precision(3);
   switch (linear) {
     case LinearFamily::kMumpsLu:
-      o << p << "ksp_type preonly " << p << "pc_type lu " << p << "pc_factor_mat_solver_type mumps";
+      o << p << "ksp_type preonly " << p << "pc_type lu " << p
+        << "pc_factor_mat_solver_type mumps";
       return o.str();
     case LinearFamily::kMultigrid:
       // Smoother: one SOR sweep pair under Richardson (no eigenvalue estimate to redo for
       // each Newton matrix, as PETSc's default Chebyshev smoother needs).
-      o << p << "ksp_type " << krylov << " " << p << "pc_type mg " << p << "mg_levels_ksp_type richardson "
-        << p << "mg_levels_pc_type sor ";
+      o << p << "ksp_type " << krylov << " " << p << "pc_type mg " << p
+        << "mg_levels_ksp_type richardson " << p << "mg_levels_pc_type sor ";
       if (multigrid_levels > 0) o << p << "pc_mg_levels " << multigrid_levels << " ";
       break;
     case LinearFamily::kHypre:
-      o << p << "ksp_type " << krylov << " " << p << "pc_type hypre " << p << "pc_hypre_type boomeramg ";
+      o << p << "ksp_type " << krylov << " " << p << "pc_type hypre " << p
+        << "pc_hypre_type boomeramg ";
       break;
     case LinearFamily::kGamg:
       o << p << "ksp_type " << krylov << " " << p << "pc_type gamg ";
@@ -65,12 +71,14 @@ int GridLevels(PetscInt coarse_grid, PetscInt grid) {
   return m == grid ? levels : 0;
 }
 
-PetscErrorCode CheckedGridLevels(const RunConfig& config, const RunSettings& settings, int* levels) {
+PetscErrorCode CheckedGridLevels(const RunConfig& config, const RunSettings& settings,
+                                 int* levels) {
   PetscFunctionBeginUser;
   *levels = GridLevels(settings.coarse_grid, settings.grid);
-  PetscCheck(!config.grid_sequencing || *levels > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
-             "--grid %" PetscInt_FMT " is not (coarse %" PetscInt_FMT " - 1) 2^k + 1", settings.grid,
-             settings.coarse_grid);
+  PetscCheck(!config.grid_sequencing || *levels > 0, PETSC_COMM_WORLD,
+             PETSC_ERR_ARG_OUTOFRANGE,
+             "--grid %" PetscInt_FMT " is not (coarse %" PetscInt_FMT " - 1) 2^k + 1",
+             settings.grid, settings.coarse_grid);
   PetscFunctionReturn(0);
 }
 
@@ -88,7 +96,8 @@ double ProcessCpuSeconds() {
   return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
-PetscErrorCode FinishMeasurements(MPI_Comm comm, double wall_start, double cpu_start, RunResult* result) {
+PetscErrorCode FinishMeasurements(MPI_Comm comm, double wall_start, double cpu_start,
+                                  RunResult* result) {
   PetscFunctionBeginUser;
   const double wall = WallSeconds() - wall_start, cpu = ProcessCpuSeconds() - cpu_start;
   rusage usage{};
@@ -96,7 +105,8 @@ PetscErrorCode FinishMeasurements(MPI_Comm comm, double wall_start, double cpu_s
   const double rss_mib = usage.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
   PetscCallMPI(MPI_Allreduce(&wall, &result->seconds, 1, MPI_DOUBLE, MPI_MAX, comm));
   PetscCallMPI(MPI_Allreduce(&cpu, &result->cpu_seconds, 1, MPI_DOUBLE, MPI_SUM, comm));
-  PetscCallMPI(MPI_Allreduce(&rss_mib, &result->peak_rss_mib, 1, MPI_DOUBLE, MPI_MAX, comm));
+  PetscCallMPI(
+      MPI_Allreduce(&rss_mib, &result->peak_rss_mib, 1, MPI_DOUBLE, MPI_MAX, comm));
   PetscMPIInt size;
   PetscCallMPI(MPI_Comm_size(comm, &size));
   result->ranks = size;
@@ -118,11 +128,16 @@ const char* SnesTypeOf(SolverKind kind) {
 std::string StatusOf(SNESConvergedReason reason) {
   if (reason > 0) return "converged";
   switch (reason) {
-    case SNES_DIVERGED_MAX_IT: return "max_iterations";
-    case SNES_DIVERGED_LINE_SEARCH: return "line_search_failure";
-    case SNES_DIVERGED_FNORM_NAN: return "numerical_error";
-    case SNES_DIVERGED_LOCAL_MIN: return "stationary_point";
-    default: return "failure";
+    case SNES_DIVERGED_MAX_IT:
+      return "max_iterations";
+    case SNES_DIVERGED_LINE_SEARCH:
+      return "line_search_failure";
+    case SNES_DIVERGED_FNORM_NAN:
+      return "numerical_error";
+    case SNES_DIVERGED_LOCAL_MIN:
+      return "stationary_point";
+    default:
+      return "failure";
   }
 }
 
@@ -134,24 +149,29 @@ PetscErrorCode CountSteps(SNES, PetscInt iteration, PetscReal, void* counter) {
 
 }  // namespace
 
-PetscErrorCode RunSnesVi(const RunConfig& config, const RunSettings& settings, RunResult* result) {
+PetscErrorCode RunSnesVi(const RunConfig& config, const RunSettings& settings,
+                         RunResult* result) {
   PetscFunctionBeginUser;
   const MPI_Comm comm = PETSC_COMM_WORLD;
   int levels = 0;
   PetscCall(CheckedGridLevels(config, settings, &levels));
   const std::string prefix = OptionsPrefix(config);
-  const PetscInt start_grid = config.grid_sequencing ? settings.coarse_grid : settings.grid;
+  const PetscInt start_grid =
+      config.grid_sequencing ? settings.coarse_grid : settings.grid;
   // PCMG of a grid made directly at its size takes its levels from -pc_mg_levels; under
   // -snes_grid_sequence PETSc counts the refinements of the DM itself.
   const int mg_levels = config.grid_sequencing ? 0 : (levels > 0 ? levels : 1);
   std::ostringstream options;
   options.precision(17);
-  options << LinearOptions(config.linear, config.kind, prefix, settings, mg_levels) << " -" << prefix << "snes_type "
-          << SnesTypeOf(config.kind) << " -" << prefix << "snes_max_it " << settings.max_newton_iterations
-          << " -" << prefix << "snes_max_funcs 1000000 -" << prefix << "snes_rtol 0 -" << prefix
+  options << LinearOptions(config.linear, config.kind, prefix, settings, mg_levels)
+          << " -" << prefix << "snes_type " << SnesTypeOf(config.kind) << " -" << prefix
+          << "snes_max_it " << settings.max_newton_iterations << " -" << prefix
+          << "snes_max_funcs 1000000 -" << prefix << "snes_rtol 0 -" << prefix
           << "snes_stol 0 -" << prefix << "snes_atol "
-          << settings.tolerance * CellAreaOfGrid(settings.grid) * double(settings.grid);  // sqrt(n) = M
-  if (config.grid_sequencing) options << " -" << prefix << "snes_grid_sequence " << levels - 1;
+          << settings.tolerance * CellAreaOfGrid(settings.grid) *
+                 double(settings.grid);  // sqrt(n) = M
+  if (config.grid_sequencing)
+    options << " -" << prefix << "snes_grid_sequence " << levels - 1;
   PetscCall(PetscOptionsInsertString(nullptr, options.str().c_str()));
 
   PetscCall(PetscBarrier(nullptr));
@@ -164,14 +184,16 @@ PetscErrorCode RunSnesVi(const RunConfig& config, const RunSettings& settings, R
   PetscCall(SNESCreate(comm, &snes));
   PetscCall(SNESSetOptionsPrefix(snes, prefix.c_str()));
   PetscCall(SNESSetDM(snes, da));
-  PetscCall(DMDASNESSetFunctionLocal(da, INSERT_VALUES, (DMDASNESFunction)FormResidualLocal, nullptr));
+  PetscCall(DMDASNESSetFunctionLocal(da, INSERT_VALUES,
+                                     (DMDASNESFunction)FormResidualLocal, nullptr));
   PetscCall(DMDASNESSetJacobianLocal(da, (DMDASNESJacobian)FormJacobianLocal, nullptr));
   PetscCall(SNESSetType(snes, SnesTypeOf(config.kind)));
   PetscCall(SNESVISetComputeVariableBounds(snes, ComputeBoundsOnSnesGrid));
   PetscCall(SNESMonitorSet(snes, CountSteps, &total_steps, nullptr));
   PetscCall(SNESSetFromOptions(snes));
   PetscCall(DMCreateGlobalVector(da, &u));
-  PetscCall(VecSet(u, 0.0));  // the zero start of every solver (the VI solvers project it)
+  PetscCall(
+      VecSet(u, 0.0));  // the zero start of every solver (the VI solvers project it)
   PetscCall(SNESSolve(snes, nullptr, u));
   PetscCall(FinishMeasurements(comm, wall_start, cpu_start, result));
 

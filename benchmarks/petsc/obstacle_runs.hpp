@@ -1,7 +1,7 @@
 /// \file obstacle_runs.hpp
-/// One run of one solver configuration on Bueler's obstacle problem (bueler_obstacle.hpp):
-/// ncp::petsc::Solver with nested iteration, or PETSc's SNESVI (SSLS, RSLS) with or without
-/// -snes_grid_sequence, each with the same KSP/PC family.
+/// One run of one solver configuration on Bueler's obstacle problem
+/// (bueler_obstacle.hpp): ncp::petsc::Solver with nested iteration, or PETSc's SNESVI
+/// (SSLS, RSLS) with or without -snes_grid_sequence, each with the same KSP/PC family.
 #pragma once
 
 #include <petscsys.h>
@@ -12,16 +12,17 @@ namespace ncp_petsc_bench {
 
 enum class SolverKind {
   kNcpFischerBurmeister,  ///< ncp::petsc::Solver, phi = Fischer-Burmeister
-  kNcpMin,                ///< ncp::petsc::Solver, phi = min (the primal-dual active set method)
-  kSnesViSsls,            ///< SNESVINEWTONSSLS (semismooth FB Newton, Munson et al. 2001)
-  kSnesViRsls,            ///< SNESVINEWTONRSLS (reduced-space active set)
+  kNcpMin,      ///< ncp::petsc::Solver, phi = min (the primal-dual active set method)
+  kSnesViSsls,  ///< SNESVINEWTONSSLS (semismooth FB Newton, Munson et al. 2001)
+  kSnesViRsls,  ///< SNESVINEWTONRSLS (reduced-space active set)
 };
 /// The KSP/PC of the Newton systems, the same options for every solver kind.
 enum class LinearFamily {
-  kMumpsLu,  ///< preonly + LU by MUMPS
-  kMultigrid,  ///< Krylov + PCMG on the DMDA hierarchy, SOR smoother (Galerkin coarse operators for ncp)
-  kHypre,    ///< Krylov + hypre BoomerAMG
-  kGamg,     ///< Krylov + PETSc's GAMG
+  kMumpsLu,    ///< preonly + LU by MUMPS
+  kMultigrid,  ///< Krylov + PCMG on the DMDA hierarchy, SOR smoother (Galerkin coarse
+               ///< operators for ncp)
+  kHypre,      ///< Krylov + hypre BoomerAMG
+  kGamg,       ///< Krylov + PETSc's GAMG
 };
 /// The Krylov method of the iterative families follows the Newton matrix: CG where it is
 /// symmetric (RSLS: the Laplacian restricted to the inactive set), GMRES where it is not
@@ -33,21 +34,23 @@ std::string KspDescription(LinearFamily linear, SolverKind kind);
 struct RunConfig {
   std::string name;  ///< row label, e.g. "ncp-fb-seq-mg"; ncp rows start with "ncp"
   SolverKind kind = SolverKind::kNcpFischerBurmeister;
-  bool grid_sequencing = false;  ///< solve coarse first, interpolate, refine (nested iteration)
+  bool grid_sequencing =
+      false;  ///< solve coarse first, interpolate, refine (nested iteration)
   LinearFamily linear = LinearFamily::kMultigrid;
 };
 
 struct RunSettings {
   PetscInt grid = 0;         ///< finest grid: nodes per side M (n = M^2)
   PetscInt coarse_grid = 0;  ///< coarsest grid of the sequence / multigrid hierarchy
-  /// Newton stopping test in the units of -Laplace u (F divided by the cell area h^2): ncp
-  /// stops at ||Phi||_inf <= tolerance h^2; SNESVI at ||residual||_2 <= tolerance h^2 sqrt(n)
-  /// (an RMS of tolerance h^2, the same scale). Bounds the algebraic error in u by about
-  /// tolerance / (pi^2 / 8), below the discretization error of every grid run here.
+  /// Newton stopping test in the units of -Laplace u (F divided by the cell area h^2):
+  /// ncp stops at ||Phi||_inf <= tolerance h^2; SNESVI at ||residual||_2 <= tolerance h^2
+  /// sqrt(n) (an RMS of tolerance h^2, the same scale). Bounds the algebraic error in u
+  /// by about tolerance / (pi^2 / 8), below the discretization error of every grid run
+  /// here.
   double tolerance = 1e-8;
-  /// A converged run whose recomputed natural residual max_i |min(u_i - psi_i, F_i)| (units
-  /// of -Laplace u) exceeds this is "false_convergence". Looser than `tolerance` because
-  /// SNESVI tests a 2-norm (an RMS), not the max; error_vs_exact judges accuracy.
+  /// A converged run whose recomputed natural residual max_i |min(u_i - psi_i, F_i)|
+  /// (units of -Laplace u) exceeds this is "false_convergence". Looser than `tolerance`
+  /// because SNESVI tests a 2-norm (an RMS), not the max; error_vs_exact judges accuracy.
   double check_tolerance = 1e-5;
   int max_newton_iterations = 100;
   double ksp_rtol = 1e-6;  ///< relative tolerance of each Krylov solve (not used by LU)
@@ -66,27 +69,33 @@ struct RunResult {
   double natural_residual = -1.0;    ///< recomputed max |min(u - psi, F(u))|
   std::string status = "failure";    ///< shared vocabulary (ncp-bench)
   std::string native_status;         ///< the solver's own reason
-  double peak_rss_mib = -1.0;        ///< largest resident set of a rank (process lifetime)
+  double peak_rss_mib = -1.0;  ///< largest resident set of a rank (process lifetime)
 };
 
-/// The PETSc options string of a linear family under `prefix` (e.g. "-ssls_ksp_type cg ...").
+/// The PETSc options string of a linear family under `prefix` (e.g. "-ssls_ksp_type cg
+/// ...").
 std::string LinearOptions(LinearFamily linear, SolverKind kind, const std::string& prefix,
                           const RunSettings& settings, int multigrid_levels);
-/// Prefix of a configuration's objects in PETSc's options database: its name with '-' -> '_'.
+/// Prefix of a configuration's objects in PETSc's options database: its name with '-' ->
+/// '_'.
 std::string OptionsPrefix(const RunConfig& config);
-/// Number of grids from coarse_grid to grid by doubling (grid - 1 = (coarse_grid - 1) 2^k):
-/// k + 1; 0 when grid is not in that sequence.
+/// Number of grids from coarse_grid to grid by doubling (grid - 1 = (coarse_grid - 1)
+/// 2^k): k + 1; 0 when grid is not in that sequence.
 int GridLevels(PetscInt coarse_grid, PetscInt grid);
 /// GridLevels of the settings; an error if grid sequencing needs them and the grid is not
 /// a refinement of the coarse grid.
-PetscErrorCode CheckedGridLevels(const RunConfig& config, const RunSettings& settings, int* levels);
+PetscErrorCode CheckedGridLevels(const RunConfig& config, const RunSettings& settings,
+                                 int* levels);
 
-PetscErrorCode RunSnesVi(const RunConfig& config, const RunSettings& settings, RunResult* result);
-PetscErrorCode RunNcp(const RunConfig& config, const RunSettings& settings, RunResult* result);
+PetscErrorCode RunSnesVi(const RunConfig& config, const RunSettings& settings,
+                         RunResult* result);
+PetscErrorCode RunNcp(const RunConfig& config, const RunSettings& settings,
+                      RunResult* result);
 
 /// Wall and CPU clocks, and the per-run collective measurements.
 double WallSeconds();
 double ProcessCpuSeconds();
-PetscErrorCode FinishMeasurements(MPI_Comm comm, double wall_start, double cpu_start, RunResult* result);
+PetscErrorCode FinishMeasurements(MPI_Comm comm, double wall_start, double cpu_start,
+                                  RunResult* result);
 
 }  // namespace ncp_petsc_bench

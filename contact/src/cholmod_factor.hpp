@@ -1,6 +1,6 @@
-// A CHOLMOD Cholesky factor of a symmetric positive definite sparse matrix with solves that
-// reuse their workspace (cholmod_solve2): after the first solve of a given size, Solve()
-// allocates nothing - what the time loop of RunDynamics needs. (Eigen's
+// A CHOLMOD Cholesky factor of a symmetric positive definite sparse matrix with solves
+// that reuse their workspace (cholmod_solve2): after the first solve of a given size,
+// Solve() allocates nothing - what the time loop of RunDynamics needs. (Eigen's
 // CholmodDecomposition allocates the solution and workspace at every solve.)
 #pragma once
 
@@ -16,15 +16,17 @@ namespace contact::internal {
 
 /// One BLAS thread while alive, if the BLAS is OpenBLAS (found at run time: Debian's
 /// libblas.so.3 may be OpenBLAS or the reference BLAS), then the previous count again. A
-/// solve with one right-hand side calls BLAS on small supernodes, where OpenBLAS's threads
-/// cost more than they give and spin against any other busy process: measured, 20 steps of
-/// the sparse step on a 2700-dof slab (~120 solves per step) 9.9 s with OpenBLAS's 2
-/// threads next to another run, 0.55 s with one.
+/// solve with one right-hand side calls BLAS on small supernodes, where OpenBLAS's
+/// threads cost more than they give and spin against any other busy process: measured, 20
+/// steps of the sparse step on a 2700-dof slab (~120 solves per step) 9.9 s with
+/// OpenBLAS's 2 threads next to another run, 0.55 s with one.
 class SingleBlasThread {
  public:
   SingleBlasThread() {
-    static const auto get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
-    static const auto set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+    static const auto get =
+        reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+    static const auto set =
+        reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
     if (!get || !set) return;
     set_ = set;
     previous_ = get();
@@ -56,7 +58,8 @@ class CholmodFactor {
     // matrices, and ok() must tell that A is not positive definite.
     common_.final_ll = 1;
     common_.print = 0;  // failures are reported through ok(), not printed by CHOLMOD
-    if (A.rows() != A.cols()) throw std::invalid_argument("CholmodFactor: matrix is not square");
+    if (A.rows() != A.cols())
+      throw std::invalid_argument("CholmodFactor: matrix is not square");
     cholmod_sparse view{};
     view.nrow = view.ncol = static_cast<size_t>(A.rows());
     view.nzmax = static_cast<size_t>(A.nonZeros());
@@ -89,7 +92,8 @@ class CholmodFactor {
   /// right-hand side takes about 4 of them flops (L and L' each once).
   double factor_nonzeros() const { return common_.lnz; }
 
-  /// x = A^-1 b; x may not alias b. No allocation once x has size n (after the first call).
+  /// x = A^-1 b; x may not alias b. No allocation once x has size n (after the first
+  /// call).
   void Solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) {
     x->resize(n_);
     SolveColumns(b.data(), 1, x->data());
@@ -113,7 +117,8 @@ class CholmodFactor {
     rhs.x = const_cast<double*>(b);
     rhs.xtype = CHOLMOD_REAL;
     rhs.dtype = CHOLMOD_DOUBLE;
-    if (!cholmod_solve2(CHOLMOD_A, factor_, &rhs, nullptr, &x_, nullptr, &y_, &e_, &common_))
+    if (!cholmod_solve2(CHOLMOD_A, factor_, &rhs, nullptr, &x_, nullptr, &y_, &e_,
+                        &common_))
       throw std::runtime_error("CholmodFactor::Solve: cholmod_solve2 failed");
     std::memcpy(x, x_->x, sizeof(double) * static_cast<size_t>(n_ * k));
   }

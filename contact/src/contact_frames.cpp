@@ -6,8 +6,9 @@
 
 namespace contact {
 
-// The default allowed initial penetration relative to the mesh's size: coordinates written
-// with 9 or more significant digits put a node touching the obstacle within this of it.
+// The default allowed initial penetration relative to the mesh's size: coordinates
+// written with 9 or more significant digits put a node touching the obstacle within this
+// of it.
 constexpr double kRoundoffPenetration = 1e-9;
 
 const char* ToString(NormalSource s) {
@@ -34,8 +35,9 @@ Eigen::VectorXd ObstacleGaps(const Mesh& mesh, const ContactBoundary& boundary,
                              NormalSource source, const Vector& translation) {
   const int dim = mesh.dim;
   if (translation.size() != dim || !translation.allFinite())
-    throw std::invalid_argument("the obstacle translation must be " + std::to_string(dim) +
-                                " finite numbers [m], got " + std::to_string(translation.size()) +
+    throw std::invalid_argument("the obstacle translation must be " +
+                                std::to_string(dim) + " finite numbers [m], got " +
+                                std::to_string(translation.size()) +
                                 (translation.allFinite() ? "" : " with a NaN or inf"));
   Eigen::VectorXd gaps(static_cast<Eigen::Index>(frames.nodes.size()));
   for (size_t c = 0; c < frames.nodes.size(); ++c) {
@@ -46,11 +48,13 @@ Eigen::VectorXd ObstacleGaps(const Mesh& mesh, const ContactBoundary& boundary,
       gaps(static_cast<Eigen::Index>(c)) = q.gap;
       continue;
     }
-    const double cosine = BodyNormal(dim, boundary, frames.boundary_index[c]).dot(TowardsObstacle(dim, q));
+    const double cosine =
+        BodyNormal(dim, boundary, frames.boundary_index[c]).dot(TowardsObstacle(dim, q));
     if (!(cosine > 0.0))
-      throw std::invalid_argument("at contact node " + std::to_string(node) +
-                                  " the body normal points away from the moved obstacle; use the "
-                                  "obstacle normal (obstacle.normal_source = \"obstacle\")");
+      throw std::invalid_argument(
+          "at contact node " + std::to_string(node) +
+          " the body normal points away from the moved obstacle; use the "
+          "obstacle normal (obstacle.normal_source = \"obstacle\")");
     gaps(static_cast<Eigen::Index>(c)) = q.gap / cosine;
   }
   return gaps;
@@ -62,8 +66,8 @@ ContactFrames MakeContactFrames(const Mesh& mesh, const ContactBoundary& boundar
   const int dim = mesh.dim;
   if (obstacle.dimension() != dim)
     throw std::invalid_argument("the obstacle is " +
-                                std::to_string(obstacle.dimension()) + "D but the mesh is " +
-                                std::to_string(dim) + "D");
+                                std::to_string(obstacle.dimension()) +
+                                "D but the mesh is " + std::to_string(dim) + "D");
   if (allowed_initial_penetration < 0.0 && mesh.nodes.cols() > 0)
     allowed_initial_penetration =
         kRoundoffPenetration *
@@ -72,7 +76,8 @@ ContactFrames MakeContactFrames(const Mesh& mesh, const ContactBoundary& boundar
   for (int k = 0; k < boundary.NumNodes(); ++k) {
     const int node = boundary.nodes[static_cast<size_t>(k)];
     int num_constrained = 0;
-    for (int a = 0; a < dim; ++a) num_constrained += dofs.IsConstrained(dim * node + a) ? 1 : 0;
+    for (int a = 0; a < dim; ++a)
+      num_constrained += dofs.IsConstrained(dim * node + a) ? 1 : 0;
     if (num_constrained == dim) {
       out.excluded_mesh_nodes.push_back(node);
       continue;
@@ -83,7 +88,8 @@ ContactFrames MakeContactFrames(const Mesh& mesh, const ContactBoundary& boundar
       std::ostringstream msg;
       msg << "contact node " << node << " at (" << X.transpose()
           << ") starts inside the obstacle (" << obstacle.Describe() << ") by " << -q.gap
-          << " m: the body must start outside or touching it - move the obstacle (or the body) "
+          << " m: the body must start outside or touching it - move the obstacle (or the "
+             "body) "
              "by at least this distance along the obstacle's normal";
       throw std::invalid_argument(msg.str());
     }
@@ -101,13 +107,15 @@ ContactFrames MakeContactFrames(const Mesh& mesh, const ContactBoundary& boundar
         std::ostringstream msg;
         msg << "at contact node " << node << " (" << X.transpose()
             << ") the body normal (" << c.normal.head(dim).transpose()
-            << ") points away from the obstacle; use the obstacle normal or check the 'contact' group";
+            << ") points away from the obstacle; use the obstacle normal or check the "
+               "'contact' group";
         throw std::invalid_argument(msg.str());
       }
       c.gap = q.gap / cosine;
     }
-    // A constrained component must be orthogonal to the normal (symmetry planes, plane-strain
-    // faces); round-off is projected out, anything else leaves the node out of the contact set.
+    // A constrained component must be orthogonal to the normal (symmetry planes,
+    // plane-strain faces); round-off is projected out, anything else leaves the node out
+    // of the contact set.
     bool compatible = true;
     for (int a = 0; a < dim; ++a) {
       if (c.dofs[a] >= 0) continue;

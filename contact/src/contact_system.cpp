@@ -2,8 +2,8 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -13,7 +13,8 @@ namespace {
 using Triplet = Eigen::Triplet<double, int>;
 
 std::string NodeName(size_t c, const ContactNode& node) {
-  return "contact node #" + std::to_string(c) + " (mesh node " + std::to_string(node.node) + ")";
+  return "contact node #" + std::to_string(c) + " (mesh node " +
+         std::to_string(node.node) + ")";
 }
 
 // M (rows x cols) gets the pattern of `entries` (repeated (row, col) merged, explicit
@@ -52,8 +53,8 @@ ncp::Options ContactNcpOptions() {
   ncp::Options options;
   options.min_tie_takes_b = true;
   // Monotone Armijo search: on the 3D friction steps (eq. 94) of the closed-form checks
-  // (contact-physics-check --quick --dim 3, lumped mass) the nonmonotone default of ncp ended
-  // two sliding runs with a failed step where the monotone search failed none.
+  // (contact-physics-check --quick --dim 3, lumped mass) the nonmonotone default of ncp
+  // ended two sliding runs with a failed step where the monotone search failed none.
   options.nonmonotone_memory = 1;
   return options;
 }
@@ -89,10 +90,13 @@ RestrictionMaps MakeRestrictionMaps(int dim, int num_free_dofs,
   const std::string who = "contact::MakeRestrictionMaps: ";
   const int n = num_free_dofs;
   if (dim != 2 && dim != 3)
-    throw std::invalid_argument(who + "dimension must be 2 or 3, got " + std::to_string(dim));
-  if (n < 0) throw std::invalid_argument(who + "num_free_dofs must be >= 0, got " + std::to_string(n));
-  // Validate the nodes and build R: R[slot a, dof of free axis b] = frame_a(axis b), where
-  // the slots of a node are the dofs of its free components, normal first.
+    throw std::invalid_argument(who + "dimension must be 2 or 3, got " +
+                                std::to_string(dim));
+  if (n < 0)
+    throw std::invalid_argument(who + "num_free_dofs must be >= 0, got " +
+                                std::to_string(n));
+  // Validate the nodes and build R: R[slot a, dof of free axis b] = frame_a(axis b),
+  // where the slots of a node are the dofs of its free components, normal first.
   std::vector<int> owner(static_cast<size_t>(n), -1);  // contact node of each dof
   std::vector<int> local(static_cast<size_t>(n), -1);  // local component of each slot
   std::vector<Triplet> rotation;
@@ -103,20 +107,22 @@ RestrictionMaps MakeRestrictionMaps(int dim, int num_free_dofs,
     for (int a = 0; a < dim; ++a) {
       const int dof = node.dofs[a];
       if (dof < -1 || dof >= n)
-        throw std::invalid_argument(who + NodeName(c, node) + ": dof " + std::to_string(dof) +
-                                    " of component " + std::to_string(a) +
-                                    " is neither a free dof in [0, " + std::to_string(n) +
-                                    ") nor -1 (constrained)");
+        throw std::invalid_argument(who + NodeName(c, node) + ": dof " +
+                                    std::to_string(dof) + " of component " +
+                                    std::to_string(a) + " is neither a free dof in [0, " +
+                                    std::to_string(n) + ") nor -1 (constrained)");
       if (dof < 0) continue;
       if (owner[static_cast<size_t>(dof)] >= 0)
-        throw std::invalid_argument(who + NodeName(c, node) + ": dof " + std::to_string(dof) +
+        throw std::invalid_argument(who + NodeName(c, node) + ": dof " +
+                                    std::to_string(dof) +
                                     " is shared with another contact node or component");
       owner[static_cast<size_t>(dof)] = static_cast<int>(c);
       free_axes[num_free] = a;
       slots[num_free++] = dof;
     }
     if (num_free == 0)
-      throw std::invalid_argument(who + NodeName(c, node) + ": all components are constrained");
+      throw std::invalid_argument(who + NodeName(c, node) +
+                                  ": all components are constrained");
     const Eigen::Vector3d frame[3] = {node.normal, node.tangent1, node.tangent2};
     for (int a = 0; a < num_free; ++a) {
       if (std::abs(frame[a].norm() - 1.0) > 1e-12)
@@ -124,18 +130,22 @@ RestrictionMaps MakeRestrictionMaps(int dim, int num_free_dofs,
                                     std::to_string(a) + " is not a unit vector");
       for (int b = 0; b < a; ++b)
         if (std::abs(frame[a].dot(frame[b])) > 1e-12)
-          throw std::invalid_argument(who + NodeName(c, node) + ": frame is not orthogonal");
+          throw std::invalid_argument(who + NodeName(c, node) +
+                                      ": frame is not orthogonal");
       for (int axis = 0; axis < 3; ++axis) {
-        const bool is_free = std::find(free_axes, free_axes + num_free, axis) != free_axes + num_free;
+        const bool is_free =
+            std::find(free_axes, free_axes + num_free, axis) != free_axes + num_free;
         if (!is_free && std::abs(frame[a](axis)) > 1e-12)
           throw std::invalid_argument(
               who + NodeName(c, node) + ": frame vector " + std::to_string(a) +
               " has a component along axis " + std::to_string(axis) +
-              (axis < dim ? ", which is constrained (the normal must lie in the free directions)"
-                          : " in 2D"));
+              (axis < dim
+                   ? ", which is constrained (the normal must lie in the free directions)"
+                   : " in 2D"));
       }
       local[static_cast<size_t>(slots[a])] = a;
-      for (int b = 0; b < num_free; ++b) rotation.emplace_back(slots[a], slots[b], frame[a](free_axes[b]));
+      for (int b = 0; b < num_free; ++b)
+        rotation.emplace_back(slots[a], slots[b], frame[a](free_axes[b]));
     }
     if (!std::isfinite(node.gap))
       throw std::invalid_argument(who + NodeName(c, node) + ": gap is not finite");
@@ -169,7 +179,8 @@ ContactSystem::ContactSystem(int dim, const Eigen::SparseMatrix<double>& S,
     : dim_(dim), n_(static_cast<int>(S.rows())), nodes_(std::move(nodes)) {
   if (S.rows() != S.cols())
     throw std::invalid_argument("contact::ContactSystem: S must be square, got " +
-                                std::to_string(S.rows()) + " x " + std::to_string(S.cols()));
+                                std::to_string(S.rows()) + " x " +
+                                std::to_string(S.cols()));
   rotation_ = MakeRestrictionMaps(dim, n_, nodes_).R;  // validates the nodes
   layout_.resize(nodes_.size());
   for (size_t c = 0; c < nodes_.size(); ++c) {
@@ -181,7 +192,8 @@ ContactSystem::ContactSystem(int dim, const Eigen::SparseMatrix<double>& S,
   S_local_ = rotation_ * S * rotation_.transpose();
   for (Eigen::Index i = 0; i < S_local_.outerSize(); ++i) {
     double sum = 0.0;
-    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(S_local_, i); it; ++it)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(S_local_, i); it;
+         ++it)
       sum += std::abs(it.value());
     s_row_sum_ = std::max(s_row_sum_, sum);
   }
@@ -193,11 +205,13 @@ ContactSystem::ContactSystem(int dim, const Eigen::SparseMatrix<double>& S,
 void ContactSystem::SetGaps(const Eigen::VectorXd& gaps) {
   const std::string who = "contact::ContactSystem::SetGaps: ";
   if (gaps.size() != static_cast<Eigen::Index>(nodes_.size()))
-    throw std::invalid_argument(who + "one gap per contact node (" + std::to_string(nodes_.size()) +
-                                ") is needed, got " + std::to_string(gaps.size()));
+    throw std::invalid_argument(who + "one gap per contact node (" +
+                                std::to_string(nodes_.size()) + ") is needed, got " +
+                                std::to_string(gaps.size()));
   for (size_t c = 0; c < nodes_.size(); ++c) {
     const double s = gaps(static_cast<Eigen::Index>(c));
-    if (!std::isfinite(s)) throw std::invalid_argument(who + NodeName(c, nodes_[c]) + ": gap is not finite");
+    if (!std::isfinite(s))
+      throw std::invalid_argument(who + NodeName(c, nodes_[c]) + ": gap is not finite");
     nodes_[c].gap = s;
   }
 }
@@ -219,7 +233,8 @@ void ContactSystem::Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
   u0_local_.noalias() = rotation_ * u0;
   gap0_.resize(num_nodes);
   for (Eigen::Index c = 0; c < num_nodes; ++c)
-    gap0_(c) = nodes_[static_cast<size_t>(c)].gap - u0_local_(layout_[static_cast<size_t>(c)].slot[0]);
+    gap0_(c) = nodes_[static_cast<size_t>(c)].gap -
+               u0_local_(layout_[static_cast<size_t>(c)].slot[0]);
   if (tresca_bound.size())
     bound_ = tresca_bound;
   else
@@ -234,7 +249,8 @@ void ContactSystem::Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
     const double g = bound_(static_cast<Eigen::Index>(c));
     if (!(g >= 0.0) || !std::isfinite(g))
       throw std::invalid_argument(who + NodeName(c, nodes_[c]) +
-                                  ": Tresca bound must be finite and >= 0, got " + std::to_string(g));
+                                  ": Tresca bound must be finite and >= 0, got " +
+                                  std::to_string(g));
     row_kind_[static_cast<size_t>(L.slot[0])] = 1;
     const bool had_friction = L.friction >= 0;
     L.friction = L.extra = L.unit_row = -1;
@@ -269,7 +285,7 @@ void ContactSystem::Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
   for (const Layout& L : layout_) pair_variable_.push_back(L.slot[0]);
   for (const Layout& L : layout_) {
     if (L.friction < 0) continue;
-    pair_variable_.push_back(L.slot[1]);                                // du+
+    pair_variable_.push_back(L.slot[1]);                                 // du+
     pair_variable_.push_back(L.tangent_dim == 1 ? L.extra : L.slot[2]);  // du-
   }
   if (num_equations_ + static_cast<int>(pair_variable_.size()) != num_variables_)
@@ -277,10 +293,12 @@ void ContactSystem::Update(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
 }
 
 void ContactSystem::SetResidualScales(double force, double displacement) {
-  if (!(force > 0.0) || !std::isfinite(force) || !(displacement > 0.0) || !std::isfinite(displacement))
-    throw std::invalid_argument("contact::ContactSystem::SetResidualScales: the force and "
-                                "displacement scales must be finite and > 0, got " +
-                                std::to_string(force) + " and " + std::to_string(displacement));
+  if (!(force > 0.0) || !std::isfinite(force) || !(displacement > 0.0) ||
+      !std::isfinite(displacement))
+    throw std::invalid_argument(
+        "contact::ContactSystem::SetResidualScales: the force and "
+        "displacement scales must be finite and > 0, got " +
+        std::to_string(force) + " and " + std::to_string(displacement));
   force_scale_ = force;
   displacement_scale_ = displacement;
 }
@@ -294,13 +312,15 @@ bool ContactSystem::Scales(const ncp::Vector& z0, ncp::ResidualScales* scales) {
   const double y_max = y_.lpNorm<Eigen::Infinity>();
   const double bound_max = bound_.size() ? bound_.lpNorm<Eigen::Infinity>() : 0.0;
   const double force_floor =
-      kRoundoffUlps * eps * (q_local_.lpNorm<Eigen::Infinity>() + s_row_sum_ * y_max + bound_max);
+      kRoundoffUlps * eps *
+      (q_local_.lpNorm<Eigen::Infinity>() + s_row_sum_ * y_max + bound_max);
   const double slip_floor = kRoundoffUlps * eps * y_max;
   const Eigen::Index m = num_equations_, p = num_variables_ - num_equations_;
   const auto N = static_cast<Eigen::Index>(nodes_.size());
   scales->equation.setConstant(m, force_scale_);
   scales->equation_floor.setConstant(m, force_floor);
-  // Pairs: (lambda_c, gap_c) for the nodes, then (slip part, friction force row) per friction pair.
+  // Pairs: (lambda_c, gap_c) for the nodes, then (slip part, friction force row) per
+  // friction pair.
   scales->a.setConstant(p, displacement_scale_);
   scales->a_floor.setConstant(p, slip_floor);
   scales->b.setConstant(p, force_scale_);
@@ -309,9 +329,11 @@ bool ContactSystem::Scales(const ncp::Vector& z0, ncp::ResidualScales* scales) {
   scales->a_floor.head(N).setConstant(force_floor);
   scales->b.head(N).setConstant(displacement_scale_);
   for (Eigen::Index c = 0; c < N; ++c)
-    scales->b_floor(c) = kRoundoffUlps * eps *
-                         (std::abs(gap0_(c)) + std::abs(y_(layout_[static_cast<size_t>(c)].slot[0])));
-  // The friction law of a node against its own bound g_c (tau + g_c >= 0, g_c - tau >= 0).
+    scales->b_floor(c) =
+        kRoundoffUlps * eps *
+        (std::abs(gap0_(c)) + std::abs(y_(layout_[static_cast<size_t>(c)].slot[0])));
+  // The friction law of a node against its own bound g_c (tau + g_c >= 0, g_c - tau >=
+  // 0).
   Eigen::Index pair = N;
   for (size_t c = 0; c < layout_.size(); ++c) {
     if (layout_[c].friction < 0) continue;
@@ -359,14 +381,15 @@ bool ContactSystem::Evaluate(const ncp::Vector& z, ncp::Vector* E, ncp::Vector* 
       (*E)(EquationRow(L.slot[1])) -= tau;  // r_t = tau              (eq. 90, third row)
       (*A)(pair) = z(L.slot[1]);            // (du+, tau + g)         (eq. 90, fourth row)
       (*B)(pair++) = tau + g;
-      (*A)(pair) = z(L.extra);              // (du-, g - tau)         (eq. 90, fifth row)
+      (*A)(pair) = z(L.extra);  // (du-, g - tau)         (eq. 90, fifth row)
       (*B)(pair++) = g - tau;
     } else {
       const double gt = z(L.extra), t1 = z(L.extra + 1) / direction_scale_,
                    t2 = z(L.extra + 2) / direction_scale_;
       (*E)(EquationRow(L.slot[1])) -= gt * t1;  // r_T = g (t1, t2)     (eq. 94, 66)
       (*E)(EquationRow(L.slot[2])) -= gt * t2;
-      (*E)(L.unit_row) = direction_scale_ * (t1 * t1 + t2 * t2 - 1.0);  // eq. (59), force units
+      (*E)(L.unit_row) =
+          direction_scale_ * (t1 * t1 + t2 * t2 - 1.0);  // eq. (59), force units
       (*A)(pair) = z(L.slot[1]);
       (*B)(pair++) = gt + g;
       (*A)(pair) = z(L.slot[2]);
@@ -502,7 +525,8 @@ ncp::Vector ContactSystem::StartPoint(const Eigen::VectorXd& x_guess,
   if (have_forces && (friction_guess.rows() != dim_ - 1 ||
                       friction_guess.cols() != static_cast<Eigen::Index>(nodes_.size())))
     throw std::invalid_argument("ContactSystem::StartPoint: friction guess must be " +
-                                std::to_string(dim_ - 1) + " x " + std::to_string(nodes_.size()));
+                                std::to_string(dim_ - 1) + " x " +
+                                std::to_string(nodes_.size()));
   ncp::Vector z = ncp::Vector::Zero(num_variables_);
   const Eigen::VectorXd y = rotation_ * x_guess;  // local components
   z.head(n_) = y;
@@ -514,13 +538,15 @@ ncp::Vector ContactSystem::StartPoint(const Eigen::VectorXd& x_guess,
       z(L.slot[1]) = std::max(y(L.slot[1]), 0.0);
       z(L.extra) = std::max(-y(L.slot[1]), 0.0);
       if (have_forces)
-        z(L.extra + 1) = std::clamp(friction_guess(0, static_cast<Eigen::Index>(c)), -g, g);
+        z(L.extra + 1) =
+            std::clamp(friction_guess(0, static_cast<Eigen::Index>(c)), -g, g);
       continue;
     }
     const Eigen::Vector2d slip(y(L.slot[1]), y(L.slot[2]));
     const Eigen::Vector2d force =
-        have_forces ? Eigen::Vector2d(friction_guess.col(static_cast<Eigen::Index>(c)).head(2))
-                    : Eigen::Vector2d::Zero();
+        have_forces
+            ? Eigen::Vector2d(friction_guess.col(static_cast<Eigen::Index>(c)).head(2))
+            : Eigen::Vector2d::Zero();
     Eigen::Vector2d t(1.0, 0.0);
     double magnitude = 0.5 * g;
     // A force guess that is round-off next to g (e.g. 1e-23 from a step without friction

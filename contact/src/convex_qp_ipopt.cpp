@@ -11,6 +11,7 @@
 #include <coin/IpIpoptApplication.hpp>
 #include <coin/IpSolveStatistics.hpp>
 #include <coin/IpTNLP.hpp>
+
 #include "text_format.hpp"
 
 namespace contact {

@@ -17,17 +17,19 @@ namespace internal {
 //   w = M^-1 K v_j - alpha_j v_j - beta_{j-1} v_{j-1},  alpha_j = v_j' K v_j,
 //   beta_j = sqrt(w' M w),  v_{j+1} = w / beta_j,
 // the largest eigenvalue theta of the tridiagonal T_j = tridiag(beta, alpha, beta) rises
-// to lambda_max = omega_max^2 from below (in far fewer steps than power iteration). M v is
-// carried along (M w = K v_j - alpha_j M v_j - beta_{j-1} M v_{j-1}), so one step costs one
-// product with K and one solve with M. No reorthogonalization: the loss of orthogonality
-// only adds copies of converged Ritz values, not wrong extreme ones. The start vector
-// alternates in sign node by node so it is rich in high-frequency modes.
-CriticalTimeStep Lanczos(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M,
-                         MassInverse* mass, double relative_tolerance, int max_iterations) {
+// to lambda_max = omega_max^2 from below (in far fewer steps than power iteration). M v
+// is carried along (M w = K v_j - alpha_j M v_j - beta_{j-1} M v_{j-1}), so one step
+// costs one product with K and one solve with M. No reorthogonalization: the loss of
+// orthogonality only adds copies of converged Ritz values, not wrong extreme ones. The
+// start vector alternates in sign node by node so it is rich in high-frequency modes.
+CriticalTimeStep Lanczos(const Eigen::SparseMatrix<double>& K,
+                         const Eigen::SparseMatrix<double>& M, MassInverse* mass,
+                         double relative_tolerance, int max_iterations) {
   CriticalTimeStep out;
   const Eigen::Index n = K.rows();
   if (n == 0) return out;
-  Eigen::VectorXd v(n), Mv(n), v_old = Eigen::VectorXd::Zero(n), Mv_old = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd v(n), Mv(n), v_old = Eigen::VectorXd::Zero(n),
+                               Mv_old = Eigen::VectorXd::Zero(n);
   Eigen::VectorXd Kv(n), w(n);
   for (Eigen::Index i = 0; i < n; ++i)
     v(i) = ((i / 2) % 2 == 0 ? 1.0 : -1.0) * (1.0 + 1e-3 * static_cast<double>(i % 7));
@@ -51,8 +53,8 @@ CriticalTimeStep Lanczos(const Eigen::SparseMatrix<double>& K, const Eigen::Spar
     out.iterations = j;
     // Invariant subspace (b ~ 0): T_j holds exact eigenvalues of the pencil.
     const bool exhausted = !(b > 1e-14 * std::max(std::abs(a), 1e-300)) || j == n;
-    // theta of T_j every third step (its eigenvalues cost O(j^2)): converged when it moved
-    // by at most relative_tolerance over two such checks in a row.
+    // theta of T_j every third step (its eigenvalues cost O(j^2)): converged when it
+    // moved by at most relative_tolerance over two such checks in a row.
     if (exhausted || j % 3 == 0 || j == limit) {
       Eigen::VectorXd d = Eigen::Map<const Eigen::VectorXd>(alpha.data(), j);
       Eigen::VectorXd e = Eigen::Map<const Eigen::VectorXd>(beta.data(), j - 1);
@@ -77,7 +79,8 @@ CriticalTimeStep Lanczos(const Eigen::SparseMatrix<double>& K, const Eigen::Spar
     Mv = Kv / b;
   }
   out.omega_max = std::sqrt(theta);
-  out.dt_crit = theta > 0.0 ? 2.0 / out.omega_max : std::numeric_limits<double>::infinity();
+  out.dt_crit =
+      theta > 0.0 ? 2.0 / out.omega_max : std::numeric_limits<double>::infinity();
   return out;
 }
 
@@ -87,7 +90,8 @@ CriticalTimeStep EstimateCriticalTimeStep(const Eigen::SparseMatrix<double>& K,
                                           const Eigen::SparseMatrix<double>& M,
                                           double relative_tolerance, int max_iterations) {
   if (K.rows() != M.rows() || K.cols() != M.cols() || K.rows() != K.cols())
-    throw std::invalid_argument("EstimateCriticalTimeStep: K and M must be square of equal size");
+    throw std::invalid_argument(
+        "EstimateCriticalTimeStep: K and M must be square of equal size");
   internal::MassInverse mass(M, "EstimateCriticalTimeStep: ");
   return internal::Lanczos(K, M, &mass, relative_tolerance, max_iterations);
 }

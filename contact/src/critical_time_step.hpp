@@ -9,8 +9,10 @@
 
 namespace contact::internal {
 
-/// dt_crit = 2 / omega_max by Lanczos on the pencil (K, M) (see EstimateCriticalTimeStep).
-CriticalTimeStep Lanczos(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M,
-                         MassInverse* mass, double relative_tolerance, int max_iterations);
+/// dt_crit = 2 / omega_max by Lanczos on the pencil (K, M) (see
+/// EstimateCriticalTimeStep).
+CriticalTimeStep Lanczos(const Eigen::SparseMatrix<double>& K,
+                         const Eigen::SparseMatrix<double>& M, MassInverse* mass,
+                         double relative_tolerance, int max_iterations);
 
 }  // namespace contact::internal

@@ -10,7 +10,8 @@ namespace {
 // edges of M's graph apart (no common neighbor), from one free dof per node.
 std::vector<int> ColorContactNodes(const DynamicModel& model, int* num_colors) {
   const auto& M = model.M;
-  std::vector<int> node_of_dof(static_cast<size_t>(M.rows()), -1), color(model.contact_nodes.size(), -1);
+  std::vector<int> node_of_dof(static_cast<size_t>(M.rows()), -1),
+      color(model.contact_nodes.size(), -1);
   std::vector<int> first_dof(model.contact_nodes.size(), -1);
   for (size_t c = 0; c < model.contact_nodes.size(); ++c)
     for (int a = 0; a < model.dim; ++a) {
@@ -27,7 +28,8 @@ std::vector<int> ColorContactNodes(const DynamicModel& model, int* num_colors) {
       for (Eigen::SparseMatrix<double>::InnerIterator j(M, i.row()); j; ++j) {
         const int other = node_of_dof[static_cast<size_t>(j.row())];
         if (other >= 0 && color[static_cast<size_t>(other)] >= 0)
-          used_by[static_cast<size_t>(color[static_cast<size_t>(other)])] = static_cast<int>(c);
+          used_by[static_cast<size_t>(color[static_cast<size_t>(other)])] =
+              static_cast<int>(c);
       }
     int k = 0;
     while (k < *num_colors && used_by[static_cast<size_t>(k)] == static_cast<int>(c)) ++k;
@@ -49,7 +51,8 @@ void DelassusOperator::ProbeDiagonal(const DynamicModel& model) {
       probe.setZero();
       bool any = false;
       for (size_t c = 0; c < condensed_.size(); ++c)
-        if (color[c] == k && condensed_[c].dofs[a] >= 0) probe(condensed_[c].dofs[a]) = 1.0, any = true;
+        if (color[c] == k && condensed_[c].dofs[a] >= 0)
+          probe(condensed_[c].dofs[a]) = 1.0, any = true;
       if (!any) continue;
       Apply(probe, &product);
       for (Eigen::Index i = 0; i < probe.size(); ++i)
@@ -59,8 +62,8 @@ void DelassusOperator::ProbeDiagonal(const DynamicModel& model) {
   diagonal_ = diagonal_.cwiseAbs();
 }
 
-DelassusOperator::DelassusOperator(const DynamicModel& model, MassInverse* mass, double m_max,
-                                   bool normal_only, bool matrix_free)
+DelassusOperator::DelassusOperator(const DynamicModel& model, MassInverse* mass,
+                                   double m_max, bool normal_only, bool matrix_free)
     : mass_(mass), m_max_(m_max), condensed_(model.contact_nodes) {
   const int dim = model.dim;
   const Eigen::Index n = model.M.rows();
@@ -95,7 +98,8 @@ DelassusOperator::DelassusOperator(const DynamicModel& model, MassInverse* mass,
   const Eigen::SparseMatrix<double> Ht = H_.transpose();
   W_.resize(rows, rows);
   Eigen::MatrixXd block, solved;
-  const int width = static_cast<int>(std::clamp<Eigen::Index>((1 << 25) / std::max<Eigen::Index>(n, 1), 1, 256));
+  const int width = static_cast<int>(
+      std::clamp<Eigen::Index>((1 << 25) / std::max<Eigen::Index>(n, 1), 1, 256));
   for (int first = 0; first < rows; first += width) {
     const int count = std::min(width, rows - first);
     block = Eigen::MatrixXd(Ht.middleCols(first, count));

@@ -4,11 +4,11 @@
 // With H mapping the free displacements to the contact unknowns x_c = H du, the step
 // equation S du + q = H' F (S = M / m_max, F the contact forces conjugate to x_c) gives
 //     du = S^-1 (H' F - q),   x_c = W F - H S^-1 q,   W = H S^-1 H'.
-// With friction, H selects every free component of every contact node (the condensed nodes
-// keep their frames); normal-only (frictionless), one row n_c' per node (the condensed node
-// has normal e_x and no tangent): W is dim^2 times smaller.
-// Matrix-free (the sparse step, for contact sets too large for a dense W): W is not formed;
-// Apply() multiplies by it with one solve with M, Diagonal() approximates its diagonal.
+// With friction, H selects every free component of every contact node (the condensed
+// nodes keep their frames); normal-only (frictionless), one row n_c' per node (the
+// condensed node has normal e_x and no tangent): W is dim^2 times smaller. Matrix-free
+// (the sparse step, for contact sets too large for a dense W): W is not formed; Apply()
+// multiplies by it with one solve with M, Diagonal() approximates its diagonal.
 #pragma once
 
 #include <Eigen/Core>
@@ -22,10 +22,10 @@ namespace contact::internal {
 
 class DelassusOperator {
  public:
-  /// W formed once from one solve with M^-1 (`mass`, which must outlive this) per row of H,
-  /// symmetrized, unless matrix_free. S^-1 = m_max M^-1.
-  DelassusOperator(const DynamicModel& model, MassInverse* mass, double m_max, bool normal_only,
-                   bool matrix_free = false);
+  /// W formed once from one solve with M^-1 (`mass`, which must outlive this) per row of
+  /// H, symmetrized, unless matrix_free. S^-1 = m_max M^-1.
+  DelassusOperator(const DynamicModel& model, MassInverse* mass, double m_max,
+                   bool normal_only, bool matrix_free = false);
 
   const Eigen::SparseMatrix<double>& H() const { return H_; }
   /// W (empty when matrix-free).

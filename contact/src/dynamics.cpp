@@ -1,9 +1,10 @@
 // The central-difference time integrator (contact/dynamics.hpp, contact/simulation.hpp).
-// The step methods live behind internal::StepAlgorithm (step/step_method.hpp, one file each),
-// the critical step in critical_time_step.cpp, the accuracy measures in step_accuracy.cpp and
-// the energy bookkeeping in energy_balance.cpp; this file holds the step of the time loop
-// (CentralDifferences), Simulation around it and RunDynamics as a loop over Simulation::Step.
-// The scene constructor of Simulation is in scene/scene_simulation.cpp.
+// The step methods live behind internal::StepAlgorithm (step/step_method.hpp, one file
+// each), the critical step in critical_time_step.cpp, the accuracy measures in
+// step_accuracy.cpp and the energy bookkeeping in energy_balance.cpp; this file holds the
+// step of the time loop (CentralDifferences), Simulation around it and RunDynamics as a
+// loop over Simulation::Step. The scene constructor of Simulation is in
+// scene/scene_simulation.cpp.
 #include "contact/dynamics.hpp"
 
 #include <algorithm>
@@ -14,15 +15,15 @@
 #include <memory>
 #include <stdexcept>
 
+#include "checkpoint.hpp"
 #include "contact/simulation.hpp"
 #include "contact/static_contact.hpp"
-#include "checkpoint.hpp"
 #include "critical_time_step.hpp"
 #include "energy_balance.hpp"
 #include "mass_inverse.hpp"
 #include "parallel.hpp"
-#include "step_accuracy.hpp"
 #include "step/step_method.hpp"
+#include "step_accuracy.hpp"
 #include "text_format.hpp"
 
 namespace contact {
@@ -45,95 +46,105 @@ void Validate(const DynamicModel& model, const DynamicOptions& options) {
   const Eigen::Index n = model.K.rows();
   const std::string who = kWho;
   if (model.dim != 2 && model.dim != 3)
-    throw std::invalid_argument(who + "dim must be 2 or 3, got " + std::to_string(model.dim));
+    throw std::invalid_argument(who + "dim must be 2 or 3, got " +
+                                std::to_string(model.dim));
   if (model.M.rows() != n || model.M.cols() != n || model.K.cols() != n)
-    throw std::invalid_argument(who + "K and M must both be " + std::to_string(n) + " x " +
-                                std::to_string(n));
+    throw std::invalid_argument(who + "K and M must both be " + std::to_string(n) +
+                                " x " + std::to_string(n));
   if (!model.load) throw std::invalid_argument(who + "the load function is not set");
   if (!(options.dt > 0.0) || !std::isfinite(options.dt))
-    throw std::invalid_argument(who + "dt must be > 0, got " + std::to_string(options.dt));
+    throw std::invalid_argument(who + "dt must be > 0, got " +
+                                std::to_string(options.dt));
   if (!(options.end_time >= options.start_time) || !std::isfinite(options.end_time) ||
       !std::isfinite(options.start_time))
     throw std::invalid_argument(who + "end_time must be finite and >= start_time");
   // Counted in double: (end_time - start_time) / dt may exceed every integer type.
   const double step_count = NumSteps(options);
   if (!(step_count <= kMaxTimeSteps))
-    throw std::invalid_argument(who + "(end_time - start_time) / dt = " + internal::FormatShort(step_count) +
-                                " time steps; at most " + internal::FormatShort(kMaxTimeSteps) + " are accepted");
+    throw std::invalid_argument(
+        who + "(end_time - start_time) / dt = " + internal::FormatShort(step_count) +
+        " time steps; at most " + internal::FormatShort(kMaxTimeSteps) + " are accepted");
   if (!(options.friction_coefficient >= 0.0))
     throw std::invalid_argument(who + "friction_coefficient must be >= 0, got " +
                                 std::to_string(options.friction_coefficient));
   if ((options.step_method == StepMethod::kIpopt || options.compare_with_ipopt) &&
       options.friction_coefficient > 0.0)
-    throw std::invalid_argument(who + "the Ipopt step handles frictionless contact only "
-                                      "(friction_coefficient = " +
+    throw std::invalid_argument(who +
+                                "the Ipopt step handles frictionless contact only "
+                                "(friction_coefficient = " +
                                 std::to_string(options.friction_coefficient) + ")");
   if (!internal::IsSymmetric(model.K, 1e-12) || !internal::IsSymmetric(model.M, 1e-12))
-    throw std::invalid_argument(who + "K and M must be symmetric (to 1e-12 of their largest entry)");
+    throw std::invalid_argument(
+        who + "K and M must be symmetric (to 1e-12 of their largest entry)");
   if (options.initial_state == InitialState::kPrescribed &&
       (options.u0.size() != n || options.v0.size() != n))
-    throw std::invalid_argument(who + "prescribed u0 and v0 must have size " + std::to_string(n));
+    throw std::invalid_argument(who + "prescribed u0 and v0 must have size " +
+                                std::to_string(n));
 }
 
-// Stability: central differences need dt <= 2 / omega_max. False (and the summary says why)
-// if dt exceeds it without allow_unstable_time_step.
+// Stability: central differences need dt <= 2 / omega_max. False (and the summary says
+// why) if dt exceeds it without allow_unstable_time_step.
 bool CheckCriticalStep(const DynamicModel& model, const DynamicOptions& options,
                        internal::MassInverse* mass, DynamicSummary* summary) {
-  const CriticalTimeStep crit = internal::Lanczos(model.K, model.M, mass, kCriticalStepTolerance,
-                                                  kCriticalStepMaxIterations);
+  const CriticalTimeStep crit = internal::Lanczos(
+      model.K, model.M, mass, kCriticalStepTolerance, kCriticalStepMaxIterations);
   summary->critical_time_step = crit.dt_crit;
-  // omega_max = 0 (no stiffness, e.g. a rigid mass) gives dt_crit = inf: any dt is stable.
+  // omega_max = 0 (no stiffness, e.g. a rigid mass) gives dt_crit = inf: any dt is
+  // stable.
   if (!(crit.dt_crit > 0) || !(crit.omega_max >= 0) || !std::isfinite(crit.omega_max))
-    throw std::invalid_argument(std::string(kWho) + "the critical time step 2/omega_max = " +
-                                internal::FormatShort(crit.dt_crit) +
-                                " s is not a positive finite number (omega_max = " +
-                                internal::FormatShort(crit.omega_max) +
-                                " rad/s): K or M is out of the range of double precision (check the "
-                                "Young's modulus [Pa], density [kg/m^3] and mesh size [m])");
+    throw std::invalid_argument(
+        std::string(kWho) +
+        "the critical time step 2/omega_max = " + internal::FormatShort(crit.dt_crit) +
+        " s is not a positive finite number (omega_max = " +
+        internal::FormatShort(crit.omega_max) +
+        " rad/s): K or M is out of the range of double precision (check the "
+        "Young's modulus [Pa], density [kg/m^3] and mesh size [m])");
   if (!(options.dt > crit.dt_crit) || options.allow_unstable_time_step) return true;
   summary->status = DynamicStatus::kRefusedUnstable;
   char buffer[512];
-  std::snprintf(buffer, sizeof buffer,
-                "time step dt = %.6g s exceeds the critical step dt_crit = 2/omega_max = %.6g s "
-                "of central differences (omega_max = %.6g rad/s): choose dt <= %.6g s (scene key "
-                "time.dt), or set time.allow_unstable = true in the scene "
-                "(DynamicOptions::allow_unstable_time_step in C++) to run anyway",
-                options.dt, crit.dt_crit, crit.omega_max, crit.dt_crit);
+  std::snprintf(
+      buffer, sizeof buffer,
+      "time step dt = %.6g s exceeds the critical step dt_crit = 2/omega_max = %.6g s "
+      "of central differences (omega_max = %.6g rad/s): choose dt <= %.6g s (scene key "
+      "time.dt), or set time.allow_unstable = true in the scene "
+      "(DynamicOptions::allow_unstable_time_step in C++) to run anyway",
+      options.dt, crit.dt_crit, crit.omega_max, crit.dt_crit);
   summary->message = buffer;
   return false;
 }
 
 // The state of the integrator between steps k-1 -> k and k -> k+1: displacements, the
-// products with K and M carried between steps so that none is formed twice (and nothing is
-// allocated in the loop), and what the next step starts from.
+// products with K and M carried between steps so that none is formed twice (and nothing
+// is allocated in the loop), and what the next step starts from.
 //   Ku = K u^k,  Mdu_previous = M (u^k - u^{k-1}),  Mdu = M (u^{k+1} - u^k).
 struct State {
-  Eigen::VectorXd f;                  // f(t_k) [N]
-  Eigen::VectorXd u, u_previous;      // u^k, u^{k-1} [m]
-  Eigen::VectorXd lambda;             // lambda^k per contact node [N] (Tresca bounds of step k)
-  Eigen::VectorXd Ku, Mdu_previous;   // [N], [kg m]
-  Eigen::VectorXd du;                 // u^k - u^{k-1}: the start guess of step k [m]
-  double contact_force_max = 0.0;     // |r^k|_inf of the previous step [N]
+  Eigen::VectorXd f;              // f(t_k) [N]
+  Eigen::VectorXd u, u_previous;  // u^k, u^{k-1} [m]
+  Eigen::VectorXd lambda;  // lambda^k per contact node [N] (Tresca bounds of step k)
+  Eigen::VectorXd Ku, Mdu_previous;  // [N], [kg m]
+  Eigen::VectorXd du;                // u^k - u^{k-1}: the start guess of step k [m]
+  double contact_force_max = 0.0;    // |r^k|_inf of the previous step [N]
   // Step k -> k+1 (buffers).
   Eigen::VectorXd Q, q, bound, u_next, Ku_next, Mdu, r, residual, lambda_next;
   ContactSystem::Result contact;
 };
 
-// Initial state (thesis section 4.3): static frictionless equilibrium for f(t0) at rest, or
-// u^{-1} = u^0 - dt v^0 + dt^2/2 M^-1 (f(t0) - K u^0) from a prescribed u^0, v^0. False (and
-// the summary says why) if the static solve failed.
+// Initial state (thesis section 4.3): static frictionless equilibrium for f(t0) at rest,
+// or u^{-1} = u^0 - dt v^0 + dt^2/2 M^-1 (f(t0) - K u^0) from a prescribed u^0, v^0.
+// False (and the summary says why) if the static solve failed.
 bool SetInitialState(const DynamicModel& model, const DynamicOptions& options,
                      internal::MassInverse* mass, State* state, DynamicSummary* summary) {
   const Eigen::Index n = model.K.rows();
   const double dt = options.dt;
   state->f.resize(n);
   model.load(options.start_time, &state->f);
-  state->lambda = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.contact_nodes.size()));
+  state->lambda =
+      Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.contact_nodes.size()));
   if (options.initial_state == InitialState::kStaticEquilibrium) {
     StaticContactOptions static_options;
     static_options.ncp = options.ncp;
-    const StaticContactResult s =
-        SolveStaticContact(model.dim, model.K, state->f, model.contact_nodes, static_options);
+    const StaticContactResult s = SolveStaticContact(model.dim, model.K, state->f,
+                                                     model.contact_nodes, static_options);
     if (!s.converged) {
       summary->status = DynamicStatus::kSolverFailure;
       summary->message = "static initial state: " + s.message;
@@ -148,15 +159,16 @@ bool SetInitialState(const DynamicModel& model, const DynamicOptions& options,
     mass->Solve(state->f - model.K * state->u, &a0);
     state->u_previous = state->u - dt * options.v0 + 0.5 * dt * dt * a0;
   }
-  // (Products by internal::SymmetricMultiply: parallel, same result for any thread count.)
+  // (Products by internal::SymmetricMultiply: parallel, same result for any thread
+  // count.)
   state->Ku.resize(n);
   state->Mdu_previous.resize(n);
   state->Mdu = state->u - state->u_previous;  // (as a temporary for the product)
   internal::SymmetricMultiply(model.K, state->u, &state->Ku);
   internal::SymmetricMultiply(model.M, state->Mdu, &state->Mdu_previous);
   state->du = state->u - state->u_previous;
-  for (Eigen::VectorXd* v : {&state->Q, &state->q, &state->r, &state->residual, &state->u_next,
-                             &state->Ku_next, &state->Mdu})
+  for (Eigen::VectorXd* v : {&state->Q, &state->q, &state->r, &state->residual,
+                             &state->u_next, &state->Ku_next, &state->Mdu})
     v->resize(n);
   return true;
 }
@@ -167,19 +179,27 @@ class CentralDifferences {
  public:
   CentralDifferences(const DynamicModel& model, const DynamicOptions& options,
                      internal::MassInverse* mass, State* state, DynamicSummary* summary)
-      : model_(model), options_(options), mass_(mass), state_(*state), summary_(*summary), dt_(options.dt),
+      : model_(model),
+        options_(options),
+        mass_(mass),
+        state_(*state),
+        summary_(*summary),
+        dt_(options.dt),
         m_max_(internal::MaxAbsEntry(model.M)),
         force_scale_(m_max_ / (dt_ * dt_)),
         method_(internal::MakeStepAlgorithm(model, options, mass, m_max_)),
         energy_(state->u, state->u_previous, state->Ku, state->Mdu_previous, dt_),
-        load_(model.load), nodes_(model.contact_nodes) {
+        load_(model.load),
+        nodes_(model.contact_nodes) {
     // The frictionless reference of compare_with_ipopt, next to any other step method.
     if (options.compare_with_ipopt && options.step_method != StepMethod::kIpopt)
-      reference_ = std::make_unique<internal::IpoptQp>(model, m_max_, options.ncp.tolerance);
+      reference_ =
+          std::make_unique<internal::IpoptQp>(model, m_max_, options.ncp.tolerance);
     summary->step_method = internal::ResolveStepMethod(model, options, *mass);
     summary->predicted_cost = internal::PredictStepCost(model, options, *mass);
     gap0_.resize(static_cast<Eigen::Index>(nodes_.size()));
-    for (size_t c = 0; c < nodes_.size(); ++c) gap0_(static_cast<Eigen::Index>(c)) = nodes_[c].gap;
+    for (size_t c = 0; c < nodes_.size(); ++c)
+      gap0_(static_cast<Eigen::Index>(c)) = nodes_[c].gap;
   }
 
   /// Step k -> k+1. False (and summary_ says why) if the run must stop here.
@@ -190,13 +210,15 @@ class CentralDifferences {
     rec.time = options_.start_time + static_cast<double>(k) * dt_ + dt_;
     const internal::StepScales scales = LoadStep(k);
     const auto solve_start = Clock::now();
-    summary_.assembly_seconds += std::chrono::duration<double>(solve_start - step_start).count();
+    summary_.assembly_seconds +=
+        std::chrono::duration<double>(solve_start - step_start).count();
     const double mass_seconds = mass_->solve_seconds();
     const long mass_solves = mass_->solves();
     const bool solved = SolveStep(k, scales, &rec);
     summary_.mass_solve_seconds += mass_->solve_seconds() - mass_seconds;
     summary_.mass_solves += mass_->solves() - mass_solves;
-    summary_.contact_solve_seconds += Seconds(solve_start) - (mass_->solve_seconds() - mass_seconds);
+    summary_.contact_solve_seconds +=
+        Seconds(solve_start) - (mass_->solve_seconds() - mass_seconds);
     if (!solved) return false;
     MeasureStep(scales, &rec);
     rec.seconds = Seconds(step_start);
@@ -206,11 +228,14 @@ class CentralDifferences {
   }
 
   /// The load from the next step on.
-  void SetLoad(std::function<void(double, Eigen::VectorXd*)> load) { load_ = std::move(load); }
+  void SetLoad(std::function<void(double, Eigen::VectorXd*)> load) {
+    load_ = std::move(load);
+  }
   /// s_c [m] from the next step on (checked by the caller).
   void SetGaps(const Eigen::VectorXd& gaps) {
     gap0_ = gaps;
-    for (size_t c = 0; c < nodes_.size(); ++c) nodes_[c].gap = gaps(static_cast<Eigen::Index>(c));
+    for (size_t c = 0; c < nodes_.size(); ++c)
+      nodes_[c].gap = gaps(static_cast<Eigen::Index>(c));
   }
   const Eigen::VectorXd& gaps() const { return gap0_; }
   double force_scale() const { return force_scale_; }
@@ -233,8 +258,9 @@ class CentralDifferences {
   }
 
  private:
-  // Q^k = M (u^{k-1} - u^k) / dt^2 + K u^k - f^k (eq. 73), q = Q^k dt^2 / m_max (eq. 81), the
-  // Tresca bounds f_c lambda^k (eq. 70), and the step's scales (dynamics_types.hpp, kAccuracySlack).
+  // Q^k = M (u^{k-1} - u^k) / dt^2 + K u^k - f^k (eq. 73), q = Q^k dt^2 / m_max (eq. 81),
+  // the Tresca bounds f_c lambda^k (eq. 70), and the step's scales (dynamics_types.hpp,
+  // kAccuracySlack).
   internal::StepScales LoadStep(long k) {
     State& s = state_;
     load_(options_.start_time + static_cast<double>(k) * dt_, &s.f);
@@ -245,11 +271,12 @@ class CentralDifferences {
     else
       s.bound.resize(0);
     s.Mdu = s.u - s.u_previous;  // (du of the previous step, as a temporary)
-    return internal::ComputeStepScales(s.f, s.Ku, s.contact_force_max, s.Mdu, nodes_,
-                                       s.u, m_max_, dt_);
+    return internal::ComputeStepScales(s.f, s.Ku, s.contact_force_max, s.Mdu, nodes_, s.u,
+                                       m_max_, dt_);
   }
 
-  // The step method, and the Ipopt reference. False (and the summary says why) on failure.
+  // The step method, and the Ipopt reference. False (and the summary says why) on
+  // failure.
   bool SolveStep(long k, const internal::StepScales& scales, StepRecord* rec) {
     State& s = state_;
     const internal::StepData data{s.q, s.u, s.bound, s.du, scales, force_scale_, gap0_};
@@ -270,7 +297,8 @@ class CentralDifferences {
     summary_.residual_evaluations += rec->residual_evaluations;
     if (outcome.ok) return true;
     summary_.status = DynamicStatus::kSolverFailure;
-    summary_.message = "step " + std::to_string(k + 1) + " (t = " + std::to_string(rec->time) +
+    summary_.message = "step " + std::to_string(k + 1) +
+                       " (t = " + std::to_string(rec->time) +
                        " s): " + rec->solver_status;
     return false;
   }
@@ -287,8 +315,9 @@ class CentralDifferences {
         std::max(summary_.max_ipopt_relative_difference, rec->ipopt_relative_difference);
   }
 
-  // u^{k+1}, the contact forces r^{k+1} = M (u^{k+1} - 2u^k + u^{k-1}) / dt^2 + K u^k - f^k
-  // [N], the accuracy asked for and reached (step_accuracy.hpp), the energies, the forces.
+  // u^{k+1}, the contact forces r^{k+1} = M (u^{k+1} - 2u^k + u^{k-1}) / dt^2 + K u^k -
+  // f^k [N], the accuracy asked for and reached (step_accuracy.hpp), the energies, the
+  // forces.
   void MeasureStep(const internal::StepScales& scales, StepRecord* rec) {
     const auto products_start = Clock::now();
     State& s = state_;
@@ -298,7 +327,8 @@ class CentralDifferences {
     internal::SymmetricMultiply(model_.K, s.u_next, &s.Ku_next);
     const auto check_start = Clock::now();
     s.r = s.Mdu / (dt_ * dt_) + s.Q;
-    internal::SetAskedAccuracy(options_.ncp.tolerance, scales, s.Q, s.Mdu, dt_, s.u_next, gap0_, rec);
+    internal::SetAskedAccuracy(options_.ncp.tolerance, scales, s.Q, s.Mdu, dt_, s.u_next,
+                               gap0_, rec);
     internal::MeasureStepAccuracy(model_.dim, nodes_, s.r, s.contact, force_scale_,
                                   s.u_next, s.bound, &s.residual, rec);
     s.contact_force_max = (s.r - s.residual).lpNorm<Eigen::Infinity>();
@@ -308,9 +338,10 @@ class CentralDifferences {
     rec->normal_force_sum = s.lambda_next.sum();
     for (Eigen::Index c = 0; c < s.contact.tangent_force.cols(); ++c)
       rec->tangent_force_sum += force_scale_ * s.contact.tangent_force.col(c).norm();
-    // In contact: a normal force above the step's force accuracy [N]; below it the force is
-    // round-off of a node in flight (e.g. 3.9e-19 N after a bounce), not contact.
-    rec->active_nodes = static_cast<int>((s.lambda_next.array() > rec->force_accuracy).count());
+    // In contact: a normal force above the step's force accuracy [N]; below it the force
+    // is round-off of a node in flight (e.g. 3.9e-19 N after a bounce), not contact.
+    rec->active_nodes =
+        static_cast<int>((s.lambda_next.array() > rec->force_accuracy).count());
     const double check_seconds = Seconds(check_start);
     summary_.accuracy_check_seconds += check_seconds;
     summary_.assembly_seconds += Seconds(products_start) - check_seconds;
@@ -319,15 +350,19 @@ class CentralDifferences {
   // The summary's maxima and counts, the record, and the caller's on_step.
   void Accumulate(const StepRecord& rec) {
     summary_.max_penetration = std::max(summary_.max_penetration, rec.max_penetration);
-    summary_.max_equilibrium_residual = std::max(summary_.max_equilibrium_residual, rec.equilibrium_residual);
+    summary_.max_equilibrium_residual =
+        std::max(summary_.max_equilibrium_residual, rec.equilibrium_residual);
     summary_.max_complementarity_residual =
         std::max(summary_.max_complementarity_residual, rec.complementarity_residual);
-    summary_.max_friction_residual = std::max(summary_.max_friction_residual, rec.friction_residual);
+    summary_.max_friction_residual =
+        std::max(summary_.max_friction_residual, rec.friction_residual);
     if (!rec.accurate && summary_.inaccurate_steps++ == 0) first_inaccurate_ = rec;
-    summary_.energy_balance_error = std::max(summary_.energy_balance_error, std::abs(rec.energy_balance_error));
+    summary_.energy_balance_error =
+        std::max(summary_.energy_balance_error, std::abs(rec.energy_balance_error));
     summary_.steps = rec.step;
     summary_.records.push_back(rec);
-    if (options_.on_step) options_.on_step(rec, state_.u_next, state_.contact, force_scale_);
+    if (options_.on_step)
+      options_.on_step(rec, state_.u_next, state_.contact, force_scale_);
   }
 
   // u^{k-1} <- u^k <- u^{k+1}, with the products and forces that go along.
@@ -343,20 +378,22 @@ class CentralDifferences {
   // DynamicOptions::stop_requested, read once a step is finished and recorded.
   bool StopRequested(const StepRecord& rec) {
     const long num_steps = static_cast<long>(NumSteps(options_));
-    if (!options_.stop_requested || !options_.stop_requested->load() || rec.step >= num_steps)
+    if (!options_.stop_requested || !options_.stop_requested->load() ||
+        rec.step >= num_steps)
       return false;
     summary_.status = DynamicStatus::kInterrupted;
     char buffer[200];
-    std::snprintf(buffer, sizeof buffer, "interrupted at step %d (t = %.9g s) of %ld", rec.step, rec.time,
-                  num_steps);
+    std::snprintf(buffer, sizeof buffer, "interrupted at step %d (t = %.9g s) of %ld",
+                  rec.step, rec.time, num_steps);
     summary_.message = buffer;
     return true;
   }
 
-  // Kinetic + strain energy within energy_blowup_factor of the initial energy and external
-  // work. (The reference is zero until energy enters - a body at rest under a step load -:
-  // no ratio test before that, so round-off energy cannot trip it.) The shadow energy of the
-  // balance cannot reveal an instability (its cross term turns negative).
+  // Kinetic + strain energy within energy_blowup_factor of the initial energy and
+  // external work. (The reference is zero until energy enters - a body at rest under a
+  // step load -: no ratio test before that, so round-off energy cannot trip it.) The
+  // shadow energy of the balance cannot reveal an instability (its cross term turns
+  // negative).
   bool GuardEnergy(const StepRecord& rec) {
     const double energy = rec.kinetic + rec.strain;
     const double reference = energy_.BlowUpReference();
@@ -365,17 +402,19 @@ class CentralDifferences {
       return true;
     summary_.status = DynamicStatus::kEnergyBlowUp;
     char buffer[200];
-    std::snprintf(buffer, sizeof buffer,
-                  "energy blow-up at step %d (t = %.6g s): E = %.3e J against %.3e J of initial "
-                  "energy and external work",
-                  rec.step, rec.time, energy, reference);
+    std::snprintf(
+        buffer, sizeof buffer,
+        "energy blow-up at step %d (t = %.6g s): E = %.3e J against %.3e J of initial "
+        "energy and external work",
+        rec.step, rec.time, energy, reference);
     summary_.message = buffer;
     return false;
   }
 
   const DynamicModel& model_;
   const DynamicOptions& options_;
-  internal::MassInverse* mass_;  // M^-1 of the run (its solve timers: the mass-solve phase)
+  internal::MassInverse*
+      mass_;  // M^-1 of the run (its solve timers: the mass-solve phase)
   State& state_;
   DynamicSummary& summary_;
   const double dt_;
@@ -384,26 +423,29 @@ class CentralDifferences {
   std::unique_ptr<internal::StepAlgorithm> method_;
   std::unique_ptr<internal::IpoptQp> reference_;
   internal::EnergyBalance energy_;
-  std::function<void(double, Eigen::VectorXd*)> load_;  // f(t) [N] (DynamicModel::load at first)
+  std::function<void(double, Eigen::VectorXd*)>
+      load_;                        // f(t) [N] (DynamicModel::load at first)
   std::vector<ContactNode> nodes_;  // the model's, with the current gaps s_c
   Eigen::VectorXd gap0_;            // s_c [m]
   StepRecord first_inaccurate_;
 };
 
-// The status of a run that went to the end: completed, or which steps missed their accuracy.
+// The status of a run that went to the end: completed, or which steps missed their
+// accuracy.
 void SetFinalStatus(const StepRecord& first_inaccurate, DynamicSummary* summary) {
   if (summary->status == DynamicStatus::kNotRun && summary->inaccurate_steps > 0) {
     summary->status = DynamicStatus::kAccuracyNotReached;
     char buffer[400];
-    std::snprintf(buffer, sizeof buffer,
-                  "%d of %d steps missed their accuracy; the first, step %d (t = %.6g s): "
-                  "equilibrium %.3e N, contact %.3e N, friction %.3e N against %.3e N, "
-                  "penetration %.3e m against %.3e m (x %g allowed)",
-                  summary->inaccurate_steps, summary->steps, first_inaccurate.step,
-                  first_inaccurate.time, first_inaccurate.equilibrium_residual,
-                  first_inaccurate.complementarity_residual, first_inaccurate.friction_residual,
-                  first_inaccurate.force_accuracy, first_inaccurate.max_penetration,
-                  first_inaccurate.displacement_accuracy, kAccuracySlack);
+    std::snprintf(
+        buffer, sizeof buffer,
+        "%d of %d steps missed their accuracy; the first, step %d (t = %.6g s): "
+        "equilibrium %.3e N, contact %.3e N, friction %.3e N against %.3e N, "
+        "penetration %.3e m against %.3e m (x %g allowed)",
+        summary->inaccurate_steps, summary->steps, first_inaccurate.step,
+        first_inaccurate.time, first_inaccurate.equilibrium_residual,
+        first_inaccurate.complementarity_residual, first_inaccurate.friction_residual,
+        first_inaccurate.force_accuracy, first_inaccurate.max_penetration,
+        first_inaccurate.displacement_accuracy, kAccuracySlack);
     summary->message = buffer;
   }
   if (summary->status == DynamicStatus::kNotRun) {
@@ -417,28 +459,39 @@ void SetFinalStatus(const StepRecord& first_inaccurate, DynamicSummary* summary)
 void SymmetricMultiply(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& x,
                        Eigen::VectorXd* y) {
   if (A.rows() != A.cols() || x.size() != A.cols())
-    throw std::invalid_argument("SymmetricMultiply: A must be square with as many columns as x has entries");
+    throw std::invalid_argument(
+        "SymmetricMultiply: A must be square with as many columns as x has entries");
   internal::SymmetricMultiply(A, x, y);
 }
 
 const char* ToString(DynamicStatus s) {
   switch (s) {
-    case DynamicStatus::kNotRun: return "not-run";
-    case DynamicStatus::kCompleted: return "completed";
-    case DynamicStatus::kSolverFailure: return "solver-failure";
-    case DynamicStatus::kEnergyBlowUp: return "energy-blow-up";
-    case DynamicStatus::kRefusedUnstable: return "refused-unstable-time-step";
-    case DynamicStatus::kAccuracyNotReached: return "accuracy-not-reached";
-    case DynamicStatus::kInterrupted: return "interrupted";
+    case DynamicStatus::kNotRun:
+      return "not-run";
+    case DynamicStatus::kCompleted:
+      return "completed";
+    case DynamicStatus::kSolverFailure:
+      return "solver-failure";
+    case DynamicStatus::kEnergyBlowUp:
+      return "energy-blow-up";
+    case DynamicStatus::kRefusedUnstable:
+      return "refused-unstable-time-step";
+    case DynamicStatus::kAccuracyNotReached:
+      return "accuracy-not-reached";
+    case DynamicStatus::kInterrupted:
+      return "interrupted";
   }
   return "unknown";
 }
 
 const char* ToString(SimulationState s) {
   switch (s) {
-    case SimulationState::kRunning: return "running";
-    case SimulationState::kFinished: return "finished";
-    case SimulationState::kFailed: return "failed";
+    case SimulationState::kRunning:
+      return "running";
+    case SimulationState::kFinished:
+      return "finished";
+    case SimulationState::kFailed:
+      return "failed";
   }
   return "unknown";
 }
@@ -446,13 +499,16 @@ const char* ToString(SimulationState s) {
 // The integrator and everything it reads between steps (simulation.hpp lists the state).
 struct Simulation::Impl {
   Impl(const DynamicModel& model_in, DynamicOptions options_in)
-      : start(Clock::now()), model((Validate(model_in, options_in), model_in)),
-        options(std::move(options_in)), mass(model.M, kWho),
+      : start(Clock::now()),
+        model((Validate(model_in, options_in), model_in)),
+        options(std::move(options_in)),
+        mass(model.M, kWho),
         num_steps(static_cast<long>(NumSteps(options))) {
     if (CheckCriticalStep(model, options, &mass, &summary) &&
         SetInitialState(model, options, &mass, &state, &summary)) {
       summary.records.reserve(static_cast<size_t>(std::max(0L, num_steps)));
-      integrator = std::make_unique<CentralDifferences>(model, options, &mass, &state, &summary);
+      integrator =
+          std::make_unique<CentralDifferences>(model, options, &mass, &state, &summary);
       summary.u = state.u;
       summary.message = "running: 0 of " + std::to_string(num_steps) + " steps";
       if (num_steps <= 0) Finish();
@@ -471,7 +527,8 @@ struct Simulation::Impl {
   // One step and the progress line; the state after it.
   void Step() {
     const bool ok = integrator->Step(k);
-    k = static_cast<long>(summary.records.size());  // (the energy guard stops after its step)
+    k = static_cast<long>(
+        summary.records.size());  // (the energy guard stops after its step)
     if (!ok) {
       run_state = SimulationState::kFailed;
       return;
@@ -481,8 +538,8 @@ struct Simulation::Impl {
       last_progress = Seconds(start);
       const StepRecord& rec = summary.records.back();
       const double fraction = static_cast<double>(k) / static_cast<double>(num_steps);
-      std::fprintf(stderr, "  step %d / %ld, t = %.6g s, %d Newton iterations, %s\n", rec.step,
-                   num_steps, rec.time, rec.newton_iterations,
+      std::fprintf(stderr, "  step %d / %ld, t = %.6g s, %d Newton iterations, %s\n",
+                   rec.step, num_steps, rec.time, rec.newton_iterations,
                    internal::ProgressText(fraction, last_progress).c_str());
     }
   }
@@ -502,7 +559,7 @@ struct Simulation::Impl {
   const long num_steps;  // from start_time to end_time
   DynamicSummary summary;
   std::unique_ptr<CentralDifferences> integrator;  // null if the run was refused
-  long k = 0;             // steps taken
+  long k = 0;                                      // steps taken
   SimulationState run_state = SimulationState::kRunning;
   double last_progress = 0.0;  // [s] since start
 };
@@ -537,7 +594,8 @@ std::string Hex(std::uint64_t v) {
 }
 
 // CheckpointError unless `size` == `expected` (or 0 when `empty_ok`).
-void CheckSize(const char* what, Eigen::Index size, Eigen::Index expected, bool empty_ok = false) {
+void CheckSize(const char* what, Eigen::Index size, Eigen::Index expected,
+               bool empty_ok = false) {
   if (size == expected || (empty_ok && size == 0)) return;
   throw CheckpointError(std::string(what) + " has " + std::to_string(size) +
                         " entries, this run has " + std::to_string(expected));
@@ -547,46 +605,62 @@ void CheckSize(const char* what, Eigen::Index size, Eigen::Index expected, bool 
 
 void Simulation::Impl::Check(const internal::CheckpointData& d) const {
   const internal::CheckpointIdentity& id = d.identity;
- const auto differs = [](const std::string& what, const std::string& saved, const std::string& now) {
-    throw CheckpointError("it is of another run: " + what + " " + saved + " in the checkpoint, " + now +
-                          " now");
+  const auto differs = [](const std::string& what, const std::string& saved,
+                          const std::string& now) {
+    throw CheckpointError("it is of another run: " + what + " " + saved +
+                          " in the checkpoint, " + now + " now");
   };
   const Eigen::Index n = model.K.rows();
   const auto N = static_cast<Eigen::Index>(model.contact_nodes.size());
-  if (id.dim != model.dim) differs("dim", std::to_string(id.dim), std::to_string(model.dim));
-  if (id.free_dofs != n) differs("free dofs", std::to_string(id.free_dofs), std::to_string(n));
-  if (id.contact_nodes != N) differs("contact nodes", std::to_string(id.contact_nodes), std::to_string(N));
-  if (id.num_steps != num_steps) differs("time steps", std::to_string(id.num_steps), std::to_string(num_steps));
+  if (id.dim != model.dim)
+    differs("dim", std::to_string(id.dim), std::to_string(model.dim));
+  if (id.free_dofs != n)
+    differs("free dofs", std::to_string(id.free_dofs), std::to_string(n));
+  if (id.contact_nodes != N)
+    differs("contact nodes", std::to_string(id.contact_nodes), std::to_string(N));
+  if (id.num_steps != num_steps)
+    differs("time steps", std::to_string(id.num_steps), std::to_string(num_steps));
   if (id.step_method != static_cast<std::int64_t>(summary.step_method))
-    differs("step method", ToString(static_cast<StepMethod>(id.step_method)), ToString(summary.step_method));
+    differs("step method", ToString(static_cast<StepMethod>(id.step_method)),
+            ToString(summary.step_method));
   const std::uint64_t fingerprint = internal::ModelFingerprint(model, options);
   if (id.model_hash != fingerprint)
-    differs("the model (K, M, contact nodes, dt, times, friction, step method, tolerance) has fingerprint",
-            Hex(id.model_hash), Hex(fingerprint));
+    differs(
+        "the model (K, M, contact nodes, dt, times, friction, step method, tolerance) "
+        "has fingerprint",
+        Hex(id.model_hash), Hex(fingerprint));
   if (d.k < 0 || d.k > num_steps || d.summary.records.size() != static_cast<size_t>(d.k))
     throw CheckpointError("its step index " + std::to_string(d.k) + " does not fit its " +
-                          std::to_string(d.summary.records.size()) + " step records and " +
-                          std::to_string(num_steps) + " steps");
-  for (const auto& [what, v] : {std::pair<const char*, const Eigen::VectorXd*>{"u", &d.u}, {"u_previous", &d.u_previous},
-                                {"K u", &d.Ku}, {"M du", &d.Mdu_previous}, {"du", &d.du}})
+                          std::to_string(d.summary.records.size()) +
+                          " step records and " + std::to_string(num_steps) + " steps");
+  for (const auto& [what, v] : {std::pair<const char*, const Eigen::VectorXd*>{"u", &d.u},
+                                {"u_previous", &d.u_previous},
+                                {"K u", &d.Ku},
+                                {"M du", &d.Mdu_previous},
+                                {"du", &d.du}})
     CheckSize(what, v->size(), n);
   CheckSize("lambda", d.lambda.size(), N);
   CheckSize("the gaps", d.gaps.size(), N);
   CheckSize("the final displacement", d.summary.u.size(), n, true);
   const bool stepped = d.k > 0;  // (before the first step the contact result is empty)
   CheckSize("the contact result's du", d.contact.x.size(), n, !stepped);
-  CheckSize("the contact result's normal forces", d.contact.normal_force.size(), N, !stepped);
+  CheckSize("the contact result's normal forces", d.contact.normal_force.size(), N,
+            !stepped);
   CheckSize("the contact result's gaps", d.contact.gap.size(), N, !stepped);
-  CheckSize("the contact result's friction forces", d.contact.tangent_force.size(), (model.dim - 1) * N, !stepped);
-  CheckSize("the contact result's slips", d.contact.slip.size(), (model.dim - 1) * N, !stepped);
+  CheckSize("the contact result's friction forces", d.contact.tangent_force.size(),
+            (model.dim - 1) * N, !stepped);
+  CheckSize("the contact result's slips", d.contact.slip.size(), (model.dim - 1) * N,
+            !stepped);
   if (d.contact.tangent_force.size() && d.contact.tangent_force.rows() != model.dim - 1)
-    throw CheckpointError("its friction forces have " + std::to_string(d.contact.tangent_force.rows()) +
+    throw CheckpointError("its friction forces have " +
+                          std::to_string(d.contact.tangent_force.rows()) +
                           " rows, this run " + std::to_string(model.dim - 1));
 }
 
 void Simulation::Impl::Restore(const internal::CheckpointData& d) {
   try {
-    integrator->Restore(d);  // (the warm start first: it may refuse before anything changes)
+    integrator->Restore(
+        d);  // (the warm start first: it may refuse before anything changes)
   } catch (const std::invalid_argument& e) {
     throw CheckpointError(std::string("it does not fit this run: ") + e.what());
   }
@@ -606,7 +680,8 @@ void Simulation::Impl::Restore(const internal::CheckpointData& d) {
   summary.records.reserve(static_cast<size_t>(std::max(0L, num_steps)));
   k = d.k;
   run_state = SimulationState::kRunning;
-  summary.message = "running: " + std::to_string(k) + " of " + std::to_string(num_steps) + " steps";
+  summary.message =
+      "running: " + std::to_string(k) + " of " + std::to_string(num_steps) + " steps";
   if (k >= num_steps) Finish();
 }
 
@@ -615,18 +690,22 @@ Simulation::Simulation(const DynamicModel& model, DynamicOptions options)
 
 Simulation::Simulation(std::shared_ptr<SceneData> scene, const DynamicModel& model,
                        DynamicOptions options)
-    : scene_(std::move(scene)), impl_(std::make_unique<Impl>(model, std::move(options))) {}
+    : scene_(std::move(scene)),
+      impl_(std::make_unique<Impl>(model, std::move(options))) {}
 
 Simulation::~Simulation() = default;
 
 SimulationState Simulation::Step(long n) {
-  if (n < 0) throw std::invalid_argument("contact::Simulation::Step: n must be >= 0, got " + std::to_string(n));
+  if (n < 0)
+    throw std::invalid_argument("contact::Simulation::Step: n must be >= 0, got " +
+                                std::to_string(n));
   Impl& s = *impl_;
   const auto start = Clock::now();
   for (long i = 0; i < n && s.run_state == SimulationState::kRunning; ++i) s.Step();
   if (s.integrator) s.summary.u = s.state.u;
   if (s.run_state == SimulationState::kRunning)
-    s.summary.message = "running: " + std::to_string(s.k) + " of " + std::to_string(s.num_steps) + " steps";
+    s.summary.message = "running: " + std::to_string(s.k) + " of " +
+                        std::to_string(s.num_steps) + " steps";
   s.summary.seconds += Seconds(start);
   return s.run_state;
 }
@@ -638,14 +717,20 @@ double Simulation::time() const {  // (the last record's, to the bit)
 int Simulation::step_index() const { return static_cast<int>(impl_->k); }
 int Simulation::num_steps() const { return static_cast<int>(impl_->num_steps); }
 const DynamicSummary& Simulation::summary() const { return impl_->summary; }
-const std::vector<StepRecord>& Simulation::records() const { return impl_->summary.records; }
+const std::vector<StepRecord>& Simulation::records() const {
+  return impl_->summary.records;
+}
 const DynamicModel& Simulation::model() const { return impl_->model; }
 const DynamicOptions& Simulation::options() const { return impl_->options; }
 
-void Simulation::SaveCheckpoint(const std::string& path, const std::string& application_data) const {
+void Simulation::SaveCheckpoint(const std::string& path,
+                                const std::string& application_data) const {
   const Impl& s = *impl_;
-  if (!s.integrator || (s.run_state == SimulationState::kFailed && s.summary.status != DynamicStatus::kInterrupted))
-    throw std::logic_error("contact::Simulation::SaveCheckpoint: no state to continue from (" + s.summary.message + ")");
+  if (!s.integrator || (s.run_state == SimulationState::kFailed &&
+                        s.summary.status != DynamicStatus::kInterrupted))
+    throw std::logic_error(
+        "contact::Simulation::SaveCheckpoint: no state to continue from (" +
+        s.summary.message + ")");
   internal::CheckpointData data;
   s.Save(&data);
   if (scene_) SaveScene(&data);
@@ -656,7 +741,8 @@ void Simulation::SaveCheckpoint(const std::string& path, const std::string& appl
 std::string Simulation::LoadCheckpoint(const std::string& path) {
   Impl& s = *impl_;
   if (!s.integrator)
-    throw std::logic_error("contact::Simulation::LoadCheckpoint: the run was refused (" + s.summary.message + ")");
+    throw std::logic_error("contact::Simulation::LoadCheckpoint: the run was refused (" +
+                           s.summary.message + ")");
   const internal::CheckpointData data = internal::ReadCheckpoint(path);
   try {
     if (scene_) CheckScene(data);  // the scene text and mesh first: the clearest message
@@ -669,7 +755,8 @@ std::string Simulation::LoadCheckpoint(const std::string& path) {
   return data.application_data;
 }
 
-std::unique_ptr<Simulation> Simulation::Load(const std::string& path, const Scene& scene) {
+std::unique_ptr<Simulation> Simulation::Load(const std::string& path,
+                                             const Scene& scene) {
   auto simulation = std::make_unique<Simulation>(scene);
   simulation->LoadCheckpoint(path);
   return simulation;
@@ -677,7 +764,8 @@ std::unique_ptr<Simulation> Simulation::Load(const std::string& path, const Scen
 
 const Eigen::VectorXd& Simulation::displacement() const {
   if (!impl_->integrator)
-    throw std::logic_error("contact::Simulation: no state (the run was refused: " + impl_->summary.message + ")");
+    throw std::logic_error("contact::Simulation: no state (the run was refused: " +
+                           impl_->summary.message + ")");
   return impl_->state.u;
 }
 
@@ -700,12 +788,13 @@ ContactNodeStates Simulation::contact() const {
     out.friction_force = F * c.tangent_force;
     out.gap = c.gap;
     for (Eigen::Index i = 0; i < N; ++i)
-      out.state[static_cast<size_t>(i)] = ClassifyContact(out.normal_force(i), c.slip.col(i).norm(),
-                                                          rec.force_accuracy, rec.displacement_accuracy);
+      out.state[static_cast<size_t>(i)] =
+          ClassifyContact(out.normal_force(i), c.slip.col(i).norm(), rec.force_accuracy,
+                          rec.displacement_accuracy);
     return out;
   }
-  // The initial state: gaps of u^0, the static equilibrium's normal forces (frictionless),
-  // unknown (NaN) forces of a prescribed start.
+  // The initial state: gaps of u^0, the static equilibrium's normal forces
+  // (frictionless), unknown (NaN) forces of a prescribed start.
   const bool known = s.options.initial_state == InitialState::kStaticEquilibrium;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   out.normal_force = known ? s.state.lambda : Eigen::VectorXd::Constant(N, nan);
@@ -718,13 +807,16 @@ ContactNodeStates Simulation::contact() const {
     for (int a = 0; a < dim; ++a)
       if (node.dofs[a] >= 0) un += node.normal(a) * u(node.dofs[a]);
     out.gap(i) = gaps(i) - un;
-    out.state[static_cast<size_t>(i)] = ClassifyContact(out.normal_force(i), 0.0, 0.0, 0.0);
+    out.state[static_cast<size_t>(i)] =
+        ClassifyContact(out.normal_force(i), 0.0, 0.0, 0.0);
   }
   return out;
 }
 
 void Simulation::SetLoad(std::function<void(double, Eigen::VectorXd*)> load) {
-  if (!load) throw std::invalid_argument("contact::Simulation::SetLoad: the load function is not set");
+  if (!load)
+    throw std::invalid_argument(
+        "contact::Simulation::SetLoad: the load function is not set");
   if (!impl_->integrator) return;
   impl_->integrator->SetLoad(std::move(load));
 }
@@ -732,18 +824,21 @@ void Simulation::SetLoad(std::function<void(double, Eigen::VectorXd*)> load) {
 void Simulation::SetContactGaps(const Eigen::VectorXd& gaps) {
   const auto N = static_cast<Eigen::Index>(impl_->model.contact_nodes.size());
   if (gaps.size() != N)
-    throw std::invalid_argument("contact::Simulation::SetContactGaps: one gap per contact node (" +
-                                std::to_string(N) + ") is needed, got " + std::to_string(gaps.size()));
+    throw std::invalid_argument(
+        "contact::Simulation::SetContactGaps: one gap per contact node (" +
+        std::to_string(N) + ") is needed, got " + std::to_string(gaps.size()));
   for (Eigen::Index c = 0; c < N; ++c)
     if (!std::isfinite(gaps(c)))
-      throw std::invalid_argument("contact::Simulation::SetContactGaps: the gap of contact node " +
-                                  std::to_string(c) + " is not finite [m]");
+      throw std::invalid_argument(
+          "contact::Simulation::SetContactGaps: the gap of contact node " +
+          std::to_string(c) + " is not finite [m]");
   if (impl_->integrator) impl_->integrator->SetGaps(gaps);
 }
 
 const Eigen::VectorXd& Simulation::contact_gaps() const {
   if (!impl_->integrator)
-    throw std::logic_error("contact::Simulation: no state (the run was refused: " + impl_->summary.message + ")");
+    throw std::logic_error("contact::Simulation: no state (the run was refused: " +
+                           impl_->summary.message + ")");
   return impl_->integrator->gaps();
 }
 

@@ -6,20 +6,28 @@ namespace contact {
 
 const char* ToString(FrictionFormulation f) {
   switch (f) {
-    case FrictionFormulation::kLaggedBound: return "lagged-bound";
-    case FrictionFormulation::kCoulombFc: return "coulomb-fc";
+    case FrictionFormulation::kLaggedBound:
+      return "lagged-bound";
+    case FrictionFormulation::kCoulombFc:
+      return "coulomb-fc";
   }
   return "unknown";
 }
 
 const char* ToString(StepMethod m) {
   switch (m) {
-    case StepMethod::kFull: return "full";
-    case StepMethod::kCondensed: return "condensed";
-    case StepMethod::kExplicit: return "explicit";
-    case StepMethod::kSparse: return "sparse";
-    case StepMethod::kIpopt: return "ipopt";
-    case StepMethod::kAuto: return "auto";
+    case StepMethod::kFull:
+      return "full";
+    case StepMethod::kCondensed:
+      return "condensed";
+    case StepMethod::kExplicit:
+      return "explicit";
+    case StepMethod::kSparse:
+      return "sparse";
+    case StepMethod::kIpopt:
+      return "ipopt";
+    case StepMethod::kAuto:
+      return "auto";
   }
   return "unknown";
 }

@@ -117,13 +117,17 @@ template <ElementType T>
 void AssembleStiffness(const Mesh& mesh, const internal::SparsityPattern& pattern,
                        double lambda, double mu, double factor, SparseMatrix* K) {
   using Element = ElementStiffness<T>;
-  if (ShapeData<T>(RulePurpose::kStiffness).NumPoints() != ElementTraits<T>::kStiffnessPoints)
+  if (ShapeData<T>(RulePurpose::kStiffness).NumPoints() !=
+      ElementTraits<T>::kStiffnessPoints)
     throw std::logic_error("stiffness rule size mismatch");
   AssembleInBatches<typename Element::Matrix>(
       mesh.NumElements(),
-      [&](int e, typename Element::Matrix* Ke) { Element::Compute(mesh, e, lambda, mu, factor, Ke); },
+      [&](int e, typename Element::Matrix* Ke) {
+        Element::Compute(mesh, e, lambda, mu, factor, Ke);
+      },
       [&](int e, const typename Element::Matrix& Ke) {
-        internal::ScatterElementMatrix(pattern, mesh.elements.col(e).data(), Element::kNodes, Ke, K);
+        internal::ScatterElementMatrix(pattern, mesh.elements.col(e).data(),
+                                       Element::kNodes, Ke, K);
       });
 }
 
@@ -134,7 +138,9 @@ void AssembleMass(const Mesh& mesh, const internal::SparsityPattern& pattern, do
   ShapeData<T>(RulePurpose::kMass);  // (built here, before the threads start)
   AssembleInBatches<typename Element::Matrix>(
       mesh.NumElements(),
-      [&](int e, typename Element::Matrix* Me) { Element::Compute(mesh, e, rho, factor, Me); },
+      [&](int e, typename Element::Matrix* Me) {
+        Element::Compute(mesh, e, rho, factor, Me);
+      },
       [&](int e, const typename Element::Matrix& Me) {
         internal::ScatterBlockDiagonalElementMatrix(pattern, mesh.elements.col(e).data(),
                                                     Element::kNodes, Me, M);

@@ -5,14 +5,16 @@
 namespace contact::internal {
 
 EnergyBalance::EnergyBalance(const Eigen::VectorXd& u, const Eigen::VectorXd& u_previous,
-                             const Eigen::VectorXd& Ku, const Eigen::VectorXd& Mdu, double dt)
+                             const Eigen::VectorXd& Ku, const Eigen::VectorXd& Mdu,
+                             double dt)
     : kinetic0(0.5 * (u - u_previous).dot(Mdu) / (dt * dt)),
       energy0(kinetic0 + 0.5 * u_previous.dot(Ku)),
       strain0(0.5 * u.dot(Ku)) {}
 
 void EnergyBalance::AddStepWork(int dim, const std::vector<ContactNode>& nodes,
                                 const Eigen::VectorXd& f, const Eigen::VectorXd& r,
-                                const Eigen::VectorXd& u_next, const Eigen::VectorXd& u_previous) {
+                                const Eigen::VectorXd& u_next,
+                                const Eigen::VectorXd& u_previous) {
   const double dw_ext = 0.5 * (f.dot(u_next) - f.dot(u_previous));
   external_work += dw_ext;
   work_scale += std::abs(dw_ext);
@@ -33,14 +35,16 @@ void EnergyBalance::AddStepWork(int dim, const std::vector<ContactNode>& nodes,
 
 void EnergyBalance::Record(const Eigen::VectorXd& du, const Eigen::VectorXd& Mdu,
                            const Eigen::VectorXd& u, const Eigen::VectorXd& u_next,
-                           const Eigen::VectorXd& Ku_next, double dt, StepRecord* rec) const {
+                           const Eigen::VectorXd& Ku_next, double dt,
+                           StepRecord* rec) const {
   rec->kinetic = 0.5 * du.dot(Mdu) / (dt * dt);
   const double shadow = rec->kinetic + 0.5 * u.dot(Ku_next);
   rec->strain = 0.5 * u_next.dot(Ku_next);
   rec->external_work = external_work;
   rec->normal_contact_work = normal_work;
   rec->friction_dissipation = friction_dissipation;
-  rec->energy_balance_error = shadow - energy0 - external_work - normal_work + friction_dissipation;
+  rec->energy_balance_error =
+      shadow - energy0 - external_work - normal_work + friction_dissipation;
 }
 
 }  // namespace contact::internal

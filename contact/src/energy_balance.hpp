@@ -1,7 +1,7 @@
 // Energy bookkeeping of central differences (contact/dynamics.hpp): the exact discrete
 // balance
-//     E^{k+1/2} - E^{-1/2} = W_ext + W_contact,   E^{k+1/2} = 1/2 v' M v + 1/2 (u^k)' K u^{k+1},
-//     v = (u^{k+1} - u^k) / dt,
+//     E^{k+1/2} - E^{-1/2} = W_ext + W_contact,   E^{k+1/2} = 1/2 v' M v + 1/2 (u^k)' K
+//     u^{k+1}, v = (u^{k+1} - u^k) / dt,
 // with the work increments over the half span (u^{k+1} - u^{k-1}) / 2 and W_contact split
 // into its normal part and the friction dissipation (>= 0). All energies in joules.
 #pragma once
@@ -26,21 +26,21 @@ struct EnergyBalance {
                 const Eigen::VectorXd& Ku, const Eigen::VectorXd& Mdu, double dt);
 
   /// Adds the work of step k: W_ext += f^k . s, W_normal += sum_c (r_c . n_c)(s_c . n_c),
-  /// dissipation -= sum_c (r_c . s_c - (r_c . n_c)(s_c . n_c)), s = (u^{k+1} - u^{k-1}) / 2,
-  /// r = the contact forces [N] (nonzero at the contact nodes only).
-  void AddStepWork(int dim, const std::vector<ContactNode>& nodes, const Eigen::VectorXd& f,
-                   const Eigen::VectorXd& r, const Eigen::VectorXd& u_next,
-                   const Eigen::VectorXd& u_previous);
+  /// dissipation -= sum_c (r_c . s_c - (r_c . n_c)(s_c . n_c)), s = (u^{k+1} - u^{k-1}) /
+  /// 2, r = the contact forces [N] (nonzero at the contact nodes only).
+  void AddStepWork(int dim, const std::vector<ContactNode>& nodes,
+                   const Eigen::VectorXd& f, const Eigen::VectorXd& r,
+                   const Eigen::VectorXd& u_next, const Eigen::VectorXd& u_previous);
 
   /// The energies of rec after step k: kinetic 1/2 du' M du / dt^2 (Mdu = M du), strain
   /// 1/2 (u^{k+1})' K u^{k+1} (Ku_next = K u^{k+1}), the cumulative works and the balance
   /// error E^{k+1/2} - E^{-1/2} - W_ext - W_normal + dissipation.
-  void Record(const Eigen::VectorXd& du, const Eigen::VectorXd& Mdu, const Eigen::VectorXd& u,
-              const Eigen::VectorXd& u_next, const Eigen::VectorXd& Ku_next, double dt,
-              StepRecord* rec) const;
+  void Record(const Eigen::VectorXd& du, const Eigen::VectorXd& Mdu,
+              const Eigen::VectorXd& u, const Eigen::VectorXd& u_next,
+              const Eigen::VectorXd& Ku_next, double dt, StepRecord* rec) const;
 
-  /// What the blow-up guard compares kinetic + strain energy with: the initial kinetic and
-  /// strain energy and all external work that entered.
+  /// What the blow-up guard compares kinetic + strain energy with: the initial kinetic
+  /// and strain energy and all external work that entered.
   double BlowUpReference() const { return kinetic0 + strain0 + work_scale; }
 };
 

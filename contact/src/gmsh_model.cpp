@@ -52,8 +52,9 @@ std::string DescribeGmshType(int gmsh_type) {
 
 /// The one supported volume element type among gmsh's element blocks of dimension dim
 /// (index into types); throws on unsupported, mixed or missing elements.
-std::size_t ChooseVolumeElements(const std::string& source, int dim, const std::vector<int>& types,
-                                 const std::vector<std::vector<std::size_t>>& element_tags) {
+std::size_t ChooseVolumeElements(
+    const std::string& source, int dim, const std::vector<int>& types,
+    const std::vector<std::vector<std::size_t>>& element_tags) {
   int chosen = -1;
   for (std::size_t t = 0; t < types.size(); ++t) {
     if (element_tags[t].empty()) continue;
@@ -93,8 +94,8 @@ ElementType ElementTypeOfGmsh(int gmsh_type) {
   }
 }
 
-/// The nodes of the volume elements into mesh->nodes, numbered 0, 1, ... by increasing gmsh
-/// tag; returns tag -> node index. A 2D mesh must lie in the plane z = 0.
+/// The nodes of the volume elements into mesh->nodes, numbered 0, 1, ... by increasing
+/// gmsh tag; returns tag -> node index. A 2D mesh must lie in the plane z = 0.
 std::map<std::size_t, int> ReadElementNodes(const std::string& source,
                                             const std::vector<std::size_t>& element_nodes,
                                             Mesh* mesh) {
@@ -102,18 +103,20 @@ std::map<std::size_t, int> ReadElementNodes(const std::string& source,
   std::vector<std::size_t> node_tags;
   std::vector<double> coordinates, parametric;
   gmsh::model::mesh::getNodes(node_tags, coordinates, parametric, -1, -1, false, false);
-  // Tags may be sparse (any value up to 2^64 - 1): maps sized by the number of nodes, never
-  // by the largest tag. Sorted, so that nodes are numbered by increasing tag.
+  // Tags may be sparse (any value up to 2^64 - 1): maps sized by the number of nodes,
+  // never by the largest tag. Sorted, so that nodes are numbered by increasing tag.
   std::map<std::size_t, std::size_t> position_of_tag;  // tag -> position in node_tags
   for (std::size_t k = 0; k < node_tags.size(); ++k) position_of_tag[node_tags[k]] = k;
-  std::map<std::size_t, int> index_of_tag;  // tag -> node index, for the nodes of elements
+  std::map<std::size_t, int>
+      index_of_tag;  // tag -> node index, for the nodes of elements
   for (const std::size_t tag : element_nodes) {
     if (!position_of_tag.count(tag))
       throw std::invalid_argument(source + ": element refers to missing node tag " +
                                   std::to_string(tag));
     index_of_tag[tag] = 0;
   }
-  if (index_of_tag.size() > static_cast<std::size_t>(std::numeric_limits<int>::max() / dim))
+  if (index_of_tag.size() >
+      static_cast<std::size_t>(std::numeric_limits<int>::max() / dim))
     throw std::invalid_argument(source + ": " + std::to_string(index_of_tag.size()) +
                                 " nodes exceed the int index range of the dofs");
   int num_nodes = 0;
@@ -137,8 +140,9 @@ std::map<std::size_t, int> ReadElementNodes(const std::string& source,
 
 /// The facets of one physical group of dimension dim - 1 as node indices appended to
 /// *connectivity; every facet must have the facet type of the elements and nodes of them.
-void AppendGroupFacets(const std::string& source, const Mesh& mesh, int group_dim, int group_tag,
-                       const std::string& name, const std::map<std::size_t, int>& index_of_tag,
+void AppendGroupFacets(const std::string& source, const Mesh& mesh, int group_dim,
+                       int group_tag, const std::string& name,
+                       const std::map<std::size_t, int>& index_of_tag,
                        std::vector<int>* connectivity) {
   const FacetType facet_type = FacetTypeOf(mesh.element_type);
   std::vector<int> entities;
@@ -159,8 +163,8 @@ void AppendGroupFacets(const std::string& source, const Mesh& mesh, int group_di
         if (!index_of_tag.count(tag))
           throw std::invalid_argument(source + ": boundary group '" + name +
                                       "' uses node tag " + std::to_string(tag) +
-                                      ", which belongs to no " + std::to_string(mesh.dim) +
-                                      "D element");
+                                      ", which belongs to no " +
+                                      std::to_string(mesh.dim) + "D element");
         connectivity->push_back(index_of_tag.at(tag));
       }
     }
@@ -169,8 +173,8 @@ void AppendGroupFacets(const std::string& source, const Mesh& mesh, int group_di
 
 /// Boundary groups: the physical groups of dimension dim - 1, merged by name (a group
 /// without a name is named by its tag).
-void ReadBoundaryGroups(const std::string& source, const std::map<std::size_t, int>& index_of_tag,
-                        Mesh* mesh) {
+void ReadBoundaryGroups(const std::string& source,
+                        const std::map<std::size_t, int>& index_of_tag, Mesh* mesh) {
   const FacetType facet_type = FacetTypeOf(mesh->element_type);
   const int facet_nodes = NodesPerFacet(facet_type);
   gmsh::vectorpair groups;
@@ -200,8 +204,8 @@ GmshSession::GmshSession(const std::string& model_name) {
   try {
     gmsh::initialize(0, nullptr, /*readConfigFiles=*/false);
     gmsh::option::setNumber("General.Terminal", 0);
-    // Never ask on standard input: gmsh's questions (e.g. "Do you really want to continue?"
-    // before a very large mesh) take their default answer.
+    // Never ask on standard input: gmsh's questions (e.g. "Do you really want to
+    // continue?" before a very large mesh) take their default answer.
     gmsh::option::setNumber("General.NoPopup", 1);
     gmsh::model::add(model_name);
   } catch (const std::string& what) {

@@ -15,21 +15,26 @@
 namespace contact {
 namespace {
 
-/// Reads the tags of an ASCII .msh file line by line (MSH 2.2 and 4.1 layouts, gmsh manual
-/// section "MSH file format") and throws "path:line: ..." on a tag outside [1, kMaxMshTag].
+/// Reads the tags of an ASCII .msh file line by line (MSH 2.2 and 4.1 layouts, gmsh
+/// manual section "MSH file format") and throws "path:line: ..." on a tag outside [1,
+/// kMaxMshTag].
 class MshTagScanner {
  public:
   explicit MshTagScanner(const std::string& path) : path_(path), in_(path) {}
 
   void Run() {
-    if (Next() != "$MeshFormat") Fail("expected $MeshFormat on the first line (an ASCII .msh file)");
+    if (Next() != "$MeshFormat")
+      Fail("expected $MeshFormat on the first line (an ASCII .msh file)");
     std::istringstream format(Next());
     double version = 0;
     int file_type = -1;
     format >> version >> file_type;
     if (!format || !(version >= 2 && version < 5))
       Fail("unsupported MSH version line '" + line_ + "' (expected 2.2 or 4.1)");
-    if (file_type != 0) Fail("binary .msh files are not accepted; write ASCII (gmsh option Mesh.Binary = 0)");
+    if (file_type != 0)
+      Fail(
+          "binary .msh files are not accepted; write ASCII (gmsh option Mesh.Binary = "
+          "0)");
     const bool v4 = version >= 4;
     while (in_ >> std::ws && !in_.eof()) {
       Next();
@@ -50,14 +55,16 @@ class MshTagScanner {
     throw std::invalid_argument(path_ + ":" + std::to_string(number_) + ": " + what);
   }
   /// A count or tag, refused beyond `limit` (read as text: no overflow on any input).
-  unsigned long long Count(std::istringstream& tokens, unsigned long long limit, const char* what) {
+  unsigned long long Count(std::istringstream& tokens, unsigned long long limit,
+                           const char* what) {
     std::string token;
     if (!(tokens >> token)) Fail(std::string("missing ") + what);
     errno = 0;
     char* end = nullptr;
     const unsigned long long value = std::strtoull(token.c_str(), &end, 10);
     if (token[0] == '-' || *end != '\0' || errno == ERANGE || value > limit)
-      Fail(std::string(what) + " " + token + " lies outside [0, " + std::to_string(limit) + "]");
+      Fail(std::string(what) + " " + token + " lies outside [0, " +
+           std::to_string(limit) + "]");
     return value;
   }
   /// MSH 4: numBlocks numItems minTag maxTag, then per block a header and its tags.
@@ -65,28 +72,32 @@ class MshTagScanner {
     const char* tag = nodes ? "node tag" : "element tag";
     std::istringstream header(Next());
     const unsigned long long blocks = Count(header, kMaxMshTag, "number of blocks");
-    const unsigned long long items = Count(header, kMaxMshTag, nodes ? "number of nodes" : "number of elements");
+    const unsigned long long items =
+        Count(header, kMaxMshTag, nodes ? "number of nodes" : "number of elements");
     Count(header, kMaxMshTag, tag);
     Count(header, kMaxMshTag, tag);
     for (unsigned long long b = 0; b < blocks; ++b) {
       std::istringstream block(Next());
       std::string entity_dim, entity_tag, type_or_parametric;
       block >> entity_dim >> entity_tag >> type_or_parametric;
-      const unsigned long long count = Count(block, items, nodes ? "nodes in block" : "elements in block");
+      const unsigned long long count =
+          Count(block, items, nodes ? "nodes in block" : "elements in block");
       for (unsigned long long i = 0; i < count; ++i) {
         std::istringstream tags(Next());
         Count(tags, kMaxMshTag, tag);  // element lines continue with node tags
-        while (!nodes && tags >> std::ws && !tags.eof()) Count(tags, kMaxMshTag, "node tag");
+        while (!nodes && tags >> std::ws && !tags.eof())
+          Count(tags, kMaxMshTag, "node tag");
       }
       if (nodes)
         for (unsigned long long i = 0; i < count; ++i) Next();  // coordinates
     }
   }
-  /// The count, then one line per group "dim tag \"name\"": dim in [0, 3] (gmsh 4.8 indexes
-  /// a table of four dimensions with it: 4 crashed it), tag in [1, kMaxMshTag].
+  /// The count, then one line per group "dim tag \"name\"": dim in [0, 3] (gmsh 4.8
+  /// indexes a table of four dimensions with it: 4 crashed it), tag in [1, kMaxMshTag].
   void PhysicalNames() {
     std::istringstream header(Next());
-    const unsigned long long count = Count(header, kMaxMshTag, "number of physical names");
+    const unsigned long long count =
+        Count(header, kMaxMshTag, "number of physical names");
     for (unsigned long long i = 0; i < count; ++i) {
       std::istringstream tokens(Next());
       Count(tokens, 3, "physical group dimension");
@@ -98,7 +109,8 @@ class MshTagScanner {
   /// "tag type num_tags tags... node_tags...".
   void Lines(bool nodes) {
     std::istringstream header(Next());
-    const unsigned long long count = Count(header, kMaxMshTag, nodes ? "number of nodes" : "number of elements");
+    const unsigned long long count =
+        Count(header, kMaxMshTag, nodes ? "number of nodes" : "number of elements");
     for (unsigned long long i = 0; i < count; ++i) {
       std::istringstream tokens(Next());
       Count(tokens, kMaxMshTag, nodes ? "node tag" : "element tag");
@@ -127,9 +139,10 @@ Mesh ReadGmshMesh(const std::string& path) {
   if (!std::filesystem::is_regular_file(path, ec))
     throw std::invalid_argument("ReadGmshMesh: '" + path + "' is not a regular file");
   if (std::filesystem::path(path).extension() != ".msh")
-    throw std::invalid_argument("ReadGmshMesh: '" + path +
-                                "' must end in .msh (gmsh would run any other file type as a "
-                                "script or CAD model)");
+    throw std::invalid_argument(
+        "ReadGmshMesh: '" + path +
+        "' must end in .msh (gmsh would run any other file type as a "
+        "script or CAD model)");
   if (std::filesystem::file_size(path, ec) > kMaxMshFileBytes)
     throw std::invalid_argument("ReadGmshMesh: '" + path + "' is larger than " +
                                 std::to_string(kMaxMshFileBytes) + " bytes");

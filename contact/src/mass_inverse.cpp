@@ -16,7 +16,8 @@ bool IsDiagonal(const Eigen::SparseMatrix<double>& A) {
 
 double MaxAbsEntry(const Eigen::SparseMatrix<double>& A) {
   double m = 0.0;
-  for (Eigen::Index k = 0; k < A.nonZeros(); ++k) m = std::max(m, std::abs(A.valuePtr()[k]));
+  for (Eigen::Index k = 0; k < A.nonZeros(); ++k)
+    m = std::max(m, std::abs(A.valuePtr()[k]));
   return m;
 }
 
@@ -29,14 +30,18 @@ MassInverse::MassInverse(const Eigen::SparseMatrix<double>& M, const std::string
   }
   factor_ = std::make_unique<CholmodFactor>(M);
   if (!factor_->ok())
-    throw std::invalid_argument(who + "the mass matrix is not positive definite (Cholesky failed)");
+    throw std::invalid_argument(
+        who + "the mass matrix is not positive definite (Cholesky failed)");
 }
 
 void MassInverse::Solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) {
   const auto start = std::chrono::steady_clock::now();
-  if (factor_) factor_->Solve(b, x);
-  else *x = b.cwiseQuotient(diagonal_);
-  solve_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (factor_)
+    factor_->Solve(b, x);
+  else
+    *x = b.cwiseQuotient(diagonal_);
+  solve_seconds_ +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ++solves_;
 }
 
@@ -45,8 +50,10 @@ double MassInverse::factor_nonzeros() const {
 }
 
 void MassInverse::Solve(const Eigen::MatrixXd& B, Eigen::MatrixXd* X) {
-  if (factor_) factor_->Solve(B, X);
-  else *X = diagonal_.cwiseInverse().asDiagonal() * B;
+  if (factor_)
+    factor_->Solve(B, X);
+  else
+    *X = diagonal_.cwiseInverse().asDiagonal() * B;
 }
 
 }  // namespace contact::internal

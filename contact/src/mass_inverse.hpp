@@ -1,6 +1,6 @@
-// M^-1 for the time integrator: elementwise for a diagonal (lumped) mass, else one CHOLMOD
-// factor - computed once per run and shared by the critical step, the prescribed start and
-// the condensed step.
+// M^-1 for the time integrator: elementwise for a diagonal (lumped) mass, else one
+// CHOLMOD factor - computed once per run and shared by the critical step, the prescribed
+// start and the condensed step.
 #pragma once
 
 #include <Eigen/SparseCore>

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+
 #include "text_format.hpp"
 
 namespace contact {

@@ -156,26 +156,31 @@ void CheckOrientation(const Mesh& mesh) {
 }
 
 // Repeated nodes within an element (a collapsed quad keeps det J > 0 at its Gauss points
-// but leaves a hole), the same node set twice, and nodes of no element (zero rows of K, M).
+// but leaves a hole), the same node set twice, and nodes of no element (zero rows of K,
+// M).
 void CheckConnectivity(const Mesh& mesh) {
   std::set<std::vector<int>> node_sets;
   std::vector<char> used(static_cast<size_t>(mesh.NumNodes()), 0);
   for (int e = 0; e < mesh.NumElements(); ++e) {
-    std::vector<int> nodes(mesh.elements.col(e).data(), mesh.elements.col(e).data() + mesh.elements.rows());
+    std::vector<int> nodes(mesh.elements.col(e).data(),
+                           mesh.elements.col(e).data() + mesh.elements.rows());
     for (int node : nodes) used[static_cast<size_t>(node)] = 1;
     std::sort(nodes.begin(), nodes.end());
     if (std::adjacent_find(nodes.begin(), nodes.end()) != nodes.end())
-      throw std::invalid_argument("invalid mesh: degenerate element: " + mesh.DescribeElement(e) +
-                                  " repeats node " + std::to_string(*std::adjacent_find(nodes.begin(), nodes.end())));
+      throw std::invalid_argument(
+          "invalid mesh: degenerate element: " + mesh.DescribeElement(e) +
+          " repeats node " +
+          std::to_string(*std::adjacent_find(nodes.begin(), nodes.end())));
     if (!node_sets.insert(nodes).second)
-      throw std::invalid_argument("invalid mesh: duplicate element: " + mesh.DescribeElement(e) +
-                                  " has the same nodes as an earlier element");
+      throw std::invalid_argument(
+          "invalid mesh: duplicate element: " + mesh.DescribeElement(e) +
+          " has the same nodes as an earlier element");
   }
   const auto unused = std::find(used.begin(), used.end(), 0);
   if (unused != used.end())
-    throw std::invalid_argument("invalid mesh: unused node " + std::to_string(unused - used.begin()) +
-                                " at " + FormatPoint(mesh.nodes.col(unused - used.begin())) +
-                                " belongs to no element");
+    throw std::invalid_argument(
+        "invalid mesh: unused node " + std::to_string(unused - used.begin()) + " at " +
+        FormatPoint(mesh.nodes.col(unused - used.begin())) + " belongs to no element");
 }
 
 }  // namespace

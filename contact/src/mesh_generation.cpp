@@ -47,14 +47,17 @@ const char* GroupName(BoundaryRole role) {
   return "";
 }
 
-std::string CheckGridLimits(const std::vector<double>& size, const std::vector<double>& cells) {
+std::string CheckGridLimits(const std::vector<double>& size,
+                            const std::vector<double>& cells) {
   const auto str = internal::FormatShort;
   double count = 1, h_min = std::numeric_limits<double>::infinity(), h_max = 0;
   for (std::size_t k = 0; k < size.size() && k < cells.size(); ++k) {
     if (!(size[k] > 0 && size[k] <= kMaxGridExtent))
-      return "size " + str(size[k]) + " m lies outside (0, " + str(kMaxGridExtent) + "] m";
+      return "size " + str(size[k]) + " m lies outside (0, " + str(kMaxGridExtent) +
+             "] m";
     if (!(cells[k] >= 1 && cells[k] <= kMaxGeneratedCells))
-      return "cells " + str(cells[k]) + " lies outside [1, " + str(kMaxGeneratedCells) + "]";
+      return "cells " + str(cells[k]) + " lies outside [1, " + str(kMaxGeneratedCells) +
+             "]";
     count *= cells[k];
     h_min = std::min(h_min, size[k] / cells[k]);
     h_max = std::max(h_max, size[k] / cells[k]);
@@ -62,10 +65,11 @@ std::string CheckGridLimits(const std::vector<double>& size, const std::vector<d
   if (count > kMaxGeneratedCells)
     return str(count) + " cells exceed the limit of " + str(kMaxGeneratedCells);
   if (h_min < kMinCellSize)
-    return "cells of edge " + str(h_min) + " m are below the limit of " + str(kMinCellSize) + " m";
+    return "cells of edge " + str(h_min) + " m are below the limit of " +
+           str(kMinCellSize) + " m";
   if (h_max > kMaxCellAspectRatio * h_min)
-    return "cells of aspect ratio " + str(h_max / h_min) + " (edges " + str(h_max) + " m and " +
-           str(h_min) + " m) exceed the limit of " + str(kMaxCellAspectRatio);
+    return "cells of aspect ratio " + str(h_max / h_min) + " (edges " + str(h_max) +
+           " m and " + str(h_min) + " m) exceed the limit of " + str(kMaxCellAspectRatio);
   return "";
 }
 
@@ -88,12 +92,14 @@ void CheckGeometry(const char* who, const std::array<double, Dim>& origin,
       throw std::invalid_argument(std::string(who) + ": cells along " + axis[k] +
                                   " must be >= 1, got " + std::to_string(cells[k]));
     if (std::abs(origin[k]) > kMaxGridExtent)
-      throw std::invalid_argument(std::string(who) + ": |origin[" + std::to_string(k) + "]| = " +
-                                  internal::FormatShort(std::abs(origin[k])) + " m exceeds " +
-                                  internal::FormatShort(kMaxGridExtent) + " m");
+      throw std::invalid_argument(std::string(who) + ": |origin[" + std::to_string(k) +
+                                  "]| = " + internal::FormatShort(std::abs(origin[k])) +
+                                  " m exceeds " + internal::FormatShort(kMaxGridExtent) +
+                                  " m");
   }
-  const std::string limits = CheckGridLimits(std::vector<double>(size.begin(), size.end()),
-                                             std::vector<double>(cells.begin(), cells.end()));
+  const std::string limits =
+      CheckGridLimits(std::vector<double>(size.begin(), size.end()),
+                      std::vector<double>(cells.begin(), cells.end()));
   if (!limits.empty()) throw std::invalid_argument(std::string(who) + ": " + limits);
 }
 
@@ -158,7 +164,8 @@ Mesh MakeRectangleMesh(const RectangleMeshOptions& options) {
         std::string(who) + ": element_type must be kTriangle3 or kQuadrilateral4, got " +
         ToString(options.element_type));
   const bool quads = options.element_type == ElementType::kQuadrilateral4;
-  // Plain variables, not structured bindings: a lambda below captures them (C++17 clang refuses).
+  // Plain variables, not structured bindings: a lambda below captures them (C++17 clang
+  // refuses).
   const double x0 = options.origin[0], y0 = options.origin[1];
   const double x1 = x0 + options.size[0], y1 = y0 + options.size[1];
   const int nx = options.cells[0], ny = options.cells[1];
@@ -204,9 +211,10 @@ Mesh MakeQuarterDiskMesh(const QuarterDiskMeshOptions& o) {
   const double R = o.radius;
   if (!(R > 0) || !(o.contact_size > 0) || !(o.max_size >= o.contact_size) ||
       !(o.refined_radius > 0) || !(o.contact_extent > 0 && o.contact_extent < R))
-    throw std::invalid_argument(std::string(who) +
-                                ": need radius > 0, 0 < contact_size <= max_size, refined_radius > 0 "
-                                "and 0 < contact_extent < radius");
+    throw std::invalid_argument(
+        std::string(who) +
+        ": need radius > 0, 0 < contact_size <= max_size, refined_radius > 0 "
+        "and 0 < contact_extent < radius");
   Mesh mesh;
   {
     internal::GmshSession session("contact_quarter_disk");
@@ -220,13 +228,17 @@ Mesh MakeQuarterDiskMesh(const QuarterDiskMeshOptions& o) {
       const int free_arc = geo::addCircleArc(split, centre, right);
       const int cut = geo::addLine(right, centre);
       const int symmetry = geo::addLine(centre, origin);
-      const int surface =
-          geo::addPlaneSurface({geo::addCurveLoop({contact_arc, free_arc, cut, symmetry})});
+      const int surface = geo::addPlaneSurface(
+          {geo::addCurveLoop({contact_arc, free_arc, cut, symmetry})});
       geo::synchronize();
-      gmsh::model::setPhysicalName(1, gmsh::model::addPhysicalGroup(1, {contact_arc}), kContactGroup);
-      gmsh::model::setPhysicalName(1, gmsh::model::addPhysicalGroup(1, {cut}), kLoadGroup);
-      gmsh::model::setPhysicalName(1, gmsh::model::addPhysicalGroup(1, {symmetry}), kFixedGroup);
-      gmsh::model::setPhysicalName(2, gmsh::model::addPhysicalGroup(2, {surface}), "body");
+      gmsh::model::setPhysicalName(1, gmsh::model::addPhysicalGroup(1, {contact_arc}),
+                                   kContactGroup);
+      gmsh::model::setPhysicalName(1, gmsh::model::addPhysicalGroup(1, {cut}),
+                                   kLoadGroup);
+      gmsh::model::setPhysicalName(1, gmsh::model::addPhysicalGroup(1, {symmetry}),
+                                   kFixedGroup);
+      gmsh::model::setPhysicalName(2, gmsh::model::addPhysicalGroup(2, {surface}),
+                                   "body");
       namespace field = gmsh::model::mesh::field;
       const int distance = field::add("Distance");
       field::setNumbers(distance, "PointsList", {static_cast<double>(origin)});
@@ -235,9 +247,11 @@ Mesh MakeQuarterDiskMesh(const QuarterDiskMeshOptions& o) {
       field::setNumber(threshold, "SizeMin", o.contact_size);
       field::setNumber(threshold, "SizeMax", o.max_size);
       field::setNumber(threshold, "DistMin", o.refined_radius);
-      field::setNumber(threshold, "DistMax", o.refined_radius + 4.0 * (o.max_size - o.contact_size));
+      field::setNumber(threshold, "DistMax",
+                       o.refined_radius + 4.0 * (o.max_size - o.contact_size));
       field::setAsBackgroundMesh(threshold);
-      // (gmsh 4.8 crashes with Mesh.Algorithm = 8 and a Threshold field: default algorithm.)
+      // (gmsh 4.8 crashes with Mesh.Algorithm = 8 and a Threshold field: default
+      // algorithm.)
       gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
       gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
       gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
@@ -345,22 +359,22 @@ void PlaceGridNodes(const BoxMeshOptions& options, const StructuredGrid& g, Mesh
       }
 }
 
-/// The hexahedra in gmsh's node order (bottom face counterclockwise seen from +z, then the
-/// top face), tagged 1, 2, ...
+/// The hexahedra in gmsh's node order (bottom face counterclockwise seen from +z, then
+/// the top face), tagged 1, 2, ...
 void ConnectGridHexahedra(const StructuredGrid& g, Mesh* mesh) {
   for (int k = 0; k < g.nz; ++k)
     for (int j = 0; j < g.ny; ++j)
       for (int i = 0; i < g.nx; ++i) {
         const int e = i + g.nx * (j + g.ny * k);
-        mesh->elements.col(e) << g.Node(i, j, k), g.Node(i + 1, j, k), g.Node(i + 1, j + 1, k),
-            g.Node(i, j + 1, k), g.Node(i, j, k + 1), g.Node(i + 1, j, k + 1),
-            g.Node(i + 1, j + 1, k + 1), g.Node(i, j + 1, k + 1);
+        mesh->elements.col(e) << g.Node(i, j, k), g.Node(i + 1, j, k),
+            g.Node(i + 1, j + 1, k), g.Node(i, j + 1, k), g.Node(i, j, k + 1),
+            g.Node(i + 1, j, k + 1), g.Node(i + 1, j + 1, k + 1), g.Node(i, j + 1, k + 1);
         mesh->element_tags[e] = static_cast<std::size_t>(e) + 1;
       }
 }
 
-/// The quadrilaterals of a side (a plane i = const, or j, k), ordered so that the normal by
-/// the right-hand rule points out of the box.
+/// The quadrilaterals of a side (a plane i = const, or j, k), ordered so that the normal
+/// by the right-hand rule points out of the box.
 std::vector<std::array<int, 4>> SideQuadrilaterals(const StructuredGrid& g, Side side) {
   std::vector<std::array<int, 4>> quads;
   switch (side) {
@@ -369,7 +383,8 @@ std::vector<std::array<int, 4>> SideQuadrilaterals(const StructuredGrid& g, Side
       const int i = side == Side::kXMin ? 0 : g.nx;
       for (int k = 0; k < g.nz; ++k)
         for (int j = 0; j < g.ny; ++j) {
-          std::array<int, 4> q = {g.Node(i, j, k), g.Node(i, j + 1, k), g.Node(i, j + 1, k + 1),
+          std::array<int, 4> q = {g.Node(i, j, k), g.Node(i, j + 1, k),
+                                  g.Node(i, j + 1, k + 1),
                                   g.Node(i, j, k + 1)};  // y then z: normal +x
           if (side == Side::kXMin) std::swap(q[1], q[3]);
           quads.push_back(q);
@@ -381,7 +396,8 @@ std::vector<std::array<int, 4>> SideQuadrilaterals(const StructuredGrid& g, Side
       const int j = side == Side::kYMin ? 0 : g.ny;
       for (int k = 0; k < g.nz; ++k)
         for (int i = 0; i < g.nx; ++i) {
-          std::array<int, 4> q = {g.Node(i, j, k), g.Node(i, j, k + 1), g.Node(i + 1, j, k + 1),
+          std::array<int, 4> q = {g.Node(i, j, k), g.Node(i, j, k + 1),
+                                  g.Node(i + 1, j, k + 1),
                                   g.Node(i + 1, j, k)};  // z then x: normal +y
           if (side == Side::kYMin) std::swap(q[1], q[3]);
           quads.push_back(q);
@@ -393,7 +409,8 @@ std::vector<std::array<int, 4>> SideQuadrilaterals(const StructuredGrid& g, Side
       const int k = side == Side::kZMin ? 0 : g.nz;
       for (int j = 0; j < g.ny; ++j)
         for (int i = 0; i < g.nx; ++i) {
-          std::array<int, 4> q = {g.Node(i, j, k), g.Node(i + 1, j, k), g.Node(i + 1, j + 1, k),
+          std::array<int, 4> q = {g.Node(i, j, k), g.Node(i + 1, j, k),
+                                  g.Node(i + 1, j + 1, k),
                                   g.Node(i, j + 1, k)};  // x then y: normal +z
           if (side == Side::kZMin) std::swap(q[1], q[3]);
           quads.push_back(q);
@@ -405,15 +422,16 @@ std::vector<std::array<int, 4>> SideQuadrilaterals(const StructuredGrid& g, Side
 }
 
 /// The side quadrilaterals into the boundary group of each side's role.
-void AddGridSideGroups(const std::map<Side, BoundaryRole>& side_roles, const StructuredGrid& g,
-                       Mesh* mesh) {
+void AddGridSideGroups(const std::map<Side, BoundaryRole>& side_roles,
+                       const StructuredGrid& g, Mesh* mesh) {
   for (const auto& [side, role] : side_roles) {
     if (role == BoundaryRole::kNone) continue;
     BoundaryFacets& group = mesh->boundary_groups[GroupName(role)];
     group.type = FacetType::kQuadrilateral4;
     const auto quads = SideQuadrilaterals(g, side);
     const Eigen::Index old = group.connectivity.cols();
-    group.connectivity.conservativeResize(4, old + static_cast<Eigen::Index>(quads.size()));
+    group.connectivity.conservativeResize(4,
+                                          old + static_cast<Eigen::Index>(quads.size()));
     for (std::size_t f = 0; f < quads.size(); ++f)
       for (int a = 0; a < 4; ++a) group.connectivity(a, old + f) = quads[f][a];
   }
@@ -432,7 +450,8 @@ Mesh MakeStructuredBoxMesh(const BoxMeshOptions& options) {
         (options.topology == MeshTopology::kStructured ? std::string(" (structured)")
                                                        : std::string(" (unstructured)")));
   const StructuredGrid grid{options.cells[0], options.cells[1], options.cells[2]};
-  const long long num_nodes = static_cast<long long>(grid.nx + 1) * (grid.ny + 1) * (grid.nz + 1);
+  const long long num_nodes =
+      static_cast<long long>(grid.nx + 1) * (grid.ny + 1) * (grid.nz + 1);
   const long long num_elements = static_cast<long long>(grid.nx) * grid.ny * grid.nz;
   if (3 * num_nodes > std::numeric_limits<int>::max())
     throw std::invalid_argument(std::string(who) + ": too many dofs for int indices: " +

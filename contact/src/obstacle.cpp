@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+
 #include "text_format.hpp"
 
 namespace contact {

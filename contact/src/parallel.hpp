@@ -9,9 +9,9 @@
 namespace contact::internal {
 
 /// Runs f(i) for i in [begin, end), split into contiguous chunks over the threads, or
-/// serially when there are fewer than `serial_below` iterations (starting the threads costs
-/// more than small loops, and idle threads spinning afterwards slow the serial code on a
-/// busy machine). f must write only to locations that belong to i.
+/// serially when there are fewer than `serial_below` iterations (starting the threads
+/// costs more than small loops, and idle threads spinning afterwards slow the serial code
+/// on a busy machine). f must write only to locations that belong to i.
 template <class F>
 void ParallelFor(long begin, long end, long serial_below, const F& f) {
   if (end - begin < serial_below) {
@@ -26,8 +26,8 @@ void ParallelFor(long begin, long end, long serial_below, const F& f) {
 /// the dot product of column i with x, so rows are independent and need no reduction. The
 /// product is bit-for-bit that of the serial loop for any number of threads. Small
 /// matrices (< 20000 rows) run serially: the fork costs more than it saves.
-inline void SymmetricMultiply(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& x,
-                              Eigen::VectorXd* y) {
+inline void SymmetricMultiply(const Eigen::SparseMatrix<double>& A,
+                              const Eigen::VectorXd& x, Eigen::VectorXd* y) {
   const long n = A.cols();
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
@@ -56,7 +56,8 @@ inline bool IsSymmetric(const Eigen::SparseMatrix<double>& A, double relative_to
   const double* values = A.valuePtr();
   double largest = 0.0;
   for (long j = 0; j < A.cols(); ++j)
-    for (int k = outer[j]; k < end_of(j); ++k) largest = std::max(largest, std::abs(values[k]));
+    for (int k = outer[j]; k < end_of(j); ++k)
+      largest = std::max(largest, std::abs(values[k]));
   const double tolerance = relative_tolerance * largest;
   for (long j = 0; j < A.cols(); ++j)
     for (int k = outer[j]; k < end_of(j); ++k) {

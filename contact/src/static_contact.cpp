@@ -12,26 +12,31 @@ namespace {
 double MaxDiagonal(const Eigen::SparseMatrix<double>& K) {
   double k = 0.0;
   for (Eigen::Index i = 0; i < K.rows(); ++i) k = std::max(k, std::abs(K.coeff(i, i)));
-  if (!(k > 0.0)) throw std::invalid_argument("contact: the stiffness matrix has a zero diagonal");
+  if (!(k > 0.0))
+    throw std::invalid_argument("contact: the stiffness matrix has a zero diagonal");
   return k;
 }
 
-/// Throws std::invalid_argument on a Tresca bound of the wrong size, negative or not finite,
-/// or a negative Coulomb coefficient.
+/// Throws std::invalid_argument on a Tresca bound of the wrong size, negative or not
+/// finite, or a negative Coulomb coefficient.
 void CheckFrictionOptions(Eigen::Index num_nodes, const StaticContactOptions& options) {
-  if (options.friction == FrictionLaw::kTresca && options.tresca_bound.size() != num_nodes)
-    throw std::invalid_argument("SolveStaticContact: tresca_bound needs one value per contact node (" +
-                                std::to_string(num_nodes) + "), got " +
-                                std::to_string(options.tresca_bound.size()));
+  if (options.friction == FrictionLaw::kTresca &&
+      options.tresca_bound.size() != num_nodes)
+    throw std::invalid_argument(
+        "SolveStaticContact: tresca_bound needs one value per contact node (" +
+        std::to_string(num_nodes) + "), got " +
+        std::to_string(options.tresca_bound.size()));
   if (options.friction == FrictionLaw::kTresca)
     for (Eigen::Index c = 0; c < num_nodes; ++c)
       if (!(options.tresca_bound(c) >= 0.0) || !std::isfinite(options.tresca_bound(c)))
-        throw std::invalid_argument("SolveStaticContact: tresca_bound[" + std::to_string(c) +
+        throw std::invalid_argument("SolveStaticContact: tresca_bound[" +
+                                    std::to_string(c) +
                                     "] must be finite and >= 0 N, got " +
                                     std::to_string(options.tresca_bound(c)));
   if (options.friction == FrictionLaw::kCoulomb && !(options.friction_coefficient >= 0.0))
-    throw std::invalid_argument("SolveStaticContact: friction_coefficient must be >= 0, got " +
-                                std::to_string(options.friction_coefficient));
+    throw std::invalid_argument(
+        "SolveStaticContact: friction_coefficient must be >= 0, got " +
+        std::to_string(options.friction_coefficient));
 }
 
 /// Scales in system units (forces / k, displacements): the largest nodal load or Tresca
@@ -41,9 +46,11 @@ void CheckFrictionOptions(Eigen::Index num_nodes, const StaticContactOptions& op
 struct StaticScales {
   double force, displacement;
 };
-StaticScales ComputeScales(const Eigen::VectorXd& f, const Eigen::VectorXd& bound, double k,
-                           const std::vector<ContactNode>& nodes) {
-  double force = std::max(f.lpNorm<Eigen::Infinity>(), bound.size() ? k * bound.lpNorm<Eigen::Infinity>() : 0.0) / k;
+StaticScales ComputeScales(const Eigen::VectorXd& f, const Eigen::VectorXd& bound,
+                           double k, const std::vector<ContactNode>& nodes) {
+  double force = std::max(f.lpNorm<Eigen::Infinity>(),
+                          bound.size() ? k * bound.lpNorm<Eigen::Infinity>() : 0.0) /
+                 k;
   double displacement = force;
   for (const ContactNode& node : nodes) displacement = std::max(displacement, -node.gap);
   if (force == 0.0) force = displacement;
@@ -52,7 +59,8 @@ StaticScales ComputeScales(const Eigen::VectorXd& f, const Eigen::VectorXd& boun
 }
 
 /// The solution of one solve in newtons and metres (k: the stiffness scale of S = K / k).
-void StoreSolution(const ContactSystem::Result& r, double k, StaticContactResult* result) {
+void StoreSolution(const ContactSystem::Result& r, double k,
+                   StaticContactResult* result) {
   result->u = r.x;
   result->normal_force = k * r.normal_force;
   result->tangent_force = k * r.tangent_force;
@@ -79,12 +87,14 @@ StaticContactResult SolveStaticContact(int dim, const Eigen::SparseMatrix<double
                               : Eigen::VectorXd::Zero(num_nodes);
   Eigen::VectorXd guess = zero;
   Eigen::VectorXd lambda_previous = Eigen::VectorXd::Zero(num_nodes);
-  const int rounds = options.friction == FrictionLaw::kCoulomb ? options.max_fixed_point_iterations : 1;
+  const int rounds =
+      options.friction == FrictionLaw::kCoulomb ? options.max_fixed_point_iterations : 1;
   ContactSystem system(dim, S, nodes);
   const StaticScales scales = ComputeScales(f, bound, k, nodes);
   for (int round = 0; round < rounds; ++round) {
-    system.Update(q, zero,
-                  options.friction == FrictionLaw::kFrictionless ? Eigen::VectorXd() : bound);
+    system.Update(
+        q, zero,
+        options.friction == FrictionLaw::kFrictionless ? Eigen::VectorXd() : bound);
     system.SetResidualScales(scales.force, scales.displacement);
     ncp::Vector z = system.StartPoint(guess);
     solver.Solve(system, &z, &result.last_summary);
@@ -103,12 +113,13 @@ StaticContactResult SolveStaticContact(int dim, const Eigen::SparseMatrix<double
       return result;
     }
     // Coulomb by fixed point: g_c = f_c lambda_c of the previous iterate.
-    const double change = (result.normal_force - lambda_previous).lpNorm<Eigen::Infinity>();
+    const double change =
+        (result.normal_force - lambda_previous).lpNorm<Eigen::Infinity>();
     const double scale = std::max(result.normal_force.lpNorm<Eigen::Infinity>(), 1e-300);
     if (round > 0 && change <= options.fixed_point_tolerance * scale) {
       result.converged = true;
-      result.message = "Coulomb fixed point converged after " + std::to_string(round + 1) +
-                       " Tresca solves";
+      result.message = "Coulomb fixed point converged after " +
+                       std::to_string(round + 1) + " Tresca solves";
       return result;
     }
     lambda_previous = result.normal_force;
@@ -126,10 +137,12 @@ StaticContactResult SolveStaticContactIpopt(int dim, const Eigen::SparseMatrix<d
                                             const std::vector<ContactNode>& nodes,
                                             double tolerance) {
   // Rows of G: n_c . u_c <= s_c (the linearized non-penetration condition); G = Y R.
-  const RestrictionMaps maps = MakeRestrictionMaps(dim, static_cast<int>(K.cols()), nodes);
+  const RestrictionMaps maps =
+      MakeRestrictionMaps(dim, static_cast<int>(K.cols()), nodes);
   const Eigen::SparseMatrix<double> G = maps.Y * maps.R;
   Eigen::VectorXd h(static_cast<Eigen::Index>(nodes.size()));
-  for (size_t c = 0; c < nodes.size(); ++c) h(static_cast<Eigen::Index>(c)) = nodes[c].gap;
+  for (size_t c = 0; c < nodes.size(); ++c)
+    h(static_cast<Eigen::Index>(c)) = nodes[c].gap;
   ConvexQpOptions qp_options;
   qp_options.tolerance = tolerance;
   const Eigen::VectorXd x0 = Eigen::VectorXd::Zero(K.cols());

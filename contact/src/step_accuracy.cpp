@@ -8,10 +8,11 @@ namespace contact::internal {
 
 StepScales ComputeStepScales(const Eigen::VectorXd& f, const Eigen::VectorXd& Ku,
                              double contact_force_max, const Eigen::VectorXd& du_previous,
-                             const std::vector<ContactNode>& nodes, const Eigen::VectorXd& u,
-                             double m_max, double dt) {
+                             const std::vector<ContactNode>& nodes,
+                             const Eigen::VectorXd& u, double m_max, double dt) {
   StepScales out;
-  out.force = std::max({f.lpNorm<Eigen::Infinity>(), Ku.lpNorm<Eigen::Infinity>(), contact_force_max});
+  out.force = std::max(
+      {f.lpNorm<Eigen::Infinity>(), Ku.lpNorm<Eigen::Infinity>(), contact_force_max});
   double penetration = 0.0;
   for (const ContactNode& node : nodes) {
     double un = 0.0;
@@ -20,37 +21,45 @@ StepScales ComputeStepScales(const Eigen::VectorXd& f, const Eigen::VectorXd& Ku
     penetration = std::max(penetration, un - node.gap);
   }
   const double step_of_force = out.force * dt * dt / m_max;
-  out.displacement = std::max({du_previous.lpNorm<Eigen::Infinity>(), step_of_force, penetration});
+  out.displacement =
+      std::max({du_previous.lpNorm<Eigen::Infinity>(), step_of_force, penetration});
   if (out.force == 0.0) out.force = out.displacement * m_max / (dt * dt);
-  if (out.force == 0.0) out.force = out.displacement = 1.0;  // nothing moves, loads or touches
+  if (out.force == 0.0)
+    out.force = out.displacement = 1.0;  // nothing moves, loads or touches
   return out;
 }
 
-void SetAskedAccuracy(double tolerance, const StepScales& scales, const Eigen::VectorXd& Q,
-                      const Eigen::VectorXd& Mdu, double dt, const Eigen::VectorXd& u_next,
-                      const Eigen::VectorXd& gap0, StepRecord* rec) {
+void SetAskedAccuracy(double tolerance, const StepScales& scales,
+                      const Eigen::VectorXd& Q, const Eigen::VectorXd& Mdu, double dt,
+                      const Eigen::VectorXd& u_next, const Eigen::VectorXd& gap0,
+                      StepRecord* rec) {
   const double eps = std::numeric_limits<double>::epsilon();
-  rec->force_accuracy = tolerance * scales.force +
-                        ContactSystem::kRoundoffUlps * eps *
-                            (Q.lpNorm<Eigen::Infinity>() + Mdu.lpNorm<Eigen::Infinity>() / (dt * dt));
-  rec->displacement_accuracy = tolerance * scales.displacement +
-                               ContactSystem::kRoundoffUlps * eps *
-                                   (u_next.lpNorm<Eigen::Infinity>() + gap0.lpNorm<Eigen::Infinity>());
+  rec->force_accuracy =
+      tolerance * scales.force +
+      ContactSystem::kRoundoffUlps * eps *
+          (Q.lpNorm<Eigen::Infinity>() + Mdu.lpNorm<Eigen::Infinity>() / (dt * dt));
+  rec->displacement_accuracy =
+      tolerance * scales.displacement +
+      ContactSystem::kRoundoffUlps * eps *
+          (u_next.lpNorm<Eigen::Infinity>() + gap0.lpNorm<Eigen::Infinity>());
 }
 
 // Accuracy of a completed step, recomputed from the state in newtons and metres:
-//   equilibrium: r = M (u^{k+1} - 2u^k + u^{k-1}) / dt^2 + K u^k - f^k (given) must equal the
+//   equilibrium: r = M (u^{k+1} - 2u^k + u^{k-1}) / dt^2 + K u^k - f^k (given) must equal
+//   the
 //     contact forces -lambda_c n_c + tau_c at the contact nodes and 0 elsewhere;
 //   penetration: max(0, -(s_c - n_c . u^{k+1}_c));
 //   complementarity: lambda_c >= 0, and lambda_c = 0 where the gap is open by more than
 //     kAccuracySlack displacement accuracies;
-//   friction: |tau_c| <= g_c, and tau_c = -g_c slip_c / |slip_c| where the node slips by more
+//   friction: |tau_c| <= g_c, and tau_c = -g_c slip_c / |slip_c| where the node slips by
+//   more
 //     than kAccuracySlack displacement accuracies (g_c [N] the step's Tresca bound), its
 //     direction to within the angle that the slip's own accuracy leaves (see below).
-void MeasureStepAccuracy(int dim, const std::vector<ContactNode>& nodes, const Eigen::VectorXd& r,
-                         const ContactSystem::Result& contact, double force_scale,
-                         const Eigen::VectorXd& u_next, const Eigen::VectorXd& bound,
-                         Eigen::VectorXd* residual, StepRecord* rec) {
+void MeasureStepAccuracy(int dim, const std::vector<ContactNode>& nodes,
+                         const Eigen::VectorXd& r, const ContactSystem::Result& contact,
+                         double force_scale, const Eigen::VectorXd& u_next,
+                         const Eigen::VectorXd& bound, Eigen::VectorXd* residual,
+                         StepRecord* rec) {
   // (bound and the contact result in system units: times force_scale for newtons.)
   *residual = r;  // minus the contact forces below
   double penetration = 0.0, complementarity = 0.0, friction = 0.0;
@@ -81,14 +90,16 @@ void MeasureStepAccuracy(int dim, const std::vector<ContactNode>& nodes, const E
     friction = std::max(friction, tau.norm() - g);
     const double slack_of_slip = kAccuracySlack * rec->displacement_accuracy;
     if (slip.norm() > slack_of_slip) {  // slipping: tau = -g s/|s| (s = slip)
-      // Along the slip, |tau| must reach g. Across it, the slip - right to slack_of_slip in each
-      // component - fixes its direction only to within the angle slack_of_slip / |s|, so tau
-      // may lean off -s by g times that angle before it violates the law (at |s| >> the
-      // accuracy this is no allowance; at a slip just above it, tau's direction is not data).
+      // Along the slip, |tau| must reach g. Across it, the slip - right to slack_of_slip
+      // in each component - fixes its direction only to within the angle slack_of_slip /
+      // |s|, so tau may lean off -s by g times that angle before it violates the law (at
+      // |s| >> the accuracy this is no allowance; at a slip just above it, tau's
+      // direction is not data).
       const Eigen::Vector2d direction = slip / slip.norm();
       const double along = tau.dot(direction) + g;
       const double across = (tau - tau.dot(direction) * direction).norm();
-      const double lean = std::max(0.0, across - g * std::min(1.0, slack_of_slip / slip.norm()));
+      const double lean =
+          std::max(0.0, across - g * std::min(1.0, slack_of_slip / slip.norm()));
       friction = std::max(friction, std::hypot(along, lean));
     }
   }

@@ -1,5 +1,6 @@
-// The accuracy of a dynamic step in physical units: the scales it is solved against and what
-// it reached, recomputed from the state (contact/dynamics_types.hpp, kAccuracySlack).
+// The accuracy of a dynamic step in physical units: the scales it is solved against and
+// what it reached, recomputed from the state (contact/dynamics_types.hpp,
+// kAccuracySlack).
 #pragma once
 
 #include <Eigen/Core>
@@ -15,27 +16,31 @@ struct StepScales {
   double displacement = 0.0;  ///< D [m]
 };
 
-/// F = max(|f^k|_inf, |K u^k|_inf, |r^k|_inf) and D = max(|u^k - u^{k-1}|_inf, F dt^2 / m_max,
-/// max_c -gap_c) with the fallbacks of dynamics_types.hpp (kAccuracySlack) (contact_force_max = |r^k|_inf [N]).
+/// F = max(|f^k|_inf, |K u^k|_inf, |r^k|_inf) and D = max(|u^k - u^{k-1}|_inf, F dt^2 /
+/// m_max, max_c -gap_c) with the fallbacks of dynamics_types.hpp (kAccuracySlack)
+/// (contact_force_max = |r^k|_inf [N]).
 StepScales ComputeStepScales(const Eigen::VectorXd& f, const Eigen::VectorXd& Ku,
                              double contact_force_max, const Eigen::VectorXd& du_previous,
-                             const std::vector<ContactNode>& nodes, const Eigen::VectorXd& u,
-                             double m_max, double dt);
+                             const std::vector<ContactNode>& nodes,
+                             const Eigen::VectorXd& u, double m_max, double dt);
 
 /// The accuracy a step is asked for, into rec->force_accuracy [N] and
-/// rec->displacement_accuracy [m]: tolerance times the scales plus the round-off of the terms
-/// of r = M du / dt^2 + Q (Q = Q^k, Mdu = M du) and of the positions (u^{k+1}, the gaps s_c).
-void SetAskedAccuracy(double tolerance, const StepScales& scales, const Eigen::VectorXd& Q,
-                      const Eigen::VectorXd& Mdu, double dt, const Eigen::VectorXd& u_next,
-                      const Eigen::VectorXd& gap0, StepRecord* rec);
+/// rec->displacement_accuracy [m]: tolerance times the scales plus the round-off of the
+/// terms of r = M du / dt^2 + Q (Q = Q^k, Mdu = M du) and of the positions (u^{k+1}, the
+/// gaps s_c).
+void SetAskedAccuracy(double tolerance, const StepScales& scales,
+                      const Eigen::VectorXd& Q, const Eigen::VectorXd& Mdu, double dt,
+                      const Eigen::VectorXd& u_next, const Eigen::VectorXd& gap0,
+                      StepRecord* rec);
 
 /// Accuracy of a completed step, recomputed from the state in newtons and metres (the
 /// residuals, penetration and `accurate` of rec; rec's asked accuracies must be set).
 /// r = M (u^{k+1} - 2u^k + u^{k-1}) / dt^2 + K u^k - f^k [N]; contact and bound in system
 /// units (times force_scale for newtons). *residual = r minus the contact forces.
-void MeasureStepAccuracy(int dim, const std::vector<ContactNode>& nodes, const Eigen::VectorXd& r,
-                         const ContactSystem::Result& contact, double force_scale,
-                         const Eigen::VectorXd& u_next, const Eigen::VectorXd& bound,
-                         Eigen::VectorXd* residual, StepRecord* rec);
+void MeasureStepAccuracy(int dim, const std::vector<ContactNode>& nodes,
+                         const Eigen::VectorXd& r, const ContactSystem::Result& contact,
+                         double force_scale, const Eigen::VectorXd& u_next,
+                         const Eigen::VectorXd& bound, Eigen::VectorXd* residual,
+                         StepRecord* rec);
 
 }  // namespace contact::internal

@@ -2,18 +2,21 @@
 //
 //   contact-sim SCENE.toml [--json] [--step auto|condensed|sparse|full|explicit|ipopt]
 //                          [--ncp-function fb|min|penalized-fb] [--dt S] [--friction F]
-//                          [--friction-formulation lagged-bound|coulomb-fc] [--end-time S]
+//                          [--friction-formulation lagged-bound|coulomb-fc] [--end-time
+//                          S]
 //                          [--output DIR] [--resume] [--quiet]
-//   mpiexec -n R contact-sim SCENE.toml ...   (built with PETSc: the explicit step on R ranks,
-//                                             docs/petsc.md "Contact scenes on MPI ranks")
-#include <cxxopts.hpp>
+//   mpiexec -n R contact-sim SCENE.toml ...   (built with PETSc: the explicit step on R
+//   ranks,
+//                                             docs/petsc.md "Contact scenes on MPI
+//                                             ranks")
 #include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <csignal>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
+#include <cxxopts.hpp>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
@@ -33,7 +36,8 @@ namespace {
 // second signal ends the process at once.
 std::atomic<bool> g_stop_requested{false};
 volatile std::sig_atomic_t g_stop_signal = 0;
-static_assert(std::atomic<bool>::is_always_lock_free, "the stop flag is set in a signal handler");
+static_assert(std::atomic<bool>::is_always_lock_free,
+              "the stop flag is set in a signal handler");
 
 extern "C" void RequestStop(int signal_number) {
   g_stop_signal = signal_number;
@@ -65,15 +69,15 @@ std::string TomlString(const std::string& s) {
 
 /// MPI and PETSc when the process was started by mpiexec (OpenMPI, MPICH/PMI or PMIx
 /// set these): a plain `contact-sim SCENE.toml` initializes neither and runs as it always
-/// did. PETSc's options come from the environment variable PETSC_OPTIONS (the command line
-/// is contact-sim's). On ranks other than 0 stdout and stderr go to /dev/null; a rank's own
-/// failure is still printed, on the stderr kept in error_fd.
+/// did. PETSc's options come from the environment variable PETSC_OPTIONS (the command
+/// line is contact-sim's). On ranks other than 0 stdout and stderr go to /dev/null; a
+/// rank's own failure is still printed, on the stderr kept in error_fd.
 class MpiSession {
  public:
   MpiSession() {
 #ifdef CONTACT_SIM_WITH_PETSC
-    const bool launched = std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE") ||
-                          std::getenv("PMIX_RANK");
+    const bool launched = std::getenv("OMPI_COMM_WORLD_SIZE") ||
+                          std::getenv("PMI_SIZE") || std::getenv("PMIX_RANK");
     if (!launched) return;
     if (PetscInitialize(nullptr, nullptr, nullptr, nullptr) != 0) {
       std::fprintf(stderr, "contact-sim: PetscInitialize failed\n");
@@ -86,13 +90,18 @@ class MpiSession {
     // rank rank 0 of 1: refuse rather than run R copies of the serial run.
     const char* launched_size = std::getenv("OMPI_COMM_WORLD_SIZE");
     if (launched_size && std::atoi(launched_size) != size_) {
-      std::fprintf(stderr, "contact-sim: mpiexec started %s processes but MPI reports %d: MPI_Init is bound to "
-                           "a one-process stub (link libmpi before Ipopt's sequential MUMPS)\n", launched_size, size_);
+      std::fprintf(stderr,
+                   "contact-sim: mpiexec started %s processes but MPI reports %d: "
+                   "MPI_Init is bound to "
+                   "a one-process stub (link libmpi before Ipopt's sequential MUMPS)\n",
+                   launched_size, size_);
       std::exit(1);
     }
     if (rank_ != 0) {
       error_fd_ = dup(2);
-      if (!std::freopen("/dev/null", "w", stdout) || !std::freopen("/dev/null", "w", stderr)) error_fd_ = -1;
+      if (!std::freopen("/dev/null", "w", stdout) ||
+          !std::freopen("/dev/null", "w", stderr))
+        error_fd_ = -1;
     }
 #endif
   }
@@ -110,9 +119,13 @@ class MpiSession {
   /// A failure of this rank alone: printed (on rank > 0 with its rank), then every rank
   /// is stopped (MPI_Abort) - the others may be waiting for this one.
   [[noreturn]] void AbortRun(const std::string& what) const {
-    const std::string line = "contact-sim: " + (rank_ > 0 ? "[rank " + std::to_string(rank_) + "] " : "") + what + "\n";
-    if (rank_ == 0) std::fputs(line.c_str(), stderr);
-    else if (error_fd_ >= 0 && write(error_fd_, line.data(), line.size()) < 0) {}
+    const std::string line =
+        "contact-sim: " + (rank_ > 0 ? "[rank " + std::to_string(rank_) + "] " : "") +
+        what + "\n";
+    if (rank_ == 0)
+      std::fputs(line.c_str(), stderr);
+    else if (error_fd_ >= 0 && write(error_fd_, line.data(), line.size()) < 0) {
+    }
 #ifdef CONTACT_SIM_WITH_PETSC
     MPI_Abort(PETSC_COMM_WORLD, 1);
 #endif
@@ -127,26 +140,33 @@ class MpiSession {
 
 /// The command line; "scene" is the positional argument.
 cxxopts::Options MakeCli() {
-  cxxopts::Options cli("contact-sim", "Elastodynamic contact of a body with a rigid obstacle");
+  cxxopts::Options cli("contact-sim",
+                       "Elastodynamic contact of a body with a rigid obstacle");
   cli.add_options()("scene", "scene file (TOML)", cxxopts::value<std::string>())(
       "json", "print one JSON summary object on stdout")(
-      "step", "override solver.step: auto, condensed, sparse, full, explicit, ipopt", cxxopts::value<std::string>())(
-      "ncp-function", "override solver.ncp_function: fb, min, penalized-fb", cxxopts::value<std::string>())(
-      "solver", "replaced by --ncp-function and --step ipopt", cxxopts::value<std::string>())(
+      "step", "override solver.step: auto, condensed, sparse, full, explicit, ipopt",
+      cxxopts::value<std::string>())(
+      "ncp-function", "override solver.ncp_function: fb, min, penalized-fb",
+      cxxopts::value<std::string>())("solver",
+                                     "replaced by --ncp-function and --step ipopt",
+                                     cxxopts::value<std::string>())(
       "dt", "override time.dt [s]", cxxopts::value<std::string>())(
       "end-time", "override time.end_time [s]", cxxopts::value<std::string>())(
       "friction", "override friction.coefficient", cxxopts::value<std::string>())(
-      "friction-formulation", "override solver.friction: lagged-bound, coulomb-fc", cxxopts::value<std::string>())(
-      "tolerance", "override solver.tolerance", cxxopts::value<std::string>())(
+      "friction-formulation", "override solver.friction: lagged-bound, coulomb-fc",
+      cxxopts::value<std::string>())("tolerance", "override solver.tolerance",
+                                     cxxopts::value<std::string>())(
       "output", "override output.directory", cxxopts::value<std::string>())(
       "no-output", "write no files")(
-      "distributed", "run through PETSc DMPlex even on one MPI rank (under mpiexec: the explicit step)")(
-      "resume", "continue the run from the checkpoint in the output directory (checkpoint.bin, "
-                "written every output.checkpoint_every steps and when interrupted); the scene "
-                "and its overrides must be the same")(
-      "quiet", "no progress lines, notes or warnings; a run that does not complete prints its "
-               "reason once and no table")(
-      "h,help", "show this help");
+      "distributed",
+      "run through PETSc DMPlex even on one MPI rank (under mpiexec: the explicit step)")(
+      "resume",
+      "continue the run from the checkpoint in the output directory (checkpoint.bin, "
+      "written every output.checkpoint_every steps and when interrupted); the scene "
+      "and its overrides must be the same")(
+      "quiet",
+      "no progress lines, notes or warnings; a run that does not complete prints its "
+      "reason once and no table")("h,help", "show this help");
   cli.parse_positional({"scene"});
   cli.positional_help("SCENE.toml");
   return cli;
@@ -156,13 +176,17 @@ cxxopts::Options MakeCli() {
 /// file's values (same ranges).
 contact::SceneOverrides OverridesOf(const cxxopts::ParseResult& args) {
   contact::SceneOverrides overrides;
-  const std::pair<const char*, const char*> string_options[] = {{"ncp-function", "solver.ncp_function"},
-                                                                {"step", "solver.step"},
-                                                                {"friction-formulation", "solver.friction"}};
+  const std::pair<const char*, const char*> string_options[] = {
+      {"ncp-function", "solver.ncp_function"},
+      {"step", "solver.step"},
+      {"friction-formulation", "solver.friction"}};
   for (const auto& [option, key] : string_options)
-    if (args.count(option)) overrides.emplace_back(key, TomlString(args[option].as<std::string>()));
+    if (args.count(option))
+      overrides.emplace_back(key, TomlString(args[option].as<std::string>()));
   const std::pair<const char*, const char*> number_options[] = {
-      {"dt", "time.dt"}, {"end-time", "time.end_time"}, {"friction", "friction.coefficient"},
+      {"dt", "time.dt"},
+      {"end-time", "time.end_time"},
+      {"friction", "friction.coefficient"},
       {"tolerance", "solver.tolerance"}};
   for (const auto& [option, key] : number_options)
     if (args.count(option)) overrides.emplace_back(key, args[option].as<std::string>());
@@ -171,28 +195,39 @@ contact::SceneOverrides OverridesOf(const cxxopts::ParseResult& args) {
 
 /// The human-readable summary (the thesis's table columns dt, f_c, k_sim, N_Jac, N_func,
 /// t_comp, then the accuracy and energy balance of the run).
-void PrintReport(std::FILE* table, const contact::Scene& scene, const contact::SceneResult& r) {
+void PrintReport(std::FILE* table, const contact::Scene& scene,
+                 const contact::SceneResult& r) {
   const contact::DynamicSummary& s = r.summary;
   // A run that did not complete has its reason on stderr already (main): not twice.
   if (s.status == contact::DynamicStatus::kCompleted)
-    std::fprintf(table, "%s: %s (%s)\n", scene.name.c_str(), contact::ToString(s.status), s.message.c_str());
+    std::fprintf(table, "%s: %s (%s)\n", scene.name.c_str(), contact::ToString(s.status),
+                 s.message.c_str());
   else
-    std::fprintf(table, "%s: %s (the reason is above)\n", scene.name.c_str(), contact::ToString(s.status));
-  std::fprintf(table, "  %d dofs (%d free), %d elements, %d contact nodes, dt_crit = %.4g s\n", r.num_dofs,
-               r.num_free_dofs, r.num_elements, r.num_contact_nodes, s.critical_time_step);
-  std::fprintf(table, "  %-10s %-6s %-7s %-8s %-8s %-10s\n", "dt", "f_c", "k_sim", "N_Jac", "N_func", "t_comp[s]");
-  std::fprintf(table, "  %-10g %-6g %-7d %-8ld %-8ld %-10.4f\n", scene.dynamics.dt, scene.friction_coefficient,
-               s.steps, s.jacobian_evaluations, s.residual_evaluations, s.seconds);
+    std::fprintf(table, "%s: %s (the reason is above)\n", scene.name.c_str(),
+                 contact::ToString(s.status));
   std::fprintf(table,
-               "  accuracy over all steps: equilibrium residual %.3e N, penetration %.3e m, contact "
-               "residual %.3e N, friction-law violation %.3e N (%d steps outside %g x their accuracy)\n",
-               s.max_equilibrium_residual, s.max_penetration, s.max_complementarity_residual,
-               s.max_friction_residual, s.inaccurate_steps, contact::kAccuracySlack);
+               "  %d dofs (%d free), %d elements, %d contact nodes, dt_crit = %.4g s\n",
+               r.num_dofs, r.num_free_dofs, r.num_elements, r.num_contact_nodes,
+               s.critical_time_step);
+  std::fprintf(table, "  %-10s %-6s %-7s %-8s %-8s %-10s\n", "dt", "f_c", "k_sim",
+               "N_Jac", "N_func", "t_comp[s]");
+  std::fprintf(table, "  %-10g %-6g %-7d %-8ld %-8ld %-10.4f\n", scene.dynamics.dt,
+               scene.friction_coefficient, s.steps, s.jacobian_evaluations,
+               s.residual_evaluations, s.seconds);
+  std::fprintf(table,
+               "  accuracy over all steps: equilibrium residual %.3e N, penetration %.3e "
+               "m, contact "
+               "residual %.3e N, friction-law violation %.3e N (%d steps outside %g x "
+               "their accuracy)\n",
+               s.max_equilibrium_residual, s.max_penetration,
+               s.max_complementarity_residual, s.max_friction_residual,
+               s.inaccurate_steps, contact::kAccuracySlack);
   std::fprintf(table, "  energy balance error %.3e J\n", s.energy_balance_error);
 }
 
 /// The --json summary object.
-nlohmann::json JsonSummary(const contact::Scene& scene, const contact::SceneResult& r, int ranks) {
+nlohmann::json JsonSummary(const contact::Scene& scene, const contact::SceneResult& r,
+                           int ranks) {
   const contact::DynamicSummary& s = r.summary;
   nlohmann::json j;
   j["scene"] = scene.name;
@@ -200,7 +235,8 @@ nlohmann::json JsonSummary(const contact::Scene& scene, const contact::SceneResu
   j["message"] = s.message;
   j["steps"] = s.steps;
   j["newton_iterations"] = s.newton_iterations;
-  j["jacobian_evaluations"] = s.jacobian_evaluations;  // the names of contact.run().summary
+  j["jacobian_evaluations"] =
+      s.jacobian_evaluations;  // the names of contact.run().summary
   j["residual_evaluations"] = s.residual_evaluations;
   j["friction_restarts"] = s.friction_restarts;
   j["seconds"] = s.seconds;
@@ -232,18 +268,21 @@ nlohmann::json JsonSummary(const contact::Scene& scene, const contact::SceneResu
   j["free_dofs"] = r.num_free_dofs;
   j["contact_nodes"] = r.num_contact_nodes;
   j["ranks"] = ranks;
-  if (s.max_ipopt_relative_difference >= 0) j["max_ipopt_relative_difference"] = s.max_ipopt_relative_difference;
+  if (s.max_ipopt_relative_difference >= 0)
+    j["max_ipopt_relative_difference"] = s.max_ipopt_relative_difference;
   return j;
 }
 
 /// The scene on the MPI ranks (contact::petsc): only the explicit step; a scene it cannot
 /// run is refused alike on every rank. Between steps it reads no stop request (mpiexec
 /// passes SIGINT on and the run ends there).
-contact::SceneResult RunDistributed(const contact::Scene& scene, const MpiSession& mpi, bool progress) {
+contact::SceneResult RunDistributed(const contact::Scene& scene, const MpiSession& mpi,
+                                    bool progress) {
 #ifdef CONTACT_SIM_WITH_PETSC
   const std::string why_not = contact::petsc::WhyNotDistributed(scene);
   if (!why_not.empty())
-    throw contact::SceneError(why_not + " [" + std::to_string(mpi.size()) + " MPI ranks]");
+    throw contact::SceneError(why_not + " [" + std::to_string(mpi.size()) +
+                              " MPI ranks]");
   try {
     return contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, progress);
   } catch (const contact::SceneError&) {
@@ -259,10 +298,11 @@ contact::SceneResult RunDistributed(const contact::Scene& scene, const MpiSessio
 
 }  // namespace
 
-// Exit codes: 0 completed, 1 refused input (scene, mesh, option value, a --resume without a
-// usable checkpoint of the same scene) or a run that did not complete, 2 usage error
-// (unknown option, missing scene, option without its value), 3 an output file could not be written (its name and the reason on stderr), 128 + the signal
-// (130 SIGINT, 143 SIGTERM) for a run stopped by a signal after a finished step.
+// Exit codes: 0 completed, 1 refused input (scene, mesh, option value, a --resume without
+// a usable checkpoint of the same scene) or a run that did not complete, 2 usage error
+// (unknown option, missing scene, option without its value), 3 an output file could not
+// be written (its name and the reason on stderr), 128 + the signal (130 SIGINT, 143
+// SIGTERM) for a run stopped by a signal after a finished step.
 int main(int argc, char** argv) {
   const MpiSession mpi;
   cxxopts::Options cli = MakeCli();
@@ -270,7 +310,8 @@ int main(int argc, char** argv) {
   try {
     args = cli.parse(argc, argv);
   } catch (const std::exception& e) {
-    std::cerr << "contact-sim: usage error: " << e.what() << "\n" << cli.help() << std::endl;
+    std::cerr << "contact-sim: usage error: " << e.what() << "\n"
+              << cli.help() << std::endl;
     return 2;
   }
   if (args.count("help")) {
@@ -278,34 +319,40 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (args.count("solver")) {
-    std::cerr << "contact-sim: usage error: --solver was replaced: --ncp-function fb|min|penalized-fb "
+    std::cerr << "contact-sim: usage error: --solver was replaced: --ncp-function "
+                 "fb|min|penalized-fb "
                  "for the semismooth Newton steps, --step ipopt for Ipopt\n";
     return 2;
   }
   if (!args.count("scene")) {
-    std::cerr << "contact-sim: usage error: no scene file given\n" << cli.help() << std::endl;
+    std::cerr << "contact-sim: usage error: no scene file given\n"
+              << cli.help() << std::endl;
     return 2;
   }
   if (args.count("distributed") && !mpi.active()) {
-    std::cerr << "contact-sim: usage error: --distributed needs a contact-sim built with PETSc and started "
+    std::cerr << "contact-sim: usage error: --distributed needs a contact-sim built with "
+                 "PETSc and started "
                  "by mpiexec\n";
     return 2;
   }
-  const bool distributed = mpi.active() && (mpi.size() > 1 || args.count("distributed") > 0);
+  const bool distributed =
+      mpi.active() && (mpi.size() > 1 || args.count("distributed") > 0);
   const bool json = args.count("json") > 0, quiet = args.count("quiet") > 0;
   contact::Scene scene;
   contact::SceneResult r;
   try {
     scene = contact::LoadScene(args["scene"].as<std::string>(), OverridesOf(args));
     if (!quiet)
-      for (const std::string& w : scene.warnings) std::fprintf(stderr, "contact-sim: warning: %s\n", w.c_str());
+      for (const std::string& w : scene.warnings)
+        std::fprintf(stderr, "contact-sim: warning: %s\n", w.c_str());
     if (args.count("output")) scene.output_directory = args["output"].as<std::string>();
     if (args.count("no-output")) scene.output_directory.clear();
     if (distributed) {
       if (args.count("resume"))
-        throw contact::SceneError("--resume is not supported on MPI ranks yet (checkpoints are "
-                                  "written by one-process runs only) [" +
-                                  std::to_string(mpi.size()) + " MPI ranks]");
+        throw contact::SceneError(
+            "--resume is not supported on MPI ranks yet (checkpoints are "
+            "written by one-process runs only) [" +
+            std::to_string(mpi.size()) + " MPI ranks]");
       r = RunDistributed(scene, mpi, !quiet);
     } else {
       scene.dynamics.stop_requested = &g_stop_requested;
@@ -319,7 +366,8 @@ int main(int argc, char** argv) {
     std::cerr << "contact-sim: cannot resume: " << e.what() << std::endl;
     return 1;
   } catch (const ncp::OutputError& e) {
-    std::cerr << "contact-sim: output failed, the run is incomplete: " << e.what() << std::endl;
+    std::cerr << "contact-sim: output failed, the run is incomplete: " << e.what()
+              << std::endl;
     return 3;
   } catch (const std::exception& e) {
     std::cerr << "contact-sim: " << e.what() << std::endl;
@@ -327,33 +375,39 @@ int main(int argc, char** argv) {
   }
   const contact::DynamicSummary& s = r.summary;
   if (r.resumed_from_step >= 0 && !quiet)
-    std::fprintf(stderr, "contact-sim: resumed from the checkpoint of step %d\n", r.resumed_from_step);
+    std::fprintf(stderr, "contact-sim: resumed from the checkpoint of step %d\n",
+                 r.resumed_from_step);
   // The JSON first: if stdout cannot take it, the run's result is lost - exit 3 without a
   // report that says completed.
   if (json) std::cout << JsonSummary(scene, r, mpi.size()).dump(2) << std::endl;
   if (json && (std::fflush(stdout) != 0 || std::ferror(stdout))) {
-    std::fprintf(stderr, "contact-sim: writing the JSON summary to stdout failed: the result is lost\n");
+    std::fprintf(
+        stderr,
+        "contact-sim: writing the JSON summary to stdout failed: the result is lost\n");
     return 3;
   }
   std::FILE* table = json ? stderr : stdout;
-  // A run that did not complete says why, once, on stderr (with --quiet and --json too); a
-  // refused run (nothing run) or a quiet one prints no table after it.
+  // A run that did not complete says why, once, on stderr (with --quiet and --json too);
+  // a refused run (nothing run) or a quiet one prints no table after it.
   const bool completed = s.status == contact::DynamicStatus::kCompleted;
   if (!completed)
-    std::fprintf(stderr, "contact-sim: %s: %s (%s)\n", scene.source.c_str(), contact::ToString(s.status),
-                 s.message.c_str());
+    std::fprintf(stderr, "contact-sim: %s: %s (%s)\n", scene.source.c_str(),
+                 contact::ToString(s.status), s.message.c_str());
   if (s.status == contact::DynamicStatus::kInterrupted && r.checkpoint_step >= 0)
     std::fprintf(stderr,
-                 "contact-sim: checkpoint of step %d written into %s; the same command with --resume "
+                 "contact-sim: checkpoint of step %d written into %s; the same command "
+                 "with --resume "
                  "continues the run\n",
                  r.checkpoint_step, scene.output_directory.c_str());
   if (completed || (!quiet && s.steps > 0)) PrintReport(table, scene, r);
   if (!r.files_written.empty() && !quiet)
-    std::fprintf(stderr, "  wrote %zu files into %s\n", r.files_written.size(), scene.output_directory.c_str());
+    std::fprintf(stderr, "  wrote %zu files into %s\n", r.files_written.size(),
+                 scene.output_directory.c_str());
   if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
     std::fprintf(stderr, "contact-sim: writing the report to stdout failed\n");
     return 3;
   }
-  if (s.status == contact::DynamicStatus::kInterrupted) return 128 + static_cast<int>(g_stop_signal);
+  if (s.status == contact::DynamicStatus::kInterrupted)
+    return 128 + static_cast<int>(g_stop_signal);
   return s.status == contact::DynamicStatus::kCompleted ? 0 : 1;
 }

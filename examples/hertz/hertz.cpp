@@ -83,7 +83,6 @@ class HertzProblem {
     mesh_ = contact::MakeQuarterDiskMesh(disk);
   }
 
-
   // K and f on the free dofs, contact frames against the floor (normal -e_y, gap = y).
   void assemble() {
     const contact::ElasticBody body(mesh_, data_.steel);

@@ -1,7 +1,7 @@
 // ncp-collection: runs every problem of the standard collection from every standard
-// start point with the Fischer-Burmeister, min and penalized FB functions, and prints one line each.
-// The last column is the natural residual ||x - mid(l, u, x - F(x))||_inf recomputed
-// here from the problem data, independently of the solver's own Summary.
+// start point with the Fischer-Burmeister, min and penalized FB functions, and prints one
+// line each. The last column is the natural residual ||x - mid(l, u, x - F(x))||_inf
+// recomputed here from the problem data, independently of the solver's own Summary.
 //
 // Usage: ncp-collection [--markdown]
 #include <cstdio>
@@ -21,7 +21,8 @@ int main(int argc, char** argv) {
   if (markdown) {
     std::printf(
         "| problem | n | start | function | status | iterations | Jacobian evals | "
-        "residual evals | merit restarts | strategy switches | ||Phi||_inf | natural residual | "
+        "residual evals | merit restarts | strategy switches | ||Phi||_inf | natural "
+        "residual | "
         "documented failure |\n"
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   } else {
@@ -32,7 +33,7 @@ int main(int argc, char** argv) {
   int runs = 0, converged = 0, false_claims = 0, expected = 0;
   for (ncp::collection::TestProblem& p : problems) {
     for (NcpFunction function : {NcpFunction::kFischerBurmeister, NcpFunction::kMin,
-                                  NcpFunction::kPenalizedFischerBurmeister}) {
+                                 NcpFunction::kPenalizedFischerBurmeister}) {
       for (const ncp::collection::StartPoint& start : p.starts) {
         ncp::Options options;
         options.ncp_function = function;
@@ -50,16 +51,18 @@ int main(int argc, char** argv) {
         // The hybrid default's switches (Options::hybrid): "penalized-fb@51 min@101 ...".
         std::string switches;
         for (const ncp::StrategySwitch& w : summary.strategy_switches)
-          switches += std::string(switches.empty() ? "" : " ") + ncp::ToString(w.to_strategy.ncp_function) +
-                      (w.to_strategy.regularized_direction ? "+lm" : "") + "@" + std::to_string(w.iteration);
+          switches += std::string(switches.empty() ? "" : " ") +
+                      ncp::ToString(w.to_strategy.ncp_function) +
+                      (w.to_strategy.regularized_direction ? "+lm" : "") + "@" +
+                      std::to_string(w.iteration);
         if (markdown) {
-          std::printf("| %s | %d | %s | %s | %s | %d | %d | %d | %d | %s | %.2e | %.2e | %s |\n",
-                      p.name.c_str(), p.NumVariables(), start.label.c_str(),
-                      ncp::ToString(function), ncp::ToString(summary.termination),
-                      summary.iterations, summary.jacobian_evaluations,
-                      summary.residual_evaluations, summary.merit_restarts, switches.c_str(),
-                      summary.final_phi_inf, residual,
-                      documented ? "yes" : "");
+          std::printf(
+              "| %s | %d | %s | %s | %s | %d | %d | %d | %d | %s | %.2e | %.2e | %s |\n",
+              p.name.c_str(), p.NumVariables(), start.label.c_str(),
+              ncp::ToString(function), ncp::ToString(summary.termination),
+              summary.iterations, summary.jacobian_evaluations,
+              summary.residual_evaluations, summary.merit_restarts, switches.c_str(),
+              summary.final_phi_inf, residual, documented ? "yes" : "");
         } else {
           std::printf("%-26s %6d %-9s %-19s %-20s %5d %5d %6d %4d %10.3e %10.3e%s\n",
                       p.name.c_str(), p.NumVariables(), start.label.c_str(),
@@ -68,7 +71,8 @@ int main(int argc, char** argv) {
                       summary.residual_evaluations, summary.merit_restarts,
                       summary.final_phi_inf, residual,
                       documented ? "  (documented failure)" : "");
-          if (!switches.empty()) std::printf("%28s strategies: %s\n", "", switches.c_str());
+          if (!switches.empty())
+            std::printf("%28s strategies: %s\n", "", switches.c_str());
         }
       }
     }

@@ -1,24 +1,26 @@
-// The 2D obstacle problem on PETSc with ncp::petsc: a membrane over (0,1)^2, clamped at the
-// boundary, pushed up by an obstacle:
+// The 2D obstacle problem on PETSc with ncp::petsc: a membrane over (0,1)^2, clamped at
+// the boundary, pushed up by an obstacle:
 //
 //     -Lap u = f,  u >= psi  in (0,1)^2,  complementarity  (u - psi) (-Lap u - f) = 0,
 //     u = 0 on the boundary,
 //
 // with f = 0 and the bump psi(x, y) = 1/2 - 8 |(x, y) - (1/2, 1/2)|^2 (the problem
-// ncp::collection::Obstacle2D(m, kLowerBump) solves on one process). Finite differences on
-// an m x m grid of interior nodes, h = 1/(m + 1), 5-point stencil: the box MCP
+// ncp::collection::Obstacle2D(m, kLowerBump) solves on one process). Finite differences
+// on an m x m grid of interior nodes, h = 1/(m + 1), 5-point stencil: the box MCP
 //
-//     u >= psi  perp  F(u) = h^-2 (4 u_ij - u_i-1,j - u_i+1,j - u_i,j-1 - u_i,j+1) - f_ij.
+//     u >= psi  perp  F(u) = h^-2 (4 u_ij - u_i-1,j - u_i+1,j - u_i,j-1 - u_i,j+1) -
+//     f_ij.
 //
 // Run (docs/petsc.md):
 //   mpiexec -n 2 ./bin/ncp-petsc-obstacle -m 300
-//   mpiexec -n 2 ./bin/ncp-petsc-obstacle -m 1000 -ncp_ksp_type cg -ncp_pc_type gamg -ncp_ksp_rtol 1e-10
+//   mpiexec -n 2 ./bin/ncp-petsc-obstacle -m 1000 -ncp_ksp_type cg -ncp_pc_type gamg
+//   -ncp_ksp_rtol 1e-10
 // Options: -m <interior nodes per direction>, -function fb|min|pfb, -trace (one line per
-// Newton iteration), and every -ncp_ksp_* / -ncp_pc_* option of PETSc for the Newton systems
-// (default: MUMPS LU).
+// Newton iteration), and every -ncp_ksp_* / -ncp_pc_* option of PETSc for the Newton
+// systems (default: MUMPS LU).
 //
-// Copy this file to start your own problem: the grid (a DMDA) gives the layout, Residual()
-// and Jacobian() are all the solver needs, and the bounds are plain Vecs.
+// Copy this file to start your own problem: the grid (a DMDA) gives the layout,
+// Residual() and Jacobian() are all the solver needs, and the bounds are plain Vecs.
 
 #include <petscdmda.h>
 
@@ -43,13 +45,15 @@ class ObstacleProblem {
   // ---- the grid: a DMDA of m x m interior nodes, one unknown each, stencil width 1 ----
   PetscErrorCode MakeGrid() {
     PetscFunctionBeginUser;
-    PetscCall(DMDACreate2d(PETSC_COMM_WORLD, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_STAR, m_,
-                           m_, PETSC_DECIDE, PETSC_DECIDE, 1, 1, nullptr, nullptr, &da_));
+    PetscCall(DMDACreate2d(PETSC_COMM_WORLD, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE,
+                           DMDA_STENCIL_STAR, m_, m_, PETSC_DECIDE, PETSC_DECIDE, 1, 1,
+                           nullptr, nullptr, &da_));
     PetscCall(DMSetFromOptions(da_));
     PetscCall(DMSetUp(da_));
     PetscCall(DMCreateGlobalVector(da_, &u_));
     PetscCall(VecDuplicate(u_, &psi_));
-    PetscCall(DMCreateMatrix(da_, &J_));  // AIJ with the 5-point pattern, rows laid out like u
+    PetscCall(
+        DMCreateMatrix(da_, &J_));  // AIJ with the 5-point pattern, rows laid out like u
     PetscFunctionReturn(0);
   }
 
@@ -85,7 +89,9 @@ class ObstacleProblem {
     PetscCall(DMDAVecGetArray(da_, F, &ff));
     const double inverse_h2 = 1.0 / (h_ * h_);
     // u = 0 on the boundary: a neighbour outside the interior contributes nothing.
-    auto at = [&](PetscInt i, PetscInt j) { return i < 0 || j < 0 || i >= m_ || j >= m_ ? 0.0 : uu[j][i]; };
+    auto at = [&](PetscInt i, PetscInt j) {
+      return i < 0 || j < 0 || i >= m_ || j >= m_ ? 0.0 : uu[j][i];
+    };
     for (PetscInt j = info.ys; j < info.ys + info.ym; ++j)
       for (PetscInt i = info.xs; i < info.xs + info.xm; ++i) {
         const double c = uu[j][i];
@@ -111,7 +117,8 @@ class ObstacleProblem {
         PetscScalar values[5];
         PetscInt count = 0;
         auto add = [&](PetscInt ii, PetscInt jj, double v) {
-          if (ii < 0 || jj < 0 || ii >= m_ || jj >= m_) return;  // boundary node: no unknown
+          if (ii < 0 || jj < 0 || ii >= m_ || jj >= m_)
+            return;  // boundary node: no unknown
           cols[count] = MatStencil{0, jj, ii, 0};
           values[count++] = v;
         };
@@ -133,8 +140,9 @@ class ObstacleProblem {
     problem.residual = [this](Vec u, Vec F) { return Residual(u, F); };
     problem.jacobian = [this](Vec u, Mat J) { return Jacobian(u, J); };
     problem.jacobian_matrix = J_;
-    problem.lower = psi_;     // u >= psi
-    problem.upper = nullptr;  // no upper bound (a Vec of PETSC_INFINITY would say the same)
+    problem.lower = psi_;  // u >= psi
+    problem.upper =
+        nullptr;  // no upper bound (a Vec of PETSC_INFINITY would say the same)
     ncp::petsc::Solver solver(PETSC_COMM_WORLD, options, "ncp_");
     ncp::Summary summary;
     solver.Solve(problem, u_, &summary);
@@ -164,7 +172,8 @@ class ObstacleProblem {
     PetscCall(VecRestoreArrayRead(psi_, &psi));
     PetscCall(VecRestoreArrayRead(F, &f));
     PetscCall(VecDestroy(&F));
-    MPI_Allreduce(&local_residual, natural_residual, 1, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD);
+    MPI_Allreduce(&local_residual, natural_residual, 1, MPI_DOUBLE, MPI_MAX,
+                  PETSC_COMM_WORLD);
     MPI_Allreduce(&local_contact, contact_nodes, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD);
     PetscFunctionReturn(0);
   }
@@ -184,7 +193,8 @@ PetscErrorCode Run() {
   char function[16] = "fb";
   PetscBool trace = PETSC_FALSE;
   PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-m", &m, nullptr));
-  PetscCall(PetscOptionsGetString(nullptr, nullptr, "-function", function, sizeof function, nullptr));
+  PetscCall(PetscOptionsGetString(nullptr, nullptr, "-function", function,
+                                  sizeof function, nullptr));
   PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-trace", &trace, nullptr));
   ncp::Options options;
   options.log_to_stderr = trace;
@@ -192,10 +202,13 @@ PetscErrorCode Run() {
   // u >= psi the start would hold the obstacle's kinks, from which the method needs more
   // iterations (docs/petsc.md gives both counts).
   options.project_start_point = false;
-  if (std::strcmp(function, "min") == 0) options.ncp_function = ncp::NcpFunction::kMin;
-  else if (std::strcmp(function, "pfb") == 0) options.ncp_function = ncp::NcpFunction::kPenalizedFischerBurmeister;
+  if (std::strcmp(function, "min") == 0)
+    options.ncp_function = ncp::NcpFunction::kMin;
+  else if (std::strcmp(function, "pfb") == 0)
+    options.ncp_function = ncp::NcpFunction::kPenalizedFischerBurmeister;
   else if (std::strcmp(function, "fb") != 0)
-    SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-function must be fb, min or pfb, got %s", function);
+    SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+            "-function must be fb, min or pfb, got %s", function);
 
   ObstacleProblem obstacle(m);
   PetscCall(obstacle.MakeGrid());
@@ -206,24 +219,29 @@ PetscErrorCode Run() {
   PetscInt contact = 0;
   PetscCall(obstacle.Check(&natural_residual, &contact));
 
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "2D obstacle, %d x %d = %d unknowns on %d ranks, KSP %s + %s%s%s\n",
-                        static_cast<int>(m), static_cast<int>(m), static_cast<int>(m * m), report.ranks,
-                        report.ksp_type.c_str(), report.pc_type.c_str(),
-                        report.factor_solver_type.empty() ? "" : " ", report.factor_solver_type.c_str()));
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s\n  %s\n", summary.BriefReport().c_str(), summary.message.c_str()));
+  PetscCall(PetscPrintf(
+      PETSC_COMM_WORLD,
+      "2D obstacle, %d x %d = %d unknowns on %d ranks, KSP %s + %s%s%s\n",
+      static_cast<int>(m), static_cast<int>(m), static_cast<int>(m * m), report.ranks,
+      report.ksp_type.c_str(), report.pc_type.c_str(),
+      report.factor_solver_type.empty() ? "" : " ", report.factor_solver_type.c_str()));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s\n  %s\n", summary.BriefReport().c_str(),
+                        summary.message.c_str()));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD,
                         "Newton iterations %d, linear iterations %d, contact nodes %d, "
                         "||min(u - psi, F(u))||_inf = %.3e (recomputed)\n",
-                        summary.iterations, report.linear_iterations, static_cast<int>(contact),
-                        natural_residual));
-  if (!summary.IsSolutionUsable()) SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "not solved");
+                        summary.iterations, report.linear_iterations,
+                        static_cast<int>(contact), natural_residual));
+  if (!summary.IsSolutionUsable())
+    SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "not solved");
   PetscFunctionReturn(0);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));  // the user's job, not ncp's
+  PetscCall(
+      PetscInitialize(&argc, &argv, nullptr, nullptr));  // the user's job, not ncp's
   PetscErrorCode code = 0;
   try {
     code = Run();

@@ -14,8 +14,8 @@
 #include "box_mcp.hpp"
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -45,7 +45,8 @@ int ProjectOntoBox(const Vector& lower, const Vector& upper, Vector* x) {
 int ProjectOntoBox(const Vector& lower, const Vector& upper, Vector* x, double* largest) {
   *largest = 0.0;
   for (Eigen::Index i = 0; i < x->size(); ++i)
-    *largest = std::max(*largest, std::abs(std::max(lower(i), std::min(upper(i), (*x)(i))) - (*x)(i)));
+    *largest = std::max(
+        *largest, std::abs(std::max(lower(i), std::min(upper(i), (*x)(i))) - (*x)(i)));
   return ProjectOntoBox(lower, upper, x);
 }
 
@@ -59,15 +60,20 @@ double NormalizeBound(double bound, double infinite_bound) {
 }  // namespace
 
 /// The box MCP as a mixed problem; the Solver keeps it between solves (Matches: same size
-/// and bounds; F is bound anew by Rebind) so that a problem solved again reuses its Jacobian
-/// structure (checked against F's pattern at every Jacobian) and allocates nothing.
+/// and bounds; F is bound anew by Rebind) so that a problem solved again reuses its
+/// Jacobian structure (checked against F's pattern at every Jacobian) and allocates
+/// nothing.
 class BoxMcpAsMixed final : public MixedProblem {
  public:
   /// lower and upper as given (sizes checked by the caller); bounds with |b| >=
   /// infinite_bound are stored as infinite.
   BoxMcpAsMixed(SquareFunction& F, const Vector& lower_given, const Vector& upper_given,
                 double infinite_bound)
-      : F_(&F), n_(F.NumVariables()), lower_(n_), upper_(n_), infinite_bound_(infinite_bound) {
+      : F_(&F),
+        n_(F.NumVariables()),
+        lower_(n_),
+        upper_(n_),
+        infinite_bound_(infinite_bound) {
     for (int i = 0; i < n_; ++i) {
       lower_(i) = NormalizeBound(lower_given(i), infinite_bound);
       upper_(i) = NormalizeBound(upper_given(i), infinite_bound);
@@ -78,9 +84,12 @@ class BoxMcpAsMixed final : public MixedProblem {
     std::vector<int> two_sided;
     for (int i = 0; i < n_; ++i) {
       const bool lo = std::isfinite(lower(i)), up = std::isfinite(upper(i));
-      if (!lo && !up) equations_.push_back({Kind::kFree, i, -1});
-      else if (lo && up && lower(i) == upper(i)) equations_.push_back({Kind::kFixed, i, -1});
-      else if (lo && up) two_sided.push_back(i);
+      if (!lo && !up)
+        equations_.push_back({Kind::kFree, i, -1});
+      else if (lo && up && lower(i) == upper(i))
+        equations_.push_back({Kind::kFixed, i, -1});
+      else if (lo && up)
+        two_sided.push_back(i);
     }
     num_slacks_ = static_cast<int>(two_sided.size());
     for (int k = 0; k < num_slacks_; ++k)
@@ -129,20 +138,30 @@ class BoxMcpAsMixed final : public MixedProblem {
     if (!F_->Evaluate(XPart(y), &Fx_)) return false;
     if (Fx_.size() != n_)
       throw std::invalid_argument("ncp: SquareFunction::Evaluate returned size " +
-                                  std::to_string(Fx_.size()) + ", expected " + std::to_string(n_));
+                                  std::to_string(Fx_.size()) + ", expected " +
+                                  std::to_string(n_));
     for (size_t e = 0; e < equations_.size(); ++e) {
       const Row& r = equations_[e];
       const auto row = static_cast<Eigen::Index>(e);
-      if (r.kind == Kind::kFree) (*E)(row) = Fx_(r.index);
-      else if (r.kind == Kind::kFixed) (*E)(row) = y(r.index) - lower_(r.index);
-      else (*E)(row) = Fx_(r.index) - y(n_ + r.slack) + y(n_ + num_slacks_ + r.slack);
+      if (r.kind == Kind::kFree)
+        (*E)(row) = Fx_(r.index);
+      else if (r.kind == Kind::kFixed)
+        (*E)(row) = y(r.index) - lower_(r.index);
+      else
+        (*E)(row) = Fx_(r.index) - y(n_ + r.slack) + y(n_ + num_slacks_ + r.slack);
     }
     for (size_t j = 0; j < pairs_.size(); ++j) {
       const Row& r = pairs_[j];
       const auto row = static_cast<Eigen::Index>(j);
       switch (r.kind) {
-        case Kind::kLower: (*A)(row) = y(r.index) - lower_(r.index); (*B)(row) = Fx_(r.index); break;
-        case Kind::kUpper: (*A)(row) = upper_(r.index) - y(r.index); (*B)(row) = -Fx_(r.index); break;
+        case Kind::kLower:
+          (*A)(row) = y(r.index) - lower_(r.index);
+          (*B)(row) = Fx_(r.index);
+          break;
+        case Kind::kUpper:
+          (*A)(row) = upper_(r.index) - y(r.index);
+          (*B)(row) = -Fx_(r.index);
+          break;
         case Kind::kLowerSlack:
           (*A)(row) = y(r.index) - lower_(r.index);
           (*B)(row) = y(n_ + r.slack);
@@ -156,15 +175,17 @@ class BoxMcpAsMixed final : public MixedProblem {
     return true;
   }
 
-  /// [JE; JA; JB] of the mixed form. The pattern follows F's: while F' keeps its pattern and
-  /// the solver hands back the matrices it got last time, only the values are written (no
-  /// allocation); otherwise the structure is built again (BuildStructure).
-  bool Jacobian(const Vector& y, SparseMatrix* JE, SparseMatrix* JA, SparseMatrix* JB) override {
+  /// [JE; JA; JB] of the mixed form. The pattern follows F's: while F' keeps its pattern
+  /// and the solver hands back the matrices it got last time, only the values are written
+  /// (no allocation); otherwise the structure is built again (BuildStructure).
+  bool Jacobian(const Vector& y, SparseMatrix* JE, SparseMatrix* JA,
+                SparseMatrix* JB) override {
     if (!F_->Jacobian(XPart(y), &JF_)) return false;
     if (JF_.rows() != n_ || JF_.cols() != n_)
       throw std::invalid_argument("ncp: SquareFunction::Jacobian returned " +
-                                  std::to_string(JF_.rows()) + " x " + std::to_string(JF_.cols()) +
-                                  ", expected " + std::to_string(n_) + " x " + std::to_string(n_));
+                                  std::to_string(JF_.rows()) + " x " +
+                                  std::to_string(JF_.cols()) + ", expected " +
+                                  std::to_string(n_) + " x " + std::to_string(n_));
     JF_.makeCompressed();
     SparseMatrix* out[3] = {JE, JA, JB};
     if (!StructureMatches(out)) BuildStructure(out);
@@ -173,8 +194,8 @@ class BoxMcpAsMixed final : public MixedProblem {
   }
 
   /// The point a restart continues from (Options::merit_restarts): x projected onto
-  /// [l, u], slacks recomputed. The FB iterates may leave the box; a point where the merit
-  /// function is stuck outside it is generally not stationary once projected.
+  /// [l, u], slacks recomputed. The FB iterates may leave the box; a point where the
+  /// merit function is stuck outside it is generally not stationary once projected.
   bool RestartPoint(Vector* y) override {
     x_ = y->head(n_);
     ProjectOntoBox(lower_, upper_, &x_);
@@ -190,15 +211,16 @@ class BoxMcpAsMixed final : public MixedProblem {
     return true;
   }
 
-  /// The rows of the mixed form (file comment) as triplets, then a map from each stored entry
-  /// of F' to the entry of JE or JB it becomes (with the sign of the row), and the constant
-  /// entries (+-1 of bounds and slacks) kept apart. The triplet values encode the source:
-  /// k + 1 for entry k of F', -(c + 1) for constant c. No two sources share an entry (F' rows
-  /// fill columns < n, slacks columns >= n, bound rows hold no F' row).
+  /// The rows of the mixed form (file comment) as triplets, then a map from each stored
+  /// entry of F' to the entry of JE or JB it becomes (with the sign of the row), and the
+  /// constant entries (+-1 of bounds and slacks) kept apart. The triplet values encode
+  /// the source: k + 1 for entry k of F', -(c + 1) for constant c. No two sources share
+  /// an entry (F' rows fill columns < n, slacks columns >= n, bound rows hold no F' row).
   void BuildStructure(SparseMatrix* const out[3]) {
     // Entries of F' grouped by row, with their columns.
     const auto nnz = static_cast<size_t>(JF_.nonZeros());
-    std::vector<std::vector<std::pair<int, int>>> row_entries(static_cast<size_t>(n_));  // (k, col)
+    std::vector<std::vector<std::pair<int, int>>> row_entries(
+        static_cast<size_t>(n_));  // (k, col)
     for (int c = 0; c < n_; ++c)
       for (int k = JF_.outerIndexPtr()[c]; k < JF_.outerIndexPtr()[c + 1]; ++k)
         row_entries[static_cast<size_t>(JF_.innerIndexPtr()[k])].emplace_back(k, c);
@@ -218,8 +240,10 @@ class BoxMcpAsMixed final : public MixedProblem {
     for (size_t e = 0; e < equations_.size(); ++e) {
       const Row& r = equations_[e];
       const int row = static_cast<int>(e);
-      if (r.kind == Kind::kFree) add_row(0, row, r.index, 1.0);
-      else if (r.kind == Kind::kFixed) add_constant(0, row, r.index, 1.0);
+      if (r.kind == Kind::kFree)
+        add_row(0, row, r.index, 1.0);
+      else if (r.kind == Kind::kFixed)
+        add_constant(0, row, r.index, 1.0);
       else {
         add_row(0, row, r.index, 1.0);
         add_constant(0, row, n_ + r.slack, -1.0);
@@ -230,8 +254,14 @@ class BoxMcpAsMixed final : public MixedProblem {
       const Row& r = pairs_[j];
       const int row = static_cast<int>(j);
       switch (r.kind) {
-        case Kind::kLower: add_constant(1, row, r.index, 1.0); add_row(2, row, r.index, 1.0); break;
-        case Kind::kUpper: add_constant(1, row, r.index, -1.0); add_row(2, row, r.index, -1.0); break;
+        case Kind::kLower:
+          add_constant(1, row, r.index, 1.0);
+          add_row(2, row, r.index, 1.0);
+          break;
+        case Kind::kUpper:
+          add_constant(1, row, r.index, -1.0);
+          add_row(2, row, r.index, -1.0);
+          break;
         case Kind::kLowerSlack:
           add_constant(1, row, r.index, 1.0);
           add_constant(2, row, n_ + r.slack, 1.0);
@@ -250,8 +280,10 @@ class BoxMcpAsMixed final : public MixedProblem {
       constant_slots_[s].clear();
       for (int q = 0; q < static_cast<int>(S.nonZeros()); ++q) {
         const double code = S.valuePtr()[q];
-        if (code >= 1.0) entry_target_[static_cast<size_t>(code) - 1] = {s, q};
-        else constant_slots_[s].push_back({q, constants_[static_cast<size_t>(-code) - 1]});
+        if (code >= 1.0)
+          entry_target_[static_cast<size_t>(code) - 1] = {s, q};
+        else
+          constant_slots_[s].push_back({q, constants_[static_cast<size_t>(-code) - 1]});
       }
       out_pattern_[s].Store(S);
     }
@@ -262,11 +294,13 @@ class BoxMcpAsMixed final : public MixedProblem {
   /// Values of JE, JA, JB from F' through the map of BuildStructure.
   void FillValues(SparseMatrix* const out[3]) const {
     for (int s = 0; s < 3; ++s)
-      for (const ConstantSlot& slot : constant_slots_[s]) out[s]->valuePtr()[slot.position] = slot.value;
+      for (const ConstantSlot& slot : constant_slots_[s])
+        out[s]->valuePtr()[slot.position] = slot.value;
     const double* values = JF_.valuePtr();
     for (size_t k = 0; k < entry_target_.size(); ++k) {
       const Target& target = entry_target_[k];
-      if (target.matrix >= 0) out[target.matrix]->valuePtr()[target.position] = entry_sign_[k] * values[k];
+      if (target.matrix >= 0)
+        out[target.matrix]->valuePtr()[target.position] = entry_sign_[k] * values[k];
     }
   }
 
@@ -285,7 +319,15 @@ class BoxMcpAsMixed final : public MixedProblem {
   }
 
  private:
-  enum class Kind { kFree, kFixed, kSlackSplit, kLower, kUpper, kLowerSlack, kUpperSlack };
+  enum class Kind {
+    kFree,
+    kFixed,
+    kSlackSplit,
+    kLower,
+    kUpper,
+    kLowerSlack,
+    kUpperSlack
+  };
   struct Row {
     Kind kind;
     int index;  // variable i of the box MCP
@@ -298,7 +340,9 @@ class BoxMcpAsMixed final : public MixedProblem {
     return x_;
   }
 
-  static bool SameBound(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+  static bool SameBound(double a, double b) {
+    return a == b || (std::isnan(a) && std::isnan(b));
+  }
 
   SquareFunction* F_;
   int n_;
@@ -307,9 +351,9 @@ class BoxMcpAsMixed final : public MixedProblem {
   SparseMatrix JF_;
   std::vector<Row> equations_, pairs_;
   int num_slacks_ = 0;
-  // The Jacobian structure (BuildStructure): patterns it was built for, where each entry of
-  // F' goes (matrix 0/1/2 = JE/JA/JB, value position; -1: nowhere, a fixed variable's row)
-  // with its sign, and the constant entries.
+  // The Jacobian structure (BuildStructure): patterns it was built for, where each entry
+  // of F' goes (matrix 0/1/2 = JE/JA/JB, value position; -1: nowhere, a fixed variable's
+  // row) with its sign, and the constant entries.
   struct Target {
     int matrix, position;
   };
@@ -337,7 +381,8 @@ void CheckSizes(int n, const Vector& lower, const Vector& upper, const Vector& x
   if (x.size() != n) size_error("the start point", x.size());
 }
 
-/// Bounds (normalized) and start point; the message is built only for the first bad entry.
+/// Bounds (normalized) and start point; the message is built only for the first bad
+/// entry.
 void CheckBounds(const Vector& lower, const Vector& upper, const Vector& x) {
   for (Eigen::Index i = 0; i < x.size(); ++i) {
     const bool nan = std::isnan(lower(i)) || std::isnan(upper(i));
@@ -347,7 +392,8 @@ void CheckBounds(const Vector& lower, const Vector& upper, const Vector& x) {
     const bool bad_start = !std::isfinite(x(i));
     if (!(nan || crossed || empty || bad_start)) continue;
     const std::string at = "[" + std::to_string(i) + "]";
-    if (nan) throw std::invalid_argument("ncp::Solver::Solve (box MCP): bound" + at + " is NaN");
+    if (nan)
+      throw std::invalid_argument("ncp::Solver::Solve (box MCP): bound" + at + " is NaN");
     if (crossed)
       throw std::invalid_argument("ncp::Solver::Solve (box MCP): lower" + at + " = " +
                                   std::to_string(lower(i)) + " > upper" + at + " = " +
@@ -360,21 +406,21 @@ void CheckBounds(const Vector& lower, const Vector& upper, const Vector& x) {
   }
 }
 
-
 // ---------------------------------------------------------------------------------------
 // Infeasibility of a box LCP (TerminationType::kInfeasible). A solution x of
-// l <= x <= u perp F(x) = M x + q has F(x) in the cone K of the bounds: F_i >= 0 where only
-// l_i is finite, F_i <= 0 where only u_i is, F_i = 0 where neither is (no condition on
-// two-sided or fixed rows). Farkas: if some y in the dual cone K* (y_i >= 0, <= 0, free,
-// 0 on those rows) has
+// l <= x <= u perp F(x) = M x + q has F(x) in the cone K of the bounds: F_i >= 0 where
+// only l_i is finite, F_i <= 0 where only u_i is, F_i = 0 where neither is (no condition
+// on two-sided or fixed rows). Farkas: if some y in the dual cone K* (y_i >= 0, <= 0,
+// free, 0 on those rows) has
 //     sup_{x in [l, u]} y'(M x + q) = q'y + sum_i sup_{x_i in [l_i, u_i]} g_i x_i < 0,
 // g = M'y, then y'F(x) < 0 on the whole box while y'F(x) >= 0 at any x with F(x) in K: no
-// solution exists. (The sup is finite only if g_i <= 0 where u_i = +inf and g_i >= 0 where
-// l_i = -inf.) Candidates come from where the solve got stuck: at a stationary point of
-// psi = 1/2 ||Phi||^2, grad psi = 0 pairs the rows of F with the weights db_j phi_j, the
-// multipliers of the pairs (x_i - l_i, F_i) (Facchinei and Pang 2003, sec. 9.1); and the
-// violations of F(x) in K at x projected onto the box. Each is checked exactly as above,
-// with round-off allowance n * 8 eps relative to the terms summed (Higham 2002, sec. 3.1).
+// solution exists. (The sup is finite only if g_i <= 0 where u_i = +inf and g_i >= 0
+// where l_i = -inf.) Candidates come from where the solve got stuck: at a stationary
+// point of psi = 1/2 ||Phi||^2, grad psi = 0 pairs the rows of F with the weights db_j
+// phi_j, the multipliers of the pairs (x_i - l_i, F_i) (Facchinei and Pang 2003,
+// sec. 9.1); and the violations of F(x) in K at x projected onto the box. Each is checked
+// exactly as above, with round-off allowance n * 8 eps relative to the terms summed
+// (Higham 2002, sec. 3.1).
 
 enum class RowCone { kNonNegative, kNonPositive, kZero, kAny };
 
@@ -386,14 +432,22 @@ RowCone ConeOfRow(double lower, double upper) {
   return RowCone::kAny;
 }
 
-/// y projected onto K*: y_i >= 0 on K_i = [0, inf), <= 0 on (-inf, 0], free on {0}, 0 on R.
+/// y projected onto K*: y_i >= 0 on K_i = [0, inf), <= 0 on (-inf, 0], free on {0}, 0 on
+/// R.
 void ProjectOntoDualCone(const Vector& lower, const Vector& upper, Vector* y) {
   for (Eigen::Index i = 0; i < y->size(); ++i) {
     switch (ConeOfRow(lower(i), upper(i))) {
-      case RowCone::kNonNegative: (*y)(i) = std::max((*y)(i), 0.0); break;
-      case RowCone::kNonPositive: (*y)(i) = std::min((*y)(i), 0.0); break;
-      case RowCone::kZero: break;
-      case RowCone::kAny: (*y)(i) = 0.0; break;
+      case RowCone::kNonNegative:
+        (*y)(i) = std::max((*y)(i), 0.0);
+        break;
+      case RowCone::kNonPositive:
+        (*y)(i) = std::min((*y)(i), 0.0);
+        break;
+      case RowCone::kZero:
+        break;
+      case RowCone::kAny:
+        (*y)(i) = 0.0;
+        break;
     }
   }
 }
@@ -406,7 +460,8 @@ double CertificateValue(const SparseMatrix& M, const Vector& q, const Vector& lo
   if (y.lpNorm<Eigen::Infinity>() == 0.0) return std::numeric_limits<double>::infinity();
   const Vector g = M.transpose() * y;
   const Vector g_terms = SparseMatrix(M.cwiseAbs()).transpose() * y.cwiseAbs();
-  const double roundoff = 8.0 * static_cast<double>(n) * std::numeric_limits<double>::epsilon();
+  const double roundoff =
+      8.0 * static_cast<double>(n) * std::numeric_limits<double>::epsilon();
   double value = q.dot(y), magnitude = q.cwiseAbs().dot(y.cwiseAbs());
   for (Eigen::Index i = 0; i < n; ++i) {
     const double gi = std::abs(g(i)) <= roundoff * g_terms(i) ? 0.0 : g(i);
@@ -420,10 +475,10 @@ double CertificateValue(const SparseMatrix& M, const Vector& q, const Vector& lo
 }
 
 /// The candidate of grad psi = 0 at the (unprojected) iterate x with F(x) = Fx: the
-/// weight of grad F_i in grad psi is db phi for a lower pair (x_i - l_i, F_i), -db phi for
-/// an upper pair (u_i - x_i, -F_i), F_i for an equation; y = -(that weight).
-Vector StationaryCandidate(const Options& options, const Vector& lower, const Vector& upper,
-                           const Vector& x, const Vector& Fx) {
+/// weight of grad F_i in grad psi is db phi for a lower pair (x_i - l_i, F_i), -db phi
+/// for an upper pair (u_i - x_i, -F_i), F_i for an equation; y = -(that weight).
+Vector StationaryCandidate(const Options& options, const Vector& lower,
+                           const Vector& upper, const Vector& x, const Vector& Fx) {
   Vector y = Vector::Zero(x.size());
   for (Eigen::Index i = 0; i < x.size(); ++i) {
     const RowCone cone = ConeOfRow(lower(i), upper(i));
@@ -433,28 +488,32 @@ Vector StationaryCandidate(const Options& options, const Vector& lower, const Ve
     const double a = cone == RowCone::kNonNegative ? x(i) - lower(i) : upper(i) - x(i);
     const double b = sign * Fx(i);
     const double phi = PhiValue(options.ncp_function, options.penalized_fb_lambda, a, b);
-    const PhiPartials dp = PhiDerivatives(options.ncp_function, options.penalized_fb_lambda, a, b,
-                                          a == 0.0 && b == 0.0, 0.0, 0.0, options.min_tie_takes_b);
+    const PhiPartials dp =
+        PhiDerivatives(options.ncp_function, options.penalized_fb_lambda, a, b,
+                       a == 0.0 && b == 0.0, 0.0, 0.0, options.min_tie_takes_b);
     y(i) = -sign * dp.db * phi;
   }
   ProjectOntoDualCone(lower, upper, &y);
   return y;
 }
 
-/// A checked certificate in summary->infeasibility_certificate (and kInfeasible), when F is
-/// affine and the solve got stuck; x is the last iterate, before its projection.
+/// A checked certificate in summary->infeasibility_certificate (and kInfeasible), when F
+/// is affine and the solve got stuck; x is the last iterate, before its projection.
 void CheckInfeasibility(const Options& options, SquareFunction& F, const Vector& lower,
                         const Vector& upper, const Vector& x, Summary* summary) {
   const TerminationType t = summary->termination;
-  const bool stuck = t == TerminationType::kStationaryPoint || t == TerminationType::kLineSearchFailure ||
-                     t == TerminationType::kMaxIterations || t == TerminationType::kLinearSolverFailure;
+  const bool stuck = t == TerminationType::kStationaryPoint ||
+                     t == TerminationType::kLineSearchFailure ||
+                     t == TerminationType::kMaxIterations ||
+                     t == TerminationType::kLinearSolverFailure;
   if (!stuck || !F.IsAffine()) return;
   const Eigen::Index n = x.size();
   Vector Fx(n), x_box = x, F_box(n);
   SparseMatrix M;
   ProjectOntoBox(lower, upper, &x_box);
   if (!F.Evaluate(x, &Fx) || !F.Jacobian(x, &M) || !F.Evaluate(x_box, &F_box) ||
-      Fx.size() != n || M.rows() != n || M.cols() != n || !Fx.allFinite() || !F_box.allFinite())
+      Fx.size() != n || M.rows() != n || M.cols() != n || !Fx.allFinite() ||
+      !F_box.allFinite())
     return;
   const Vector q = Fx - M * x;  // F(x) = M x + q
   Vector violation = -F_box;    // the violation of F(x_box) in K, as an element of K*
@@ -463,12 +522,13 @@ void CheckInfeasibility(const Options& options, SquareFunction& F, const Vector&
     const double value = CertificateValue(M, q, lower, upper, y);
     if (!std::isfinite(value)) continue;
     char text[200];
-    std::snprintf(text, sizeof text,
-                  "no solution exists: F is affine and y = Summary::infeasibility_certificate "
-                  "(||y||_inf = %.3e) gives sup over [l, u] of y'F(x) = %.3e < 0 (Farkas)",
-                  y.lpNorm<Eigen::Infinity>(), value);
-    summary->message = std::string(text) + "; the solver had stopped with " + ToString(t) + ": " +
-                       summary->message;
+    std::snprintf(
+        text, sizeof text,
+        "no solution exists: F is affine and y = Summary::infeasibility_certificate "
+        "(||y||_inf = %.3e) gives sup over [l, u] of y'F(x) = %.3e < 0 (Farkas)",
+        y.lpNorm<Eigen::Infinity>(), value);
+    summary->message = std::string(text) + "; the solver had stopped with " +
+                       ToString(t) + ": " + summary->message;
     summary->termination = TerminationType::kInfeasible;
     summary->infeasibility_certificate = y;
     return;
@@ -491,10 +551,14 @@ void BoxMcpDeleter::operator()(BoxMcpAsMixed* p) const { delete p; }
 
 BoxMcpSolve::BoxMcpSolve(const Options& options, BoxMcpCache* cache, SquareFunction& F,
                          const Vector& lower, const Vector& upper, Vector* x)
-    : options_(options), F_(F), mixed_(MixedForm(options, cache, F, lower, upper, *x)), x_(*x) {
+    : options_(options),
+      F_(F),
+      mixed_(MixedForm(options, cache, F, lower, upper, *x)),
+      x_(*x) {
   CheckBounds(mixed_.lower(), mixed_.upper(), x_);
-  projected_start_ =
-      options.project_start_point ? ProjectOntoBox(mixed_.lower(), mixed_.upper(), &x_) : 0;
+  projected_start_ = options.project_start_point
+                         ? ProjectOntoBox(mixed_.lower(), mixed_.upper(), &x_)
+                         : 0;
   ready_ = mixed_.InitialSlacks(x_, &mixed_.unknowns());
 }
 
@@ -517,13 +581,15 @@ void BoxMcpSolve::Finish(Summary* summary) {
                         "projected onto it)";
   // The returned x lies in [l, u] whatever the status (FB iterates may leave the box).
   double moved_by = 0.0;
-  summary->projected_final_components = ProjectOntoBox(mixed_.lower(), mixed_.upper(), &x_, &moved_by);
+  summary->projected_final_components =
+      ProjectOntoBox(mixed_.lower(), mixed_.upper(), &x_, &moved_by);
   if (summary->projected_final_components > 0) {
     char text[160];
-    std::snprintf(text, sizeof text,
-                  " (%d components of the last iterate were outside [l, u], by up to %.3e, "
-                  "and were projected onto it)",
-                  summary->projected_final_components, moved_by);
+    std::snprintf(
+        text, sizeof text,
+        " (%d components of the last iterate were outside [l, u], by up to %.3e, "
+        "and were projected onto it)",
+        summary->projected_final_components, moved_by);
     summary->message += text;
   }
 }

@@ -25,17 +25,21 @@ bool DenseLU::Factorize(const DenseMatrix& A) {
   const auto pivots = partial_.matrixLU().diagonal().cwiseAbs();
   const double largest = pivots.maxCoeff();
   return std::isfinite(largest) && largest > 0.0 &&
-         pivots.minCoeff() > static_cast<double>(A.rows()) * std::numeric_limits<double>::epsilon() * largest;
+         pivots.minCoeff() > static_cast<double>(A.rows()) *
+                                 std::numeric_limits<double>::epsilon() * largest;
 }
 
 void DenseLU::Solve(const Vector& rhs, Vector* x) {
   // Full: P A Q = L U, x = Q U^-1 L^-1 P rhs. Partial: P A = L U, x = U^-1 L^-1 P rhs.
   const DenseMatrix& LU = full_pivoting_ ? full_.matrixLU() : partial_.matrixLU();
-  permuted_.noalias() = (full_pivoting_ ? full_.permutationP() : partial_.permutationP()) * rhs;
+  permuted_.noalias() =
+      (full_pivoting_ ? full_.permutationP() : partial_.permutationP()) * rhs;
   LU.triangularView<Eigen::UnitLower>().solveInPlace(permuted_);
   LU.triangularView<Eigen::Upper>().solveInPlace(permuted_);
-  if (full_pivoting_) x->noalias() = full_.permutationQ() * permuted_;
-  else *x = permuted_;
+  if (full_pivoting_)
+    x->noalias() = full_.permutationQ() * permuted_;
+  else
+    *x = permuted_;
 }
 
 namespace {
@@ -47,7 +51,9 @@ class DenseLUSolver final : public LinearSolver {
     rows_ = J.rows();
     return true;
   }
-  double PredictedFactorizationFlops() const override { return DenseLU::PredictedFlops(rows_); }
+  double PredictedFactorizationFlops() const override {
+    return DenseLU::PredictedFlops(rows_);
+  }
   double TypicalFlopRate() const override { return DenseLU::kTypicalFlopRate; }
   bool Factorize(const SparseMatrix& J) override {
     dense_ = J;
@@ -102,8 +108,9 @@ double FlopsEstimate(const KLUWithInfo& lu) { return lu.FlopsEstimate(); }
 
 /// Whether analyzePattern succeeded. Eigen::SparseLU's analyzePattern has no failure mode
 /// and does not set info(), which still holds the last factorization's result (or is
-/// uninitialized): read after a singular factorization it reported every later analysis as
-/// failed, and a Solver kept across problems with SparseLU then never took a Newton step.
+/// uninitialized): read after a singular factorization it reported every later analysis
+/// as failed, and a Solver kept across problems with SparseLU then never took a Newton
+/// step.
 template <typename Decomposition>
 bool AnalysisSucceeded(const Decomposition& lu) {
   return lu.info() == Eigen::Success;
@@ -146,29 +153,31 @@ class SparseSolver final : public LinearSolver {
 
 using UmfpackSolver = SparseSolver<UmfPackLUWithInfo, LinearSolverType::kUmfpack>;
 
-/// LinearSolverType::kCholmod. J d = rhs is reduced to a symmetric positive definite system:
+/// LinearSolverType::kCholmod. J d = rhs is reduced to a symmetric positive definite
+/// system:
 ///  1. a row whose off-diagonal entries sum to at most eps |J_ii| fixes its variable,
 ///     d_i = rhs_i / J_ii (set F; e.g. a pair with dphi/db = 0; the dropped entries are a
 ///     perturbation at round-off level);
-///  2. the other rows R get scales s_i of one sign per connected component of the graph of
+///  2. the other rows R get scales s_i of one sign per connected component of the graph
+///  of
 ///     J_RR with s_i J_ij = s_j J_ji, propagated from s_i = 1 / J_ii at the component's
-///     first node (J = Da + Db F' with F' symmetric gives s_i proportional to 1 / db_i, and
-///     S J = diag(da / db) + F'; the thesis's FB has da, db <= 0);
+///     first node (J = Da + Db F' with F' symmetric gives s_i proportional to 1 / db_i,
+///     and S J = diag(da / db) + F'; the thesis's FB has da, db <= 0);
 ///  3. K = S J_RR, with identity rows and columns for F kept in J's pattern so that one
 ///     symbolic analysis serves every iterate, is factored K = L L' by CHOLMOD (it reads
 ///     the lower triangle) and K d_R = S (rhs_R - J_RF d_F) solved.
-/// When no consistent scaling exists (a one-sided entry, a sign change, or a mismatch above
-/// kSymmetryTolerance relative) or K is not positive definite, J is factored by UMFPACK
-/// instead and the fallback counted (after K was found indefinite, for the rest of this
-/// pattern).
+/// When no consistent scaling exists (a one-sided entry, a sign change, or a mismatch
+/// above kSymmetryTolerance relative) or K is not positive definite, J is factored by
+/// UMFPACK instead and the fallback counted (after K was found indefinite, for the rest
+/// of this pattern).
 class SymmetrizedCholesky final : public LinearSolver {
  public:
   /// Relative mismatch of s_i J_ij and s_j J_ji accepted as round-off: the scales are
   /// products along paths of the graph (2D grid of 10^6 nodes: ~2000 factors, ~1e-13).
   static constexpr double kSymmetryTolerance = 1e-10;
   /// Common->fl (CHOLMOD's LL' flop count) per second, 2D 5-point Laplacian on the
-  /// development machine: 1.82e10 flops in 1.9-2.1 s at 10^6 nodes (~9e9 flop/s), 4.7e8 in
-  /// 0.14-0.17 s at 9e4 (~3e9); between the two, so that small factorizations are not
+  /// development machine: 1.82e10 flops in 1.9-2.1 s at 10^6 nodes (~9e9 flop/s), 4.7e8
+  /// in 0.14-0.17 s at 9e4 (~3e9); between the two, so that small factorizations are not
   /// predicted far too short.
   static constexpr double kTypicalFlopRate = 5.0e9;
 
@@ -184,10 +193,11 @@ class SymmetrizedCholesky final : public LinearSolver {
       return analysis_ok_;
     }
     K_ = J;  // the pattern; values are written by Symmetrize
-    cholesky_ = std::make_unique<Eigen::CholmodDecomposition<SparseMatrix, Eigen::Lower>>();
-    // Supernodal or simplicial as CHOLMOD's analysis finds cheaper (simplicial on a band),
-    // always L L' so that a matrix that is not positive definite fails; no messages: "not
-    // positive definite" is an answer here, not an error.
+    cholesky_ =
+        std::make_unique<Eigen::CholmodDecomposition<SparseMatrix, Eigen::Lower>>();
+    // Supernodal or simplicial as CHOLMOD's analysis finds cheaper (simplicial on a
+    // band), always L L' so that a matrix that is not positive definite fails; no
+    // messages: "not positive definite" is an answer here, not an error.
     cholmod_common& common = cholesky_->cholmod();
     common.supernodal = CHOLMOD_AUTO;
     common.final_asis = 0;
@@ -197,9 +207,11 @@ class SymmetrizedCholesky final : public LinearSolver {
     analysis_ok_ = cholesky_->cholmod().status >= CHOLMOD_OK;
     return analysis_ok_;
   }
-  // The prediction is the Cholesky's while it is tried, the LU's once the pattern went to it.
+  // The prediction is the Cholesky's while it is tried, the LU's once the pattern went to
+  // it.
   double PredictedFactorizationFlops() const override {
-    return TriesCholesky() ? cholesky_->cholmod().fl : fallback_->PredictedFactorizationFlops();
+    return TriesCholesky() ? cholesky_->cholmod().fl
+                           : fallback_->PredictedFactorizationFlops();
   }
   double TypicalFlopRate() const override {
     return TriesCholesky() ? kTypicalFlopRate : fallback_->TypicalFlopRate();
@@ -231,7 +243,8 @@ class SymmetrizedCholesky final : public LinearSolver {
     for (Eigen::Index c = 0; c < rhs.size(); ++c) {
       if (!fixed_[static_cast<size_t>(c)]) continue;
       for (int q = outer[c]; q < outer[c + 1]; ++q)
-        if (!fixed_[static_cast<size_t>(inner[q])]) reduced_rhs_(inner[q]) -= values_(q) * reduced_rhs_(c);
+        if (!fixed_[static_cast<size_t>(inner[q])])
+          reduced_rhs_(inner[q]) -= values_(q) * reduced_rhs_(c);
     }
     for (Eigen::Index i = 0; i < rhs.size(); ++i)
       if (!fixed_[static_cast<size_t>(i)]) reduced_rhs_(i) *= scale_(i);
@@ -244,7 +257,8 @@ class SymmetrizedCholesky final : public LinearSolver {
   LinearSolverType type() const override { return LinearSolverType::kCholmod; }
 
  private:
-  // The pattern is symmetric and no K of it was found indefinite (then the LU is analysed).
+  // The pattern is symmetric and no K of it was found indefinite (then the LU is
+  // analysed).
   bool TriesCholesky() const { return symmetric_pattern_ && !indefinite_; }
 
   LinearSolver& Fallback() {
@@ -291,14 +305,17 @@ class SymmetrizedCholesky final : public LinearSolver {
     for (int i = 0; i < n; ++i) {
       diagonal_(i) = values_(diagonal_position_[static_cast<size_t>(i)]);
       fixed_[static_cast<size_t>(i)] =
-          diagonal_(i) != 0.0 && off_diagonal_(i) <= std::numeric_limits<double>::epsilon() * std::abs(diagonal_(i));
+          diagonal_(i) != 0.0 &&
+          off_diagonal_(i) <=
+              std::numeric_limits<double>::epsilon() * std::abs(diagonal_(i));
     }
     if (!PropagateScales(J)) return false;
     double* k = K_.valuePtr();
     for (int c = 0; c < n; ++c)
       for (int q = outer[c]; q < outer[c + 1]; ++q) {
         const int r = inner[q];
-        const bool identity_part = fixed_[static_cast<size_t>(r)] || fixed_[static_cast<size_t>(c)];
+        const bool identity_part =
+            fixed_[static_cast<size_t>(r)] || fixed_[static_cast<size_t>(c)];
         k[q] = identity_part ? (r == c ? 1.0 : 0.0) : scale_(r) * values_(q);
       }
     return true;
@@ -314,7 +331,8 @@ class SymmetrizedCholesky final : public LinearSolver {
     for (int root = 0; root < n; ++root) {
       if (fixed_[static_cast<size_t>(root)] || scale_(root) != 0.0) continue;
       if (diagonal_(root) == 0.0) return false;
-      scale_(root) = 1.0 / diagonal_(root);  // K_rr = 1: FB's J = Da + Db F' has da, db <= 0
+      scale_(root) =
+          1.0 / diagonal_(root);  // K_rr = 1: FB's J = Da + Db F' has da, db <= 0
       queue_.push_back(root);
       for (size_t head = queue_.size() - 1; head < queue_.size(); ++head) {
         const int c = queue_[head];
@@ -324,7 +342,8 @@ class SymmetrizedCholesky final : public LinearSolver {
           const double j_rc = values_(q), j_cr = values_(mirror_[static_cast<size_t>(q)]);
           if (j_rc == 0.0 && j_cr == 0.0) continue;
           const double s = scale_(c) * j_cr / j_rc;  // s_r J_rc = s_c J_cr
-          if (!(s * scale_(c) > 0.0) || !std::isfinite(s)) return false;  // one sign per component
+          if (!(s * scale_(c) > 0.0) || !std::isfinite(s))
+            return false;  // one sign per component
           if (scale_(r) == 0.0) {
             scale_(r) = s;
             queue_.push_back(r);
@@ -339,9 +358,9 @@ class SymmetrizedCholesky final : public LinearSolver {
 
   std::unique_ptr<Eigen::CholmodDecomposition<SparseMatrix, Eigen::Lower>> cholesky_;
   std::unique_ptr<LinearSolver> fallback_;  // UMFPACK, made on first need
-  bool analyzed_ = false, analysis_ok_ = false, symmetric_pattern_ = false, use_fallback_ = false,
-       indefinite_ = false;
-  SparseMatrix K_;                       // S J with identity rows/columns for F, J's pattern
+  bool analyzed_ = false, analysis_ok_ = false, symmetric_pattern_ = false,
+       use_fallback_ = false, indefinite_ = false;
+  SparseMatrix K_;  // S J with identity rows/columns for F, J's pattern
   std::vector<int> mirror_, diagonal_position_, queue_;
   std::vector<bool> fixed_;
   Vector values_, off_diagonal_, diagonal_, scale_, reduced_rhs_;
@@ -354,8 +373,9 @@ std::unique_ptr<LinearSolver> MakeLinearSolver(LinearSolverType type) {
     case LinearSolverType::kDenseLU:
       return std::make_unique<DenseLUSolver>();
     case LinearSolverType::kSparseLU:
-      return std::make_unique<SparseSolver<Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>>,
-                                           LinearSolverType::kSparseLU>>();
+      return std::make_unique<
+          SparseSolver<Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>>,
+                       LinearSolverType::kSparseLU>>();
     case LinearSolverType::kUmfpack:
       return std::make_unique<UmfpackSolver>();
     case LinearSolverType::kCholmod:

@@ -7,10 +7,10 @@
 
 namespace ncp::internal {
 
-/// Dense LU of an n x n matrix, allocation-free once sized. Up to kFullPivotingLimit unknowns
-/// with full pivoting (rank-revealing: singular when the numerical rank is below n); above,
-/// with partial pivoting (blocked, an order of magnitude faster at n = 1000), singular when a
-/// pivot of U is below n eps times the largest.
+/// Dense LU of an n x n matrix, allocation-free once sized. Up to kFullPivotingLimit
+/// unknowns with full pivoting (rank-revealing: singular when the numerical rank is below
+/// n); above, with partial pivoting (blocked, an order of magnitude faster at n = 1000),
+/// singular when a pivot of U is below n eps times the largest.
 class DenseLU {
  public:
   static constexpr Eigen::Index kFullPivotingLimit = 100;

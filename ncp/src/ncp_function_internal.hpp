@@ -14,7 +14,7 @@ struct PhiPartials {
   double da;
   double db;
 };
-PhiPartials PhiDerivatives(NcpFunction f, double lambda, double a, double b, bool degenerate,
-                           double za, double zb, bool min_tie_takes_b);
+PhiPartials PhiDerivatives(NcpFunction f, double lambda, double a, double b,
+                           bool degenerate, double za, double zb, bool min_tie_takes_b);
 
 }  // namespace ncp::internal

@@ -17,7 +17,8 @@ double FischerBurmeister(double a, double b) {
 double MinFunction(double a, double b) { return std::min(a, b); }
 
 double PenalizedFischerBurmeister(double a, double b, double lambda) {
-  return lambda * FischerBurmeister(a, b) - (1.0 - lambda) * std::max(a, 0.0) * std::max(b, 0.0);
+  return lambda * FischerBurmeister(a, b) -
+         (1.0 - lambda) * std::max(a, 0.0) * std::max(b, 0.0);
 }
 
 namespace internal {
@@ -34,11 +35,11 @@ double PhiValue(NcpFunction f, double lambda, double a, double b) {
   return std::nan("");
 }
 
-PhiPartials PhiDerivatives(NcpFunction f, double lambda, double a, double b, bool degenerate,
-                           double za, double zb, bool min_tie_takes_b) {
-  // FB part: (d phi / da, d phi / db) = (a / r - 1, b / r - 1), r = ||(a, b)||  (DFK eq. 26).
-  // On the degenerate set (a = b = 0) the B-subdifferential element of DFK eq. (27) uses
-  // the directional values za = grad A' z, zb = grad B' z in place of (a, b).
+PhiPartials PhiDerivatives(NcpFunction f, double lambda, double a, double b,
+                           bool degenerate, double za, double zb, bool min_tie_takes_b) {
+  // FB part: (d phi / da, d phi / db) = (a / r - 1, b / r - 1), r = ||(a, b)||  (DFK eq.
+  // 26). On the degenerate set (a = b = 0) the B-subdifferential element of DFK eq. (27)
+  // uses the directional values za = grad A' z, zb = grad B' z in place of (a, b).
   auto fb_partials = [&](double p, double q) {
     const double r = std::hypot(p, q);
     if (r == 0.0) {

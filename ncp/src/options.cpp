@@ -74,14 +74,16 @@ bool Options::IsValid(std::string* error) const {
     return fail("Options::stagnation_tolerance must lie in [0, 1), got " +
                 FormatNumber("%g", stagnation_tolerance));
   if (hybrid_window < 0 || hybrid_window > kMaxStagnationWindow)
-    return fail("Options::hybrid_window must lie in [0, " + std::to_string(kMaxStagnationWindow) +
-                "] iterations, got " + std::to_string(hybrid_window));
+    return fail("Options::hybrid_window must lie in [0, " +
+                std::to_string(kMaxStagnationWindow) + "] iterations, got " +
+                std::to_string(hybrid_window));
   if (!(hybrid_decrease > 0.0 && hybrid_decrease < 1.0))
     return fail("Options::hybrid_decrease must lie in (0, 1), got " +
                 FormatNumber("%g", hybrid_decrease));
   if (!(hybrid_budget_per_unknown > 0.0))
-    return fail("Options::hybrid_budget_per_unknown must be > 0 (or +inf) iterations, got " +
-                FormatNumber("%g", hybrid_budget_per_unknown));
+    return fail(
+        "Options::hybrid_budget_per_unknown must be > 0 (or +inf) iterations, got " +
+        FormatNumber("%g", hybrid_budget_per_unknown));
   if (!(max_seconds > 0.0))
     return fail("Options::max_seconds must be > 0 (or +inf), got " +
                 FormatNumber("%g", max_seconds));
@@ -115,7 +117,8 @@ std::string Summary::BriefReport() const {
       << " residual evaluations, ||Phi||_inf = " << FormatNumber("%.3e", final_phi_inf)
       << ", " << FormatNumber("%.3g", total_time_s) << " s";
   if (merit_restarts > 0) out << ", " << merit_restarts << " merit restarts";
-  if (!strategy_switches.empty()) out << ", " << strategy_switches.size() << " strategy switches";
+  if (!strategy_switches.empty())
+    out << ", " << strategy_switches.size() << " strategy switches";
   return out.str();
 }
 

@@ -11,7 +11,8 @@
 
 namespace ncp {
 
-OutputError::OutputError(const std::string& action, const std::string& path, int error_number)
+OutputError::OutputError(const std::string& action, const std::string& path,
+                         int error_number)
     : std::runtime_error(action + " '" + path + "': " + std::strerror(error_number)),
       path_(path),
       error_number_(error_number) {}
@@ -32,11 +33,14 @@ int OpenForWriting(const std::string& path) {
 OutputFile::OutputFile(std::string path, std::string written_path, int fd)
     : path_(std::move(path)), written_path_(std::move(written_path)), fd_(fd) {}
 
-OutputFile OutputFile::Open(const std::string& path) { return OutputFile(path, path, OpenForWriting(path)); }
+OutputFile OutputFile::Open(const std::string& path) {
+  return OutputFile(path, path, OpenForWriting(path));
+}
 
 OutputFile OutputFile::OpenAtomic(const std::string& path) {
   struct stat existing {};
-  if (::stat(path.c_str(), &existing) == 0 && S_ISDIR(existing.st_mode))  // rename would fail late
+  if (::stat(path.c_str(), &existing) == 0 &&
+      S_ISDIR(existing.st_mode))  // rename would fail late
     throw OutputError("cannot open", path, EISDIR);
   const std::string partial = path + ".partial";
   return OutputFile(path, partial, OpenForWriting(partial));
@@ -51,9 +55,12 @@ OutputFile OutputFile::OpenAppend(const std::string& path, long long keep_bytes)
   OutputFile file(path, path, fd);  // (closes fd on a throw below)
   struct stat existing {};
   if (::fstat(fd, &existing) != 0) throw OutputError("cannot inspect", path, errno);
-  if (keep_bytes < 0 || existing.st_size < keep_bytes) throw OutputError("shorter than expected", path, EINVAL);
-  if (::ftruncate(fd, static_cast<off_t>(keep_bytes)) != 0) throw OutputError("cannot cut back", path, errno);
-  if (::lseek(fd, static_cast<off_t>(keep_bytes), SEEK_SET) < 0) throw OutputError("cannot seek in", path, errno);
+  if (keep_bytes < 0 || existing.st_size < keep_bytes)
+    throw OutputError("shorter than expected", path, EINVAL);
+  if (::ftruncate(fd, static_cast<off_t>(keep_bytes)) != 0)
+    throw OutputError("cannot cut back", path, errno);
+  if (::lseek(fd, static_cast<off_t>(keep_bytes), SEEK_SET) < 0)
+    throw OutputError("cannot seek in", path, errno);
   file.committed_bytes_ = keep_bytes;
   return file;
 }
@@ -95,7 +102,8 @@ void OutputFile::Commit() {
     const ssize_t n = ::write(fd_, record.data() + done, record.size() - done);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
-      const int error = n < 0 ? errno : ENOSPC;  // write returning 0 for a regular file: no space
+      const int error =
+          n < 0 ? errno : ENOSPC;  // write returning 0 for a regular file: no space
       // Keep only whole records: cut the file back to the end of the last committed one.
       if (::ftruncate(fd_, static_cast<off_t>(committed_bytes_)) == 0)
         ::lseek(fd_, static_cast<off_t>(committed_bytes_), SEEK_SET);
@@ -109,7 +117,8 @@ void OutputFile::Commit() {
 void OutputFile::Close() {
   Commit();
   const int fd = std::exchange(fd_, -1);
-  if (::close(fd) != 0 && errno != EINTR) {  // close's EINTR: the descriptor is released on Linux
+  if (::close(fd) != 0 &&
+      errno != EINTR) {  // close's EINTR: the descriptor is released on Linux
     const int error = errno;
     if (written_path_ != path_) std::remove(written_path_.c_str());
     throw OutputError("cannot close", written_path_, error);

@@ -43,8 +43,8 @@ void CheckJacobianShape(const SparseMatrix& S, Eigen::Index rows, Eigen::Index c
                         const char* name) {
   if (S.rows() != rows || S.cols() != cols) {
     std::ostringstream msg;
-    msg << "ncp::Solver: MixedProblem::Jacobian returned " << name << " of size " << S.rows()
-        << " x " << S.cols() << ", expected " << rows << " x " << cols;
+    msg << "ncp::Solver: MixedProblem::Jacobian returned " << name << " of size "
+        << S.rows() << " x " << S.cols() << ", expected " << rows << " x " << cols;
     throw std::invalid_argument(msg.str());
   }
 }
@@ -68,26 +68,28 @@ void CheckProblem(const MixedProblem& problem, const Vector& x) {
   const int n = problem.NumVariables();
   const int m = problem.NumEquations();
   if (n < 0 || m < 0 || m > n) {
-    throw std::invalid_argument("ncp::Solver::Solve: need 0 <= NumEquations() <= NumVariables(), got " +
-                                std::to_string(m) + " equations and " + std::to_string(n) +
-                                " variables");
+    throw std::invalid_argument(
+        "ncp::Solver::Solve: need 0 <= NumEquations() <= NumVariables(), got " +
+        std::to_string(m) + " equations and " + std::to_string(n) + " variables");
   }
   if (x.size() != n) {
     throw std::invalid_argument("ncp::Solver::Solve: start point has size " +
-                                std::to_string(x.size()) + ", expected NumVariables() = " +
-                                std::to_string(n));
+                                std::to_string(x.size()) +
+                                ", expected NumVariables() = " + std::to_string(n));
   }
   for (int i = 0; i < n; ++i) {
     if (!std::isfinite(x(i))) {
-      throw std::invalid_argument("ncp::Solver::Solve: start point x[" + std::to_string(i) +
-                                  "] = " + std::to_string(x(i)) + " is not finite");
+      throw std::invalid_argument("ncp::Solver::Solve: start point x[" +
+                                  std::to_string(i) + "] = " + std::to_string(x(i)) +
+                                  " is not finite");
     }
   }
   for (int j = 0; j < n - m; ++j) {
     const int v = problem.PairVariable(j);
     if (v < 0 || v >= n)
-      throw std::invalid_argument("ncp::Solver::Solve: PairVariable(" + std::to_string(j) +
-                                  ") = " + std::to_string(v) + " is outside [0, n)");
+      throw std::invalid_argument("ncp::Solver::Solve: PairVariable(" +
+                                  std::to_string(j) + ") = " + std::to_string(v) +
+                                  " is outside [0, n)");
   }
 }
 
@@ -112,10 +114,16 @@ void CheckProblem(const MixedProblem& problem, const Vector& x) {
 
 class Solver::Iteration {
  public:
-  Iteration(const Options& options, Workspace& workspace, MixedProblem& problem, Vector& x,
-            Summary& summary)
-      : options_(options), work_(workspace), problem_(problem), x_(x), summary_(summary),
-        n_(problem.NumVariables()), m_(problem.NumEquations()), p_(n_ - m_) {}
+  Iteration(const Options& options, Workspace& workspace, MixedProblem& problem,
+            Vector& x, Summary& summary)
+      : options_(options),
+        work_(workspace),
+        problem_(problem),
+        x_(x),
+        summary_(summary),
+        n_(problem.NumVariables()),
+        m_(problem.NumEquations()),
+        p_(n_ - m_) {}
 
   void Run() {
     if (!Start()) return;
@@ -177,7 +185,8 @@ class Solver::Iteration {
 
     if (!Evaluate(x_, &work_.E, &work_.A, &work_.B, &work_.phi)) {
       work_.phi.setConstant(std::numeric_limits<double>::quiet_NaN());
-      Finish(TerminationType::kEvaluationFailure, "the problem cannot be evaluated at the start point");
+      Finish(TerminationType::kEvaluationFailure,
+             "the problem cannot be evaluated at the start point");
       return false;
     }
     summary_.initial_phi_inf = work_.phi.lpNorm<Eigen::Infinity>();
@@ -188,8 +197,8 @@ class Solver::Iteration {
     work_.stagnation.Reset(options_.stagnation_window);
     work_.armijo_reference.Reset(options_.nonmonotone_memory);
     if (options_.log_to_stderr)
-      std::fprintf(stderr, "%5s %12s %12s %12s %10s %4s %4s %5s\n", "iter", "|Phi|_inf", "psi",
-                   "|grad|_inf", "step", "bt", "dir", "|gam|");
+      std::fprintf(stderr, "%5s %12s %12s %12s %10s %4s %4s %5s\n", "iter", "|Phi|_inf",
+                   "psi", "|grad|_inf", "step", "bt", "dir", "|gam|");
     return true;
   }
 
@@ -198,12 +207,14 @@ class Solver::Iteration {
   void SelectBackend() {
     resolved_ = options_.linear_solver;
     if (resolved_ == LinearSolverType::kAuto)
-      resolved_ = n_ <= options_.dense_threshold ? LinearSolverType::kDenseLU : LinearSolverType::kUmfpack;
+      resolved_ = n_ <= options_.dense_threshold ? LinearSolverType::kDenseLU
+                                                 : LinearSolverType::kUmfpack;
     if (work_.backend != resolved_) {
       work_.backend = resolved_;
       work_.dense = resolved_ == LinearSolverType::kDenseLU;
       work_.linear_solver = work_.dense ? nullptr : internal::MakeLinearSolver(resolved_);
-      work_.regularized_solver.reset();  // made on first use (Options::regularized_direction)
+      work_.regularized_solver
+          .reset();  // made on first use (Options::regularized_direction)
       work_.have_pattern = false;
       work_.measured_flop_rate = 0.0;
     }
@@ -219,9 +230,11 @@ class Solver::Iteration {
     summary_.num_pairs = p_;
     summary_.ncp_function = options_.ncp_function;
     summary_.linear_solver_requested = options_.linear_solver;
-    summary_.iterations = summary_.jacobian_evaluations = summary_.residual_evaluations = 0;
+    summary_.iterations = summary_.jacobian_evaluations = summary_.residual_evaluations =
+        0;
     summary_.gradient_steps = summary_.regularized_steps = summary_.merit_restarts = 0;
-    summary_.linear_solver_failures = summary_.descent_test_failures = summary_.backtracks = 0;
+    summary_.linear_solver_failures = summary_.descent_test_failures =
+        summary_.backtracks = 0;
     summary_.projected_start_components = summary_.projected_final_components = 0;
     summary_.evaluation_time_s = summary_.linear_solver_time_s = 0.0;
   }
@@ -234,7 +247,8 @@ class Solver::Iteration {
     summary_.evaluation_time_s += Seconds(t0);
     if (!ok) return false;
     if (E->size() != m_ || A->size() != p_ || B->size() != p_)
-      throw std::invalid_argument("ncp::Solver: MixedProblem::Evaluate resized its outputs");
+      throw std::invalid_argument(
+          "ncp::Solver: MixedProblem::Evaluate resized its outputs");
     if (work_.weighted) {
       E->array() *= work_.we.array();
       A->array() *= work_.wa.array();
@@ -242,7 +256,8 @@ class Solver::Iteration {
     }
     phi->head(m_) = *E;
     for (int j = 0; j < p_; ++j)
-      (*phi)(m_ + j) = internal::PhiValue(function_, options_.penalized_fb_lambda, (*A)(j), (*B)(j));
+      (*phi)(m_ + j) =
+          internal::PhiValue(function_, options_.penalized_fb_lambda, (*A)(j), (*B)(j));
     return true;
   }
 
@@ -272,7 +287,8 @@ class Solver::Iteration {
       iterate_.pattern_changed = work_.UpdatePattern(m_);
       work_.FillJacobian(m_, x_);
     }
-    work_.MultiplyJacobianTransposed(work_.phi, &work_.grad);  // grad psi = J' Phi (eq. 24)
+    work_.MultiplyJacobianTransposed(work_.phi,
+                                     &work_.grad);  // grad psi = J' Phi (eq. 24)
     return true;
   }
 
@@ -283,7 +299,8 @@ class Solver::Iteration {
     iterate_.degenerate_count = 0;
     const bool fb_family = function_ != NcpFunction::kMin;
     auto degenerate = [&](int j) {
-      return internal::InDegenerateSet(function_, options_.degenerate_tolerance, work_.A(j), work_.B(j));
+      return internal::InDegenerateSet(function_, options_.degenerate_tolerance,
+                                       work_.A(j), work_.B(j));
     };
     if (fb_family) {
       work_.z.setZero();
@@ -308,16 +325,18 @@ class Solver::Iteration {
   }
 
   // ---- the round-off floor of the test (Options::roundoff_ulps) ----------------------
-  // Moving x to a neighbouring double (x_j (1 + delta_j), |delta_j| <= eps) changes row i of
-  // Phi by up to eps r_i with r = |J_E||x| for equations and |da| |J_A||x| + |db| |J_B||x|
-  // for pairs (to first order; J_E, J_A, J_B weighted like the rows). No x closer to the
-  // solution is representable below that, so a row within tolerance + roundoff_ulps eps r_i
-  // is as converged as double precision allows. Needs J at x^k (EvaluateJacobian).
-  // (r = Workspace::sensitivity, summed while J was filled: no extra pass over J.)
+  // Moving x to a neighbouring double (x_j (1 + delta_j), |delta_j| <= eps) changes row i
+  // of Phi by up to eps r_i with r = |J_E||x| for equations and |da| |J_A||x| + |db|
+  // |J_B||x| for pairs (to first order; J_E, J_A, J_B weighted like the rows). No x
+  // closer to the solution is representable below that, so a row within tolerance +
+  // roundoff_ulps eps r_i is as converged as double precision allows. Needs J at x^k
+  // (EvaluateJacobian). (r = Workspace::sensitivity, summed while J was filled: no extra
+  // pass over J.)
   bool WithinRoundoffFloor() {
     if (options_.roundoff_ulps == 0.0) return false;
     for (int i = 0; i < n_; ++i)
-      if (!internal::RowWithinRoundoffFloor(work_.phi(i), threshold_, options_.roundoff_ulps, work_.sensitivity(i)))
+      if (!internal::RowWithinRoundoffFloor(work_.phi(i), threshold_,
+                                            options_.roundoff_ulps, work_.sensitivity(i)))
         return false;
     return true;
   }
@@ -327,20 +346,27 @@ class Solver::Iteration {
     record_.iteration = k;
     record_.phi_inf = iterate_.phi_inf;
     record_.psi = iterate_.psi;
-    record_.grad_psi_inf =
-        iterate_.have_jacobian && iterate_.jacobian_ok ? work_.grad.lpNorm<Eigen::Infinity>() : 0.0;
+    record_.grad_psi_inf = iterate_.have_jacobian && iterate_.jacobian_ok
+                               ? work_.grad.lpNorm<Eigen::Infinity>()
+                               : 0.0;
     record_.degenerate_pairs = iterate_.degenerate_count;
-    const bool reported = options_.keep_trace || options_.log_to_stderr || options_.callback;
-    record_.time_s = reported ? Seconds(start_) : 0.0;  // (a clock read costs ~1% of a small iteration)
+    const bool reported =
+        options_.keep_trace || options_.log_to_stderr || options_.callback;
+    record_.time_s = reported ? Seconds(start_)
+                              : 0.0;  // (a clock read costs ~1% of a small iteration)
     if (options_.keep_trace) summary_.trace.push_back(record_);
     if (options_.log_to_stderr)
-      std::fprintf(stderr, "%5d %12.4e %12.4e %12.4e %10.3e %4d %4s %5d\n", k, iterate_.phi_inf, iterate_.psi,
-                   record_.grad_psi_inf, record_.step_length, record_.backtracks,
-                   record_.gradient_step ? "grad" : record_.regularized_step ? "reg" : "newt",
+      std::fprintf(stderr, "%5d %12.4e %12.4e %12.4e %10.3e %4d %4s %5d\n", k,
+                   iterate_.phi_inf, iterate_.psi, record_.grad_psi_inf,
+                   record_.step_length, record_.backtracks,
+                   record_.gradient_step      ? "grad"
+                   : record_.regularized_step ? "reg"
+                                              : "newt",
                    iterate_.degenerate_count);
     if (options_.callback && !options_.callback(record_)) {
-      Finish(TerminationType::kUserAbort,
-             "the iteration callback stopped the solve at iteration " + std::to_string(k));
+      Finish(
+          TerminationType::kUserAbort,
+          "the iteration callback stopped the solve at iteration " + std::to_string(k));
       return false;
     }
     return true;
@@ -351,11 +377,13 @@ class Solver::Iteration {
     if (iterate_.converged) {
       summary_.roundoff_limited = iterate_.roundoff_limited;
       Finish(TerminationType::kConverged,
-             internal::ConvergedMessage(options_, work_.weighted, iterate_.roundoff_limited, iterate_.phi_inf, k));
+             internal::ConvergedMessage(options_, work_.weighted,
+                                        iterate_.roundoff_limited, iterate_.phi_inf, k));
       return true;
     }
     if (k >= options_.max_iterations) {
-      Finish(TerminationType::kMaxIterations, internal::MaxIterationsMessage(options_, iterate_.phi_inf));
+      Finish(TerminationType::kMaxIterations,
+             internal::MaxIterationsMessage(options_, iterate_.phi_inf));
       return true;
     }
     if (OutOfTime("at iteration ", k)) return true;
@@ -370,21 +398,27 @@ class Solver::Iteration {
 
   // Options::max_seconds passed? (no allocation unless it did: checked every trial)
   bool OutOfTime(const char* where, int k) {
-    if (!std::isfinite(options_.max_seconds) || !(Seconds(start_) > options_.max_seconds)) return false;
-    Finish(TerminationType::kTimeLimit, internal::TimeLimitMessage(options_, where, k, iterate_.phi_inf));
+    if (!std::isfinite(options_.max_seconds) || !(Seconds(start_) > options_.max_seconds))
+      return false;
+    Finish(TerminationType::kTimeLimit,
+           internal::TimeLimitMessage(options_, where, k, iterate_.phi_inf));
     return true;
   }
 
   // The stagnation test of globalization.hpp (Options::stagnation_window).
   bool Stagnated(int k) {
-    if (!work_.stagnation.Stagnated(static_cast<size_t>(k - first_k_), iterate_.psi, options_)) return false;
-    Finish(TerminationType::kStationaryPoint, internal::StagnationMessage(options_, iterate_.phi_inf, iterate_.grad_inf));
+    if (!work_.stagnation.Stagnated(static_cast<size_t>(k - first_k_), iterate_.psi,
+                                    options_))
+      return false;
+    Finish(TerminationType::kStationaryPoint,
+           internal::StagnationMessage(options_, iterate_.phi_inf, iterate_.grad_inf));
     return true;
   }
 
   bool StationaryPoint() {
     if (iterate_.grad_inf != 0.0) return false;
-    Finish(TerminationType::kStationaryPoint, internal::ZeroGradientMessage(iterate_.phi_inf));
+    Finish(TerminationType::kStationaryPoint,
+           internal::ZeroGradientMessage(iterate_.phi_inf));
     return true;
   }
 
@@ -395,14 +429,16 @@ class Solver::Iteration {
     const bool newton_solved = NewtonDirection(k);
     if (finished_) return Direction::kNewton;
     if (newton_solved && PassesDescentTest()) return Direction::kNewton;
-    if (newton_solved) ++summary_.descent_test_failures;
-    else ++summary_.linear_solver_failures;
+    if (newton_solved)
+      ++summary_.descent_test_failures;
+    else
+      ++summary_.linear_solver_failures;
     if (!options_.gradient_fallback) {
       if (!newton_solved)
         Finish(TerminationType::kLinearSolverFailure,
-               std::string("the Newton system is singular or the ") + ToString(resolved_) +
-                   " solve failed at iteration " + std::to_string(k) +
-                   " and gradient_fallback is off");
+               std::string("the Newton system is singular or the ") +
+                   ToString(resolved_) + " solve failed at iteration " +
+                   std::to_string(k) + " and gradient_fallback is off");
       return Direction::kNewton;  // Algorithm 1 without step 2's fallback
     }
     if (regularized_ && RegularizedDirection() && PassesDescentTest()) {
@@ -426,11 +462,13 @@ class Solver::Iteration {
   bool NewtonDirection(int k) {
     const auto t0 = Clock::now();
     work_.newton_rhs = -work_.phi;
-    bool solved = FactorizeJacobian(k) && SolveFactorized(work_.newton_rhs, &work_.d) && AllFinite(work_.d);
+    bool solved = FactorizeJacobian(k) && SolveFactorized(work_.newton_rhs, &work_.d) &&
+                  AllFinite(work_.d);
     if (solved) {  // the backward-error guard of globalization.hpp
-      const double terms_inf = work_.ResidualAndTerms(work_.d, work_.phi, &work_.newton_residual, &work_.newton_terms);
-      solved = internal::NewtonSolutionAccurate(work_.newton_residual.lpNorm<Eigen::Infinity>(), iterate_.phi_inf,
-                                                terms_inf);
+      const double terms_inf = work_.ResidualAndTerms(
+          work_.d, work_.phi, &work_.newton_residual, &work_.newton_terms);
+      solved = internal::NewtonSolutionAccurate(
+          work_.newton_residual.lpNorm<Eigen::Infinity>(), iterate_.phi_inf, terms_inf);
     }
     summary_.linear_solver_time_s += Seconds(t0);
     return solved;
@@ -457,27 +495,32 @@ class Solver::Iteration {
     return true;
   }
 
-  int SymbolicFactorizations() const { return work_.dense ? 0 : work_.linear_solver->symbolic_factorizations(); }
+  int SymbolicFactorizations() const {
+    return work_.dense ? 0 : work_.linear_solver->symbolic_factorizations();
+  }
   // Cholesky fallbacks of the Newton and the regularized (J'J + mu I) solver.
   int Fallbacks() const {
     if (work_.dense) return 0;
-    return work_.linear_solver->fallbacks() + (work_.regularized_solver ? work_.regularized_solver->fallbacks() : 0);
+    return work_.linear_solver->fallbacks() +
+           (work_.regularized_solver ? work_.regularized_solver->fallbacks() : 0);
   }
 
   // Predicted time of the numeric factorization = flops / rate (Options::max_seconds,
-  // factorization_flop_rate; typical_rate: the backend's before one was timed); false (and
-  // the solve finished) when it exceeds the time left.
+  // factorization_flop_rate; typical_rate: the backend's before one was timed); false
+  // (and the solve finished) when it exceeds the time left.
   bool FactorizationFits(double flops, double typical_rate, int k) {
     summary_.predicted_factorization_flops = flops;
-    const double rate = work_.measured_flop_rate > 0.0      ? work_.measured_flop_rate
-                        : options_.factorization_flop_rate > 0.0 ? options_.factorization_flop_rate
-                                                           : typical_rate;
+    const double rate = work_.measured_flop_rate > 0.0 ? work_.measured_flop_rate
+                        : options_.factorization_flop_rate > 0.0
+                            ? options_.factorization_flop_rate
+                            : typical_rate;
     const double left = options_.max_seconds - Seconds(start_);
     if (!std::isfinite(options_.max_seconds) || !(flops / rate > left)) return true;
     Finish(TerminationType::kTimeLimit,
            "the factorization at iteration " + std::to_string(k) + " was not started: " +
-               FormatNumber("%.3g", flops) + " flops at " + FormatNumber("%.3g", rate) + " flop/s predict " +
-               FormatNumber("%.3g", flops / rate) + " s, more than the " + FormatNumber("%.3g", left) +
+               FormatNumber("%.3g", flops) + " flops at " + FormatNumber("%.3g", rate) +
+               " flop/s predict " + FormatNumber("%.3g", flops / rate) +
+               " s, more than the " + FormatNumber("%.3g", left) +
                " s left of max_seconds = " + FormatNumber("%.3g", options_.max_seconds) +
                " s (||Phi||_inf = " + FormatNumber("%.3e", iterate_.phi_inf) + ")");
     return false;
@@ -491,7 +534,8 @@ class Solver::Iteration {
     const auto t0 = Clock::now();
     const bool ok = factorize();
     const double seconds = Seconds(t0);
-    if (std::isfinite(flops) && flops > 0.0 && seconds > 0.0) work_.measured_flop_rate = flops / seconds;
+    if (std::isfinite(flops) && flops > 0.0 && seconds > 0.0)
+      work_.measured_flop_rate = flops / seconds;
     return ok;
   }
 
@@ -501,12 +545,14 @@ class Solver::Iteration {
   bool RegularizedDirection() {
     const auto t0 = Clock::now();
     const double mu = std::sqrt(2.0 * iterate_.psi);
-    if (!work_.regularized_solver) work_.regularized_solver = internal::MakeLinearSolver(resolved_);
+    if (!work_.regularized_solver)
+      work_.regularized_solver = internal::MakeLinearSolver(resolved_);
     if (work_.identity.rows() != n_) {
       work_.identity.resize(n_, n_);
       work_.identity.setIdentity();
     }
-    if (work_.dense) work_.J = work_.Jd.sparseView();  // (the option's sparse form; off by default)
+    if (work_.dense)
+      work_.J = work_.Jd.sparseView();  // (the option's sparse form; off by default)
     work_.normal_matrix = SparseMatrix(work_.J.transpose()) * work_.J;
     work_.normal_matrix += mu * work_.identity;
     work_.normal_matrix.makeCompressed();
@@ -519,27 +565,34 @@ class Solver::Iteration {
     work_.regularized_analyzed = solved;
     internal::LinearSolver& solver = *work_.regularized_solver;
     solved = solved &&
-             TimedFactorize(solver.PredictedFactorizationFlops(), [&] { return solver.Factorize(work_.normal_matrix); }) &&
-             work_.regularized_solver->Solve(work_.newton_rhs, &work_.d) && AllFinite(work_.d);
+             TimedFactorize(solver.PredictedFactorizationFlops(),
+                            [&] { return solver.Factorize(work_.normal_matrix); }) &&
+             work_.regularized_solver->Solve(work_.newton_rhs, &work_.d) &&
+             AllFinite(work_.d);
     summary_.linear_solver_time_s += Seconds(t0);
     return solved;
   }
 
-  // ---- step 3: Armijo line search on psi with steps 2^-i -------------------------------
-  // Monotone (nonmonotone_memory = 1, eq. 23) or nonmonotone; the rules are
-  // internal::ArmijoLineSearch's (globalization.hpp), this supplies the trial points.
+  // ---- step 3: Armijo line search on psi with steps 2^-i
+  // ------------------------------- Monotone (nonmonotone_memory = 1, eq. 23) or
+  // nonmonotone; the rules are internal::ArmijoLineSearch's (globalization.hpp), this
+  // supplies the trial points.
   bool LineSearch(int k, Direction direction) {
-    const double reference = work_.armijo_reference.Update(static_cast<size_t>(k - first_k_), iterate_.psi);
+    const double reference =
+        work_.armijo_reference.Update(static_cast<size_t>(k - first_k_), iterate_.psi);
     const internal::LineSearchResult r = internal::ArmijoLineSearch(
-        options_, reference, iterate_.slope, [&] { return OutOfTime("in the line search of iteration ", k); },
+        options_, reference, iterate_.slope,
+        [&] { return OutOfTime("in the line search of iteration ", k); },
         [&](double t) {
           work_.x_trial = x_ + t * work_.d;
           // (Component by component: a test t ||d||_inf <= eps ||x||_inf stopped the 2D
-          // obstacle at 10^6 unknowns, whose last corrections, ~1e-15 on gaps of 5e-7, are
-          // far below eps max|w| ~ 8e-16 x 3.5.)
-          if (work_.x_trial == x_) return internal::LineSearchTrial{internal::LineSearchTrial::kUnchanged, 0.0};
+          // obstacle at 10^6 unknowns, whose last corrections, ~1e-15 on gaps of 5e-7,
+          // are far below eps max|w| ~ 8e-16 x 3.5.)
+          if (work_.x_trial == x_)
+            return internal::LineSearchTrial{internal::LineSearchTrial::kUnchanged, 0.0};
           if (!Evaluate(work_.x_trial, &work_.Et, &work_.At, &work_.Bt, &work_.phi_trial))
-            return internal::LineSearchTrial{internal::LineSearchTrial::kNotEvaluable, 0.0};
+            return internal::LineSearchTrial{internal::LineSearchTrial::kNotEvaluable,
+                                             0.0};
           if (!AllFinite(work_.phi_trial))
             return internal::LineSearchTrial{internal::LineSearchTrial::kNonFinite, 0.0};
           return internal::LineSearchTrial{internal::LineSearchTrial::kEvaluated,
@@ -556,26 +609,30 @@ class Solver::Iteration {
       const char* name = direction == Direction::kGradient      ? "gradient"
                          : direction == Direction::kRegularized ? "regularized"
                                                                 : "Newton";
-      const internal::Ending ending = internal::LineSearchFailure(options_, r, name, k, iterate_.phi_inf, iterate_.grad_inf);
+      const internal::Ending ending = internal::LineSearchFailure(
+          options_, r, name, k, iterate_.phi_inf, iterate_.grad_inf);
       Finish(ending.termination, ending.message);
     }
     return r.accepted;
   }
 
   // ---- restart strategy (Options::merit_restarts) -----------------------------------
-  // An FB-family solve that ended at a non-solution stationary point of psi or in a failed
-  // line search continues with the other member of the family from the problem's restart
-  // point (MixedProblem::RestartPoint: x^k itself, or for a box MCP x^k projected onto the
-  // box): Phi, psi, the nonmonotone memory and the stagnation window start afresh.
+  // An FB-family solve that ended at a non-solution stationary point of psi or in a
+  // failed line search continues with the other member of the family from the problem's
+  // restart point (MixedProblem::RestartPoint: x^k itself, or for a box MCP x^k projected
+  // onto the box): Phi, psi, the nonmonotone memory and the stagnation window start
+  // afresh.
   bool Restart(int k) {
-    if (!internal::MeritRestartApplies(summary_.termination, restarts_left_, function_)) return false;
+    if (!internal::MeritRestartApplies(summary_.termination, restarts_left_, function_))
+      return false;
     // The restart point and its Phi go to the trial buffers, so that a failed restart
     // leaves x^k, Phi(x^k) and the merit function of the finished solve untouched.
     const NcpFunction stuck_function = function_;
     function_ = internal::OtherMeritFunction(function_);
     work_.x_trial = x_;
     if (!problem_.RestartPoint(&work_.x_trial) || work_.x_trial.size() != n_ ||
-        !Evaluate(work_.x_trial, &work_.Et, &work_.At, &work_.Bt, &work_.phi_trial) || !AllFinite(work_.phi_trial)) {
+        !Evaluate(work_.x_trial, &work_.Et, &work_.At, &work_.Bt, &work_.phi_trial) ||
+        !AllFinite(work_.phi_trial)) {
       function_ = stuck_function;
       return false;
     }
@@ -586,18 +643,20 @@ class Solver::Iteration {
     work_.phi.swap(work_.phi_trial);
     --restarts_left_;
     ++summary_.merit_restarts;
-    if (options_.keep_trace && !summary_.trace.empty()) summary_.trace.pop_back();  // iterate k is reported anew
+    if (options_.keep_trace && !summary_.trace.empty())
+      summary_.trace.pop_back();  // iterate k is reported anew
     finished_ = false;
     summary_.termination = TerminationType::kNotSolved;
     first_k_ = k;
     if (options_.log_to_stderr)
-      std::fprintf(stderr, "restart %d at iteration %d with %s\n", summary_.merit_restarts, k, ToString(function_));
+      std::fprintf(stderr, "restart %d at iteration %d with %s\n",
+                   summary_.merit_restarts, k, ToString(function_));
     return true;
   }
 
   // ---- the hybrid default (Options::hybrid, strategy.hpp) ---------------------------
-  // Records iterate k; true when the strategy was left for slow progress or its budget and
-  // the next one continues from its best point.
+  // Records iterate k; true when the strategy was left for slow progress or its budget
+  // and the next one continues from its best point.
   bool LeaveStrategy(int k) {
     if (!options_.hybrid) return false;
     const size_t kk = static_cast<size_t>(k - first_k_);
@@ -611,7 +670,8 @@ class Solver::Iteration {
   // (its MixedProblem::RestartPoint), at iterate k; Phi, psi, the nonmonotone memory, the
   // stagnation window and the progress test start afresh. kStuck applies to a solve that
   // ended at a non-solution stationary point, in a failed line search or a failed Newton
-  // solve; false (nothing changed) when no strategy is left or the point cannot be evaluated.
+  // solve; false (nothing changed) when no strategy is left or the point cannot be
+  // evaluated.
   bool SwitchStrategy(int k, SwitchReason reason) {
     if (!options_.hybrid) return false;
     const bool stuck = summary_.termination == TerminationType::kStationaryPoint ||
@@ -645,14 +705,16 @@ class Solver::Iteration {
     work_.B.swap(work_.Bt);
     work_.phi.swap(work_.phi_trial);
     regularized_ = to.regularized_direction;
-    if (options_.keep_trace && !summary_.trace.empty()) summary_.trace.pop_back();  // iterate k anew
+    if (options_.keep_trace && !summary_.trace.empty())
+      summary_.trace.pop_back();  // iterate k anew
     finished_ = false;
     summary_.termination = TerminationType::kNotSolved;
     first_k_ = strategy_start_ = k;
     if (options_.log_to_stderr)
       std::fprintf(stderr, "strategy %s -> %s at iteration %d (%s), from iteration %d\n",
-                   internal::StrategyName(from).c_str(), internal::StrategyName(to).c_str(), k,
-                   ToString(reason), record.best_iteration);
+                   internal::StrategyName(from).c_str(),
+                   internal::StrategyName(to).c_str(), k, ToString(reason),
+                   record.best_iteration);
     return true;
   }
 
@@ -675,7 +737,8 @@ class Solver::Iteration {
     finished_ = true;
     summary_.termination = type;
     summary_.message = message;
-    if (summary_.merit_restarts > 0) summary_.message += internal::RestartSuffix(summary_.merit_restarts);
+    if (summary_.merit_restarts > 0)
+      summary_.message += internal::RestartSuffix(summary_.merit_restarts);
     summary_.message += internal::StrategySwitchSuffix(summary_.strategy_switches);
     summary_.final_phi_inf = work_.phi.lpNorm<Eigen::Infinity>();
     summary_.final_psi = 0.5 * work_.phi.squaredNorm();
@@ -695,25 +758,30 @@ class Solver::Iteration {
   int symbolic_before_ = 0;
   int fallbacks_before_ = 0;
   double threshold_ = 0.0;
-  NcpFunction function_ = NcpFunction::kFischerBurmeister;  // the current merit (restarts switch it)
-  int restarts_left_ = 0, first_k_ = 0;                      // first_k_: iterate of the last (re)start
-  bool regularized_ = false;  // the current strategy tries the LM direction (hybrid switches it)
-  int strategy_start_ = 0;    // iterate the current strategy of the hybrid began at
+  NcpFunction function_ =
+      NcpFunction::kFischerBurmeister;   // the current merit (restarts switch it)
+  int restarts_left_ = 0, first_k_ = 0;  // first_k_: iterate of the last (re)start
+  bool regularized_ =
+      false;  // the current strategy tries the LM direction (hybrid switches it)
+  int strategy_start_ = 0;  // iterate the current strategy of the hybrid began at
   IterationRecord record_;
   bool finished_ = false;  // Finish was called (a restart clears it)
-  // Iterate k: what the phases of one iteration find out about x^k, set afresh by BeginIterate.
+  // Iterate k: what the phases of one iteration find out about x^k, set afresh by
+  // BeginIterate.
   struct Iterate {
     double phi_inf = 0.0, psi = 0.0;  // ||Phi(x^k)||_inf, psi(x^k) = 1/2 ||Phi(x^k)||_2^2
-    bool converged = false;           // phi_inf <= threshold_, or within the round-off floor
-    bool roundoff_limited = false;    // converged by the round-off floor, not by the tolerance
-    bool have_jacobian = false;       // J^k is to be evaluated (not converged, k < max_iterations)
-    bool jacobian_ok = true;          // MixedProblem::Jacobian succeeded at x^k
-    bool pattern_changed = false;     // J^k's sparsity pattern differs from J^(k-1)'s
-    int degenerate_count = 0;         // |gamma|, pairs in the degenerate set (eq. 13)
-    double grad_inf = 0.0;            // ||grad psi(x^k)||_inf
-    double slope = 0.0;               // grad psi' d of the chosen direction
-    double step = 0.0;                // the accepted step 2^-i ...
-    int backtracks = 0;               // ... and its i
+    bool converged = false;  // phi_inf <= threshold_, or within the round-off floor
+    bool roundoff_limited =
+        false;  // converged by the round-off floor, not by the tolerance
+    bool have_jacobian =
+        false;  // J^k is to be evaluated (not converged, k < max_iterations)
+    bool jacobian_ok = true;       // MixedProblem::Jacobian succeeded at x^k
+    bool pattern_changed = false;  // J^k's sparsity pattern differs from J^(k-1)'s
+    int degenerate_count = 0;      // |gamma|, pairs in the degenerate set (eq. 13)
+    double grad_inf = 0.0;         // ||grad psi(x^k)||_inf
+    double slope = 0.0;            // grad psi' d of the chosen direction
+    double step = 0.0;             // the accepted step 2^-i ...
+    int backtracks = 0;            // ... and its i
   } iterate_;
 };
 
@@ -736,8 +804,8 @@ void Solver::Solve(SquareFunction& F, const Vector& lower, const Vector& upper, 
 
 void Solver::SolveNcp(SquareFunction& F, Vector* x, Summary* summary) {
   const int n = F.NumVariables();
-  Solve(F, Vector::Zero(n), Vector::Constant(n, std::numeric_limits<double>::infinity()), x,
-        summary);
+  Solve(F, Vector::Zero(n), Vector::Constant(n, std::numeric_limits<double>::infinity()),
+        x, summary);
 }
 
 void Solver::set_options(const Options& options) {
@@ -748,12 +816,13 @@ void Solver::set_options(const Options& options) {
 
 namespace {
 
-// The one-shot calls of small problems (n <= kPooledMaxVariables) borrow a Solver kept per
-// thread, so that only the first call builds the workspace (~110 allocations, a few us: half
-// the time of a small solve); everything a solve depends on is re-derived in Start() or
-// checked (backend, box-MCP bounds, Jacobian pattern), so a borrowed workspace gives the
-// same iterates as a fresh one. A call made while the thread's Solver is busy (from inside F)
-// or for a larger problem, whose workspace should not outlive the call, gets a fresh Solver.
+// The one-shot calls of small problems (n <= kPooledMaxVariables) borrow a Solver kept
+// per thread, so that only the first call builds the workspace (~110 allocations, a few
+// us: half the time of a small solve); everything a solve depends on is re-derived in
+// Start() or checked (backend, box-MCP bounds, Jacobian pattern), so a borrowed workspace
+// gives the same iterates as a fresh one. A call made while the thread's Solver is busy
+// (from inside F) or for a larger problem, whose workspace should not outlive the call,
+// gets a fresh Solver.
 constexpr int kPooledMaxVariables = 100;
 
 struct PooledSolver {
@@ -769,8 +838,10 @@ void SolveOnce(const Options& options, int n, SolveCall&& call) {
     call(solver);
     return;
   }
-  if (pool.solver) pool.solver->set_options(options);
-  else pool.solver = std::make_unique<Solver>(options);
+  if (pool.solver)
+    pool.solver->set_options(options);
+  else
+    pool.solver = std::make_unique<Solver>(options);
   struct Borrow {  // released on return and on an exception
     bool& busy;
     explicit Borrow(bool& b) : busy(b) { busy = true; }
@@ -782,12 +853,14 @@ void SolveOnce(const Options& options, int n, SolveCall&& call) {
 }  // namespace
 
 void Solve(const Options& options, MixedProblem& problem, Vector* x, Summary* summary) {
-  SolveOnce(options, problem.NumVariables(), [&](Solver& s) { s.Solve(problem, x, summary); });
+  SolveOnce(options, problem.NumVariables(),
+            [&](Solver& s) { s.Solve(problem, x, summary); });
 }
 
-void Solve(const Options& options, SquareFunction& F, const Vector& lower, const Vector& upper,
-           Vector* x, Summary* summary) {
-  SolveOnce(options, F.NumVariables(), [&](Solver& s) { s.Solve(F, lower, upper, x, summary); });
+void Solve(const Options& options, SquareFunction& F, const Vector& lower,
+           const Vector& upper, Vector* x, Summary* summary) {
+  SolveOnce(options, F.NumVariables(),
+            [&](Solver& s) { s.Solve(F, lower, upper, x, summary); });
 }
 
 void SolveNcp(const Options& options, SquareFunction& F, Vector* x, Summary* summary) {

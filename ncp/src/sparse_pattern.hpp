@@ -7,8 +7,9 @@
 
 namespace ncp::internal {
 
-/// The sparsity pattern (outer and inner indices) of a compressed column-major matrix, kept
-/// to tell whether a later matrix has the same one (then a structure built for it is reused).
+/// The sparsity pattern (outer and inner indices) of a compressed column-major matrix,
+/// kept to tell whether a later matrix has the same one (then a structure built for it is
+/// reused).
 class SparsePattern {
  public:
   /// Remembers S's pattern (S compressed).

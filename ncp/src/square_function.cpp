@@ -8,9 +8,12 @@ namespace ncp {
 
 DenseSquareFunction::DenseSquareFunction(int n, ResidualFn residual, JacobianFn jacobian)
     : n_(n), residual_(std::move(residual)), jacobian_(std::move(jacobian)) {
-  if (n < 0) throw std::invalid_argument("DenseSquareFunction: n must be >= 0, got " + std::to_string(n));
+  if (n < 0)
+    throw std::invalid_argument("DenseSquareFunction: n must be >= 0, got " +
+                                std::to_string(n));
   if (!residual_ || !jacobian_)
-    throw std::invalid_argument("DenseSquareFunction: residual and jacobian must be callable");
+    throw std::invalid_argument(
+        "DenseSquareFunction: residual and jacobian must be callable");
 }
 
 bool DenseSquareFunction::Jacobian(const Vector& x, SparseMatrix* J) {
@@ -22,7 +25,8 @@ bool DenseSquareFunction::Jacobian(const Vector& x, SparseMatrix* J) {
                                 std::to_string(dense_.cols()) + ", expected " +
                                 std::to_string(n_) + " x " + std::to_string(n_));
   // Full pattern (explicit zeros kept) so the symbolic analysis is done once.
-  if (J->rows() != n_ || J->cols() != n_ || J->nonZeros() != static_cast<Eigen::Index>(n_) * n_) {
+  if (J->rows() != n_ || J->cols() != n_ ||
+      J->nonZeros() != static_cast<Eigen::Index>(n_) * n_) {
     std::vector<Eigen::Triplet<double, int>> t;
     t.reserve(static_cast<size_t>(n_) * static_cast<size_t>(n_));
     for (int c = 0; c < n_; ++c)
@@ -31,8 +35,10 @@ bool DenseSquareFunction::Jacobian(const Vector& x, SparseMatrix* J) {
     J->setFromTriplets(t.begin(), t.end());
     J->makeCompressed();
   }
-  // Column-major full pattern: value k is entry (k % n, k / n), same as the dense storage.
-  std::copy(dense_.data(), dense_.data() + static_cast<Eigen::Index>(n_) * n_, J->valuePtr());
+  // Column-major full pattern: value k is entry (k % n, k / n), same as the dense
+  // storage.
+  std::copy(dense_.data(), dense_.data() + static_cast<Eigen::Index>(n_) * n_,
+            J->valuePtr());
   return true;
 }
 

@@ -10,9 +10,12 @@ namespace ncp {
 
 const char* ToString(SwitchReason reason) {
   switch (reason) {
-    case SwitchReason::kStuck: return "stuck";
-    case SwitchReason::kSlowProgress: return "slow-progress";
-    case SwitchReason::kBudget: return "budget";
+    case SwitchReason::kStuck:
+      return "stuck";
+    case SwitchReason::kSlowProgress:
+      return "slow-progress";
+    case SwitchReason::kBudget:
+      return "budget";
   }
   return "unknown";
 }
@@ -63,7 +66,8 @@ void StrategyProgress::Observe(size_t kk, double psi, const Vector& x, int k) {
   ring_[kk % ring_.size()] = best_psi_;
 }
 
-bool StrategyProgress::ShouldLeave(size_t kk, int spent, const Options& o, SwitchReason* reason) const {
+bool StrategyProgress::ShouldLeave(size_t kk, int spent, const Options& o,
+                                   SwitchReason* reason) const {
   if (spent >= budget_) {
     *reason = SwitchReason::kBudget;
     return true;
@@ -84,8 +88,8 @@ std::string StrategySwitchSuffix(const std::vector<StrategySwitch>& switches) {
   if (switches.empty()) return std::string();
   std::string out = " (strategies: " + StrategyName(switches.front().from_strategy);
   for (const StrategySwitch& s : switches)
-    out += " -> " + StrategyName(s.to_strategy) + " at iteration " + std::to_string(s.iteration) + ", " +
-           ToString(s.reason);
+    out += " -> " + StrategyName(s.to_strategy) + " at iteration " +
+           std::to_string(s.iteration) + ", " + ToString(s.reason);
   return out + ")";
 }
 

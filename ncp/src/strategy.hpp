@@ -12,7 +12,8 @@
 namespace ncp::internal {
 
 inline bool SameStrategy(const Strategy& a, const Strategy& b) {
-  return a.ncp_function == b.ncp_function && a.regularized_direction == b.regularized_direction;
+  return a.ncp_function == b.ncp_function &&
+         a.regularized_direction == b.regularized_direction;
 }
 
 /// The strategies of Options::hybrid in order: the requested one, then penalized FB, min,
@@ -30,8 +31,9 @@ class StrategySchedule {
   int size_ = 0, index_ = 0;
 };
 
-/// The progress of one strategy (one merit function): the smallest psi and the point where
-/// it was reached, and whether the strategy should be left for slow progress or its budget.
+/// The progress of one strategy (one merit function): the smallest psi and the point
+/// where it was reached, and whether the strategy should be left for slow progress or its
+/// budget.
 class StrategyProgress {
  public:
   /// Sizes the window and the best point for n unknowns (no allocation when they fit).
@@ -39,9 +41,9 @@ class StrategyProgress {
   /// Records psi(x^k) at kk iterations since the merit function was last changed (kk = 0
   /// starts a new record).
   void Observe(size_t kk, double psi, const Vector& x, int k);
-  /// Slow progress (Options::hybrid_window, hybrid_decrease) at kk iterations since the merit
-  /// function changed, or the budget used at `spent` iterations since the strategy began;
-  /// false when neither (then *reason is untouched).
+  /// Slow progress (Options::hybrid_window, hybrid_decrease) at kk iterations since the
+  /// merit function changed, or the budget used at `spent` iterations since the strategy
+  /// began; false when neither (then *reason is untouched).
   bool ShouldLeave(size_t kk, int spent, const Options& o, SwitchReason* reason) const;
 
   const Vector& best_x() const { return best_x_; }

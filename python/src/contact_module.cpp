@@ -31,8 +31,9 @@ double Checked(const char* name, const char* key, double v, double min, double m
   const bool ok = std::isfinite(v) && (min_open ? v > min : v >= min) && v <= max;
   if (!ok) {
     std::ostringstream text;
-    text << "contact.Scene." << name << " = " << v << " " << unit << " is outside the accepted range "
-         << (min_open ? "(" : "[") << min << ", " << max << "] " << unit << " (the scene key " << key << ")";
+    text << "contact.Scene." << name << " = " << v << " " << unit
+         << " is outside the accepted range " << (min_open ? "(" : "[") << min << ", "
+         << max << "] " << unit << " (the scene key " << key << ")";
     throw contact::SceneError(text.str());
   }
   return v;
@@ -183,12 +184,14 @@ void PutContactArrays(const std::vector<Snapshot>& snaps, Eigen::Index num_conta
   })[py::make_tuple(py::ellipsis(), 0)];
 }
 
-/// The summary as a dict: the scalar fields, status, message and the step method that ran.
+/// The summary as a dict: the scalar fields, status, message and the step method that
+/// ran.
 py::dict SummaryDict(const DynamicSummary& summary) {
   py::dict sum = SummaryColumns().Scalars(summary);
   sum["status"] = std::string(contact::ToString(summary.status));
   sum["message"] = summary.message;
-  sum["step_method"] = std::string(contact::ToString(summary.step_method));  // auto resolved
+  sum["step_method"] =
+      std::string(contact::ToString(summary.step_method));  // auto resolved
   return sum;
 }
 
@@ -211,30 +214,37 @@ class SceneStepper {
 
   void Record(int every, bool contact_history) {
     if (every < 0)
-      throw std::invalid_argument("contact.run: every must be >= 0, got " + std::to_string(every));
+      throw std::invalid_argument("contact.run: every must be >= 0, got " +
+                                  std::to_string(every));
     every_ = every;
     contact_history_ = contact_history;
   }
 
   /// Up to n steps; progress(step, time, end_time) after each if given. Ctrl-C ends it.
   std::string Step(long n, const py::object& progress) {
-    if (n < 0) throw std::invalid_argument("contact.Simulation.step: n must be >= 0, got " + std::to_string(n));
+    if (n < 0)
+      throw std::invalid_argument("contact.Simulation.step: n must be >= 0, got " +
+                                  std::to_string(n));
     for (long i = 0; i < n && sim_.state() == contact::SimulationState::kRunning; ++i) {
       const int before = sim_.step_index();
       sim_.Step(1);
       if (sim_.step_index() == before) break;  // failed before the step was taken
       Collect();
-      if (!progress.is_none()) progress(sim_.step_index(), sim_.time(), sim_.options().end_time);  // as the record's
+      if (!progress.is_none())
+        progress(sim_.step_index(), sim_.time(),
+                 sim_.options().end_time);  // as the record's
       if (PyErr_CheckSignals() != 0) throw py::error_already_set();
     }
     return contact::ToString(sim_.state());
   }
 
-  /// The state of a checkpoint; the stress times its steps reached are not collected again.
+  /// The state of a checkpoint; the stress times its steps reached are not collected
+  /// again.
   void LoadCheckpoint(const std::string& path) {
     sim_.LoadCheckpoint(path);
     const double dt = sim_.options().dt;
-    while (sim_.step_index() > 0 && !pending_.empty() && sim_.time() >= pending_.front() - 0.5 * dt)
+    while (sim_.step_index() > 0 && !pending_.empty() &&
+           sim_.time() >= pending_.front() - 0.5 * dt)
       pending_.erase(pending_.begin());
   }
 
@@ -247,7 +257,8 @@ class SceneStepper {
   py::dict Contact() const {
     const contact::ContactNodeStates c = sim_.contact();
     Eigen::VectorXi state(static_cast<Eigen::Index>(c.state.size()));
-    for (size_t i = 0; i < c.state.size(); ++i) state(static_cast<Eigen::Index>(i)) = static_cast<int>(c.state[i]);
+    for (size_t i = 0; i < c.state.size(); ++i)
+      state(static_cast<Eigen::Index>(i)) = static_cast<int>(c.state[i]);
     py::dict d;
     d["normal_force"] = c.normal_force;
     d["friction_force"] = Eigen::MatrixXd(c.friction_force.transpose());
@@ -306,7 +317,8 @@ py::dict SceneStepper::Result() const {
     contact_coordinates.row(k) = mesh.nodes.col(contact_node(k)).transpose();
   }
   Eigen::VectorXd times(static_cast<Eigen::Index>(snaps_.size()));
-  for (size_t s = 0; s < snaps_.size(); ++s) times(static_cast<Eigen::Index>(s)) = snaps_[s].time;
+  for (size_t s = 0; s < snaps_.size(); ++s)
+    times(static_cast<Eigen::Index>(s)) = snaps_[s].time;
 
   py::dict out;
   out["summary"] = SummaryDict(summary);
@@ -315,7 +327,8 @@ py::dict SceneStepper::Result() const {
   for (const StepRecord& r : summary.records) statuses.push_back(r.solver_status);
   out["solver_status"] = statuses;
   out["output_times"] = times;
-  out["displacement"] = Stack(snaps_, mesh.NumNodes(), dim(), [](const Snapshot& s) { return s.displacement; });
+  out["displacement"] = Stack(snaps_, mesh.NumNodes(), dim(),
+                              [](const Snapshot& s) { return s.displacement; });
   PutContactArrays(snaps_, num_contact, dim(), "", &out);
   if (contact_history_) PutContactArrays(history_, num_contact, dim(), "history_", &out);
   out["contact_node"] = contact_node;
@@ -333,8 +346,9 @@ py::dict SceneStepper::Result() const {
 Eigen::VectorXd VectorArg(const char* what, const py::object& value, int dim) {
   py::array_t<double, py::array::c_style | py::array::forcecast> a(value);
   if (a.ndim() != 1 || a.shape(0) != dim)
-    throw std::invalid_argument(std::string("contact.Simulation: ") + what + " must have " +
-                                std::to_string(dim) + " components, got an array of shape " +
+    throw std::invalid_argument(std::string("contact.Simulation: ") + what +
+                                " must have " + std::to_string(dim) +
+                                " components, got an array of shape " +
                                 py::repr(a.attr("shape")).cast<std::string>());
   return Eigen::Map<const Eigen::VectorXd>(a.data(), dim);
 }
@@ -346,7 +360,8 @@ PYBIND11_MODULE(_contact, m) {
       "Dynamic contact of an elastic body with a rigid obstacle (C++ core of the contact "
       "package)";
   py::register_exception<contact::SceneError>(m, "SceneError", PyExc_ValueError);
-  py::register_exception<contact::CheckpointError>(m, "CheckpointError", PyExc_ValueError);
+  py::register_exception<contact::CheckpointError>(m, "CheckpointError",
+                                                   PyExc_ValueError);
 
   py::class_<contact::Scene>(m, "Scene",
                              "A scene read from a TOML file (examples/scenes/README.md).")
@@ -354,39 +369,53 @@ PYBIND11_MODULE(_contact, m) {
       .def_readonly("source", &contact::Scene::source, "the file it was read from")
       .def_readonly("dim", &contact::Scene::dim)
       .def_readonly("friction_coefficient", &contact::Scene::friction_coefficient)
-      .def_readonly("warnings", &contact::Scene::warnings,
-                    "what the file says that a user probably did not mean (run() warns with them)")
+      .def_readonly(
+          "warnings", &contact::Scene::warnings,
+          "what the file says that a user probably did not mean (run() warns with them)")
       .def_property_readonly(
-          "step", [](const contact::Scene& s) { return std::string(contact::ToString(s.dynamics.step_method)); },
-          "solver.step of the file: auto, condensed, sparse, full, explicit or ipopt (the method that ran: "
+          "step",
+          [](const contact::Scene& s) {
+            return std::string(contact::ToString(s.dynamics.step_method));
+          },
+          "solver.step of the file: auto, condensed, sparse, full, explicit or ipopt "
+          "(the method that ran: "
           "summary['step_method'])")
       .def_property_readonly(
           "friction_formulation",
-          [](const contact::Scene& s) { return std::string(contact::ToString(s.dynamics.friction_formulation)); },
-          "how friction is posed: coulomb-fc (implicit Coulomb, the default) or lagged-bound (solver.friction)")
+          [](const contact::Scene& s) {
+            return std::string(contact::ToString(s.dynamics.friction_formulation));
+          },
+          "how friction is posed: coulomb-fc (implicit Coulomb, the default) or "
+          "lagged-bound (solver.friction)")
       .def_property(
           "stress_times", [](const contact::Scene& s) { return s.stress_times; },
           [](contact::Scene& s, const std::vector<double>& times) {
-            for (const double t : times) Checked("stress_times", "output.stress_times", t, 0.0, 1e9, false, "s");
+            for (const double t : times)
+              Checked("stress_times", "output.stress_times", t, 0.0, 1e9, false, "s");
             s.stress_times = times;
           },
           "output times [s]")
       .def_property(
           "dt", [](const contact::Scene& s) { return s.dynamics.dt; },
-          [](contact::Scene& s, double v) { s.dynamics.dt = Checked("dt", "time.dt", v, 0.0, 1e9, true, "s"); },
+          [](contact::Scene& s, double v) {
+            s.dynamics.dt = Checked("dt", "time.dt", v, 0.0, 1e9, true, "s");
+          },
           "time step [s]")
       .def_property_readonly(
-          "start_time", [](const contact::Scene& s) { return s.dynamics.start_time; }, "t_0 [s]")
+          "start_time", [](const contact::Scene& s) { return s.dynamics.start_time; },
+          "t_0 [s]")
       .def_property(
           "end_time", [](const contact::Scene& s) { return s.dynamics.end_time; },
           [](contact::Scene& s, double v) {
-            s.dynamics.end_time = Checked("end_time", "time.end_time", v, 0.0, 1e9, true, "s");
+            s.dynamics.end_time =
+                Checked("end_time", "time.end_time", v, 0.0, 1e9, true, "s");
           },
           "[s]")
       .def_property(
           "tolerance", [](const contact::Scene& s) { return s.dynamics.ncp.tolerance; },
           [](contact::Scene& s, double v) {
-            s.dynamics.ncp.tolerance = Checked("tolerance", "solver.tolerance", v, 0.0, 1.0, true, "");
+            s.dynamics.ncp.tolerance =
+                Checked("tolerance", "solver.tolerance", v, 0.0, 1.0, true, "");
           },
           "tolerance of every step relative to its force and displacement scales")
       .def("__repr__", [](const contact::Scene& s) {
@@ -402,42 +431,78 @@ PYBIND11_MODULE(_contact, m) {
         return contact::LoadScene(path, overrides);
       },
       py::arg("path"), py::arg("overrides") = contact::SceneOverrides{},
-      "Reads and validates a scene file; overrides: [(\"time.dt\", \"1e-4\"), ...] as TOML "
+      "Reads and validates a scene file; overrides: [(\"time.dt\", \"1e-4\"), ...] as "
+      "TOML "
       "literals, checked like the file's own values (contact-sim's --dt etc.).");
-  py::class_<SceneStepper>(m, "Simulation",
-                           "The scene's integrator one step at a time (contact/simulation.hpp); "
-                           "contact.Simulation wraps it.")
+  py::class_<SceneStepper>(
+      m, "Simulation",
+      "The scene's integrator one step at a time (contact/simulation.hpp); "
+      "contact.Simulation wraps it.")
       .def(py::init<const contact::Scene&>(), py::arg("scene"))
       .def("record", &SceneStepper::Record, py::arg("every"), py::arg("contact_history"))
-      .def("step", &SceneStepper::Step, py::arg("n") = 1, py::arg("progress") = py::none(),
+      .def("step", &SceneStepper::Step, py::arg("n") = 1,
+           py::arg("progress") = py::none(),
            "up to n steps; returns the state: running, finished or failed")
       .def("result", &SceneStepper::Result)
-      .def_property_readonly("state", [](const SceneStepper& s) { return std::string(contact::ToString(s.sim().state())); })
+      .def_property_readonly("state",
+                             [](const SceneStepper& s) {
+                               return std::string(contact::ToString(s.sim().state()));
+                             })
       .def_property_readonly("time", [](const SceneStepper& s) { return s.sim().time(); })
-      .def_property_readonly("step_index", [](const SceneStepper& s) { return s.sim().step_index(); })
-      .def_property_readonly("num_steps", [](const SceneStepper& s) { return s.sim().num_steps(); })
-      .def_property_readonly("dt", [](const SceneStepper& s) { return s.sim().options().dt; })
-      .def_property_readonly("end_time", [](const SceneStepper& s) { return s.sim().options().end_time; })
+      .def_property_readonly("step_index",
+                             [](const SceneStepper& s) { return s.sim().step_index(); })
+      .def_property_readonly("num_steps",
+                             [](const SceneStepper& s) { return s.sim().num_steps(); })
+      .def_property_readonly("dt",
+                             [](const SceneStepper& s) { return s.sim().options().dt; })
+      .def_property_readonly(
+          "end_time", [](const SceneStepper& s) { return s.sim().options().end_time; })
       .def_property_readonly("dim", &SceneStepper::dim)
-      .def_property_readonly("displacement", [](const SceneStepper& s) { return NodeRows(s.sim().nodal_displacement(), s.dim()); })
-      .def_property_readonly("velocity", [](const SceneStepper& s) { return NodeRows(s.sim().nodal_velocity(), s.dim()); })
-      .def_property_readonly("displacement_free", [](const SceneStepper& s) { return s.sim().displacement(); })
+      .def_property_readonly("displacement",
+                             [](const SceneStepper& s) {
+                               return NodeRows(s.sim().nodal_displacement(), s.dim());
+                             })
+      .def_property_readonly("velocity",
+                             [](const SceneStepper& s) {
+                               return NodeRows(s.sim().nodal_velocity(), s.dim());
+                             })
+      .def_property_readonly("displacement_free",
+                             [](const SceneStepper& s) { return s.sim().displacement(); })
       .def_property_readonly("contact", &SceneStepper::Contact)
-      .def_property_readonly("contact_gaps", [](const SceneStepper& s) { return s.sim().contact_gaps(); })
-      .def_property_readonly("summary", [](const SceneStepper& s) { return SummaryDict(s.sim().summary()); })
-      .def_property_readonly("records", [](const SceneStepper& s) { return StepColumns().Arrays(s.sim().records()); })
-      .def_property_readonly("body_force", [](const SceneStepper& s) { return s.sim().body_force(); })
-      .def_property_readonly("obstacle_translation", [](const SceneStepper& s) { return s.sim().obstacle_translation(); })
-      .def("set_body_force", [](SceneStepper& s, const py::object& b) {
-             s.sim().SetBodyForce(VectorArg("the body force [N/m^3]", b, s.dim()));
-           }, py::arg("body_force"))
-      .def("save", [](const SceneStepper& s, const std::string& path) { s.sim().SaveCheckpoint(path); },
-           py::arg("path"), "the checkpoint of the state (contact::Simulation::SaveCheckpoint)")
-      .def("load_checkpoint", &SceneStepper::LoadCheckpoint,
-           py::arg("path"), "the state of a checkpoint of the same scene (contact::Simulation::LoadCheckpoint)")
-      .def("move_obstacle", [](SceneStepper& s, const py::object& d) {
-             s.sim().MoveObstacle(VectorArg("the obstacle translation [m]", d, s.dim()));
-           }, py::arg("translation"));
+      .def_property_readonly("contact_gaps",
+                             [](const SceneStepper& s) { return s.sim().contact_gaps(); })
+      .def_property_readonly(
+          "summary", [](const SceneStepper& s) { return SummaryDict(s.sim().summary()); })
+      .def_property_readonly(
+          "records",
+          [](const SceneStepper& s) { return StepColumns().Arrays(s.sim().records()); })
+      .def_property_readonly("body_force",
+                             [](const SceneStepper& s) { return s.sim().body_force(); })
+      .def_property_readonly(
+          "obstacle_translation",
+          [](const SceneStepper& s) { return s.sim().obstacle_translation(); })
+      .def(
+          "set_body_force",
+          [](SceneStepper& s, const py::object& b) {
+            s.sim().SetBodyForce(VectorArg("the body force [N/m^3]", b, s.dim()));
+          },
+          py::arg("body_force"))
+      .def(
+          "save",
+          [](const SceneStepper& s, const std::string& path) {
+            s.sim().SaveCheckpoint(path);
+          },
+          py::arg("path"),
+          "the checkpoint of the state (contact::Simulation::SaveCheckpoint)")
+      .def("load_checkpoint", &SceneStepper::LoadCheckpoint, py::arg("path"),
+           "the state of a checkpoint of the same scene "
+           "(contact::Simulation::LoadCheckpoint)")
+      .def(
+          "move_obstacle",
+          [](SceneStepper& s, const py::object& d) {
+            s.sim().MoveObstacle(VectorArg("the obstacle translation [m]", d, s.dim()));
+          },
+          py::arg("translation"));
   m.attr("STEP_FIELDS") = py::tuple(StepColumns().Arrays({}).attr("keys")());
   m.attr("SUMMARY_FIELDS") =
       py::tuple(SummaryColumns().Scalars(DynamicSummary()).attr("keys")());

@@ -253,8 +253,8 @@ void BindSummary(py::module_& m) {
     return std::string("<ncp.Strategy ") + ToString(s.ncp_function) +
            (s.regularized_direction ? "+lm" : "") + ">";
   });
-  py::class_<ncp::StrategySwitch> change(m, "StrategySwitch",
-                                         "A switch of the hybrid default (Options.hybrid).");
+  py::class_<ncp::StrategySwitch> change(
+      m, "StrategySwitch", "A switch of the hybrid default (Options.hybrid).");
   // clang-format off
   FieldTable<ncp::StrategySwitch>(change, false)
       ("iteration", &ncp::StrategySwitch::iteration, "k at which the new strategy starts")
@@ -306,9 +306,10 @@ void BindSummary(py::module_& m) {
   // clang-format on
   cls.def("brief_report", &Summary::BriefReport)
       .def("full_report", &Summary::FullReport)
-      .def_property_readonly("is_solution_usable", &Summary::IsSolutionUsable,
-                             "converged (also at the round-off floor): x solves the problem "
-                             "to the tolerance")
+      .def_property_readonly(
+          "is_solution_usable", &Summary::IsSolutionUsable,
+          "converged (also at the round-off floor): x solves the problem "
+          "to the tolerance")
       .def("__repr__", [](const Summary& s) {
         return "<ncp.Summary " +
                (s.termination == ncp::TerminationType::kNotSolved ? s.message
@@ -377,8 +378,7 @@ void BindReference(py::module_& m) {
 PYBIND11_MODULE(_ncp, m) {
   m.doc() =
       "Semismooth Newton for complementarity problems (C++ core of the ncp package)";
-  bindings::BindEnum(m, "NcpFunction", ncp::kLastNcpFunction,
-                     "NCP function phi(a, b)");
+  bindings::BindEnum(m, "NcpFunction", ncp::kLastNcpFunction, "NCP function phi(a, b)");
   bindings::BindEnum(m, "LinearSolverType", ncp::kLastLinearSolverType,
                      "linear solver of J d = -Phi");
   bindings::BindEnum(m, "TerminationType", ncp::kLastTerminationType,
@@ -400,7 +400,8 @@ PYBIND11_MODULE(_ncp, m) {
       },
       py::arg("n"), py::arg("F"), py::arg("J"), py::arg("lower"), py::arg("upper"),
       py::arg("x0"), py::arg("options"), py::arg("affine") = false,
-      "Box MCP lower <= x <= upper perp F(x); returns (x, Summary). affine: F(x) = M x + q "
+      "Box MCP lower <= x <= upper perp F(x); returns (x, Summary). affine: F(x) = M x + "
+      "q "
       "(then a stuck solve checks for a Farkas certificate of infeasibility).");
   m.def(
       "solve_mixed",

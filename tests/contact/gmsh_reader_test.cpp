@@ -205,26 +205,35 @@ TEST_CASE("a contact group without facets is an empty contact set", "[gmsh_reade
   CHECK_THROWS_WITH(MakeContactBoundary(body), Catch::Contains("empty contact set"));
 }
 
-// gmsh 4.8 keeps tags as int and crashed (SIGSEGV in GModel::getMeshVertexByTag) on a node
-// tag of 1e12; such files, binary files and non-.msh files are refused before gmsh opens them.
-TEST_CASE("tags beyond the limit and non-ASCII or non-.msh files are refused by name", "[gmsh_reader]") {
+// gmsh 4.8 keeps tags as int and crashed (SIGSEGV in GModel::getMeshVertexByTag) on a
+// node tag of 1e12; such files, binary files and non-.msh files are refused before gmsh
+// opens them.
+TEST_CASE("tags beyond the limit and non-ASCII or non-.msh files are refused by name",
+          "[gmsh_reader]") {
   std::string big_tag = kSquareMsh;
-  for (size_t at = big_tag.find("40"); at != std::string::npos; at = big_tag.find("40", at))
+  for (size_t at = big_tag.find("40"); at != std::string::npos;
+       at = big_tag.find("40", at))
     big_tag.replace(at, 2, "1000000000000");
   const TemporaryFile big("big_tag.msh", big_tag);
-  CHECK_THROWS_WITH(ReadGmshMesh(big.path()),
-                    Catch::Contains("big_tag.msh:18: node tag 1000000000000 lies outside [0, 100000000]"));
+  CHECK_THROWS_WITH(
+      ReadGmshMesh(big.path()),
+      Catch::Contains(
+          "big_tag.msh:18: node tag 1000000000000 lies outside [0, 100000000]"));
   std::string binary = kSquareMsh;
   binary.replace(binary.find("4.1 0 8"), 7, "4.1 1 8");
   const TemporaryFile binary_file("binary.msh", binary);
-  CHECK_THROWS_WITH(ReadGmshMesh(binary_file.path()), Catch::Contains("binary.msh:2: binary .msh files"));
+  CHECK_THROWS_WITH(ReadGmshMesh(binary_file.path()),
+                    Catch::Contains("binary.msh:2: binary .msh files"));
   const TemporaryFile script("square.geo", kSquareMsh);
-  CHECK_THROWS_WITH(ReadGmshMesh(script.path()), Catch::Contains("square.geo' must end in .msh"));
+  CHECK_THROWS_WITH(ReadGmshMesh(script.path()),
+                    Catch::Contains("square.geo' must end in .msh"));
   // A node moved far away (fuzz case, seed 7): the mesh error names the file.
   std::string moved = kSquareMsh;
-  moved.replace(moved.find("0 1 0\n$EndNodes"), 5, "0 -1e8 0");  // node 40: element 5 inverted
+  moved.replace(moved.find("0 1 0\n$EndNodes"), 5,
+                "0 -1e8 0");  // node 40: element 5 inverted
   const TemporaryFile far("moved.msh", moved);
-  CHECK_THROWS_WITH(ReadGmshMesh(far.path()), Catch::Contains("moved.msh'): inverted element: element 1"));
+  CHECK_THROWS_WITH(ReadGmshMesh(far.path()),
+                    Catch::Contains("moved.msh'): inverted element: element 1"));
   std::string truncated = kSquareMsh;
   truncated.resize(truncated.find("$Elements") + 14);
   const TemporaryFile cut("truncated.msh", truncated);

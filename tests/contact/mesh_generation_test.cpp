@@ -111,18 +111,23 @@ TEST_CASE("boxes of tetrahedra", "[mesh_generation]") {
 TEST_CASE("grids beyond the limits are refused before gmsh runs", "[mesh_generation]") {
   RectangleMeshOptions rectangle;
   rectangle.size = {1e300, 1e300};
-  CHECK_THROWS_WITH(MakeRectangleMesh(rectangle),
-                    Catch::Contains("MakeRectangleMesh: size 1e+300 m lies outside (0, 1e+06] m"));
+  CHECK_THROWS_WITH(
+      MakeRectangleMesh(rectangle),
+      Catch::Contains("MakeRectangleMesh: size 1e+300 m lies outside (0, 1e+06] m"));
   rectangle.size = {1.0, 1e-8};
   rectangle.cells = {1, 1};
   CHECK_THROWS_WITH(MakeRectangleMesh(rectangle),
-                    Catch::Contains("MakeRectangleMesh: cells of aspect ratio 1e+08 (edges 1 m and 1e-08 m) exceed the limit of 10000"));
+                    Catch::Contains("MakeRectangleMesh: cells of aspect ratio 1e+08 "
+                                    "(edges 1 m and 1e-08 m) exceed the limit of 10000"));
   rectangle.size = {1.0, 1.0};
   rectangle.cells = {3000, 3000};
-  CHECK_THROWS_WITH(MakeRectangleMesh(rectangle), Catch::Contains("MakeRectangleMesh: 9e+06 cells exceed the limit of 4e+06"));
+  CHECK_THROWS_WITH(
+      MakeRectangleMesh(rectangle),
+      Catch::Contains("MakeRectangleMesh: 9e+06 cells exceed the limit of 4e+06"));
   BoxMeshOptions box;
   box.origin = {0.0, 2e6, 0.0};
-  CHECK_THROWS_WITH(MakeBoxMesh(box), Catch::Contains("|origin[1]| = 2e+06 m exceeds 1e+06 m"));
+  CHECK_THROWS_WITH(MakeBoxMesh(box),
+                    Catch::Contains("|origin[1]| = 2e+06 m exceeds 1e+06 m"));
   CHECK(CheckGridLimits({1.0, 0.2}, {10, 2}).empty());
 }
 

@@ -88,20 +88,24 @@ TEST_CASE("degenerate, duplicate elements and unused nodes are named errors", "[
     Mesh mesh = good;
     const int kept = mesh.elements(2, 1);  // collapse the right quad into a triangle
     mesh.elements(3, 1) = kept;
-    CHECK_THROWS_WITH(ValidateMesh(mesh), Catch::Contains("degenerate element: element 1") &&
-                                              Catch::Contains("repeats node " + std::to_string(kept)));
+    CHECK_THROWS_WITH(ValidateMesh(mesh),
+                      Catch::Contains("degenerate element: element 1") &&
+                          Catch::Contains("repeats node " + std::to_string(kept)));
   }
   SECTION("duplicate element") {
     Mesh mesh = good;
     mesh.elements.col(1) = mesh.elements.col(0);
-    CHECK_THROWS_WITH(ValidateMesh(mesh), Catch::Contains("duplicate element: element 1"));
+    CHECK_THROWS_WITH(ValidateMesh(mesh),
+                      Catch::Contains("duplicate element: element 1"));
   }
   SECTION("unused node") {
     Mesh mesh = good;
     mesh.nodes.conservativeResize(2, mesh.NumNodes() + 1);
     mesh.nodes.col(mesh.NumNodes() - 1) << 5.0, 5.0;
-    CHECK_THROWS_WITH(ValidateMesh(mesh), Catch::Contains("unused node " + std::to_string(mesh.NumNodes() - 1) +
-                                                          " at (5, 5) belongs to no element"));
+    CHECK_THROWS_WITH(
+        ValidateMesh(mesh),
+        Catch::Contains("unused node " + std::to_string(mesh.NumNodes() - 1) +
+                        " at (5, 5) belongs to no element"));
   }
 }
 

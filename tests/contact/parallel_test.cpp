@@ -22,7 +22,8 @@ struct ThreadCount {
 bool SameBits(const SparseMatrix& a, const SparseMatrix& b) {
   if (a.nonZeros() != b.nonZeros() || a.rows() != b.rows()) return false;
   return std::equal(a.valuePtr(), a.valuePtr() + a.nonZeros(), b.valuePtr()) &&
-         std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr());
+         std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(),
+                    b.innerIndexPtr());
 }
 
 }  // namespace
@@ -54,7 +55,8 @@ TEST_CASE("Parallel assembly and K x are bit-for-bit those of one thread", "[par
   CHECK(y1 == y2);
   // And it is K x (Eigen's column-major product sums in another order: round-off only).
   const Eigen::VectorXd reference = K1 * x;
-  CHECK((y1 - reference).lpNorm<Eigen::Infinity>() <= 1e-12 * reference.lpNorm<Eigen::Infinity>());
+  CHECK((y1 - reference).lpNorm<Eigen::Infinity>() <=
+        1e-12 * reference.lpNorm<Eigen::Infinity>());
   CHECK_THROWS_WITH(SymmetricMultiply(K1, Eigen::VectorXd::Zero(3), &y1),
                     Catch::Contains("as many columns as x has entries"));
 }

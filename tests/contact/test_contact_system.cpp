@@ -72,7 +72,8 @@ TEST_CASE("ContactSystem Jacobian matches finite differences", "[contact][jacobi
   const unsigned seed = GENERATE(1u, 2u, 3u);
   RandomSetup s = MakeRandom(dim, seed);
   ContactSystem system(dim, s.S, s.nodes);
-  system.Update(s.q, s.u0, friction ? Eigen::VectorXd::Constant(2, 0.3) : Eigen::VectorXd());
+  system.Update(s.q, s.u0,
+                friction ? Eigen::VectorXd::Constant(2, 0.3) : Eigen::VectorXd());
   CAPTURE(dim, friction, seed);
   CHECK(system.num_friction_nodes() == (friction ? 2 : 0));
   // Rows = unknowns: n + (2D: 2, 3D: 3) per friction node.
@@ -86,10 +87,11 @@ TEST_CASE("ContactSystem Jacobian matches finite differences", "[contact][jacobi
   CHECK(JacobianError(system, z) < 1e-7);
 }
 
-TEST_CASE("One contact node pressed and pulled sideways: stick and slip by hand", "[contact]") {
+TEST_CASE("One contact node pressed and pulled sideways: stick and slip by hand",
+          "[contact]") {
   // k u = f + F with k = 100 N/m, f = (10, 3) N pushing into the wall x <= 0 (n = e_x).
-  // Normal reaction lambda = 10 N; friction bound g = f_c * 10 N: stick if 3 <= g, else the
-  // node slides by (3 - g) / k with tau = -g.
+  // Normal reaction lambda = 10 N; friction bound g = f_c * 10 N: stick if 3 <= g, else
+  // the node slides by (3 - g) / k with tau = -g.
   const double g = GENERATE(0.0, 2.0, 5.0);
   Eigen::SparseMatrix<double> S(2, 2);
   S.insert(0, 0) = 100.0;
@@ -118,9 +120,9 @@ TEST_CASE("One contact node pressed and pulled sideways: stick and slip by hand"
 }
 
 TEST_CASE("3D node slides along the direction of the tangential load", "[contact]") {
-  // k = 10 N/m, f = (-5, 3, 4) N into the floor z >= 0... here n = -e_z is the outward normal
-  // of the body (obstacle below). Tangential load |(3, 4)| = 5 N, bound g = 2 N: slip
-  // (5 - 2)/k = 0.3 m along (0.6, 0.8); friction force -2 N along it.
+  // k = 10 N/m, f = (-5, 3, 4) N into the floor z >= 0... here n = -e_z is the outward
+  // normal of the body (obstacle below). Tangential load |(3, 4)| = 5 N, bound g = 2 N:
+  // slip (5 - 2)/k = 0.3 m along (0.6, 0.8); friction force -2 N along it.
   Eigen::SparseMatrix<double> S(3, 3);
   for (int i = 0; i < 3; ++i) S.insert(i, i) = 10.0;
   ContactNode node;
@@ -145,7 +147,8 @@ TEST_CASE("3D node slides along the direction of the tangential load", "[contact
   CHECK_THAT(r.tangent_force.col(0).norm(), Catch::Matchers::WithinAbs(2.0, 1e-9));
 }
 
-TEST_CASE("Nodes with constrained components: Jacobian and a hand solution", "[contact]") {
+TEST_CASE("Nodes with constrained components: Jacobian and a hand solution",
+          "[contact]") {
   // Three 3D nodes on 7 free dofs: node 0 all free (two tangents), node 1 with z fixed
   // (one tangent, 2D-like), node 2 with x and z fixed (normal only, no friction).
   std::mt19937 rng(7);
@@ -154,7 +157,8 @@ TEST_CASE("Nodes with constrained components: Jacobian and a hand solution", "[c
   Eigen::MatrixXd B(n, n);
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) B(i, j) = U(rng);
-  const Eigen::SparseMatrix<double> S = (B * B.transpose() + n * Eigen::MatrixXd::Identity(n, n)).sparseView();
+  const Eigen::SparseMatrix<double> S =
+      (B * B.transpose() + n * Eigen::MatrixXd::Identity(n, n)).sparseView();
   std::vector<ContactNode> nodes(3);
   nodes[0].dofs[0] = 0, nodes[0].dofs[1] = 1, nodes[0].dofs[2] = 2;
   nodes[0].normal = Eigen::Vector3d(0.3, -0.9, 0.2).normalized();
@@ -163,12 +167,13 @@ TEST_CASE("Nodes with constrained components: Jacobian and a hand solution", "[c
   nodes[2].dofs[0] = -1, nodes[2].dofs[1] = 5, nodes[2].dofs[2] = -1;
   nodes[2].normal = -Eigen::Vector3d::UnitY();
   for (ContactNode& node : nodes) CompleteContactFrame(3, &node);
-  CHECK(std::abs(nodes[1].tangent1.z()) < 1e-15);  // the used tangent avoids the fixed axis
+  CHECK(std::abs(nodes[1].tangent1.z()) <
+        1e-15);  // the used tangent avoids the fixed axis
   ContactSystem system(3, S, nodes);
-  system.Update(Eigen::VectorXd::NullaryExpr(n, [&] { return U(rng); }), Eigen::VectorXd::Zero(n),
-                Eigen::VectorXd::Constant(3, 0.4));
-  CHECK(system.num_friction_nodes() == 2);                 // node 2 has no free tangent
-  CHECK(system.NumVariables() == n + 3 + 2);                // (g, t1, t2) + (du-, tau)
+  system.Update(Eigen::VectorXd::NullaryExpr(n, [&] { return U(rng); }),
+                Eigen::VectorXd::Zero(n), Eigen::VectorXd::Constant(3, 0.4));
+  CHECK(system.num_friction_nodes() == 2);    // node 2 has no free tangent
+  CHECK(system.NumVariables() == n + 3 + 2);  // (g, t1, t2) + (du-, tau)
   ncp::Vector z = ncp::Vector::NullaryExpr(system.NumVariables(), [&] { return U(rng); });
   CHECK(JacobianError(system, z) < 1e-7);
 
@@ -182,7 +187,8 @@ TEST_CASE("Nodes with constrained components: Jacobian and a hand solution", "[c
   node.normal = -Eigen::Vector3d::UnitY();
   CompleteContactFrame(3, &node);
   ContactSystem single(3, K, {node});
-  single.Update(-Eigen::Vector2d(3.0, -10.0), Eigen::VectorXd::Zero(2), Eigen::VectorXd::Constant(1, 2.0));
+  single.Update(-Eigen::Vector2d(3.0, -10.0), Eigen::VectorXd::Zero(2),
+                Eigen::VectorXd::Constant(1, 2.0));
   z = single.StartPoint(Eigen::VectorXd::Zero(2));
   ncp::Summary summary;
   ncp::Solve(ncp::Options(), single, &z, &summary);
@@ -195,7 +201,8 @@ TEST_CASE("Nodes with constrained components: Jacobian and a hand solution", "[c
 }
 
 TEST_CASE("Restriction maps X, Y, Z and the rotation R (eq. 55)", "[contact]") {
-  // 3D: node 0 all free, node 1 with z constrained, 9 free dofs of which 5 are contact dofs.
+  // 3D: node 0 all free, node 1 with z constrained, 9 free dofs of which 5 are contact
+  // dofs.
   std::vector<ContactNode> nodes(2);
   nodes[0].dofs[0] = 1, nodes[0].dofs[1] = 2, nodes[0].dofs[2] = 3;
   nodes[0].normal = Eigen::Vector3d(0.3, -0.9, 0.2).normalized();
@@ -207,19 +214,28 @@ TEST_CASE("Restriction maps X, Y, Z and the rotation R (eq. 55)", "[contact]") {
   CHECK(m.Y.rows() == 2);
   CHECK(m.Z.rows() == 3);
   const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(9, 9);
-  CHECK((Eigen::MatrixXd(m.R * Eigen::SparseMatrix<double>(m.R.transpose())) - I).cwiseAbs().maxCoeff() < 1e-14);
-  const Eigen::MatrixXd partition = Eigen::MatrixXd(Eigen::SparseMatrix<double>(m.X.transpose()) * m.X) +
-                                    Eigen::MatrixXd(Eigen::SparseMatrix<double>(m.Y.transpose()) * m.Y) +
-                                    Eigen::MatrixXd(Eigen::SparseMatrix<double>(m.Z.transpose()) * m.Z);
+  CHECK((Eigen::MatrixXd(m.R * Eigen::SparseMatrix<double>(m.R.transpose())) - I)
+            .cwiseAbs()
+            .maxCoeff() < 1e-14);
+  const Eigen::MatrixXd partition =
+      Eigen::MatrixXd(Eigen::SparseMatrix<double>(m.X.transpose()) * m.X) +
+      Eigen::MatrixXd(Eigen::SparseMatrix<double>(m.Y.transpose()) * m.Y) +
+      Eigen::MatrixXd(Eigen::SparseMatrix<double>(m.Z.transpose()) * m.Z);
   CHECK((partition - I).cwiseAbs().maxCoeff() == 0.0);
   // Y R x is the normal displacement n . x_c of each node.
   const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(9, 0.1, 0.9);
   const Eigen::VectorXd normal_part = m.Y * (m.R * x);
-  CHECK_THAT(normal_part(0), Catch::Matchers::WithinAbs(nodes[0].normal.dot(Eigen::Vector3d(x(1), x(2), x(3))), 1e-15));
-  CHECK_THAT(normal_part(1), Catch::Matchers::WithinAbs(nodes[1].normal.dot(Eigen::Vector3d(x(6), x(7), 0.0)), 1e-15));
+  CHECK_THAT(normal_part(0),
+             Catch::Matchers::WithinAbs(
+                 nodes[0].normal.dot(Eigen::Vector3d(x(1), x(2), x(3))), 1e-15));
+  CHECK_THAT(normal_part(1),
+             Catch::Matchers::WithinAbs(
+                 nodes[1].normal.dot(Eigen::Vector3d(x(6), x(7), 0.0)), 1e-15));
   // The free tangent of node 1 avoids the constrained axis: Z picks t1 . x_c.
   const Eigen::VectorXd tangential = m.Z * (m.R * x);
-  CHECK_THAT(tangential(2), Catch::Matchers::WithinAbs(nodes[1].tangent1.dot(Eigen::Vector3d(x(6), x(7), 0.0)), 1e-15));
+  CHECK_THAT(tangential(2),
+             Catch::Matchers::WithinAbs(
+                 nodes[1].tangent1.dot(Eigen::Vector3d(x(6), x(7), 0.0)), 1e-15));
 }
 
 TEST_CASE("ContactSystem rejects bad input with a message", "[contact][errors]") {
@@ -235,14 +251,18 @@ TEST_CASE("ContactSystem rejects bad input with a message", "[contact][errors]")
   node.normal = Eigen::Vector3d::UnitX();
   CompleteContactFrame(2, &node);
   node.dofs[1] = 5;
-  CHECK_THROWS_WITH(ContactSystem(2, S, {node}), Catch::Contains("is neither a free dof"));
+  CHECK_THROWS_WITH(ContactSystem(2, S, {node}),
+                    Catch::Contains("is neither a free dof"));
   node.dofs[1] = 1;
-  CHECK_THROWS_WITH(ContactSystem(4, S, {node}), Catch::Contains("dimension must be 2 or 3"));
+  CHECK_THROWS_WITH(ContactSystem(4, S, {node}),
+                    Catch::Contains("dimension must be 2 or 3"));
   ContactNode tilted = node;  // x constrained but the normal has an x component
   tilted.dofs[0] = -1;
-  CHECK_THROWS_WITH(ContactSystem(2, S, {tilted}), Catch::Contains("which is constrained"));
+  CHECK_THROWS_WITH(ContactSystem(2, S, {tilted}),
+                    Catch::Contains("which is constrained"));
   ContactSystem system(2, S, {node});
-  CHECK_THROWS_WITH(system.Update(Eigen::VectorXd::Zero(3), Eigen::VectorXd::Zero(2), Eigen::VectorXd()),
+  CHECK_THROWS_WITH(system.Update(Eigen::VectorXd::Zero(3), Eigen::VectorXd::Zero(2),
+                                  Eigen::VectorXd()),
                     Catch::Contains("must have size 2"));
   CHECK_THROWS_WITH(system.Update(Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(2),
                                   Eigen::VectorXd::Constant(1, -1.0)),

@@ -1,6 +1,7 @@
 // RunDynamics on small spring-mass models whose exact answers are known: a bar hitting a
 // rigid wall (1D wave: contact lasts 2L/c with stress rho c v0, rebound at -v0), a mass
-// sliding to rest under Coulomb friction, the critical time step, and the stability guard.
+// sliding to rest under Coulomb friction, the critical time step, and the stability
+// guard.
 #include <catch2/catch.hpp>
 #include <limits>
 
@@ -20,8 +21,10 @@ DynamicModel Bar(int N, bool lumped) {
   for (int e = 0; e < N; ++e) {
     const int a = 2 * e, b = 2 * (e + 1);
     tk.insert(tk.end(), {{a, a, 1 / h}, {b, b, 1 / h}, {a, b, -1 / h}, {b, a, -1 / h}});
-    if (lumped) tm.insert(tm.end(), {{a, a, h / 2}, {b, b, h / 2}});
-    else tm.insert(tm.end(), {{a, a, h / 3}, {b, b, h / 3}, {a, b, h / 6}, {b, a, h / 6}});
+    if (lumped)
+      tm.insert(tm.end(), {{a, a, h / 2}, {b, b, h / 2}});
+    else
+      tm.insert(tm.end(), {{a, a, h / 3}, {b, b, h / 3}, {a, b, h / 6}, {b, a, h / 6}});
   }
   for (int i = 0; i <= N; ++i) {
     tk.emplace_back(2 * i + 1, 2 * i + 1, 1.0);
@@ -57,10 +60,13 @@ DynamicOptions BarImpact(const DynamicModel& model, double v0) {
 
 }  // namespace
 
-TEST_CASE("Critical time step of a bar: h/c lumped, h/(c sqrt 3) consistent", "[dynamics]") {
+TEST_CASE("Critical time step of a bar: h/c lumped, h/(c sqrt 3) consistent",
+          "[dynamics]") {
   const double h = 0.01;
-  const CriticalTimeStep lumped = EstimateCriticalTimeStep(Bar(100, true).K, Bar(100, true).M);
-  const CriticalTimeStep consistent = EstimateCriticalTimeStep(Bar(100, false).K, Bar(100, false).M);
+  const CriticalTimeStep lumped =
+      EstimateCriticalTimeStep(Bar(100, true).K, Bar(100, true).M);
+  const CriticalTimeStep consistent =
+      EstimateCriticalTimeStep(Bar(100, false).K, Bar(100, false).M);
   CHECK(lumped.converged);
   // Free-free bar: omega_max -> 2c/h from below as N grows; 100 elements: within 1e-3.
   CHECK_THAT(lumped.dt_crit, Catch::Matchers::WithinRel(h, 1e-3));
@@ -75,7 +81,8 @@ TEST_CASE("Elastic bar hits a rigid wall: duration 2L/c, stress rho c v0, reboun
   o.dt = 0.5 * EstimateCriticalTimeStep(model.K, model.M).dt_crit;
   double first = -1, last = -1, force_sum = 0;
   int force_count = 0;
-  o.on_step = [&](const StepRecord& r, const Eigen::VectorXd&, const ContactSystem::Result&, double) {
+  o.on_step = [&](const StepRecord& r, const Eigen::VectorXd&,
+                  const ContactSystem::Result&, double) {
     if (r.normal_force_sum > 0.01 * v0) {  // 1% of rho c v0 A: above solver noise
       if (first < 0) first = r.time;
       last = r.time;
@@ -117,9 +124,9 @@ TEST_CASE("Ipopt and Fischer-Burmeister agree on every step of a frictionless ru
 
 TEST_CASE("A mass sliding on a floor with Coulomb friction stops at v0 / (mu g)",
           "[dynamics][friction]") {
-  // One node of mass m = 2 kg on the floor y >= 0 (outward normal -e_y), gravity g = 10 m/s^2,
-  // initial velocity v0 = 3 m/s along x, mu = 0.5: deceleration mu g = 5 m/s^2, stop at
-  // t = 0.6 s after sliding v0^2 / (2 mu g) = 0.9 m. No stiffness: K = 0.
+  // One node of mass m = 2 kg on the floor y >= 0 (outward normal -e_y), gravity g = 10
+  // m/s^2, initial velocity v0 = 3 m/s along x, mu = 0.5: deceleration mu g = 5 m/s^2,
+  // stop at t = 0.6 s after sliding v0^2 / (2 mu g) = 0.9 m. No stiffness: K = 0.
   const double m = 2.0, g = 10.0, v0 = 3.0, mu = 0.5;
   DynamicModel model;
   model.dim = 2;
@@ -143,9 +150,11 @@ TEST_CASE("A mass sliding on a floor with Coulomb friction stops at v0 / (mu g)"
   o.v0 = Eigen::Vector2d(v0, 0.0);
   double stop_time = -1.0;
   Eigen::VectorXd previous = Eigen::Vector2d::Zero();
-  o.on_step = [&](const StepRecord& r, const Eigen::VectorXd& u, const ContactSystem::Result&, double) {
+  o.on_step = [&](const StepRecord& r, const Eigen::VectorXd& u,
+                  const ContactSystem::Result&, double) {
     // Stopped: velocity below 1e-6 m/s (the solver leaves ~1e-8 m/s of round-off).
-    if (stop_time < 0 && r.step > 1 && std::abs(u(0) - previous(0)) < 1e-6 * o.dt) stop_time = r.time;
+    if (stop_time < 0 && r.step > 1 && std::abs(u(0) - previous(0)) < 1e-6 * o.dt)
+      stop_time = r.time;
     previous = u;
   };
   const DynamicSummary s = RunDynamics(model, o);
@@ -156,11 +165,13 @@ TEST_CASE("A mass sliding on a floor with Coulomb friction stops at v0 / (mu g)"
   CHECK_THAT(s.u(0), Catch::Matchers::WithinAbs(v0 * v0 / (2 * mu * g), 3 * v0 * o.dt));
   CHECK(std::abs(s.u(1)) < 1e-12);  // stays on the floor
   // All kinetic energy went into friction.
-  CHECK_THAT(s.records.back().friction_dissipation, Catch::Matchers::WithinRel(0.5 * m * v0 * v0, 0.01));
+  CHECK_THAT(s.records.back().friction_dissipation,
+             Catch::Matchers::WithinRel(0.5 * m * v0 * v0, 0.01));
 }
 
-TEST_CASE("A time step above dt_crit is refused with both values, or blows up when forced",
-          "[dynamics][stability]") {
+TEST_CASE(
+    "A time step above dt_crit is refused with both values, or blows up when forced",
+    "[dynamics][stability]") {
   DynamicModel model = Bar(50, true);
   DynamicOptions o = BarImpact(model, 0.1);
   const double dt_crit = EstimateCriticalTimeStep(model.K, model.M).dt_crit;
@@ -194,23 +205,33 @@ TEST_CASE("RunDynamics rejects inconsistent input", "[dynamics][errors]") {
   CHECK_THROWS_WITH(RunDynamics(skewed, o), Catch::Contains("K and M must be symmetric"));
   DynamicModel massless = model;
   massless.M.coeffRef(2, 2) = 0.0;  // a zero lumped mass
-  CHECK_THROWS_WITH(RunDynamics(massless, o), Catch::Contains("mass matrix is not positive definite"));
+  CHECK_THROWS_WITH(RunDynamics(massless, o),
+                    Catch::Contains("mass matrix is not positive definite"));
   DynamicModel indefinite = Bar(4, false);
-  indefinite.M.coeffRef(0, 2) = indefinite.M.coeffRef(2, 0) = 1.0;  // off-diagonal > diagonal
-  CHECK_THROWS_WITH(RunDynamics(indefinite, o), Catch::Contains("not positive definite (Cholesky failed)"));
-  CHECK_THROWS_WITH(EstimateCriticalTimeStep(indefinite.K, indefinite.M),
-                    Catch::Contains("EstimateCriticalTimeStep: the mass matrix is not positive definite"));
+  indefinite.M.coeffRef(0, 2) = indefinite.M.coeffRef(2, 0) =
+      1.0;  // off-diagonal > diagonal
+  CHECK_THROWS_WITH(RunDynamics(indefinite, o),
+                    Catch::Contains("not positive definite (Cholesky failed)"));
+  CHECK_THROWS_WITH(
+      EstimateCriticalTimeStep(indefinite.K, indefinite.M),
+      Catch::Contains(
+          "EstimateCriticalTimeStep: the mass matrix is not positive definite"));
   // Before: the step count overflowed (0 steps "completed") or reserved 1e10 records.
   DynamicOptions long_run = BarImpact(model, 0.1);
   long_run.dt = 1e-300;
-  CHECK_THROWS_WITH(RunDynamics(model, long_run), Catch::Contains("time steps; at most 1e+06 are accepted"));
+  CHECK_THROWS_WITH(RunDynamics(model, long_run),
+                    Catch::Contains("time steps; at most 1e+06 are accepted"));
   long_run.dt = 1e-3;
   long_run.end_time = 1e7;  // 1e10 steps
-  CHECK_THROWS_WITH(RunDynamics(model, long_run), Catch::Contains("1e+10 time steps; at most 1e+06"));
+  CHECK_THROWS_WITH(RunDynamics(model, long_run),
+                    Catch::Contains("1e+10 time steps; at most 1e+06"));
   long_run.end_time = std::numeric_limits<double>::infinity();
-  CHECK_THROWS_WITH(RunDynamics(model, long_run), Catch::Contains("end_time must be finite"));
-  // K scaled to overflow: omega_max = inf, dt_crit = 0 is an error naming E and rho, not a run.
+  CHECK_THROWS_WITH(RunDynamics(model, long_run),
+                    Catch::Contains("end_time must be finite"));
+  // K scaled to overflow: omega_max = inf, dt_crit = 0 is an error naming E and rho, not
+  // a run.
   DynamicModel overflowing = model;
   overflowing.K *= 1e306;
-  CHECK_THROWS_WITH(RunDynamics(overflowing, o), Catch::Contains("is not a positive finite number"));
+  CHECK_THROWS_WITH(RunDynamics(overflowing, o),
+                    Catch::Contains("is not a positive finite number"));
 }

@@ -1,7 +1,8 @@
 // No heap allocation in the Newton loop of a contact step (ContactSystem::Update,
 // Evaluate and Jacobian at a fixed set of friction nodes; the iterations of
-// ncp::Solver::Solve) and in the explicit time loop of RunDynamics (a constant few per step
-// with the Newton-based steps), counted by replacing the process's allocation functions.
+// ncp::Solver::Solve) and in the explicit time loop of RunDynamics (a constant few per
+// step with the Newton-based steps), counted by replacing the process's allocation
+// functions.
 //
 // Every heap allocation goes through operator new / new[] (std containers and strings,
 // the values of Eigen's SparseMatrix) or malloc / calloc / realloc (Eigen's dense storage
@@ -367,7 +368,8 @@ TEST_CASE("ncp box MCP, n = 4, a Solver kept between solves: no allocation per i
   ncp::Solver solver(options);
   ncp::Summary summary;
   ncp::Vector x = kojshin.starts.front().x;
-  solver.Solve(F, lower, upper, &x, &summary);  // warm-up: workspace, mixed form, J's pattern
+  solver.Solve(F, lower, upper, &x,
+               &summary);  // warm-up: workspace, mixed form, J's pattern
   REQUIRE(summary.IsSolutionUsable());
   CHECK(summary.linear_solver_used == ncp::LinearSolverType::kDenseLU);
 
@@ -401,8 +403,8 @@ TEST_CASE("ncp box MCP, n = 4, a Solver kept between solves: no allocation per i
     }
     CHECK(log.Ours(marks.back(), log.Total()) <= 8);
     CHECK(log.Total() == log.Ours());  // dense LU: nothing from SuiteSparse
-    std::printf("kojshin from %g: %d iterations, %ld allocations (termination message)\n", start,
-                summary.iterations, log.Ours());
+    std::printf("kojshin from %g: %d iterations, %ld allocations (termination message)\n",
+                start, summary.iterations, log.Ours());
   }
 }
 
@@ -412,15 +414,15 @@ TEST_CASE("ncp box MCP, n = 4, a Solver kept between solves: no allocation per i
 
 namespace {
 
-// A 2 x 1 m steel block of 8 x 4 Q4 thrown at the floor y >= 0 with v = (1, -1) m/s, f_c =
-// 0.3: its bottom nodes hit the floor in the first steps and slide on it.
-contact::SceneModel ThrownBlock(contact::StepMethod method,
-                                contact::FrictionFormulation formulation =
-                                    contact::FrictionFormulation::kLaggedBound,
-                                int steps = 30) {
+// A 2 x 1 m steel block of 8 x 4 Q4 thrown at the floor y >= 0 with v = (1, -1) m/s, f_c
+// = 0.3: its bottom nodes hit the floor in the first steps and slide on it.
+contact::SceneModel ThrownBlock(
+    contact::StepMethod method,
+    contact::FrictionFormulation formulation = contact::FrictionFormulation::kLaggedBound,
+    int steps = 30) {
   using namespace contact;
-  Scene scene = testing::SteelBlockOnFloor(method == StepMethod::kExplicit ? MassKind::kLumped
-                                                                           : MassKind::kConsistent);
+  Scene scene = testing::SteelBlockOnFloor(
+      method == StepMethod::kExplicit ? MassKind::kLumped : MassKind::kConsistent);
   scene.dynamics.end_time = steps * scene.dynamics.dt;
   scene.dynamics.step_method = method;
   // kLaggedBound: the Newton steps of ContactSystem (eq. 94); kCoulombFc: ncp::fc.
@@ -432,8 +434,9 @@ contact::SceneModel ThrownBlock(contact::StepMethod method,
 
 }  // namespace
 
-TEST_CASE("RunDynamics: the explicit time loop allocates nothing, Newton steps a constant",
-          "[contact][allocation][dynamics]") {
+TEST_CASE(
+    "RunDynamics: the explicit time loop allocates nothing, Newton steps a constant",
+    "[contact][allocation][dynamics]") {
   const contact::StepMethod method =
       GENERATE(contact::StepMethod::kExplicit, contact::StepMethod::kCondensed,
                contact::StepMethod::kFull);
@@ -464,32 +467,37 @@ TEST_CASE("RunDynamics: the explicit time loop allocates nothing, Newton steps a
     most = std::max(most, ours);
     total += ours;
   }
-  std::printf("RunDynamics %s: at most %ld allocations per step in steps 5-30 (%ld in all), %ld "
-              "in SuiteSparse\n",
-              contact::ToString(method), most, total, log.Total() - log.Ours());
+  std::printf(
+      "RunDynamics %s: at most %ld allocations per step in steps 5-30 (%ld in all), %ld "
+      "in SuiteSparse\n",
+      contact::ToString(method), most, total, log.Total() - log.Ours());
   if (method == contact::StepMethod::kExplicit) {
     INFO("allocations:" << log.DescribeOurs(marks[4], marks.back()));
     CHECK(total == 0);
     CHECK(log.Total() - log.Ours() == 0);
   } else {
-    // The Newton iterations allocate nothing (test above); per step remain the start point,
-    // the extracted result and the Summary's message: a few, whatever the iteration count.
+    // The Newton iterations allocate nothing (test above); per step remain the start
+    // point, the extracted result and the Summary's message: a few, whatever the
+    // iteration count.
     CHECK(most <= 24);
   }
 }
 
-// Implicit Coulomb (kCoulombFc) by ncp::fc: the condensed step keeps one ncp::fc::Solver for
-// the run (W's block form, rho, the Jacobian's pattern, the work vectors), so a step
+// Implicit Coulomb (kCoulombFc) by ncp::fc: the condensed step keeps one ncp::fc::Solver
+// for the run (W's block form, rho, the Jacobian's pattern, the work vectors), so a step
 // allocates a constant few; the sparse step sets up its matrix-free Newton (work vectors,
 // GMRES basis) per solve with Newton iterations: a constant per Newton step, whatever the
 // size of the problem.
-TEST_CASE("RunDynamics: the coulomb-fc condensed and sparse steps allocate a bounded few per step",
-          "[contact][allocation][dynamics]") {
+TEST_CASE(
+    "RunDynamics: the coulomb-fc condensed and sparse steps allocate a bounded few per "
+    "step",
+    "[contact][allocation][dynamics]") {
   const contact::StepMethod method =
       GENERATE(contact::StepMethod::kCondensed, contact::StepMethod::kSparse);
   CAPTURE(contact::ToString(method));
   constexpr int kSteps = 200;
-  contact::SceneModel built = ThrownBlock(method, contact::FrictionFormulation::kCoulombFc, kSteps);
+  contact::SceneModel built =
+      ThrownBlock(method, contact::FrictionFormulation::kCoulombFc, kSteps);
   std::vector<long> marks;
   std::vector<int> iterations;
   marks.reserve(kSteps);
@@ -508,8 +516,8 @@ TEST_CASE("RunDynamics: the coulomb-fc condensed and sparse steps allocate a bou
   REQUIRE(s.status == contact::DynamicStatus::kCompleted);
   REQUIRE(marks.size() == static_cast<size_t>(kSteps));
   CHECK(friction_force > 0.0);  // it slid with friction
-  // Steps 5..kSteps: the most allocations of a step without and with Newton iterations, and
-  // the most per Newton iteration.
+  // Steps 5..kSteps: the most allocations of a step without and with Newton iterations,
+  // and the most per Newton iteration.
   long most_idle = 0, most = 0, total = 0, newton = 0;
   double most_per_iteration = 0.0;
   for (size_t k = 4; k + 1 < marks.size(); ++k) {
@@ -518,12 +526,18 @@ TEST_CASE("RunDynamics: the coulomb-fc condensed and sparse steps allocate a bou
     total += ours;
     newton += its;
     most = std::max(most, ours);
-    if (its == 0) most_idle = std::max(most_idle, ours);
-    else most_per_iteration = std::max(most_per_iteration, static_cast<double>(ours) / its);
+    if (its == 0)
+      most_idle = std::max(most_idle, ours);
+    else
+      most_per_iteration = std::max(most_per_iteration, static_cast<double>(ours) / its);
   }
-  std::printf("RunDynamics coulomb-fc %s: %ld allocations in steps 5-%d (%ld Newton iterations), at most "
-              "%ld in a step, %ld in a step without Newton iterations, %.1f per Newton iteration\n",
-              contact::ToString(method), total, kSteps, newton, most, most_idle, most_per_iteration);
+  std::printf(
+      "RunDynamics coulomb-fc %s: %ld allocations in steps 5-%d (%ld Newton iterations), "
+      "at most "
+      "%ld in a step, %ld in a step without Newton iterations, %.1f per Newton "
+      "iteration\n",
+      contact::ToString(method), total, kSteps, newton, most, most_idle,
+      most_per_iteration);
   REQUIRE(newton > 0);
   // A step whose start point already solves it (the previous step's forces) allocates
   // nothing; a step with Newton iterations a few blocks per iteration (the attempt

@@ -1,7 +1,8 @@
-// Default settings resolve the physics (examples/validation/physics_checks.hpp): closed forms
-// for soft and stiff materials, small and large time steps, lumped and consistent mass; and
-// the same scene in SI, in mm-tonne-s and scaled in size by 1e-3 and 1e3 gives the same
-// trajectory with every step method and solver. The full sweep is contact-physics-check.
+// Default settings resolve the physics (examples/validation/physics_checks.hpp): closed
+// forms for soft and stiff materials, small and large time steps, lumped and consistent
+// mass; and the same scene in SI, in mm-tonne-s and scaled in size by 1e-3 and 1e3 gives
+// the same trajectory with every step method and solver. The full sweep is
+// contact-physics-check.
 #include <catch2/catch.hpp>
 
 #include "physics_checks.hpp"
@@ -20,14 +21,15 @@ Case Make(int dim, double E, double fraction, bool lumped) {
 }
 
 void Require(const Outcome& o, const Case& c) {
-  INFO(o.check << ", " << c.Label() << ": " << o.detail << " [" << contact::ToString(o.status) << ": "
-               << o.message << "]");
+  INFO(o.check << ", " << c.Label() << ": " << o.detail << " ["
+               << contact::ToString(o.status) << ": " << o.message << "]");
   CHECK(o.passed);
 }
 
 const Units kSI{1.0, 1.0, 1.0, "SI"};
 const Units kMmTonneS{1e-3, 1.0, 1e3, "mm-t-s"};
-const Units kSmall{1e3, 1e3, 1e9, "scaled by 1e-3"};  // lengths and times x 1e-3, gravity x 1e3
+const Units kSmall{1e3, 1e3, 1e9,
+                   "scaled by 1e-3"};  // lengths and times x 1e-3, gravity x 1e3
 const Units kLarge{1e-3, 1e-3, 1e-9, "scaled by 1e3"};
 
 }  // namespace
@@ -43,7 +45,8 @@ TEST_CASE("Default settings: free fall onto a floor, no force in flight, contact
         }
 }
 
-TEST_CASE("Default settings: elastic bar impact lasts 2L/c within 1%", "[physics][impact]") {
+TEST_CASE("Default settings: elastic bar impact lasts 2L/c within 1%",
+          "[physics][impact]") {
   for (bool lumped : {true, false})
     for (double E : {1e6, 2e11}) {
       const Case c = Make(2, E, 0.95, lumped);
@@ -66,7 +69,8 @@ TEST_CASE("Default settings: a block on an incline 1 degree either side of atan(
       }
 }
 
-TEST_CASE("Default settings: a thrown block stops after v0 / (mu g) within 1%", "[physics][sliding]") {
+TEST_CASE("Default settings: a thrown block stops after v0 / (mu g) within 1%",
+          "[physics][sliding]") {
   for (bool lumped : {true, false})
     for (double E : {1e6, 2e11})
       for (double fraction : {0.1, 0.95}) {
@@ -82,12 +86,17 @@ TEST_CASE("Unit invariance: SI, mm-tonne-s and bodies scaled by 1e-3 and 1e3 mov
   struct Variant {
     std::string step, solver;
     bool lumped;
-    std::string friction = "";  // solver.friction ("": the default, coulomb-fc when condensed)
+    std::string friction =
+        "";  // solver.friction ("": the default, coulomb-fc when condensed)
   };
   const std::vector<Variant> variants{
-      {"condensed", "fb", false, "lagged-bound"}, {"condensed", "min", false, "lagged-bound"},
-      {"condensed", "penalized-fb", false, "lagged-bound"}, {"condensed", "fb", false},
-      {"full", "fb", false},      {"explicit", "", true},      {"condensed", "fb", true},
+      {"condensed", "fb", false, "lagged-bound"},
+      {"condensed", "min", false, "lagged-bound"},
+      {"condensed", "penalized-fb", false, "lagged-bound"},
+      {"condensed", "fb", false},
+      {"full", "fb", false},
+      {"explicit", "", true},
+      {"condensed", "fb", true},
       {"sparse", "", false}};
   for (const Variant& v : variants) {
     Case c = Make(2, 7e10, 0.9, v.lumped);
@@ -98,11 +107,12 @@ TEST_CASE("Unit invariance: SI, mm-tonne-s and bodies scaled by 1e-3 and 1e3 mov
       c.units = kSI;
       const Outcome reference = sliding ? Sliding(c) : FreeFall(c);
       REQUIRE(reference.passed);
-      // Round-off alone: the SI scene with dt one unit in the last place larger. A sliding
-      // block with consistent mass rings and chatters on the floor, and near its stop the
-      // stick-slip of the ringing amplifies any round-off difference (measured: 1e-14 at
-      // step 150, 1e-9 at step 635 of 920 for this perturbation); the comparison across units
-      // is held to 1e-8 over the first half of the run and to the round-off baseline after.
+      // Round-off alone: the SI scene with dt one unit in the last place larger. A
+      // sliding block with consistent mass rings and chatters on the floor, and near its
+      // stop the stick-slip of the ringing amplifies any round-off difference (measured:
+      // 1e-14 at step 150, 1e-9 at step 635 of 920 for this perturbation); the comparison
+      // across units is held to 1e-8 over the first half of the run and to the round-off
+      // baseline after.
       Case perturbed = c;
       perturbed.units = Units{1.0, 1.0 + 4.5e-16, 1.0, "SI, dt + 1 ulp"};
       const Outcome baseline_run = sliding ? Sliding(perturbed) : FreeFall(perturbed);
@@ -111,9 +121,10 @@ TEST_CASE("Unit invariance: SI, mm-tonne-s and bodies scaled by 1e-3 and 1e3 mov
         Case other = c;
         other.units = u;
         const Outcome o = sliding ? Sliding(other) : FreeFall(other);
-        // (Trajectories come back in SI of the original scene: a scaled body's lengths and
-        // times are converted back by the units it was written in.)
-        INFO(c.Label() << " vs " << u.name << ": " << o.detail << "; round-off baseline " << baseline);
+        // (Trajectories come back in SI of the original scene: a scaled body's lengths
+        // and times are converted back by the units it was written in.)
+        INFO(c.Label() << " vs " << u.name << ": " << o.detail << "; round-off baseline "
+                       << baseline);
         CHECK(o.status == contact::DynamicStatus::kCompleted);
         CHECK(TrajectoryDifference(o, reference, 0.5) <= 1e-8);
         CHECK(TrajectoryDifference(o, reference) <= std::max(1e-8, 100 * baseline));

@@ -1,13 +1,13 @@
-// contact::Simulation (contact/simulation.hpp): stepping by hand is RunDynamics bit for bit
-// for every step method; the body force and the obstacle's place change between steps and
-// are recomputed exactly as the scene builds them; misuse throws naming the value.
+// contact::Simulation (contact/simulation.hpp): stepping by hand is RunDynamics bit for
+// bit for every step method; the body force and the obstacle's place change between steps
+// and are recomputed exactly as the scene builds them; misuse throws naming the value.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
-#include <string>
 #include <limits>
+#include <string>
 
 #include "block_on_floor.hpp"
 #include "contact/simulation.hpp"
@@ -50,8 +50,8 @@ void RequireSameRecords(const DynamicSummary& a, const DynamicSummary& b) {
 }
 
 TEST_CASE("Simulation stepped in chunks is RunDynamics bit for bit", "[simulation]") {
-  const StepMethod method =
-      GENERATE(StepMethod::kFull, StepMethod::kCondensed, StepMethod::kExplicit, StepMethod::kSparse);
+  const StepMethod method = GENERATE(StepMethod::kFull, StepMethod::kCondensed,
+                                     StepMethod::kExplicit, StepMethod::kSparse);
   CAPTURE(ToString(method));
   const SceneModel built = BuildSceneModel(SlidingBlock(method));
   const DynamicSummary run = RunDynamics(built.model, built.options);
@@ -77,12 +77,14 @@ TEST_CASE("A scene Simulation: the body force and the obstacle as the scene buil
           "[simulation]") {
   Scene scene = SlidingBlock(StepMethod::kCondensed);
   scene.normal_source = NormalSource::kBody;
-  const DynamicSummary run = RunDynamics(BuildSceneModel(scene).model, BuildSceneModel(scene).options);
+  const DynamicSummary run =
+      RunDynamics(BuildSceneModel(scene).model, BuildSceneModel(scene).options);
 
   Simulation sim(scene);
   const ContactFrames& frames = sim.scene_model().frames;
   Eigen::VectorXd s0(static_cast<Eigen::Index>(frames.nodes.size()));
-  for (size_t c = 0; c < frames.nodes.size(); ++c) s0(static_cast<Eigen::Index>(c)) = frames.nodes[c].gap;
+  for (size_t c = 0; c < frames.nodes.size(); ++c)
+    s0(static_cast<Eigen::Index>(c)) = frames.nodes[c].gap;
   CHECK(sim.contact_gaps() == s0);
   // The scene's own body force and place: the same run, bit for bit.
   sim.SetBodyForce(scene.body_force);
@@ -96,8 +98,10 @@ TEST_CASE("A scene Simulation: the body force and the obstacle as the scene buil
   moved.MoveObstacle(Eigen::Vector2d(0.0, 0.4e-6));
   CHECK((moved.contact_gaps().array() - (s0.array() - 0.4e-6)).abs().maxCoeff() < 1e-18);
   const ContactNodeStates before = moved.contact();
-  CHECK((before.gap.array() - (s0.array() - 0.4e-6)).abs().maxCoeff() < 1e-18);  // u^0 = 0
-  CHECK(std::isnan(before.normal_force(0)));  // a prescribed start: not known before a step
+  CHECK((before.gap.array() - (s0.array() - 0.4e-6)).abs().maxCoeff() <
+        1e-18);  // u^0 = 0
+  CHECK(
+      std::isnan(before.normal_force(0)));  // a prescribed start: not known before a step
   moved.MoveObstacle(Eigen::Vector2d(1e-3, 0.4e-6));
   CHECK((moved.contact_gaps().array() - (s0.array() - 0.4e-6)).abs().maxCoeff() < 1e-18);
   CHECK(moved.obstacle_translation() == Eigen::Vector2d(1e-3, 0.4e-6));
@@ -122,17 +126,21 @@ TEST_CASE("Simulation rejects misuse naming the value", "[simulation][errors]") 
   Simulation sim(built.model, built.options);
   CHECK_THROWS_WITH(sim.Step(-1), Catch::Contains("n must be >= 0, got -1"));
   const auto N = static_cast<Eigen::Index>(built.model.contact_nodes.size());
-  CHECK_THROWS_WITH(sim.SetContactGaps(Eigen::VectorXd::Zero(N + 1)),
-                    Catch::Contains("one gap per contact node (" + std::to_string(N) + ")"));
+  CHECK_THROWS_WITH(
+      sim.SetContactGaps(Eigen::VectorXd::Zero(N + 1)),
+      Catch::Contains("one gap per contact node (" + std::to_string(N) + ")"));
   Eigen::VectorXd gaps = Eigen::VectorXd::Zero(N);
   gaps(1) = std::numeric_limits<double>::quiet_NaN();
-  CHECK_THROWS_WITH(sim.SetContactGaps(gaps), Catch::Contains("contact node 1 is not finite"));
+  CHECK_THROWS_WITH(sim.SetContactGaps(gaps),
+                    Catch::Contains("contact node 1 is not finite"));
   CHECK_THROWS_AS(sim.SetLoad(nullptr), std::invalid_argument);
-  CHECK_THROWS_WITH(sim.MoveObstacle(Eigen::Vector2d::Zero()), Catch::Contains("only a Simulation of a scene"));
+  CHECK_THROWS_WITH(sim.MoveObstacle(Eigen::Vector2d::Zero()),
+                    Catch::Contains("only a Simulation of a scene"));
   CHECK(sim.step_index() == 0);
 
   Simulation scene_sim(SlidingBlock(StepMethod::kExplicit));
-  CHECK_THROWS_WITH(scene_sim.MoveObstacle(Eigen::Vector3d::Zero()), Catch::Contains("must be 2 finite numbers [m]"));
+  CHECK_THROWS_WITH(scene_sim.MoveObstacle(Eigen::Vector3d::Zero()),
+                    Catch::Contains("must be 2 finite numbers [m]"));
   CHECK_THROWS_WITH(scene_sim.SetBodyForce(Eigen::Vector2d(0.0, std::nan(""))),
                     Catch::Contains("body force must be 2 finite numbers [N/m^3]"));
 
@@ -152,18 +160,21 @@ TEST_CASE("Simulation rejects misuse naming the value", "[simulation][errors]") 
 namespace contact {
 namespace {
 
-// A checkpoint after k steps, loaded into a new Simulation of the same model and stepped to
-// the end, is the uninterrupted run bit for bit - for every step method (the warm start of
-// the Newton and ncp::fc steps included: the block slides, so friction forces are carried).
-TEST_CASE("Simulation checkpoint: loaded and stepped on is the uninterrupted run bit for bit",
-          "[simulation][checkpoint]") {
-  const StepMethod method =
-      GENERATE(StepMethod::kFull, StepMethod::kCondensed, StepMethod::kExplicit, StepMethod::kSparse);
+// A checkpoint after k steps, loaded into a new Simulation of the same model and stepped
+// to the end, is the uninterrupted run bit for bit - for every step method (the warm
+// start of the Newton and ncp::fc steps included: the block slides, so friction forces
+// are carried).
+TEST_CASE(
+    "Simulation checkpoint: loaded and stepped on is the uninterrupted run bit for bit",
+    "[simulation][checkpoint]") {
+  const StepMethod method = GENERATE(StepMethod::kFull, StepMethod::kCondensed,
+                                     StepMethod::kExplicit, StepMethod::kSparse);
   CAPTURE(ToString(method));
   const SceneModel built = BuildSceneModel(SlidingBlock(method));
   const DynamicSummary run = RunDynamics(built.model, built.options);
   REQUIRE(run.status == DynamicStatus::kCompleted);
-  const std::string path = "test_simulation_checkpoint_" + std::string(ToString(method)) + ".ckpt";
+  const std::string path =
+      "test_simulation_checkpoint_" + std::string(ToString(method)) + ".ckpt";
   {
     Simulation first(built.model, built.options);
     first.Step(17);
@@ -191,14 +202,17 @@ TEST_CASE("Simulation checkpoint: another model, a truncated or corrupt file is 
   DynamicOptions other_dt = built.options;
   other_dt.dt *= 0.5;
   Simulation other(built.model, other_dt);
-  CHECK_THROWS_WITH(other.LoadCheckpoint(path), Catch::Contains("of another run") && Catch::Contains("time steps"));
+  CHECK_THROWS_WITH(other.LoadCheckpoint(path),
+                    Catch::Contains("of another run") && Catch::Contains("time steps"));
   CHECK(other.step_index() == 0);  // unchanged
   std::string bytes;
   {
     std::ifstream in(path, std::ios::binary);
     bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
-  const auto write = [&](const std::string& text) { std::ofstream(path, std::ios::binary) << text; };
+  const auto write = [&](const std::string& text) {
+    std::ofstream(path, std::ios::binary) << text;
+  };
   write(bytes.substr(0, bytes.size() - 1));
   CHECK_THROWS_AS(sim.LoadCheckpoint(path), CheckpointError);
   std::string flipped = bytes;

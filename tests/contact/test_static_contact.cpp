@@ -131,9 +131,10 @@ ContactResiduals Recompute(const StaticProblem& problem, const StaticContactResu
 // k = max K_ii, whose rows are in metres (S u + q = (K u - f) / k, gaps in m): it must be
 // set relative to the expected displacement, e.g. 1e-10 m would be only ~1e-5 relative
 // for steel under 10 MPa (u ~ 1e-5 m).
-// The default tolerance: relative to the problem's own force and displacement scales, so no
-// test picks one by the size of its displacements.
-StaticContactOptions SolverOptions(ncp::NcpFunction function = ncp::NcpFunction::kFischerBurmeister) {
+// The default tolerance: relative to the problem's own force and displacement scales, so
+// no test picks one by the size of its displacements.
+StaticContactOptions SolverOptions(
+    ncp::NcpFunction function = ncp::NcpFunction::kFischerBurmeister) {
   StaticContactOptions options;
   options.ncp.ncp_function = function;
   return options;
@@ -526,9 +527,8 @@ TEST_CASE("Semismooth Newton (FB and min) and Ipopt agree on the Hertz problem",
   StaticContactResult fb =
       SolveStaticContact(2, problem.K, problem.f, problem.nodes(),
                          SolverOptions(ncp::NcpFunction::kFischerBurmeister));
-  StaticContactResult min =
-      SolveStaticContact(2, problem.K, problem.f, problem.nodes(),
-                         SolverOptions(ncp::NcpFunction::kMin));
+  StaticContactResult min = SolveStaticContact(2, problem.K, problem.f, problem.nodes(),
+                                               SolverOptions(ncp::NcpFunction::kMin));
   StaticContactResult ipopt =
       SolveStaticContactIpopt(2, problem.K, problem.f, problem.nodes(), 1e-14);
   INFO(fb.message << " | " << min.message << " | " << ipopt.message);
@@ -650,8 +650,8 @@ StuckReference SolveStuck(const StaticProblem& frictional,
   conditions.push_back(DirichletCondition{kContactGroup, {0}, {}});
   const StaticProblem stuck = BlockProblem(conditions);
   REQUIRE(stuck.nodes().size() == frictional.nodes().size());
-  const StaticContactResult r = SolveStaticContact(2, stuck.K, stuck.f, stuck.nodes(),
-                                                   SolverOptions());
+  const StaticContactResult r =
+      SolveStaticContact(2, stuck.K, stuck.f, stuck.nodes(), SolverOptions());
   INFO(r.message);
   REQUIRE(r.converged);
   const ContactResiduals res = Recompute(stuck, r);
@@ -708,8 +708,8 @@ TEST_CASE("Tresca, bound above every stuck nodal force: the block sticks",
 TEST_CASE("Tresca with a zero bound is frictionless", "[static][friction]") {
   // Roller u_x = 0 on x = 0 takes the pull.
   const StaticProblem problem = BlockProblem({DirichletCondition{kFixedGroup, {0}, {}}});
-  const StaticContactResult frictionless = SolveStaticContact(
-      2, problem.K, problem.f, problem.nodes(), SolverOptions());
+  const StaticContactResult frictionless =
+      SolveStaticContact(2, problem.K, problem.f, problem.nodes(), SolverOptions());
   StaticContactOptions options = SolverOptions();
   options.friction = FrictionLaw::kTresca;
   options.tresca_bound = Vector::Zero(static_cast<Eigen::Index>(problem.nodes().size()));
@@ -823,9 +823,8 @@ TEST_CASE("Static contact rejects bad friction input with a message",
   options.tresca_bound(3) = -5.0;
   CHECK_THROWS_AS(SolveStaticContact(2, problem.K, problem.f, problem.nodes(), options),
                   std::invalid_argument);
-  CHECK_THROWS_WITH(
-      SolveStaticContact(2, problem.K, problem.f, problem.nodes(), options),
-      Contains("tresca_bound[3] must be finite and >= 0 N, got -5"));
+  CHECK_THROWS_WITH(SolveStaticContact(2, problem.K, problem.f, problem.nodes(), options),
+                    Contains("tresca_bound[3] must be finite and >= 0 N, got -5"));
   // (The value after "got" is the bound divided by the scaling k = max K_ii and printed
   // with 6 decimals, "-0.000000" here: not checked.)
 

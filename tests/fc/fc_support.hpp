@@ -52,7 +52,8 @@ inline double CoulombViolation(const FrictionProblem& p, const Eigen::VectorXd& 
   return worst / (1.0 + p.q.norm());
 }
 
-/// Calls f(problem) for every .dat and .hdf5 problem of NCP_FC_DATA_DIR; returns their number.
+/// Calls f(problem) for every .dat and .hdf5 problem of NCP_FC_DATA_DIR; returns their
+/// number.
 template <class F>
 int ForEachDataProblem(F f) {
   int files = 0;

@@ -1,6 +1,7 @@
-// Global-form problems M v = q + H r, u = H' v + b (Siconos GFC3D text files): read, reduced
-// to the Delassus form, solved, and checked on the global problem itself - the equation of
-// motion and the Coulomb law at u = H' v + b, recomputed here from M, H, q, b without W.
+// Global-form problems M v = q + H r, u = H' v + b (Siconos GFC3D text files): read,
+// reduced to the Delassus form, solved, and checked on the global problem itself - the
+// equation of motion and the Coulomb law at u = H' v + b, recomputed here from M, H, q, b
+// without W.
 #include <Eigen/LU>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -18,7 +19,8 @@ const std::string kGlobalData = std::string(NCP_FC_DATA_DIR) + "/../gfc3d";
 
 /// Largest violation of r in C_mu, u_hat in C*_mu and r . u_hat = 0 per contact, relative
 /// to 1 + |r| (resp. 1 + |u_hat|), with u_hat = (u_N + mu |u_T|, u_T).
-double CoulombViolation(int d, const ncp::Vector& mu, const ncp::Vector& r, const ncp::Vector& u) {
+double CoulombViolation(int d, const ncp::Vector& mu, const ncp::Vector& r,
+                        const ncp::Vector& u) {
   double worst = 0.0;
   for (int a = 0; a < mu.size(); ++a) {
     const ncp::Vector ra = r.segment(d * a, d), ua = u.segment(d * a, d);
@@ -27,7 +29,8 @@ double CoulombViolation(int d, const ncp::Vector& mu, const ncp::Vector& r, cons
     const double scale_r = 1.0 + ra.norm(), scale_u = 1.0 + std::hypot(uhat_n, ut);
     worst = std::max({worst, std::max(0.0, rt - mu[a] * ra[0]) / scale_r,
                       std::max(0.0, mu[a] * ut - uhat_n) / scale_u,
-                      std::abs(ra[0] * uhat_n + ra.tail(d - 1).dot(ua.tail(d - 1))) / (scale_r * scale_u)});
+                      std::abs(ra[0] * uhat_n + ra.tail(d - 1).dot(ua.tail(d - 1))) /
+                          (scale_r * scale_u)});
   }
   return worst;
 }
@@ -35,7 +38,8 @@ double CoulombViolation(int d, const ncp::Vector& mu, const ncp::Vector& r, cons
 }  // namespace
 
 TEST_CASE("GFC3D_Example1 as printed: M, H = I, q = 0, b, mu", "[fc][global]") {
-  const GlobalFrictionProblem g = ReadSiconosGlobalDat(kGlobalData + "/GFC3D_Example1.dat");
+  const GlobalFrictionProblem g =
+      ReadSiconosGlobalDat(kGlobalData + "/GFC3D_Example1.dat");
   CHECK(g.dimension == 3);
   CHECK(g.num_contacts == 1);
   Eigen::Matrix3d M;
@@ -47,10 +51,12 @@ TEST_CASE("GFC3D_Example1 as printed: M, H = I, q = 0, b, mu", "[fc][global]") {
   CHECK(g.mu[0] == 0.5);
   // W = H' M^-1 H = M^-1 here, q_local = H' M^-1 q + b = b.
   const FrictionProblem p = ReduceToLocal(g);
-  CHECK((Eigen::MatrixXd(p.W) - Eigen::MatrixXd(M.inverse())).cwiseAbs().maxCoeff() <= 1e-14);
+  CHECK((Eigen::MatrixXd(p.W) - Eigen::MatrixXd(M.inverse())).cwiseAbs().maxCoeff() <=
+        1e-14);
   CHECK(p.q == g.b);
   // Read as a local problem it is something else; the reader names the mismatch.
-  CHECK_THROWS_WITH(ReadSiconosDat(kGlobalData + "/GFC3D_Example1.dat"), Catch::Contains("global"));
+  CHECK_THROWS_WITH(ReadSiconosDat(kGlobalData + "/GFC3D_Example1.dat"),
+                    Catch::Contains("global"));
 }
 
 TEST_CASE("every global problem: solved through W, checked on M v = q + H r and the law",
@@ -69,7 +75,8 @@ TEST_CASE("every global problem: solved through W, checked on M v = q + H r and 
     REQUIRE(summary.IsSolutionUsable());
     const ncp::Vector v = GlobalVelocity(g, r);
     // Independent of W: the equation of motion and the law at u = H' v + b.
-    const double motion = (g.M * v - g.q - g.H * r).norm() / (1.0 + g.q.norm() + (g.H * r).norm());
+    const double motion =
+        (g.M * v - g.q - g.H * r).norm() / (1.0 + g.q.norm() + (g.H * r).norm());
     CHECK(motion <= 1e-12);
     const ncp::Vector u = g.H.transpose() * v + g.b;
     CHECK(CoulombViolation(g.dimension, g.mu, r, u) <= 1e-7);
@@ -80,7 +87,8 @@ TEST_CASE("every global problem: solved through W, checked on M v = q + H r and 
   CHECK(files >= 5);  // data/gfc3d: five GFC3D files of Siconos
 }
 
-TEST_CASE("a global problem with a singular M is refused with the reason", "[fc][global]") {
+TEST_CASE("a global problem with a singular M is refused with the reason",
+          "[fc][global]") {
   GlobalFrictionProblem g;
   g.dimension = 3;
   g.num_contacts = 1;

@@ -1,5 +1,5 @@
-// Readers of frictional contact problems: Siconos .dat (dense, sparse-block, sparse), FCLIB
-// HDF5 (local, and global reduced to local), and malformed input.
+// Readers of frictional contact problems: Siconos .dat (dense, sparse-block, sparse),
+// FCLIB HDF5 (local, and global reduced to local), and malformed input.
 #include <Eigen/Eigenvalues>
 #include <catch2/catch.hpp>
 #include <cstdio>
@@ -70,8 +70,9 @@ TEST_CASE("malformed .dat files are rejected with the reason", "[fc][io]") {
   const std::string storage = WriteTemp("storage.dat", "3 1 5 3 3\n");
   CHECK_THROWS_WITH(ReadSiconosDat(storage), Catch::Contains("storage type 5"));
   // a global problem (GFC3D_Example1: M, H, q, b, mu) is not taken for a local one
-  CHECK_THROWS_WITH(ReadSiconosDat(std::string(NCP_FC_DATA_DIR) + "/../gfc3d/GFC3D_Example1.dat"),
-                    Catch::Contains("--global"));
+  CHECK_THROWS_WITH(
+      ReadSiconosDat(std::string(NCP_FC_DATA_DIR) + "/../gfc3d/GFC3D_Example1.dat"),
+      Catch::Contains("--global"));
   CHECK_THROWS_AS(ReadProblem(kData + "/no_such_file.dat"), std::runtime_error);
 }
 
@@ -117,11 +118,13 @@ TEST_CASE("WriteSiconosDat round trip (sparse-block storage)", "[fc][io]") {
   CHECK(back.mu == p.mu);
 }
 
-TEST_CASE("sparse (storage 2, CSC) .dat: a 2D granular flow of 667 contacts", "[fc][io]") {
+TEST_CASE("sparse (storage 2, CSC) .dat: a 2D granular flow of 667 contacts",
+          "[fc][io]") {
   // Siconos' test data; the numbers checked are those printed in the file's own CSparse
   // header and first column ("1334-by-1334, nzmax: 3822 nnz: 3822", col 0: 856.713 at row
   // 0, -454.43 at row 649).
-  const FrictionProblem p = ReadProblem(std::string(NCP_FC_DATA_DIR) + "/../fc2d/fc2d_granularflowonwall_00667_00000.dat");
+  const FrictionProblem p = ReadProblem(
+      std::string(NCP_FC_DATA_DIR) + "/../fc2d/fc2d_granularflowonwall_00667_00000.dat");
   CHECK(p.dimension == 2);
   CHECK(p.num_contacts == 667);
   REQUIRE(p.W.rows() == 1334);
@@ -135,28 +138,42 @@ TEST_CASE("sparse (storage 2, CSC) .dat: a 2D granular flow of 667 contacts", "[
 }
 
 TEST_CASE("sparse (storage 2) .dat: triplet, CSC and CSR give the same W", "[fc][io]") {
-  // W = [[4, 1], [2, 5]] (not symmetric, so a transposed reading shows), q = (-1, 0), mu = 0.3.
-  const std::string version = "CSparse Version 3.1.9, May 4, 2016.  Copyright (c) Timothy A. Davis, 2006-2016\n";
+  // W = [[4, 1], [2, 5]] (not symmetric, so a transposed reading shows), q = (-1, 0), mu
+  // = 0.3.
+  const std::string version =
+      "CSparse Version 3.1.9, May 4, 2016.  Copyright (c) Timothy A. Davis, 2006-2016\n";
   const std::string triplet = "2\n1\n2\n2\n2\n1\n" + version +
-                              "triplet: 2-by-2, nzmax: 4 nnz: 4\n    0 0 : 4\n    1 0 : 2\n    0 1 : 1\n    1 1 : 5\n";
-  const std::string csc = "2\n1\n2\n2\n2\n2\n" + version +
-                          "2-by-2, nzmax: 4 nnz: 4, 1-norm: 6\n    col 0 : locations 0 to 1\n      0 : 4\n"
-                          "      1 : 2\n    col 1 : locations 2 to 3\n      0 : 1\n      1 : 5\n";
-  const std::string csr = "2\n1\n2\n2\n2\n3\n" + version +
-                          "csr: 2-by-2, nzmax: 4 nnz: 4, 1-norm: 6\n    row 0 : locations 0 to 1\n      0 : 4\n"
-                          "      1 : 1\n    row 1 : locations 2 to 3\n      0 : 2\n      1 : 5\n";
+                              "triplet: 2-by-2, nzmax: 4 nnz: 4\n    0 0 : 4\n    1 0 : "
+                              "2\n    0 1 : 1\n    1 1 : 5\n";
+  const std::string csc =
+      "2\n1\n2\n2\n2\n2\n" + version +
+      "2-by-2, nzmax: 4 nnz: 4, 1-norm: 6\n    col 0 : locations 0 to 1\n      0 : 4\n"
+      "      1 : 2\n    col 1 : locations 2 to 3\n      0 : 1\n      1 : 5\n";
+  const std::string csr =
+      "2\n1\n2\n2\n2\n3\n" + version +
+      "csr: 2-by-2, nzmax: 4 nnz: 4, 1-norm: 6\n    row 0 : locations 0 to 1\n      0 : "
+      "4\n"
+      "      1 : 1\n    row 1 : locations 2 to 3\n      0 : 2\n      1 : 5\n";
   Eigen::MatrixXd expected(2, 2);
   expected << 4, 1, 2, 5;
-  for (const auto& [name, text] : {std::pair<std::string, std::string>{"triplet", triplet}, {"csc", csc}, {"csr", csr}}) {
+  for (const auto& [name, text] :
+       {std::pair<std::string, std::string>{"triplet", triplet},
+        {"csc", csc},
+        {"csr", csr}}) {
     INFO(name);
-    const FrictionProblem p = ReadSiconosDat(WriteTemp("storage2_" + name + ".dat", text + "-1 0\n0.3\n"));
+    const FrictionProblem p =
+        ReadSiconosDat(WriteTemp("storage2_" + name + ".dat", text + "-1 0\n0.3\n"));
     CHECK(Eigen::MatrixXd(p.W) == expected);
     CHECK(p.q == Eigen::Vector2d(-1.0, 0.0));
     CHECK(p.mu[0] == 0.3);
   }
-  // A header that is not CSparse's, and a size that disagrees, are rejected with the reason.
-  CHECK_THROWS_WITH(ReadSiconosDat(WriteTemp("storage2_bad.dat", "2\n1\n2\n2\n2\n2\nnot csparse\n2-by-2\n")),
+  // A header that is not CSparse's, and a size that disagrees, are rejected with the
+  // reason.
+  CHECK_THROWS_WITH(ReadSiconosDat(WriteTemp("storage2_bad.dat",
+                                             "2\n1\n2\n2\n2\n2\nnot csparse\n2-by-2\n")),
                     Catch::Contains("CSparse"));
-  CHECK_THROWS_WITH(ReadSiconosDat(WriteTemp("storage2_size.dat", "2\n1\n2\n2\n2\n2\n" + version + "3-by-3, nzmax: 0 nnz: 0\n")),
-                    Catch::Contains("3 x 3"));
+  CHECK_THROWS_WITH(
+      ReadSiconosDat(WriteTemp("storage2_size.dat", "2\n1\n2\n2\n2\n2\n" + version +
+                                                        "3-by-3, nzmax: 0 nnz: 0\n")),
+      Catch::Contains("3 x 3"));
 }

@@ -22,7 +22,8 @@ OperatorProblem AsOperator(const FrictionProblem& p, double skew = 1.0) {
   op.num_contacts = p.num_contacts;
   op.apply_W = [W = p.W](const Eigen::VectorXd& r, Eigen::VectorXd* Wr) { *Wr = W * r; };
   op.diagonal = Eigen::VectorXd(p.W.diagonal()).cwiseMax(0.0);
-  for (Eigen::Index i = 0; i < op.diagonal.size(); ++i) op.diagonal(i) *= i % 2 ? skew : 1.0 / skew;
+  for (Eigen::Index i = 0; i < op.diagonal.size(); ++i)
+    op.diagonal(i) *= i % 2 ? skew : 1.0 / skew;
   op.q = p.q;
   op.mu = p.mu;
   op.name = p.name;
@@ -31,7 +32,8 @@ OperatorProblem AsOperator(const FrictionProblem& p, double skew = 1.0) {
 
 }  // namespace
 
-TEST_CASE("matrix-free: the published solution of FrictionContact3D_1c", "[fc][operator]") {
+TEST_CASE("matrix-free: the published solution of FrictionContact3D_1c",
+          "[fc][operator]") {
   Options options;
   options.tolerance = 1e-12;
   Eigen::VectorXd r;
@@ -45,7 +47,8 @@ TEST_CASE("matrix-free: the published solution of FrictionContact3D_1c", "[fc][o
   CHECK(summary.krylov_iterations > 0);
 }
 
-TEST_CASE("matrix-free: every data problem, exact and skewed diagonal", "[fc][operator][data]") {
+TEST_CASE("matrix-free: every data problem, exact and skewed diagonal",
+          "[fc][operator][data]") {
   const double skew = GENERATE(1.0, 3.0);
   int solved = 0;
   const int files = test::ForEachDataProblem([&](const FrictionProblem& p) {
@@ -56,7 +59,8 @@ TEST_CASE("matrix-free: every data problem, exact and skewed diagonal", "[fc][op
     Solve(options, AsOperator(p, skew), &r, &summary);
     INFO(p.name << " skew " << skew << ": " << summary.message);
     // the Summary's error is the natural-map error at the returned r, recomputed here
-    CHECK_THAT(summary.final_error, WithinAbs(NaturalMapError(p, r), 1e-12 * (1.0 + summary.final_error)));
+    CHECK_THAT(summary.final_error,
+               WithinAbs(NaturalMapError(p, r), 1e-12 * (1.0 + summary.final_error)));
     if (summary.IsSolutionUsable()) {
       ++solved;
       CHECK(summary.final_error <= options.tolerance);
@@ -84,25 +88,32 @@ TEST_CASE("matrix-free: bad problems are refused with the reason", "[fc][operato
   CHECK_THROWS_WITH(Solve(options, op, &r, &summary), Catch::Contains("mu must be >= 0"));
   op = AsOperator(test::OneContactProblem());
   op.apply_W = nullptr;
-  CHECK_THROWS_WITH(Solve(options, op, &r, &summary), Catch::Contains("apply_W is not set"));
+  CHECK_THROWS_WITH(Solve(options, op, &r, &summary),
+                    Catch::Contains("apply_W is not set"));
   op = AsOperator(test::OneContactProblem());
   op.diagonal.resize(2);
-  CHECK_THROWS_WITH(Solve(options, op, &r, &summary), Catch::Contains("diagonal must have 3 entries"));
+  CHECK_THROWS_WITH(Solve(options, op, &r, &summary),
+                    Catch::Contains("diagonal must have 3 entries"));
   op = AsOperator(test::OneContactProblem());
   Options bad;
   bad.krylov_max_iterations = 0;
-  CHECK_THROWS_WITH(Solve(bad, op, &r, &summary), Catch::Contains("krylov_max_iterations must be >= 1"));
+  CHECK_THROWS_WITH(Solve(bad, op, &r, &summary),
+                    Catch::Contains("krylov_max_iterations must be >= 1"));
   bad = Options();
   bad.acceptable_tolerance = -1.0;
-  CHECK_THROWS_WITH(Solve(bad, op, &r, &summary), Catch::Contains("acceptable_tolerance must be >= 0"));
+  CHECK_THROWS_WITH(Solve(bad, op, &r, &summary),
+                    Catch::Contains("acceptable_tolerance must be >= 0"));
 }
 
-TEST_CASE("acceptable_tolerance: a solve asked for more than round-off allows ends at its floor",
-          "[fc][operator][solver]") {
+TEST_CASE(
+    "acceptable_tolerance: a solve asked for more than round-off allows ends at its "
+    "floor",
+    "[fc][operator][solver]") {
   // Asked 1e-30 (below the round-off of W r + q), accepted at 1e-10: both solvers stop as
   // converged within a few Newton steps, at an error <= the acceptable tolerance, instead
   // of running every attempt of the hybrid out.
-  const FrictionProblem p = ReadProblem(std::string(NCP_FC_DATA_DIR) + "/Capsules-i101-404.dat");
+  const FrictionProblem p =
+      ReadProblem(std::string(NCP_FC_DATA_DIR) + "/Capsules-i101-404.dat");
   Options options;
   options.tolerance = 1e-30;
   options.acceptable_tolerance = 1e-10;

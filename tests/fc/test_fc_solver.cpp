@@ -133,9 +133,9 @@ TEST_CASE("projected Gauss-Seidel warm start", "[fc][solver]") {
 }
 
 TEST_CASE("Gauss-Seidel trial after the hybrid's first attempt stalls", "[fc][solver]") {
-  // Capsules-i101-404: Alart-Curnier stalls from r = 0; the sweeps that follow stop when the
-  // error no longer halves within 200 of them (Gauss-Seidel is slow here), and the next
-  // Newton attempt (Fischer-Burmeister) finishes from the Newton iterate.
+  // Capsules-i101-404: Alart-Curnier stalls from r = 0; the sweeps that follow stop when
+  // the error no longer halves within 200 of them (Gauss-Seidel is slow here), and the
+  // next Newton attempt (Fischer-Burmeister) finishes from the Newton iterate.
   const FrictionProblem p =
       ReadProblem(std::string(NCP_FC_DATA_DIR) + "/Capsules-i101-404.dat");
   Eigen::VectorXd r;

@@ -1,6 +1,6 @@
-// The box-MCP entry: bounds of +-1e20 (the GAMS/PATH "no bound") are infinite, and a start
-// point outside [l, u] is projected onto the box. Residuals are recomputed here from F, l,
-// u; the runs with +-1e20 are compared with the same runs with +-inf.
+// The box-MCP entry: bounds of +-1e20 (the GAMS/PATH "no bound") are infinite, and a
+// start point outside [l, u] is projected onto the box. Residuals are recomputed here
+// from F, l, u; the runs with +-1e20 are compared with the same runs with +-inf.
 #include <Eigen/LU>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -47,8 +47,9 @@ ncp::SparseMatrix Tridiagonal(int n) {  // 2 on the diagonal, -1 beside it: SPD
 }  // namespace
 
 TEST_CASE("bounds of +-1e20 are infinite: same runs as with +-inf", "[box_mcp]") {
-  const NcpFunction function = GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin,
-                                        NcpFunction::kPenalizedFischerBurmeister);
+  const NcpFunction function =
+      GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin,
+               NcpFunction::kPenalizedFischerBurmeister);
   ncp::Options options;
   options.ncp_function = function;
   for (TestProblem& problem : StandardCollection()) {
@@ -60,13 +61,15 @@ TEST_CASE("bounds of +-1e20 are infinite: same runs as with +-inf", "[box_mcp]")
       Vector x = start.x;
       ncp::Summary summary;
       ncp::Solve(options, *problem.F, lower_big, upper_big, &x, &summary);
-      INFO(problem.name << " from " << start.label << " with " << ToString(function) << ": "
-                        << summary.BriefReport() << " vs " << with_inf.summary.BriefReport());
+      INFO(problem.name << " from " << start.label << " with " << ToString(function)
+                        << ": " << summary.BriefReport() << " vs "
+                        << with_inf.summary.BriefReport());
       CHECK(summary.termination == with_inf.summary.termination);
       CHECK(summary.iterations == with_inf.summary.iterations);
       CHECK(summary.num_variables == with_inf.summary.num_variables);  // no slacks added
       if (summary.termination == TerminationType::kConverged)
-        CHECK(NaturalResidual(*problem.F, problem.lower, problem.upper, x) <= kResidualTolerance);
+        CHECK(NaturalResidual(*problem.F, problem.lower, problem.upper, x) <=
+              kResidualTolerance);
     }
   }
 }
@@ -76,13 +79,15 @@ TEST_CASE("free variables given as [-1e20, 1e20] are equations", "[box_mcp]") {
   const int n = 5;
   const Vector q = Vector::LinSpaced(n, 1.0, 5.0);
   AffineFunction F(Tridiagonal(n), -q);
-  const NcpFunction function = GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin,
-                                        NcpFunction::kPenalizedFischerBurmeister);
+  const NcpFunction function =
+      GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin,
+               NcpFunction::kPenalizedFischerBurmeister);
   ncp::Options options;
   options.ncp_function = function;
   Vector x = Vector::Zero(n);
   ncp::Summary summary;
-  ncp::Solve(options, F, Vector::Constant(n, -1e20), Vector::Constant(n, 1e20), &x, &summary);
+  ncp::Solve(options, F, Vector::Constant(n, -1e20), Vector::Constant(n, 1e20), &x,
+             &summary);
   INFO(summary.FullReport());
   REQUIRE(summary.termination == TerminationType::kConverged);
   CHECK(summary.num_equations == n);
@@ -109,8 +114,9 @@ TEST_CASE("infinite_bound = +inf keeps 1e20 a finite bound", "[box_mcp]") {
 }
 
 TEST_CASE("a start point outside [l, u] is projected onto the box", "[box_mcp]") {
-  const NcpFunction function = GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin,
-                                        NcpFunction::kPenalizedFischerBurmeister);
+  const NcpFunction function =
+      GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin,
+               NcpFunction::kPenalizedFischerBurmeister);
   ncp::Options options;
   options.ncp_function = function;
   SECTION("a standard NCP from x0 < 0") {
@@ -128,7 +134,8 @@ TEST_CASE("a start point outside [l, u] is projected onto the box", "[box_mcp]")
     for (double u0 : {5.0, -5.0}) {
       const Run run = SolveFrom(problem, Vector::Constant(50, u0), options);
       INFO("u0 = " << u0 << ": " << run.summary.FullReport());
-      if (function == NcpFunction::kMin && run.summary.termination != TerminationType::kConverged) {
+      if (function == NcpFunction::kMin &&
+          run.summary.termination != TerminationType::kConverged) {
         // min is not globally convergent; it must at least say so.
         CHECK(run.summary.termination != TerminationType::kNotSolved);
         continue;
@@ -146,15 +153,15 @@ TEST_CASE("a start point outside [l, u] is projected onto the box", "[box_mcp]")
     // default options; the nonmonotone search also solves josephy unprojected).
     for (auto make : {&Josephy, &ModifiedMathiesen}) {
       TestProblem problem = make();
-      const Vector x0 = Vector::Constant(4, problem.name == "josephy" && function ==
-                                                    NcpFunction::kMin ? -1.0 : -10.0);
+      const Vector x0 = Vector::Constant(
+          4, problem.name == "josephy" && function == NcpFunction::kMin ? -1.0 : -10.0);
       ncp::Options as_given = ncp::Options::Algorithm1();
       as_given.ncp_function = function;
       as_given.project_start_point = false;
       const Run unprojected = SolveFrom(problem, x0, as_given);
       const Run projected = SolveFrom(problem, x0, options);
-      INFO(problem.name << ": as given " << unprojected.summary.BriefReport() << "; projected "
-                        << projected.summary.BriefReport());
+      INFO(problem.name << ": as given " << unprojected.summary.BriefReport()
+                        << "; projected " << projected.summary.BriefReport());
       CHECK(unprojected.summary.termination != TerminationType::kConverged);
       REQUIRE(projected.summary.termination == TerminationType::kConverged);
       CHECK(projected.summary.projected_start_components == 4);
@@ -170,8 +177,8 @@ TEST_CASE("a start point outside [l, u] is projected onto the box", "[box_mcp]")
   }
 }
 
-// The one-shot ncp::Solve borrows a Solver kept per thread for n <= 100: every result must
-// be the one a fresh Solver gives, whatever was solved before on the same thread.
+// The one-shot ncp::Solve borrows a Solver kept per thread for n <= 100: every result
+// must be the one a fresh Solver gives, whatever was solved before on the same thread.
 TEST_CASE("one-shot solves of small problems equal fresh-Solver solves, in any order",
           "[box_mcp][one_shot]") {
   std::vector<TestProblem> problems = StandardCollection();
@@ -181,7 +188,8 @@ TEST_CASE("one-shot solves of small problems equal fresh-Solver solves, in any o
     for (int pass = 0; pass < 2; ++pass) {  // the second pass meets a used workspace
       for (TestProblem& p : problems) {
         if (p.NumVariables() > 100) continue;
-        for (NcpFunction function : {NcpFunction::kFischerBurmeister, NcpFunction::kMin}) {
+        for (NcpFunction function :
+             {NcpFunction::kFischerBurmeister, NcpFunction::kMin}) {
           ncp::Options options = MakeOptions(function, backend);
           const Vector& x0 = p.starts.back().x;
           Vector x_once = x0, x_fresh = x0;
@@ -210,8 +218,15 @@ TEST_CASE("a one-shot solve called from inside F of another one-shot solve",
       1,
       [&](const Vector& x, Vector* F) {
         ncp::DenseSquareFunction inner(
-            1, [](const Vector& y, Vector* G) { (*G)(0) = y(0) - 2.0; return true; },
-            [](const Vector&, ncp::DenseMatrix* J) { (*J)(0, 0) = 1.0; return true; });
+            1,
+            [](const Vector& y, Vector* G) {
+              (*G)(0) = y(0) - 2.0;
+              return true;
+            },
+            [](const Vector&, ncp::DenseMatrix* J) {
+              (*J)(0, 0) = 1.0;
+              return true;
+            });
         Vector y = Vector::Zero(1);
         ncp::Summary s;
         ncp::SolveNcp(ncp::Options(), inner, &y, &s);
@@ -220,7 +235,10 @@ TEST_CASE("a one-shot solve called from inside F of another one-shot solve",
         (*F)(0) = x(0) - (y(0) + 1.0);
         return true;
       },
-      [](const Vector&, ncp::DenseMatrix* J) { (*J)(0, 0) = 1.0; return true; });
+      [](const Vector&, ncp::DenseMatrix* J) {
+        (*J)(0, 0) = 1.0;
+        return true;
+      });
   Vector x = Vector::Zero(1);
   ncp::Summary summary;
   ncp::SolveNcp(ncp::Options(), outer, &x, &summary);
@@ -247,11 +265,15 @@ TEST_CASE("a kept SparseLU Solver works after a singular factorization and a new
         (*F)(1) = x(0) + x(1) - 3.0;
         return true;
       },
-      [](const Vector&, ncp::DenseMatrix* J) { J->setOnes(); return true; });
+      [](const Vector&, ncp::DenseMatrix* J) {
+        J->setOnes();
+        return true;
+      });
   const double inf = std::numeric_limits<double>::infinity();
   Vector x = Vector::Zero(2);
   ncp::Summary summary;
-  solver.Solve(singular, Vector::Constant(2, -inf), Vector::Constant(2, inf), &x, &summary);
+  solver.Solve(singular, Vector::Constant(2, -inf), Vector::Constant(2, inf), &x,
+               &summary);
   INFO(summary.FullReport());
   CHECK_FALSE(summary.IsSolutionUsable());
   CHECK(summary.linear_solver_failures >= 1);
@@ -265,9 +287,9 @@ TEST_CASE("a kept SparseLU Solver works after a singular factorization and a new
 
 namespace {
 
-// Independent check of a Farkas certificate of a box LCP (types.hpp, kInfeasible): y in the
-// dual cone of the bounds' cone, g = M'y with a finite sup over the box, and
-// q'y + sup_{x in [l, u]} g'x < 0. Recomputed densely here, with no tolerance.
+// Independent check of a Farkas certificate of a box LCP (types.hpp, kInfeasible): y in
+// the dual cone of the bounds' cone, g = M'y with a finite sup over the box, and q'y +
+// sup_{x in [l, u]} g'x < 0. Recomputed densely here, with no tolerance.
 double FarkasValue(const Eigen::MatrixXd& M, const Vector& q, const Vector& lower,
                    const Vector& upper, const Vector& y) {
   const Vector g = M.transpose() * y;
@@ -292,24 +314,29 @@ struct BoxLcp {
 
 }  // namespace
 
-TEST_CASE("an LCP without a solution ends infeasible with a checked certificate, x in [l, u]",
-          "[box_mcp][infeasible]") {
-  const NcpFunction function = GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin,
-                                        NcpFunction::kPenalizedFischerBurmeister);
+TEST_CASE(
+    "an LCP without a solution ends infeasible with a checked certificate, x in [l, u]",
+    "[box_mcp][infeasible]") {
+  const NcpFunction function =
+      GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin,
+               NcpFunction::kPenalizedFischerBurmeister);
   std::vector<BoxLcp> problems;
   // x >= 0 perp -x - 1 >= 0: F < 0 on the whole orthant (issue 29's example).
-  problems.push_back({"M = -I, q = -1", -Eigen::MatrixXd::Identity(2, 2), Vector::Constant(2, -1.0),
-                      Vector::Zero(2), Vector::Constant(2, kInf)});
-  // x <= 0 perp F = 1 - x/2 <= 0 is impossible for x <= 0 (F >= 1); x_1 free with F_1 = x_1.
+  problems.push_back({"M = -I, q = -1", -Eigen::MatrixXd::Identity(2, 2),
+                      Vector::Constant(2, -1.0), Vector::Zero(2),
+                      Vector::Constant(2, kInf)});
+  // x <= 0 perp F = 1 - x/2 <= 0 is impossible for x <= 0 (F >= 1); x_1 free with F_1 =
+  // x_1.
   Eigen::MatrixXd M2(2, 2);
   M2 << -0.5, 0.0, 0.0, 1.0;
-  problems.push_back({"upper bound, F > 0 on the box", M2, (Vector(2) << 1.0, 0.0).finished(),
-                      Vector::Constant(2, -kInf), (Vector(2) << 0.0, kInf).finished()});
+  problems.push_back({"upper bound, F > 0 on the box", M2,
+                      (Vector(2) << 1.0, 0.0).finished(), Vector::Constant(2, -kInf),
+                      (Vector(2) << 0.0, kInf).finished()});
   // Two rows that need x_0 + x_1 >= 1 and -x_0 - x_1 >= 0 on the orthant.
   Eigen::MatrixXd M3(2, 2);
   M3 << 1.0, 1.0, -1.0, -1.0;
-  problems.push_back({"contradictory rows", M3, (Vector(2) << -1.0, 0.0).finished(), Vector::Zero(2),
-                      Vector::Constant(2, kInf)});
+  problems.push_back({"contradictory rows", M3, (Vector(2) << -1.0, 0.0).finished(),
+                      Vector::Zero(2), Vector::Constant(2, kInf)});
   for (const BoxLcp& p : problems) {
     INFO(p.name << ", " << ncp::ToString(function));
     AffineFunction F(p.M.sparseView(), p.q);
@@ -321,7 +348,8 @@ TEST_CASE("an LCP without a solution ends infeasible with a checked certificate,
     INFO(summary.message);
     REQUIRE(summary.termination == TerminationType::kInfeasible);
     REQUIRE(summary.infeasibility_certificate.size() == 2);
-    CHECK(FarkasValue(p.M, p.q, p.lower, p.upper, summary.infeasibility_certificate) < 0.0);
+    CHECK(FarkasValue(p.M, p.q, p.lower, p.upper, summary.infeasibility_certificate) <
+          0.0);
     CHECK(summary.message.find("no solution exists") != std::string::npos);
     for (Eigen::Index i = 0; i < x.size(); ++i) {
       CHECK(x(i) >= p.lower(i));

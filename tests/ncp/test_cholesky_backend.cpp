@@ -25,8 +25,8 @@ void CompareWithUmfpack(TestProblem& p, const ncp::Vector& start, ncp::Options o
   *cholesky = SolveFrom(p, start, options);
   options.linear_solver = LinearSolverType::kUmfpack;
   const Run lu = SolveFrom(p, start, options);
-  INFO(p.name << "\ncholmod: " << cholesky->summary.FullReport() << "\numfpack: "
-              << lu.summary.FullReport());
+  INFO(p.name << "\ncholmod: " << cholesky->summary.FullReport()
+              << "\numfpack: " << lu.summary.FullReport());
   REQUIRE(cholesky->summary.termination == TerminationType::kConverged);
   REQUIRE(lu.summary.termination == TerminationType::kConverged);
   CHECK(cholesky->summary.linear_solver_used == LinearSolverType::kCholmod);
@@ -36,17 +36,18 @@ void CompareWithUmfpack(TestProblem& p, const ncp::Vector& start, ncp::Options o
 
 }  // namespace
 
-TEST_CASE("obstacle: S J = diag(da/db) + A is factored by Cholesky, no fallback, "
-          "the iterates of the LU",
-          "[solver][cholmod]") {
+TEST_CASE(
+    "obstacle: S J = diag(da/db) + A is factored by Cholesky, no fallback, "
+    "the iterates of the LU",
+    "[solver][cholmod]") {
   // (The min function from this start fails on the 1D grid with either backend: 500
   // iterations, ||Phi|| ~ 0.49.)
-  const auto [function, dimension] = GENERATE(table<NcpFunction, int>(
-      {{NcpFunction::kFischerBurmeister, 1},
-       {NcpFunction::kPenalizedFischerBurmeister, 1},
-       {NcpFunction::kFischerBurmeister, 2},
-       {NcpFunction::kMin, 2},
-       {NcpFunction::kPenalizedFischerBurmeister, 2}}));
+  const auto [function, dimension] =
+      GENERATE(table<NcpFunction, int>({{NcpFunction::kFischerBurmeister, 1},
+                                        {NcpFunction::kPenalizedFischerBurmeister, 1},
+                                        {NcpFunction::kFischerBurmeister, 2},
+                                        {NcpFunction::kMin, 2},
+                                        {NcpFunction::kPenalizedFischerBurmeister, 2}}));
   TestProblem p = dimension == 1
                       ? Obstacle1D(2000, ObstacleKind::kLowerBump, ObstacleVariable::kGap)
                       : Obstacle2D(40, ObstacleKind::kLowerBump, ObstacleVariable::kGap);
@@ -68,14 +69,16 @@ TEST_CASE("COPS journal bearing (lower bounds, SPD Hessian): Cholesky throughout
   CHECK(run.summary.cholesky_fallbacks == 0);
 }
 
-TEST_CASE("not symmetrizable: two-sided bounds (slack rows) and an unsymmetric M fall "
-          "back to the LU and still converge",
-          "[solver][cholmod]") {
+TEST_CASE(
+    "not symmetrizable: two-sided bounds (slack rows) and an unsymmetric M fall "
+    "back to the LU and still converge",
+    "[solver][cholmod]") {
   SECTION("two-sided obstacle") {
     TestProblem p = Obstacle2D(30, ObstacleKind::kTwoSidedBand);
     Run run;
     CompareWithUmfpack(p, p.starts[0].x, ncp::Options(), &run);
-    // Every factorization went to UMFPACK (the mixed form's slack rows are not symmetric).
+    // Every factorization went to UMFPACK (the mixed form's slack rows are not
+    // symmetric).
     CHECK(run.summary.cholesky_fallbacks >= run.summary.iterations);
   }
   SECTION("random sparse P-LCP (M unsymmetric)") {
@@ -86,10 +89,12 @@ TEST_CASE("not symmetrizable: two-sided bounds (slack rows) and an unsymmetric M
   }
 }
 
-TEST_CASE("symmetric but indefinite: Cholesky fails once, LU afterwards", "[solver][cholmod]") {
-  // LCP with M = [[0, 10], [10, 0]] (indefinite), q = (-95, -95): solution x = (9.5, 9.5),
-  // F = 0. At x0 = (10, 10): a = 10, b = F = 5, FB partials da = a/r - 1 = -0.106,
-  // db = b/r - 1 = -0.553, so S J = diag(da/db) + M = [[0.19, 10], [10, 0.19]]: indefinite.
+TEST_CASE("symmetric but indefinite: Cholesky fails once, LU afterwards",
+          "[solver][cholmod]") {
+  // LCP with M = [[0, 10], [10, 0]] (indefinite), q = (-95, -95): solution x =
+  // (9.5, 9.5), F = 0. At x0 = (10, 10): a = 10, b = F = 5, FB partials da = a/r - 1 =
+  // -0.106, db = b/r - 1 = -0.553, so S J = diag(da/db) + M = [[0.19, 10], [10, 0.19]]:
+  // indefinite.
   ncp::SparseMatrix M(2, 2);
   M.insert(0, 1) = 10.0;
   M.insert(1, 0) = 10.0;

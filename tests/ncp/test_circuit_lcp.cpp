@@ -1,10 +1,11 @@
-// Mixed LCPs of switched circuits (issue 29): modified nodal analysis of one backward-Euler
-// step with ideal diodes (0 <= i perp v_cathode - v_anode >= 0) and ideal switches (a closed
-// switch is a 0 V source, an open one is absent). Node voltages, source and inductor currents
-// are free rows; the diode currents are the pairs. A node reached only through diodes or
-// switches gives a singular M; a closed switch across a diode, or diodes in a loop, leave
-// currents that the solution does not determine (singular Newton matrices at the solution).
-// Every converged run is checked by the natural residual recomputed here from M, q and x.
+// Mixed LCPs of switched circuits (issue 29): modified nodal analysis of one
+// backward-Euler step with ideal diodes (0 <= i perp v_cathode - v_anode >= 0) and ideal
+// switches (a closed switch is a 0 V source, an open one is absent). Node voltages,
+// source and inductor currents are free rows; the diode currents are the pairs. A node
+// reached only through diodes or switches gives a singular M; a closed switch across a
+// diode, or diodes in a loop, leave currents that the solution does not determine
+// (singular Newton matrices at the solution). Every converged run is checked by the
+// natural residual recomputed here from M, q and x.
 #include <Eigen/LU>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -27,7 +28,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kPi = 3.14159265358979323846;
 
 // One MNA step. Unknowns: the voltages of nodes 1 .. nodes-1 (node 0 is ground), then one
-// current per source/inductor branch (free rows), then one current per ideal diode (pairs).
+// current per source/inductor branch (free rows), then one current per ideal diode
+// (pairs).
 class Circuit {
  public:
   explicit Circuit(int nodes) : nodes_(nodes) {}
@@ -39,7 +41,9 @@ class Circuit {
   /// A current [A] injected into node a.
   void CurrentInto(int a, double i) { injected_.push_back({a, i}); }
   /// v_p - v_n = e [V]; e = 0 is a closed ideal switch.
-  void VoltageSource(int p, int n, double e) { branches_.push_back({p, n, e, 0.0, 0.0, false}); }
+  void VoltageSource(int p, int n, double e) {
+    branches_.push_back({p, n, e, 0.0, 0.0, false});
+  }
   /// Backward Euler: i - h/L (v_p - v_n) = i_old.
   void Inductor(int p, int n, double inductance, double h, double i_old) {
     branches_.push_back({p, n, 0.0, h / inductance, i_old, true});
@@ -51,7 +55,8 @@ class Circuit {
     const int nv = nodes_ - 1, nb = static_cast<int>(branches_.size());
     const int n = nv + nb + static_cast<int>(diodes_.size());
     std::vector<Eigen::Triplet<double, int>> t;
-    auto add = [&](int row_node, int col, double v) {  // row of a node (0 = ground: dropped)
+    auto add = [&](int row_node, int col,
+                   double v) {  // row of a node (0 = ground: dropped)
       if (row_node > 0) t.emplace_back(row_node - 1, col, v);
     };
     for (const auto& e : g_) t.emplace_back(e.a - 1, e.b - 1, e.g);
@@ -87,9 +92,19 @@ class Circuit {
   }
 
  private:
-  struct Entry { int a, b; double g; };
-  struct Injection { int node; double current; };
-  struct Branch { int p, n; double e, g, i_old; bool inductor; };
+  struct Entry {
+    int a, b;
+    double g;
+  };
+  struct Injection {
+    int node;
+    double current;
+  };
+  struct Branch {
+    int p, n;
+    double e, g, i_old;
+    bool inductor;
+  };
   void Add(int a, int b, double g) {
     if (a > 0 && b > 0) g_.push_back({a, b, g});
   }
@@ -157,18 +172,26 @@ Circuit RandomSwitchedCircuit(std::uint64_t seed) {
   for (int i = 1; i < nodes; ++i) {
     const int j = node_below(i);
     switch (static_cast<int>(uniform() * 5)) {
-      case 0: c.Conductance(i, j, std::pow(10.0, -3.0 + 6.0 * uniform())); break;
+      case 0:
+        c.Conductance(i, j, std::pow(10.0, -3.0 + 6.0 * uniform()));
+        break;
       case 1: {
         const double g = std::pow(10.0, 6.0 * uniform());
         c.Conductance(i, j, g);
         c.CurrentInto(i, g * normal());
         break;
       }
-      case 2: c.Inductor(i, j, std::pow(10.0, -6.0 + 3.0 * uniform()), 1e-7, normal()); break;
-      case 3: c.VoltageSource(i, j, 0.0); break;
+      case 2:
+        c.Inductor(i, j, std::pow(10.0, -6.0 + 3.0 * uniform()), 1e-7, normal());
+        break;
+      case 3:
+        c.VoltageSource(i, j, 0.0);
+        break;
       default:
-        if (uniform() < 0.5) c.Diode(i, j);
-        else c.Diode(j, i);
+        if (uniform() < 0.5)
+          c.Diode(i, j);
+        else
+          c.Diode(j, i);
     }
   }
   c.VoltageSource(1, 0, 10.0);
@@ -183,7 +206,8 @@ Circuit RandomSwitchedCircuit(std::uint64_t seed) {
 
 struct Result {
   ncp::Summary summary;
-  double natural_residual = kInf;  // max_i |mid(l_i, u_i, x_i - w_i) - x_i| / (1 + (|M||x| + |q|)_i)
+  double natural_residual =
+      kInf;  // max_i |mid(l_i, u_i, x_i - w_i) - x_i| / (1 + (|M||x| + |q|)_i)
   int n = 0, free_rows = 0;
 };
 
@@ -195,7 +219,8 @@ Result SolveCircuit(const Circuit& circuit, const ncp::Options& options) {
   ncp::collection::AffineFunction F(M, q);
   Result r;
   r.n = static_cast<int>(q.size());
-  for (Eigen::Index i = 0; i < lower.size(); ++i) r.free_rows += std::isinf(lower(i)) ? 1 : 0;
+  for (Eigen::Index i = 0; i < lower.size(); ++i)
+    r.free_rows += std::isinf(lower(i)) ? 1 : 0;
   Vector x = Vector::Zero(q.size());
   ncp::Solve(options, F, lower, upper, &x, &r.summary);
   // Independent check: w = M x + q, the natural map of the box LCP, relative to the size
@@ -205,7 +230,8 @@ Result SolveCircuit(const Circuit& circuit, const ncp::Options& options) {
   r.natural_residual = 0.0;
   for (Eigen::Index i = 0; i < q.size(); ++i) {
     const double projected = std::min(upper(i), std::max(lower(i), x(i) - w(i)));
-    r.natural_residual = std::max(r.natural_residual, std::abs(projected - x(i)) / (1.0 + terms(i)));
+    r.natural_residual =
+        std::max(r.natural_residual, std::abs(projected - x(i)) / (1.0 + terms(i)));
   }
   return r;
 }
@@ -234,8 +260,9 @@ void CheckSwitchChain(const ncp::Summary& s) {
   for (size_t i = 0; i < s.strategy_switches.size(); ++i) {
     const ncp::StrategySwitch& w = s.strategy_switches[i];
     CHECK(w.best_iteration <= w.iteration);
-    CHECK_FALSE((w.from_strategy.ncp_function == w.to_strategy.ncp_function &&
-                 w.from_strategy.regularized_direction == w.to_strategy.regularized_direction));
+    CHECK_FALSE(
+        (w.from_strategy.ncp_function == w.to_strategy.ncp_function &&
+         w.from_strategy.regularized_direction == w.to_strategy.regularized_direction));
     if (i > 0) {
       CHECK(w.iteration >= s.strategy_switches[i - 1].iteration);
       CHECK(w.from_strategy.regularized_direction ==
@@ -245,12 +272,17 @@ void CheckSwitchChain(const ncp::Summary& s) {
 }
 
 TEST_CASE("buck converters and diode bridges with singular M: the default converges") {
-  struct Case { const char* name; Circuit circuit; };
-  const Case cases[] = {{"buck, 4 phases", Buck(4)}, {"buck, 8 phases", Buck(8)},
+  struct Case {
+    const char* name;
+    Circuit circuit;
+  };
+  const Case cases[] = {{"buck, 4 phases", Buck(4)},
+                        {"buck, 8 phases", Buck(8)},
                         {"bridge ladder, 13 cells", BridgeLadder(13)}};
   for (const Case& c : cases) {
     const Result r = SolveCircuit(c.circuit, ncp::Options());
-    INFO(c.name << ": n = " << r.n << ", " << r.free_rows << " free rows; " << r.summary.message);
+    INFO(c.name << ": n = " << r.n << ", " << r.free_rows << " free rows; "
+                << r.summary.message);
     CHECK(Rank(c.circuit) < r.n);  // singular M
     CHECK(r.free_rows > 0);
     CHECK(r.summary.termination == TerminationType::kConverged);
@@ -259,7 +291,8 @@ TEST_CASE("buck converters and diode bridges with singular M: the default conver
   }
 }
 
-TEST_CASE("random switched circuits: the hybrid default converges where plain FB does not") {
+TEST_CASE(
+    "random switched circuits: the hybrid default converges where plain FB does not") {
   // Seeds where FB alone (with its merit restarts) ends at max_iterations or a stationary
   // point, found by the [.scan] case below.
   for (const std::uint64_t seed : {38, 39, 61, 72, 77, 87, 107, 122}) {
@@ -278,9 +311,11 @@ TEST_CASE("random switched circuits: the hybrid default converges where plain FB
   }
 }
 
-TEST_CASE("random switched circuits: never a false claim, never fewer solved than plain FB") {
-  // Many of these circuits have no solution (a diode loop against the source); what counts
-  // is that no run claims convergence with a bad residual and that the hybrid loses none.
+TEST_CASE(
+    "random switched circuits: never a false claim, never fewer solved than plain FB") {
+  // Many of these circuits have no solution (a diode loop against the source); what
+  // counts is that no run claims convergence with a bad residual and that the hybrid
+  // loses none.
   int plain_solved = 0, hybrid_solved = 0;
   for (std::uint64_t seed = 0; seed < 200; ++seed) {
     const Circuit c = RandomSwitchedCircuit(seed);
@@ -309,12 +344,15 @@ TEST_CASE("circuit scan (diagnostic)", "[.scan]") {
     const Circuit c = RandomSwitchedCircuit(seed);
     const Result plain = SolveCircuit(c, Plain());
     const Result hybrid = SolveCircuit(c, ncp::Options());
-    std::printf("%3d n %d free %d plain %-20s %4d %.1e hybrid %-20s %4d %.1e %zu\n", static_cast<int>(seed), plain.n,
-                plain.free_rows, ToString(plain.summary.termination), plain.summary.iterations,
-                plain.natural_residual, ToString(hybrid.summary.termination), hybrid.summary.iterations,
-                hybrid.natural_residual, hybrid.summary.strategy_switches.size());
+    std::printf("%3d n %d free %d plain %-20s %4d %.1e hybrid %-20s %4d %.1e %zu\n",
+                static_cast<int>(seed), plain.n, plain.free_rows,
+                ToString(plain.summary.termination), plain.summary.iterations,
+                plain.natural_residual, ToString(hybrid.summary.termination),
+                hybrid.summary.iterations, hybrid.natural_residual,
+                hybrid.summary.strategy_switches.size());
     for (const ncp::StrategySwitch& w : hybrid.summary.strategy_switches)
       std::printf("      -> %s%s at %d (%s)\n", ToString(w.to_strategy.ncp_function),
-                  w.to_strategy.regularized_direction ? "+lm" : "", w.iteration, ToString(w.reason));
+                  w.to_strategy.regularized_direction ? "+lm" : "", w.iteration,
+                  ToString(w.reason));
   }
 }

@@ -1,8 +1,9 @@
-// Colville's problem 2 (mcplib_nlp.hpp) against the optimum Hock and Schittkowski published
-// for it (problem 117), and the duality between its two MCPLIB forms. The checks every
-// collection problem gets - Jacobians against central differences, the known solutions'
-// natural residual, every start with FB and min on every backend - are in
-// test_collection.cpp and test_solve_collection.cpp (StandardCollection holds these problems).
+// Colville's problem 2 (mcplib_nlp.hpp) against the optimum Hock and Schittkowski
+// published for it (problem 117), and the duality between its two MCPLIB forms. The
+// checks every collection problem gets - Jacobians against central differences, the known
+// solutions' natural residual, every start with FB and min on every backend - are in
+// test_collection.cpp and test_solve_collection.cpp (StandardCollection holds these
+// problems).
 #include <catch2/catch.hpp>
 #include <cmath>
 

@@ -139,15 +139,17 @@ TEST_CASE("1D bump obstacle, FB from zero projected onto the obstacle (recorded)
                                 2.0);
 }
 
-// Fine grids put the rows' round-off (eps h^-2 |u|) above the default tolerance 1e-10. The
-// solver then stops at the round-off floor (Options::roundoff_ulps) and says so; the floor
-// is recomputed here from the FB function's partials and |A||u|, independently of the
-// solver's bookkeeping.
-TEST_CASE("1D bump obstacle, n = 1e4, default tolerance: converged at the round-off floor",
-          "[solver][obstacle][roundoff]") {
+// Fine grids put the rows' round-off (eps h^-2 |u|) above the default tolerance 1e-10.
+// The solver then stops at the round-off floor (Options::roundoff_ulps) and says so; the
+// floor is recomputed here from the FB function's partials and |A||u|, independently of
+// the solver's bookkeeping.
+TEST_CASE(
+    "1D bump obstacle, n = 1e4, default tolerance: converged at the round-off floor",
+    "[solver][obstacle][roundoff]") {
   const int n = 10000;
   TestProblem p = Obstacle1D(n, ObstacleKind::kLowerBump);
-  ncp::Options options = MakeOptions(NcpFunction::kFischerBurmeister, LinearSolverType::kKlu);
+  ncp::Options options =
+      MakeOptions(NcpFunction::kFischerBurmeister, LinearSolverType::kKlu);
   options.project_start_point = false;  // u = 0 below the obstacle (see SolveOnGrids)
   REQUIRE(options.tolerance == 1e-10);
   const Run run = SolveFrom(p, p.starts[0].x, options);
@@ -170,14 +172,15 @@ TEST_CASE("1D bump obstacle, n = 1e4, default tolerance: converged at the round-
   for (int i = 0; i < n; ++i) {
     const double a = run.x(i) - p.lower(i), b = F(i), r = std::hypot(a, b);
     const double phi = a + b - r;
-    const double da = r > 0 ? std::abs(1 - a / r) : 1.0, db = r > 0 ? std::abs(1 - b / r) : 1.0;
+    const double da = r > 0 ? std::abs(1 - a / r) : 1.0,
+                 db = r > 0 ? std::abs(1 - b / r) : 1.0;
     const double floor = 10 * eps * (da * std::abs(run.x(i)) + db * terms(i));
     largest_floor = std::max(largest_floor, floor);
     INFO("row " << i << ": a = " << a << ", b = " << b << ", floor " << floor);
     REQUIRE(std::abs(phi) <= options.tolerance + floor);
   }
-  // The floor is that of the grid, 10 eps h^-2 |u| (2 |u| <= 1 times the diagonal 2 h^-2),
-  // no looser: at h = 1e-4 about 2e-6.
+  // The floor is that of the grid, 10 eps h^-2 |u| (2 |u| <= 1 times the diagonal 2
+  // h^-2), no looser: at h = 1e-4 about 2e-6.
   CHECK(largest_floor <= 10 * eps * 2.0 * (n + 1.0) * (n + 1.0) * 1.0);
   // And the membrane is the continuous one to the discretization error O(h^2).
   double error = 0.0;
@@ -204,7 +207,8 @@ TEST_CASE("1D bump obstacle, n = 3e5: the first Newton step is accepted",
           "[solver][obstacle][roundoff]") {
   const int n = 300000;
   TestProblem p = Obstacle1D(n, ObstacleKind::kLowerBump);
-  ncp::Options options = MakeOptions(NcpFunction::kFischerBurmeister, LinearSolverType::kKlu);
+  ncp::Options options =
+      MakeOptions(NcpFunction::kFischerBurmeister, LinearSolverType::kKlu);
   options.project_start_point = false;
   options.max_iterations = 1;
   options.keep_trace = true;
@@ -218,16 +222,17 @@ TEST_CASE("1D bump obstacle, n = 3e5: the first Newton step is accepted",
   CHECK(s.final_psi < s.trace.front().psi);  // the Newton step decreased psi
 }
 
-// The same membrane written in the gap w = u - psi (ObstacleVariable::kGap): the iterates'
-// round-off no longer grows with h^-2 on the contact set. Checked against the height
-// formulation's solution (independent solve) and the continuous solution.
+// The same membrane written in the gap w = u - psi (ObstacleVariable::kGap): the
+// iterates' round-off no longer grows with h^-2 on the contact set. Checked against the
+// height formulation's solution (independent solve) and the continuous solution.
 TEST_CASE("1D bump obstacle in the gap variable, n = 1e2 .. 1e5, default tolerance",
           "[solver][obstacle][mesh]") {
-  std::printf("\n%-30s %8s %-20s %5s %10s %10s\n", "problem", "n", "status", "iter", "|Phi|inf",
-              "err vs exact");
+  std::printf("\n%-30s %8s %-20s %5s %10s %10s\n", "problem", "n", "status", "iter",
+              "|Phi|inf", "err vs exact");
   for (int n : {100, 1000, 10000, 100000}) {
     TestProblem p = Obstacle1D(n, ObstacleKind::kLowerBump, ObstacleVariable::kGap);
-    ncp::Options options = MakeOptions(NcpFunction::kFischerBurmeister, LinearSolverType::kKlu);
+    ncp::Options options =
+        MakeOptions(NcpFunction::kFischerBurmeister, LinearSolverType::kKlu);
     options.project_start_point = false;  // w0 = -psi: u = 0, below the obstacle
     const Run run = SolveFrom(p, p.starts[0].x, options);
     TestProblem height = Obstacle1D(n, ObstacleKind::kLowerBump);
@@ -248,14 +253,14 @@ TEST_CASE("1D bump obstacle in the gap variable, n = 1e2 .. 1e5, default toleran
   }
 }
 
-// Not run by default (Catch2 hidden tag; several minutes): the sizes of issue 13's target.
-// build/bin/test_obstacle_mesh "[.obstacle-large]"
+// Not run by default (Catch2 hidden tag; several minutes): the sizes of issue 13's
+// target. build/bin/test_obstacle_mesh "[.obstacle-large]"
 TEST_CASE("bump obstacle at 10^6 unknowns, 1D and 2D, gap variable (table)",
           "[.obstacle-large]") {
   // "ratio" = total time / (linear-solver time per Jacobian): the solve's cost in
   // factorizations (+ solves) of the same matrix.
-  std::printf("\n%-30s %-8s %8s %-20s %5s %6s %10s %8s %6s\n", "problem", "backend", "n", "status",
-              "iter", "resid", "|Phi|inf", "seconds", "ratio");
+  std::printf("\n%-30s %-8s %8s %-20s %5s %6s %10s %8s %6s\n", "problem", "backend", "n",
+              "status", "iter", "resid", "|Phi|inf", "seconds", "ratio");
   auto run = [](TestProblem p, LinearSolverType backend) {
     ncp::Options options = MakeOptions(NcpFunction::kFischerBurmeister, backend);
     options.project_start_point = false;
@@ -265,13 +270,16 @@ TEST_CASE("bump obstacle at 10^6 unknowns, 1D and 2D, gap variable (table)",
     std::printf("%-30s %-8s %8d %-20s %5d %6d %10.3e %8.2f %6.1f%s\n", p.name.c_str(),
                 ncp::ToString(backend), p.NumVariables(), ncp::ToString(s.termination),
                 s.iterations, s.residual_evaluations, s.final_phi_inf, s.total_time_s,
-                s.total_time_s / per_factorization, s.roundoff_limited ? " (round-off floor)" : "");
+                s.total_time_s / per_factorization,
+                s.roundoff_limited ? " (round-off floor)" : "");
     std::fflush(stdout);
     CHECK(s.termination == TerminationType::kConverged);
   };
   for (int n : {100000, 1000000})
-    run(Obstacle1D(n, ObstacleKind::kLowerBump, ObstacleVariable::kGap), LinearSolverType::kKlu);
+    run(Obstacle1D(n, ObstacleKind::kLowerBump, ObstacleVariable::kGap),
+        LinearSolverType::kKlu);
   for (int m : {300, 1000})
-    for (LinearSolverType backend : {LinearSolverType::kCholmod, LinearSolverType::kUmfpack})
+    for (LinearSolverType backend :
+         {LinearSolverType::kCholmod, LinearSolverType::kUmfpack})
       run(Obstacle2D(m, ObstacleKind::kLowerBump, ObstacleVariable::kGap), backend);
 }

@@ -1,11 +1,11 @@
 // ncp::OutputFile (ncp/output_file.hpp): what is on disk is read back independently with
 // std::ifstream / std::filesystem, never taken from the class.
-#include <catch2/catch.hpp>
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <catch2/catch.hpp>
 #include <cerrno>
 #include <csignal>
 #include <filesystem>
@@ -20,14 +20,16 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path ScratchDirectory() {
-  const fs::path dir = fs::temp_directory_path() / ("ncp-output-file-" + std::to_string(getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("ncp-output-file-" + std::to_string(getpid()));
   fs::create_directories(dir);
   return dir;
 }
 
 std::string Contents(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return std::string(std::istreambuf_iterator<char>(in),
+                     std::istreambuf_iterator<char>());
 }
 
 }  // namespace
@@ -108,6 +110,7 @@ TEST_CASE("a write beyond the file-size limit throws and leaves whole records on
   waitpid(child, &status, 0);
   REQUIRE(WIFEXITED(status));
   CHECK(WEXITSTATUS(status) == 0);
-  CHECK(Contents(path) == row + row + row);  // the 4th row's first 22 bytes cut away again
+  CHECK(Contents(path) ==
+        row + row + row);  // the 4th row's first 22 bytes cut away again
   fs::remove_all(dir);
 }

@@ -1,6 +1,6 @@
-// MixedProblem::Scales: a stopping test per row in the row's own units. A mass on a spring
-// pushed against a wall, written in SI (N, m) and in N-mm: the same iterates, the same
-// solution after conversion, and every row within its accuracy, recomputed here.
+// MixedProblem::Scales: a stopping test per row in the row's own units. A mass on a
+// spring pushed against a wall, written in SI (N, m) and in N-mm: the same iterates, the
+// same solution after conversion, and every row within its accuracy, recomputed here.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <stdexcept>
@@ -11,11 +11,13 @@ using ncp::Vector;
 
 namespace {
 
-// Unknowns (u, lambda): k u - f - lambda = 0 [force], 0 <= lambda [force] perp u - w [length] >= 0.
-// lambda > 0 when the spring alone would end behind the wall (f / k < w): u = w, lambda = k w - f.
+// Unknowns (u, lambda): k u - f - lambda = 0 [force], 0 <= lambda [force] perp u - w
+// [length] >= 0. lambda > 0 when the spring alone would end behind the wall (f / k < w):
+// u = w, lambda = k w - f.
 class SpringOnWall : public ncp::MixedProblem {
  public:
-  SpringOnWall(double k, double f, double w, bool scaled) : k_(k), f_(f), w_(w), scaled_(scaled) {}
+  SpringOnWall(double k, double f, double w, bool scaled)
+      : k_(k), f_(f), w_(w), scaled_(scaled) {}
   int NumVariables() const override { return 2; }
   int NumEquations() const override { return 1; }
   int PairVariable(int) const override { return 1; }
@@ -55,10 +57,11 @@ class SpringOnWall : public ncp::MixedProblem {
 }  // namespace
 
 TEST_CASE("scaled rows: the same iterates in SI and in N-mm", "[solver][scales]") {
-  // SI: k = 1e9 N/m, f = -1e3 N, wall at w = -1e-7 m (the spring alone would reach -1e-6 m).
-  const ncp::NcpFunction function = GENERATE(ncp::NcpFunction::kFischerBurmeister,
-                                             ncp::NcpFunction::kMin,
-                                             ncp::NcpFunction::kPenalizedFischerBurmeister);
+  // SI: k = 1e9 N/m, f = -1e3 N, wall at w = -1e-7 m (the spring alone would reach -1e-6
+  // m).
+  const ncp::NcpFunction function =
+      GENERATE(ncp::NcpFunction::kFischerBurmeister, ncp::NcpFunction::kMin,
+               ncp::NcpFunction::kPenalizedFischerBurmeister);
   ncp::Options options;
   options.ncp_function = function;
   options.tolerance = 1e-10;
@@ -76,21 +79,26 @@ TEST_CASE("scaled rows: the same iterates in SI and in N-mm", "[solver][scales]"
   CHECK(s_si.weighted_residual);
   CHECK(s_si.iterations == s_mm.iterations);
   for (size_t k = 0; k < s_si.trace.size(); ++k)
-    CHECK(s_si.trace[k].phi_inf == Approx(s_mm.trace[k].phi_inf).epsilon(1e-6).margin(1e-14));  // (relative: 1e-4 of the tolerance is round-off)
+    CHECK(s_si.trace[k].phi_inf ==
+          Approx(s_mm.trace[k].phi_inf)
+              .epsilon(1e-6)
+              .margin(1e-14));  // (relative: 1e-4 of the tolerance is round-off)
   // u = w, lambda = k w - f = -100 + 1000 = 900 N.
   CHECK(x_si(0) == Approx(-1e-7).epsilon(1e-9));
   CHECK(x_mm(0) * 1e-3 == Approx(x_si(0)).epsilon(1e-9));
   CHECK(x_si(1) == Approx(900.0).epsilon(1e-9));
   CHECK(x_mm(1) == Approx(x_si(1)).epsilon(1e-9));
-  // Every row within floor + tolerance * scale, recomputed here (floors are ~1e-13 of it).
+  // Every row within floor + tolerance * scale, recomputed here (floors are ~1e-13 of
+  // it).
   CHECK(std::abs(1e9 * x_si(0) + 1e3 - x_si(1)) <= 1.01e-10 * 1e3);
   CHECK(std::min(x_si(1) / 1e3, (x_si(0) + 1e-7) / 1.1e-6) <= 1.01e-10);
 }
 
-TEST_CASE("scaled rows: a test in the wrong units is no longer passed early", "[solver][scales]") {
-  // Unscaled, tolerance 1e-10 is absolute: in metres it accepts a wall gap error of 1e-10 m
-  // against a wall 1e-10 m away, i.e. no resolution at all. Scaled, the gap is resolved to
-  // 1e-10 of its length scale.
+TEST_CASE("scaled rows: a test in the wrong units is no longer passed early",
+          "[solver][scales]") {
+  // Unscaled, tolerance 1e-10 is absolute: in metres it accepts a wall gap error of 1e-10
+  // m against a wall 1e-10 m away, i.e. no resolution at all. Scaled, the gap is resolved
+  // to 1e-10 of its length scale.
   ncp::Options options;
   options.tolerance = 1e-10;
   // k = 1e-3 N/m, f = -1e-12 N, wall at -1e-10 m: u = -1e-10 m, lambda = 9e-13 N.
@@ -107,7 +115,8 @@ TEST_CASE("scaled rows: a test in the wrong units is no longer passed early", "[
   CHECK(x2(1) == Approx(9e-13).epsilon(1e-9));
 }
 
-TEST_CASE("scaled rows: invalid scales are refused with the row named", "[solver][scales]") {
+TEST_CASE("scaled rows: invalid scales are refused with the row named",
+          "[solver][scales]") {
   class Bad : public SpringOnWall {
    public:
     Bad() : SpringOnWall(1.0, -1.0, 0.0, true) {}

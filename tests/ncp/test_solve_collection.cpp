@@ -49,29 +49,40 @@ const KnownSolverFailure kKnownSolverFailures[] = {
     {"mathiesen-mod", "hundred", NcpFunction::kMin,
      "min: max_iterations with ||Phi||_inf ~ 3.1 (psi_min is not differentiable; the "
      "Newton direction gives no Armijo decrease at the kinks)"},
-    // The MCPLIB / GAMS problems added on 2026-11-24 (mcplib_nlp.hpp): min (not the default)
+    // The MCPLIB / GAMS problems added on 2026-11-24 (mcplib_nlp.hpp): min (not the
+    // default)
     // fails on four of them, on every backend; FB converges on all (colvdual only through
     // Options::merit_restarts).
     {"colvdual", "hs117", NcpFunction::kMin, "min: max_iterations (500)"},
     {"colvdual", "zero", NcpFunction::kMin, "min: max_iterations (500)"},
-    {"colvnlp", "hs117", NcpFunction::kMin, "min: stationary point of psi_min (324 iterations)"},
-    {"colvnlp", "zero", NcpFunction::kMin, "min: stationary point of psi_min (79-121 iterations)"},
-    {"transmcp", "gams", NcpFunction::kMin, "min: stationary point of psi_min (215 iterations)"},
-    {"transmcp", "zero", NcpFunction::kMin, "min: stationary point of psi_min (214 iterations)"},
+    {"colvnlp", "hs117", NcpFunction::kMin,
+     "min: stationary point of psi_min (324 iterations)"},
+    {"colvnlp", "zero", NcpFunction::kMin,
+     "min: stationary point of psi_min (79-121 iterations)"},
+    {"transmcp", "gams", NcpFunction::kMin,
+     "min: stationary point of psi_min (215 iterations)"},
+    {"transmcp", "zero", NcpFunction::kMin,
+     "min: stationary point of psi_min (214 iterations)"},
     {"hansmcp", "gams", NcpFunction::kMin, "min: max_iterations (500)"},
-    // colvdual with FB converges only through the merit restarts, and only on some backends:
+    // colvdual with FB converges only through the merit restarts, and only on some
+    // backends:
     // the round-off of the factorization changes the path (dense LU: 298 and 162
-    // iterations, SparseLU: 76 and 143; UMFPACK and KLU stall at ||Phi||_inf ~ 1.5e-2 after
+    // iterations, SparseLU: 76 and 143; UMFPACK and KLU stall at ||Phi||_inf ~ 1.5e-2
+    // after
     // 6 restarts, or reach max_iterations). kAuto picks dense LU for n = 20.
     {"colvdual", "hs117", NcpFunction::kFischerBurmeister,
-     "FB: stationary point after 6 merit restarts (487 iterations)", LinearSolverType::kUmfpack},
+     "FB: stationary point after 6 merit restarts (487 iterations)",
+     LinearSolverType::kUmfpack},
     {"colvdual", "zero", NcpFunction::kFischerBurmeister,
-     "FB: stationary point after 6 merit restarts (482 iterations)", LinearSolverType::kUmfpack},
+     "FB: stationary point after 6 merit restarts (482 iterations)",
+     LinearSolverType::kUmfpack},
     {"colvdual", "hs117", NcpFunction::kFischerBurmeister,
-     "FB: stationary point after 6 merit restarts (499 iterations)", LinearSolverType::kKlu},
+     "FB: stationary point after 6 merit restarts (499 iterations)",
+     LinearSolverType::kKlu},
     {"colvdual", "zero", NcpFunction::kFischerBurmeister,
      "FB: max_iterations after 5 merit restarts", LinearSolverType::kKlu},
-    // The GAMS model library problems of gams_equilibrium.hpp, observed on the three sparse
+    // The GAMS model library problems of gams_equilibrium.hpp, observed on the three
+    // sparse
     // backends (n > kDenseLimit) with the same outcome: vonthmcp (a known hard problem)
     // fails with min from the .gms start; FB stalls at a stationary point of psi_FB after
     // 77 iterations (||Phi||_inf ~ 9.8) and converges through the merit restarts (94
@@ -86,7 +97,8 @@ const KnownSolverFailure kKnownSolverFailures[] = {
 
 const KnownSolverFailure* FindKnownSolverFailure(const std::string& problem,
                                                  const std::string& start,
-                                                 NcpFunction function, LinearSolverType backend) {
+                                                 NcpFunction function,
+                                                 LinearSolverType backend) {
   for (const KnownSolverFailure& f : kKnownSolverFailures) {
     if (problem == f.problem && start == f.start && function == f.function &&
         (f.backend == LinearSolverType::kAuto || f.backend == backend))
@@ -178,7 +190,8 @@ TEST_CASE("modified Mathiesen: any point of the solution set is accepted",
       const Run run =
           SolveFrom(p, start.x, MakeOptions(function, LinearSolverType::kDenseLU));
       INFO(Describe(p, start.label, function, LinearSolverType::kDenseLU, run));
-      if (FindKnownSolverFailure(p.name, start.label, function, LinearSolverType::kDenseLU)) {
+      if (FindKnownSolverFailure(p.name, start.label, function,
+                                 LinearSolverType::kDenseLU)) {
         CHECK_FALSE(run.summary.IsSolutionUsable());
         continue;
       }

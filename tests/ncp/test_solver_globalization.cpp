@@ -177,11 +177,12 @@ TEST_CASE("Evaluate() returning false shortens the step and the solve still conv
   CHECK(x(0) == Approx(1.0).epsilon(1e-8));
 }
 
-TEST_CASE("Options::Algorithm1 keeps the thesis's published constants", "[solver][globalization]") {
+TEST_CASE("Options::Algorithm1 keeps the thesis's published constants",
+          "[solver][globalization]") {
   const ncp::Options a = ncp::Options::Algorithm1();
   CHECK(a.descent_rho == 1e-8);  // eq. (22)
   CHECK(a.descent_p == 2.1);
-  CHECK(a.armijo_beta == 1e-4);  // eq. (23)
+  CHECK(a.armijo_beta == 1e-4);      // eq. (23)
   CHECK(a.nonmonotone_memory == 1);  // monotone
   CHECK_FALSE(a.regularized_direction);
   CHECK(a.merit_restarts == 0);  // -grad psi is the only fallback
@@ -190,8 +191,10 @@ TEST_CASE("Options::Algorithm1 keeps the thesis's published constants", "[solver
   CHECK(a.IsValid(&error));
 }
 
-TEST_CASE("josephy from MCPLIB start 3 with FB: Algorithm 1 stalls, the nonmonotone default converges",
-          "[solver][globalization]") {
+TEST_CASE(
+    "josephy from MCPLIB start 3 with FB: Algorithm 1 stalls, the nonmonotone default "
+    "converges",
+    "[solver][globalization]") {
   ncp::collection::TestProblem problem = ncp::collection::Josephy();
   const Vector x0 = Vector::Constant(4, 100.0);  // MCPLIB start 3
   ncp::Options algorithm1 = ncp::Options::Algorithm1();
@@ -215,17 +218,19 @@ TEST_CASE("josephy from MCPLIB start 3 with FB: Algorithm 1 stalls, the nonmonot
   const auto& trace = run.summary.trace;
   for (size_t k = 1; k < trace.size(); ++k) {
     double reference = 0.0;
-    for (size_t j = k >= 3 ? k - 3 : 0; j < k; ++j) reference = std::max(reference, trace[j].psi);
+    for (size_t j = k >= 3 ? k - 3 : 0; j < k; ++j)
+      reference = std::max(reference, trace[j].psi);
     CHECK(trace[k].psi < reference);
     increased = increased || trace[k].psi > trace[k - 1].psi;
   }
   CHECK(increased);
 }
 
-TEST_CASE("singular Newton matrix: the Levenberg-Marquardt direction comes before -grad psi",
-          "[solver][globalization]") {
-  const LinearSolverType backend =
-      GENERATE(LinearSolverType::kDenseLU, LinearSolverType::kUmfpack, LinearSolverType::kKlu);
+TEST_CASE(
+    "singular Newton matrix: the Levenberg-Marquardt direction comes before -grad psi",
+    "[solver][globalization]") {
+  const LinearSolverType backend = GENERATE(
+      LinearSolverType::kDenseLU, LinearSolverType::kUmfpack, LinearSolverType::kKlu);
   SingularAtStart F;
   Vector x(2);
   x << 1.0, 1.0;
@@ -241,12 +246,14 @@ TEST_CASE("singular Newton matrix: the Levenberg-Marquardt direction comes befor
   CHECK(summary.trace[1].regularized_step);
   CHECK_FALSE(summary.trace[1].gradient_step);
   REQUIRE(summary.termination == TerminationType::kConverged);
-  CHECK(ncp::collection::NaturalResidual(F, Vector::Zero(2), Vector::Constant(2, kInf), x) <= 1e-8);
+  CHECK(ncp::collection::NaturalResidual(F, Vector::Zero(2), Vector::Constant(2, kInf),
+                                         x) <= 1e-8);
   CHECK(x(1) == Approx(2.0).epsilon(1e-8));
 }
 
-TEST_CASE("colvdual: FB stalls at a stationary point of psi_FB, the merit restarts solve it",
-          "[solver][globalization][restart]") {
+TEST_CASE(
+    "colvdual: FB stalls at a stationary point of psi_FB, the merit restarts solve it",
+    "[solver][globalization][restart]") {
   ncp::collection::TestProblem problem = ncp::collection::ColvilleDual();
   for (const auto& start : problem.starts) {
     ncp::Options without;
@@ -272,14 +279,18 @@ TEST_CASE("colvdual: FB stalls at a stationary point of psi_FB, the merit restar
   }
 }
 
-TEST_CASE("merit restarts: the min function and Algorithm 1 never restart", "[solver][globalization][restart]") {
+TEST_CASE("merit restarts: the min function and Algorithm 1 never restart",
+          "[solver][globalization][restart]") {
   ncp::collection::TestProblem problem = ncp::collection::ColvilleDual();
   ncp::Options min_options;
   min_options.ncp_function = NcpFunction::kMin;
-  min_options.hybrid = false;  // (the hybrid default switches to penalized FB, which restarts)
-  const ncp::test::Run with_min = ncp::test::SolveFrom(problem, problem.starts[0].x, min_options);
+  min_options.hybrid =
+      false;  // (the hybrid default switches to penalized FB, which restarts)
+  const ncp::test::Run with_min =
+      ncp::test::SolveFrom(problem, problem.starts[0].x, min_options);
   CHECK(with_min.summary.merit_restarts == 0);
-  const ncp::test::Run thesis = ncp::test::SolveFrom(problem, problem.starts[0].x, ncp::Options::Algorithm1());
+  const ncp::test::Run thesis =
+      ncp::test::SolveFrom(problem, problem.starts[0].x, ncp::Options::Algorithm1());
   CHECK(thesis.summary.merit_restarts == 0);
   CHECK_FALSE(thesis.summary.IsSolutionUsable());
   ncp::Options bad;
@@ -291,15 +302,17 @@ TEST_CASE("merit restarts: the min function and Algorithm 1 never restart", "[so
 
 // A step is "too small" only when it moves no component: x1 ~ 1e8 and x2 ~ 1e-9 in their
 // own units, the last correction of x2 (1e-9) is below eps ||x||_inf (2.2e-8) but changes
-// x2 completely. The line search used to stop on t ||d||_inf <= eps ||x||_inf and ended in
-// a line-search failure at ||Phi|| = 2e-9 (the 2D obstacle at 10^6 unknowns failed so).
+// x2 completely. The line search used to stop on t ||d||_inf <= eps ||x||_inf and ended
+// in a line-search failure at ||Phi|| = 2e-9 (the 2D obstacle at 10^6 unknowns failed
+// so).
 TEST_CASE("the line search judges a step component by component, not by ||x||_inf",
           "[solver][globalization]") {
   SparseMatrix M(2, 2);
   M.setIdentity();
   ncp::collection::AffineFunction F(M, Vector((Vector(2) << -1e8, -1e-9).finished()));
   const Vector lower = Vector::Zero(2), upper = Vector::Constant(2, kInf);
-  Vector x = (Vector(2) << 1e8, 0.0).finished();  // x1 solved, x2 = 0 < 1e-9: Phi_2 = 2e-9
+  Vector x =
+      (Vector(2) << 1e8, 0.0).finished();  // x1 solved, x2 = 0 < 1e-9: Phi_2 = 2e-9
   ncp::Options options;
   options.tolerance = 1e-14;
   ncp::Summary summary;

@@ -143,15 +143,32 @@ TEST_CASE("invalid options are rejected before any work", "[solver][validation]"
 
 // Before: a negative tolerance was echoed as "-0.000000", stagnation_window = INT_MAX
 // allocated 16 GiB, an enum out of range threw std::logic_error from deep inside.
-TEST_CASE("options out of range name the value and the accepted range", "[solver][validation]") {
+TEST_CASE("options out of range name the value and the accepted range",
+          "[solver][validation]") {
   const std::pair<ncp::Options, std::string> cases[] = {
-      {[] { ncp::Options o; o.tolerance = -1e-12; return o; }(),
+      {[] {
+         ncp::Options o;
+         o.tolerance = -1e-12;
+         return o;
+       }(),
        "Options::tolerance must be finite and >= 0, got -1e-12"},
-      {[] { ncp::Options o; o.stagnation_window = std::numeric_limits<int>::max(); return o; }(),
+      {[] {
+         ncp::Options o;
+         o.stagnation_window = std::numeric_limits<int>::max();
+         return o;
+       }(),
        "Options::stagnation_window must lie in [0, 1000000] iterations, got 2147483647"},
-      {[] { ncp::Options o; o.ncp_function = static_cast<ncp::NcpFunction>(7); return o; }(),
+      {[] {
+         ncp::Options o;
+         o.ncp_function = static_cast<ncp::NcpFunction>(7);
+         return o;
+       }(),
        "Options::ncp_function must be an NcpFunction (0..2), got 7"},
-      {[] { ncp::Options o; o.linear_solver = static_cast<ncp::LinearSolverType>(-1); return o; }(),
+      {[] {
+         ncp::Options o;
+         o.linear_solver = static_cast<ncp::LinearSolverType>(-1);
+         return o;
+       }(),
        "Options::linear_solver must be a LinearSolverType (0..5), got -1"},
   };
   for (const auto& [options, message] : cases) {
@@ -163,7 +180,8 @@ TEST_CASE("options out of range name the value and the accepted range", "[solver
 }
 
 // F(x) = -2 at the start point x = 0 and NaN everywhere else: every trial point of the
-// first line search has a NaN residual. Before, this ended as a plain line-search failure.
+// first line search has a NaN residual. Before, this ended as a plain line-search
+// failure.
 TEST_CASE("a residual that is NaN at every line-search trial point is reported as such",
           "[solver][validation]") {
   ncp::DenseSquareFunction F(
@@ -181,6 +199,7 @@ TEST_CASE("a residual that is NaN at every line-search trial point is reported a
   ncp::Summary summary;
   ncp::SolveNcp(ncp::Options(), F, &x, &summary);
   CHECK(summary.termination == ncp::TerminationType::kNonFiniteValues);
-  CHECK_THAT(summary.message, Contains("NaN or Inf entries at all") && Contains("trial points of the line search"));
+  CHECK_THAT(summary.message, Contains("NaN or Inf entries at all") &&
+                                  Contains("trial points of the line search"));
   CHECK(x(0) == 0.0);  // the start point, the only one with a finite residual
 }

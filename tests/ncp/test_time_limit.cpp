@@ -1,6 +1,6 @@
 // Options::max_seconds: checked at every iterate, in the line search and before every
-// numeric factorization, whose time is predicted from the symbolic analysis (flops / rate).
-// Times are measured here with their own clock, not taken from the Summary.
+// numeric factorization, whose time is predicted from the symbolic analysis (flops /
+// rate). Times are measured here with their own clock, not taken from the Summary.
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cmath>
@@ -12,10 +12,10 @@
 #include "ncp_collection/random_lcp.hpp"
 #include "solve_support.hpp"
 
+using Catch::Matchers::Contains;
 using ncp::LinearSolverType;
 using ncp::TerminationType;
 using ncp::Vector;
-using Catch::Matchers::Contains;
 
 namespace {
 
@@ -48,11 +48,12 @@ class SlowArctangent : public ncp::SquareFunction {
 
 }  // namespace
 
-TEST_CASE("a factorization predicted to exceed the time left is not started", "[time_limit]") {
+TEST_CASE("a factorization predicted to exceed the time left is not started",
+          "[time_limit]") {
   // Random sparse P-LCP: UMFPACK's LU fills in (4 random off-diagonals per row).
   ncp::collection::TestProblem problem = ncp::collection::RandomPLcp(2000);
-  const LinearSolverType backend =
-      GENERATE(LinearSolverType::kUmfpack, LinearSolverType::kKlu, LinearSolverType::kDenseLU);
+  const LinearSolverType backend = GENERATE(
+      LinearSolverType::kUmfpack, LinearSolverType::kKlu, LinearSolverType::kDenseLU);
   ncp::Options options;
   options.linear_solver = backend;
   options.max_seconds = 60.0;
@@ -72,7 +73,8 @@ TEST_CASE("a factorization predicted to exceed the time left is not started", "[
   CHECK(elapsed < 5.0);
   const double n = problem.NumVariables();
   if (backend == LinearSolverType::kDenseLU)
-    CHECK_THAT(summary.predicted_factorization_flops, Catch::Matchers::WithinRel(2.0 / 3.0 * n * n * n, 1e-12));
+    CHECK_THAT(summary.predicted_factorization_flops,
+               Catch::Matchers::WithinRel(2.0 / 3.0 * n * n * n, 1e-12));
   else  // UMFPACK's and KLU's estimates: at least one operation per row
     CHECK(summary.predicted_factorization_flops >= n);
 }
@@ -99,7 +101,8 @@ TEST_CASE("the random P-LCP at n = 1e4 stops before an LU predicted to exceed th
   CHECK(elapsed < limit);
 }
 
-TEST_CASE("the same solve with the default rate and no time limit converges", "[time_limit]") {
+TEST_CASE("the same solve with the default rate and no time limit converges",
+          "[time_limit]") {
   ncp::collection::TestProblem problem = ncp::collection::RandomPLcp(2000);
   ncp::Options options;
   options.linear_solver = LinearSolverType::kUmfpack;

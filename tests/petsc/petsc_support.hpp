@@ -23,12 +23,14 @@ class DistributedFunction {
     VecGetOwnershipRange(x_layout, &first_, &last_);
     VecScatterCreateToAll(x_layout, &to_all_, &all_);
     SparseMatrix J;
-    if (!F_.Jacobian(x_pattern, &J)) throw std::runtime_error("DistributedFunction: no Jacobian at x_pattern");
+    if (!F_.Jacobian(x_pattern, &J))
+      throw std::runtime_error("DistributedFunction: no Jacobian at x_pattern");
     Eigen::SparseMatrix<double, Eigen::RowMajor, int> rows = J;
     std::vector<PetscInt> diagonal, off_diagonal;
     for (PetscInt i = first_; i < last_; ++i) {
       PetscInt d = 0, o = 0;
-      for (Eigen::SparseMatrix<double, Eigen::RowMajor, int>::InnerIterator it(rows, i); it; ++it)
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor, int>::InnerIterator it(rows, i);
+           it; ++it)
         (it.col() >= first_ && it.col() < last_ ? d : o) += 1;
       diagonal.push_back(d + 1);  // (+1: room for a diagonal entry)
       off_diagonal.push_back(o);
@@ -98,11 +100,13 @@ class DistributedFunction {
     for (PetscInt i = first_; i < last_; ++i) {
       std::vector<PetscInt> cols;
       std::vector<PetscScalar> values;
-      for (Eigen::SparseMatrix<double, Eigen::RowMajor, int>::InnerIterator it(rows, i); it; ++it) {
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor, int>::InnerIterator it(rows, i);
+           it; ++it) {
         cols.push_back(it.col());
         values.push_back(it.value());
       }
-      MatSetValues(J_, 1, &i, static_cast<PetscInt>(cols.size()), cols.data(), values.data(), INSERT_VALUES);
+      MatSetValues(J_, 1, &i, static_cast<PetscInt>(cols.size()), cols.data(),
+                   values.data(), INSERT_VALUES);
     }
     MatAssemblyBegin(J_, MAT_FINAL_ASSEMBLY);
     MatAssemblyEnd(J_, MAT_FINAL_ASSEMBLY);

@@ -2,8 +2,8 @@
 // scene: the final displacement (gathered on rank 0) and the per-step sums of the normal
 // and friction forces agree to 1e-12 of their largest value, on 1, 2 and 4 ranks (ctest
 // runs this executable under mpiexec -n 1, 2, 4). The scenes: a Hex8 box and a 2D Quad4
-// block (with a roller side: Dirichlet components) dropped onto a plane with friction, and
-// two cells (on 4 ranks: ranks without a cell or a contact node).
+// block (with a roller side: Dirichlet components) dropped onto a plane with friction,
+// and two cells (on 4 ranks: ranks without a cell or a contact node).
 #define CATCH_CONFIG_RUNNER
 #include <petscsys.h>
 

@@ -1,12 +1,12 @@
 // ncp::petsc::Solver against the serial ncp::Solver on the same problems: the same
 // iteration count and the same solution to 1e-10 relative on 1, 2 and 4 ranks (ctest runs
 // this executable under mpiexec -n 1, 2, 4; CMakeLists.txt), and bad input rejected with
-// the same message on every rank. The natural residual ||mid(l, u, x - F(x)) - x||_inf... of
-// every solution is recomputed here from F, l, u (collection::NaturalResidual).
+// the same message on every rank. The natural residual ||mid(l, u, x - F(x)) - x||_inf...
+// of every solution is recomputed here from F, l, u (collection::NaturalResidual).
 #define CATCH_CONFIG_RUNNER
-#include <catch2/catch.hpp>
 #include <petscsys.h>
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -31,7 +31,8 @@ using ncp::test::MakeVec;
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kSameSolution = 1e-10;  // relative, ||x_petsc - x_serial||_inf / ||x_serial||_inf
+constexpr double kSameSolution =
+    1e-10;  // relative, ||x_petsc - x_serial||_inf / ||x_serial||_inf
 constexpr double kNaturalResidual = 1e-8;
 
 struct Both {
@@ -44,7 +45,8 @@ Both SolveBoth(TestProblem& problem, const Vector& x0, const Options& options,
                const std::string& prefix = "ncp_") {
   Both out;
   out.x_serial = x0;
-  ncp::Solver(options).Solve(*problem.F, problem.lower, problem.upper, &out.x_serial, &out.serial);
+  ncp::Solver(options).Solve(*problem.F, problem.lower, problem.upper, &out.x_serial,
+                             &out.serial);
 
   Vec x = MakeVec(PETSC_COMM_WORLD, x0);
   Vec lower = MakeVec(PETSC_COMM_WORLD, problem.lower);
@@ -71,23 +73,39 @@ void CheckSameAnswer(TestProblem& problem, const Both& r) {
   CHECK(r.parallel.merit_restarts == r.serial.merit_restarts);
   const double scale = std::max(1.0, r.x_serial.lpNorm<Eigen::Infinity>());
   CHECK((r.x_parallel - r.x_serial).lpNorm<Eigen::Infinity>() <= kSameSolution * scale);
-  CHECK(NaturalResidual(*problem.F, problem.lower, problem.upper, r.x_parallel) <= kNaturalResidual);
+  CHECK(NaturalResidual(*problem.F, problem.lower, problem.upper, r.x_parallel) <=
+        kNaturalResidual);
 }
 
-// The random P-LCP of the collection with bounds of every kind: component i is lower-bounded
-// (i mod 5 = 0, 4; at 0 and -0.3), upper-bounded (1: u = 0.5), free (2, with +-1e20) or
-// fixed (3: l = u = 0.25). F is a P-function, so the box MCP has one solution.
+// The random P-LCP of the collection with bounds of every kind: component i is
+// lower-bounded (i mod 5 = 0, 4; at 0 and -0.3), upper-bounded (1: u = 0.5), free (2,
+// with +-1e20) or fixed (3: l = u = 0.25). F is a P-function, so the box MCP has one
+// solution.
 TestProblem RandomBoxMcp(int n) {
   RandomLcpOptions options;
   options.seed = 26;
   TestProblem p = RandomPLcp(n, options);
   for (int i = 0; i < n; ++i) {
     switch (i % 5) {
-      case 0: p.lower(i) = 0.0; p.upper(i) = kInf; break;
-      case 1: p.lower(i) = -kInf; p.upper(i) = 0.5; break;
-      case 2: p.lower(i) = -1e20; p.upper(i) = 1e20; break;
-      case 3: p.lower(i) = p.upper(i) = 0.25; break;
-      default: p.lower(i) = -0.3; p.upper(i) = kInf; break;
+      case 0:
+        p.lower(i) = 0.0;
+        p.upper(i) = kInf;
+        break;
+      case 1:
+        p.lower(i) = -kInf;
+        p.upper(i) = 0.5;
+        break;
+      case 2:
+        p.lower(i) = -1e20;
+        p.upper(i) = 1e20;
+        break;
+      case 3:
+        p.lower(i) = p.upper(i) = 0.25;
+        break;
+      default:
+        p.lower(i) = -0.3;
+        p.upper(i) = kInf;
+        break;
     }
   }
   return p;
@@ -101,10 +119,13 @@ int Rank() {
 
 }  // namespace
 
-TEST_CASE("2D obstacle of the collection: the serial iterates on any rank count", "[petsc][mpi]") {
-  const NcpFunction function = GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin,
-                                        NcpFunction::kPenalizedFischerBurmeister);
-  const ObstacleVariable variable = GENERATE(ObstacleVariable::kHeight, ObstacleVariable::kGap);
+TEST_CASE("2D obstacle of the collection: the serial iterates on any rank count",
+          "[petsc][mpi]") {
+  const NcpFunction function =
+      GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin,
+               NcpFunction::kPenalizedFischerBurmeister);
+  const ObstacleVariable variable =
+      GENERATE(ObstacleVariable::kHeight, ObstacleVariable::kGap);
   TestProblem problem = Obstacle2D(16, ObstacleKind::kLowerBump, variable);
   Options options;
   options.ncp_function = function;
@@ -114,14 +135,17 @@ TEST_CASE("2D obstacle of the collection: the serial iterates on any rank count"
   }
 }
 
-TEST_CASE("random sparse box MCP: the serial iterates on any rank count", "[petsc][mpi]") {
-  const NcpFunction function = GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin,
-                                        NcpFunction::kPenalizedFischerBurmeister);
+TEST_CASE("random sparse box MCP: the serial iterates on any rank count",
+          "[petsc][mpi]") {
+  const NcpFunction function =
+      GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin,
+               NcpFunction::kPenalizedFischerBurmeister);
   TestProblem problem = RandomBoxMcp(300);
   Options options;
   options.ncp_function = function;
   for (const StartPoint& start : problem.starts) {
-    INFO(problem.name << " (box) from " << start.label << " with " << ncp::ToString(function));
+    INFO(problem.name << " (box) from " << start.label << " with "
+                      << ncp::ToString(function));
     const Both r = SolveBoth(problem, start.x, options);
     CheckSameAnswer(problem, r);
     CHECK(r.parallel.projected_start_components == r.serial.projected_start_components);
@@ -141,7 +165,8 @@ TEST_CASE("any KSP from the options database under the solver's prefix", "[petsc
   CheckSameAnswer(problem, r);
 }
 
-TEST_CASE("CG + BoomerAMG on the symmetrized Newton system: the serial iterates", "[petsc][mpi]") {
+TEST_CASE("CG + BoomerAMG on the symmetrized Newton system: the serial iterates",
+          "[petsc][mpi]") {
   // -cg_ksp_type cg switches the symmetrized system on (KspReport::symmetric_newton).
   PetscOptionsSetValue(nullptr, "-cg_ksp_type", "cg");
   PetscOptionsSetValue(nullptr, "-cg_pc_type", "hypre");
@@ -161,7 +186,8 @@ TEST_CASE("the KSP report names the default direct solver", "[petsc][mpi]") {
     DistributedFunction F(*problem.F, x, problem.starts.front().x);
     ncp::petsc::Solver solver(PETSC_COMM_WORLD, Options(), "report_");
     Summary summary;
-    Vec lower = MakeVec(PETSC_COMM_WORLD, problem.lower), upper = MakeVec(PETSC_COMM_WORLD, problem.upper);
+    Vec lower = MakeVec(PETSC_COMM_WORLD, problem.lower),
+        upper = MakeVec(PETSC_COMM_WORLD, problem.upper);
     solver.Solve(F.Problem(lower, upper), x, &summary);
     CHECK(summary.IsSolutionUsable());
     CHECK(solver.ksp_report().ksp_type == "preonly");
@@ -177,12 +203,13 @@ TEST_CASE("the KSP report names the default direct solver", "[petsc][mpi]") {
   VecDestroy(&x);
 }
 
-// ---- bad input: the same exception (or status) on every rank, never a hang -------------
+// ---- bad input: the same exception (or status) on every rank, never a hang
+// -------------
 
 namespace {
 
-// F(x) = M x + q of a small random P-LCP, n = 23 (not a multiple of the rank count: uneven
-// layouts). The test of each case is that every rank returns from Solve.
+// F(x) = M x + q of a small random P-LCP, n = 23 (not a multiple of the rank count:
+// uneven layouts). The test of each case is that every rank returns from Solve.
 struct SmallProblem {
   TestProblem problem = RandomBoxMcp(23);
   Vec x = MakeVec(PETSC_COMM_WORLD, problem.starts.front().x);
@@ -229,28 +256,34 @@ TEST_CASE("bad input is rejected on every rank with the same message", "[petsc][
   SECTION("lower > upper at the last index") {
     SmallProblem::Set(s.lower, 22, 1.0);
     SmallProblem::Set(s.upper, 22, 0.5);
-    CHECK_THAT(SolveMessage(s, s.F.Problem(s.lower, s.upper)), Catch::Contains("lower[22] = 1 > upper[22] = 0.5"));
+    CHECK_THAT(SolveMessage(s, s.F.Problem(s.lower, s.upper)),
+               Catch::Contains("lower[22] = 1 > upper[22] = 0.5"));
   }
   SECTION("NaN in a bound") {
     SmallProblem::Set(s.upper, 17, std::nan(""));
-    CHECK_THAT(SolveMessage(s, s.F.Problem(s.lower, s.upper)), Catch::Contains("bound[17] is NaN"));
+    CHECK_THAT(SolveMessage(s, s.F.Problem(s.lower, s.upper)),
+               Catch::Contains("bound[17] is NaN"));
   }
   SECTION("NaN in the start point") {
     SmallProblem::Set(s.x, 9, std::nan(""));
-    CHECK_THAT(SolveMessage(s, s.F.Problem(s.lower, s.upper)), Catch::Contains("start point x[9] = nan is not finite"));
+    CHECK_THAT(SolveMessage(s, s.F.Problem(s.lower, s.upper)),
+               Catch::Contains("start point x[9] = nan is not finite"));
   }
   SECTION("two finite bounds (not supported yet)") {
     SmallProblem::Set(s.lower, 1, -1.0);  // component 1 has u = 0.5
-    CHECK_THAT(SolveMessage(s, s.F.Problem(s.lower, s.upper)), Catch::Contains("x[1] has two finite bounds"));
+    CHECK_THAT(SolveMessage(s, s.F.Problem(s.lower, s.upper)),
+               Catch::Contains("x[1] has two finite bounds"));
   }
   SECTION("a Jacobian matrix of another size") {
     Mat wrong = nullptr;
-    MatCreateAIJ(PETSC_COMM_WORLD, PETSC_DECIDE, PETSC_DECIDE, 22, 22, 1, nullptr, 1, nullptr, &wrong);
+    MatCreateAIJ(PETSC_COMM_WORLD, PETSC_DECIDE, PETSC_DECIDE, 22, 22, 1, nullptr, 1,
+                 nullptr, &wrong);
     MatAssemblyBegin(wrong, MAT_FINAL_ASSEMBLY);
     MatAssemblyEnd(wrong, MAT_FINAL_ASSEMBLY);
     ncp::petsc::BoxMcp problem = s.F.Problem(s.lower, s.upper);
     problem.jacobian_matrix = wrong;
-    CHECK_THAT(SolveMessage(s, problem), Catch::Contains("the Jacobian matrix is 22 x 22"));
+    CHECK_THAT(SolveMessage(s, problem),
+               Catch::Contains("the Jacobian matrix is 22 x 22"));
     MatDestroy(&wrong);
   }
   SECTION("NaN in F: a status on every rank, no exception") {
@@ -295,13 +328,16 @@ TEST_CASE("invalid options are rejected before any work", "[petsc][mpi]") {
                     Catch::Contains("regularized_direction"));
   options = Options();
   options.linear_solver = ncp::LinearSolverType::kUmfpack;
-  CHECK_THROWS_WITH(ncp::petsc::Solver(PETSC_COMM_WORLD, options), Catch::Contains("KSP"));
+  CHECK_THROWS_WITH(ncp::petsc::Solver(PETSC_COMM_WORLD, options),
+                    Catch::Contains("KSP"));
   options = Options();
   options.armijo_beta = 0.7;
-  CHECK_THROWS_WITH(ncp::petsc::Solver(PETSC_COMM_WORLD, options), Catch::Contains("armijo_beta"));
+  CHECK_THROWS_WITH(ncp::petsc::Solver(PETSC_COMM_WORLD, options),
+                    Catch::Contains("armijo_beta"));
 }
 
-// PETSc is initialized here, not by the library; the exit code is the worst over the ranks.
+// PETSc is initialized here, not by the library; the exit code is the worst over the
+// ranks.
 int main(int argc, char** argv) {
   if (PetscInitializeNoArguments() != 0) return 1;
   Catch::Session session;

@@ -1,7 +1,7 @@
 /// \file contact_frames.hpp
 /// Contact nodes of a body against a rigid obstacle: for each node of Gamma_c its normal,
-/// tangents, initial gap and dofs, i.e. the rotation R and the restriction maps X, Y, Z of
-/// the thesis (eq. 55): Y picks the normal component of every contact node, Z the
+/// tangents, initial gap and dofs, i.e. the rotation R and the restriction maps X, Y, Z
+/// of the thesis (eq. 55): Y picks the normal component of every contact node, Z the
 /// tangential ones, X all other dofs.
 ///
 /// Small-displacement limitation (as in the thesis, section 5): gaps and normals are
@@ -38,19 +38,20 @@ struct ContactFrames {
 };
 
 /// Throws std::invalid_argument if the obstacle's dimension differs from the mesh's, if
-/// a node starts inside the obstacle by more than `allowed_initial_penetration` [m], or if
-/// with kBody the body normal points away from the obstacle at a node (n_b . n_o >= 0).
-/// A negative `allowed_initial_penetration` (the default) means 1e-9 of the diagonal of the
-/// mesh's bounding box: round-off of the mesh coordinates, in the mesh's own length unit.
+/// a node starts inside the obstacle by more than `allowed_initial_penetration` [m], or
+/// if with kBody the body normal points away from the obstacle at a node (n_b . n_o >=
+/// 0). A negative `allowed_initial_penetration` (the default) means 1e-9 of the diagonal
+/// of the mesh's bounding box: round-off of the mesh coordinates, in the mesh's own
+/// length unit.
 ContactFrames MakeContactFrames(const Mesh& mesh, const ContactBoundary& boundary,
                                 const DofMap& dofs, const RigidObstacle& obstacle,
                                 NormalSource source,
                                 double allowed_initial_penetration = -1.0);
 
 /// The initial gaps s_c [m] of frames.nodes against `obstacle` translated rigidly by
-/// `translation` [m] (size dim: every obstacle point y moves to y + translation), computed
-/// as MakeContactFrames computes them with the same `boundary` and `source`; the frames'
-/// normals and tangents are kept (the small-displacement setting above). A zero
+/// `translation` [m] (size dim: every obstacle point y moves to y + translation),
+/// computed as MakeContactFrames computes them with the same `boundary` and `source`; the
+/// frames' normals and tangents are kept (the small-displacement setting above). A zero
 /// translation gives the nodes' own gaps. A node may end up inside the obstacle (s_c < 0:
 /// the next steps push it out). Throws std::invalid_argument for a wrong or non-finite
 /// translation, or (kBody) a body normal that points away from the moved obstacle.

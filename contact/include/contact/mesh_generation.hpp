@@ -17,17 +17,19 @@
 
 namespace contact {
 
-/// Limits of the generated grids, checked before gmsh is called: beyond them gmsh meshes for
-/// hours, runs out of memory, or (for elements of extreme aspect ratio) stops to ask on
-/// standard input whether to continue.
-inline constexpr double kMaxGeneratedCells = 4e6;      ///< cells_x cells_y (cells_z)
-inline constexpr double kMaxCellAspectRatio = 1e4;     ///< max_k h_k / min_k h_k, h_k = size_k / cells_k
-inline constexpr double kMaxGridExtent = 1e6;          ///< |origin_k| and size_k [m]
-inline constexpr double kMinCellSize = 1e-9;           ///< h_k [m]
+/// Limits of the generated grids, checked before gmsh is called: beyond them gmsh meshes
+/// for hours, runs out of memory, or (for elements of extreme aspect ratio) stops to ask
+/// on standard input whether to continue.
+inline constexpr double kMaxGeneratedCells = 4e6;  ///< cells_x cells_y (cells_z)
+inline constexpr double kMaxCellAspectRatio =
+    1e4;  ///< max_k h_k / min_k h_k, h_k = size_k / cells_k
+inline constexpr double kMaxGridExtent = 1e6;  ///< |origin_k| and size_k [m]
+inline constexpr double kMinCellSize = 1e-9;   ///< h_k [m]
 /// "" if `cells` cells along sides of lengths `size` [m] respect those limits, else the
 /// reason, e.g. "1e+12 cells exceed the limit of 4e+06". Takes doubles so that
 /// scene values are checked before their conversion to int.
-std::string CheckGridLimits(const std::vector<double>& size, const std::vector<double>& cells);
+std::string CheckGridLimits(const std::vector<double>& size,
+                            const std::vector<double>& cells);
 
 /// The sides of an axis-aligned rectangle or box.
 enum class Side { kXMin, kXMax, kYMin, kYMax, kZMin, kZMax };
@@ -83,11 +85,12 @@ Mesh MakeRectangleMesh(const RectangleMeshOptions& options);
 /// Meshes a box with gmsh. Throws std::invalid_argument for invalid options, including
 /// unstructured hexahedra.
 Mesh MakeBoxMesh(const BoxMeshOptions& options);
-/// The quarter disk {x >= 0, y <= R, x^2 + (y - R)^2 <= R^2}: half of a cylinder section of
-/// radius R touching the plane y = 0 at the origin (Hertz contact), 3-node triangles.
+/// The quarter disk {x >= 0, y <= R, x^2 + (y - R)^2 <= R^2}: half of a cylinder section
+/// of radius R touching the plane y = 0 at the origin (Hertz contact), 3-node triangles.
 /// Groups: "fixed" = the symmetry line x = 0, "load" = the cut y = R, "contact" = the arc
 /// from the origin to x = contact_extent. Element size contact_size within refined_radius
-/// of the origin, growing with slope 1/4 up to max_size (gmsh Distance + Threshold fields).
+/// of the origin, growing with slope 1/4 up to max_size (gmsh Distance + Threshold
+/// fields).
 struct QuarterDiskMeshOptions {
   double radius = 1.0;          ///< R [m]
   double contact_size = 0.01;   ///< element size near the origin [m]

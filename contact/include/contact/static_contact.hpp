@@ -24,7 +24,8 @@ struct StaticContactOptions {
   FrictionLaw friction = FrictionLaw::kFrictionless;
   double friction_coefficient = 0.0;  ///< f_c for kCoulomb
   Eigen::VectorXd tresca_bound;       ///< per contact node [N] for kTresca
-  /// Coulomb fixed point stops when max_c |lambda_c^{i+1} - lambda_c^i| <= this * max_c lambda_c.
+  /// Coulomb fixed point stops when max_c |lambda_c^{i+1} - lambda_c^i| <= this * max_c
+  /// lambda_c.
   double fixed_point_tolerance = 1e-10;
   int max_fixed_point_iterations = 100;
   /// Semismooth Newton settings. The scaled equations are displacements, so `tolerance`
@@ -40,8 +41,8 @@ struct StaticContactResult {
   Eigen::MatrixXd tangent_force;  ///< friction force components along t1 (t2) [N]
   Eigen::VectorXd gap;            ///< s_c - n_c . u_c [m]
   int fixed_point_iterations = 0;
-  int newton_iterations = 0;      ///< summed over fixed-point iterations
-  ncp::Summary last_summary;      ///< of the last complementarity solve
+  int newton_iterations = 0;  ///< summed over fixed-point iterations
+  ncp::Summary last_summary;  ///< of the last complementarity solve
 };
 
 /// K and f on the free dofs; `nodes` in the free-dof numbering.

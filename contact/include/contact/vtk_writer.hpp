@@ -134,9 +134,11 @@ class VtuSeriesWriter {
   std::string Write(int step, const ContactSnapshot& snapshot);
   std::string pvd_path() const;
   /// (time [s], file name) of every snapshot written, in order.
-  const std::vector<std::pair<double, std::string>>& snapshots() const { return snapshots_; }
-  /// Continues a series (a resumed run): `snapshots` as snapshots() returned them, the .pvd
-  /// rewritten to list exactly these. Throws ncp::OutputError.
+  const std::vector<std::pair<double, std::string>>& snapshots() const {
+    return snapshots_;
+  }
+  /// Continues a series (a resumed run): `snapshots` as snapshots() returned them, the
+  /// .pvd rewritten to list exactly these. Throws ncp::OutputError.
   void Continue(std::vector<std::pair<double, std::string>> snapshots);
 
  private:

@@ -1,5 +1,5 @@
-// A scene run (RunScene, contact/scene.hpp): build the model, open the outputs, run the time
-// loop with one output call per step.
+// A scene run (RunScene, contact/scene.hpp): build the model, open the outputs, run the
+// time loop with one output call per step.
 #include <filesystem>
 #include <limits>
 #include <optional>
@@ -36,13 +36,17 @@ SceneResult RunScene(const Scene& scene, bool progress) {
 SceneResult RunScene(const Scene& scene, const SceneRunOptions& run) {
   SceneResult result;
   const std::filesystem::path checkpoint =
-      scene.output_directory.empty() ? std::filesystem::path() : std::filesystem::path(scene.output_directory) / kCheckpointFile;
+      scene.output_directory.empty()
+          ? std::filesystem::path()
+          : std::filesystem::path(scene.output_directory) / kCheckpointFile;
   if (run.resume && checkpoint.empty())
-    throw CheckpointError("the scene has no output directory (output.directory or --output) "
-                          "to hold a checkpoint");
+    throw CheckpointError(
+        "the scene has no output directory (output.directory or --output) "
+        "to hold a checkpoint");
   if (run.resume && !std::filesystem::exists(checkpoint))
-    throw CheckpointError("there is no checkpoint " + checkpoint.string() +
-                          " (a run writes it every output.checkpoint_every steps and when interrupted)");
+    throw CheckpointError(
+        "there is no checkpoint " + checkpoint.string() +
+        " (a run writes it every output.checkpoint_every steps and when interrupted)");
   // A fresh run's files are new: an older run's checkpoint does not describe them.
   if (!run.resume && !checkpoint.empty()) {
     std::error_code ignored;
@@ -53,13 +57,15 @@ SceneResult RunScene(const Scene& scene, const SceneRunOptions& run) {
   internal::SceneOutput* output = nullptr;
   stepped.dynamics.progress = run.progress;
   stepped.dynamics.on_step = [&output](const StepRecord& record, const Eigen::VectorXd& u,
-                                       const ContactSystem::Result& contact, double force_scale) {
+                                       const ContactSystem::Result& contact,
+                                       double force_scale) {
     output->WriteStep(record, u, contact, force_scale);
   };
   Simulation simulation(stepped);
   std::optional<internal::OutputPositions> positions;
   if (run.resume) {
-    positions = internal::OutputPositions::Decode(simulation.LoadCheckpoint(checkpoint.string()), checkpoint.string());
+    positions = internal::OutputPositions::Decode(
+        simulation.LoadCheckpoint(checkpoint.string()), checkpoint.string());
     result.resumed_from_step = simulation.step_index();
   }
 
@@ -74,22 +80,26 @@ SceneResult RunScene(const Scene& scene, const SceneRunOptions& run) {
     marked = NearestContactNode(mesh, built.frames.nodes, *scene.marked_point);
     result.marked_node = built.frames.nodes[static_cast<size_t>(marked)].node;
   }
-  internal::SceneOutput writer(scene, built, marked, &result.files_written, positions ? &*positions : nullptr);
+  internal::SceneOutput writer(scene, built, marked, &result.files_written,
+                               positions ? &*positions : nullptr);
   output = &writer;
   const auto save_checkpoint = [&] {
-    simulation.SaveCheckpoint(checkpoint.string(),
-                              writer.Positions(simulation.step_index(), simulation.time()).Encode());
+    simulation.SaveCheckpoint(
+        checkpoint.string(),
+        writer.Positions(simulation.step_index(), simulation.time()).Encode());
     result.checkpoint_step = simulation.step_index();
   };
   while (simulation.state() == SimulationState::kRunning) {
     simulation.Step(1);
     if (checkpoint.empty()) continue;
     const bool interrupted = simulation.summary().status == DynamicStatus::kInterrupted;
-    if (interrupted || (simulation.state() == SimulationState::kRunning && scene.checkpoint_every > 0 &&
-                        simulation.step_index() % scene.checkpoint_every == 0))
+    if (interrupted ||
+        (simulation.state() == SimulationState::kRunning && scene.checkpoint_every > 0 &&
+         simulation.step_index() % scene.checkpoint_every == 0))
       save_checkpoint();
   }
-  writer.Finish();  // however the run ended: the rows of every finished step are in the files
+  writer.Finish();  // however the run ended: the rows of every finished step are in the
+                    // files
   if (!checkpoint.empty() && std::filesystem::exists(checkpoint))
     result.files_written.push_back(checkpoint.string());
   result.summary = simulation.summary();

@@ -17,14 +17,17 @@ inline std::string WithoutFunctionName(const std::string& message) {
   const std::string name = message.substr(0, colon);
   const size_t last = name.rfind("::");
   const size_t start = last == std::string::npos ? 0 : last + 2;
-  if (start >= name.size() || !std::isupper(static_cast<unsigned char>(name[start]))) return message;
+  if (start >= name.size() || !std::isupper(static_cast<unsigned char>(name[start])))
+    return message;
   for (const char c : name)
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != ':') return message;
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != ':')
+      return message;
   return message.substr(colon + 2);
 }
 
 /// Runs `build`; a std::invalid_argument from the mesh or the model (a missing group, an
-/// empty contact set ...) becomes a SceneError that names the scene file and the mesh file.
+/// empty contact set ...) becomes a SceneError that names the scene file and the mesh
+/// file.
 template <typename Build>
 auto NamingTheScene(const Scene& scene, Build build) {
   try {
@@ -32,7 +35,8 @@ auto NamingTheScene(const Scene& scene, Build build) {
   } catch (const SceneError&) {
     throw;
   } catch (const std::invalid_argument& e) {
-    const std::string mesh = scene.msh_file.empty() ? "" : " (mesh " + scene.msh_file + ")";
+    const std::string mesh =
+        scene.msh_file.empty() ? "" : " (mesh " + scene.msh_file + ")";
     throw SceneError(scene.source + mesh + ": " + WithoutFunctionName(e.what()));
   }
 }

@@ -1,5 +1,5 @@
-// Reading a scene file (LoadScene, contact/scene.hpp): one function per table of the file,
-// each checking every value against its range and refusing unknown keys.
+// Reading a scene file (LoadScene, contact/scene.hpp): one function per table of the
+// file, each checking every value against its range and refusing unknown keys.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -19,13 +19,14 @@ using internal::Range;
 using internal::Str;
 using internal::Table;
 
-// A scene may be written in any consistent unit system (SI, mm-tonne-s with N and MPa, a body
-// scaled by 1e-3 ...): the unit shown is SI's, and each range spans the values of every such
-// system by many orders of magnitude while keeping E / (rho h^2) and the step counts finite.
+// A scene may be written in any consistent unit system (SI, mm-tonne-s with N and MPa, a
+// body scaled by 1e-3 ...): the unit shown is SI's, and each range spans the values of
+// every such system by many orders of magnitude while keeping E / (rho h^2) and the step
+// counts finite.
 constexpr double kMaxLength = 1e9;  // coordinates and sizes of a scene
 const Range kCoordinate{-kMaxLength, kMaxLength, "m"};
 const Range kLength{1e-9, kMaxLength, "m"};
-const Range kDirection{-1e6, 1e6, ""};  // normals and axes, normalized by the obstacle
+const Range kDirection{-1e6, 1e6, ""};    // normals and axes, normalized by the obstacle
 const Range kModulus{1e-12, 1e18, "Pa"};  // Young's modulus (steel 2.1e11 Pa = 2.1e5 MPa)
 const Range kDensity{1e-15, 1e12, "kg/m^3"};  // (osmium 22590 kg/m^3 = 2.26e-8 t/mm^3)
 const Range kPoisson{-1.0, 0.5, "", true, true};
@@ -40,9 +41,9 @@ const Range kRelativeTolerance{0.0, 1.0, "", true};
 const Range kIterations{1, 1e6, ""};
 
 Side ParseSide(const Table& t, const std::string& key, const std::string& s, int dim) {
-  static const std::map<std::string, Side> sides = {{"xmin", Side::kXMin}, {"xmax", Side::kXMax},
-                                                    {"ymin", Side::kYMin}, {"ymax", Side::kYMax},
-                                                    {"zmin", Side::kZMin}, {"zmax", Side::kZMax}};
+  static const std::map<std::string, Side> sides = {
+      {"xmin", Side::kXMin}, {"xmax", Side::kXMax}, {"ymin", Side::kYMin},
+      {"ymax", Side::kYMax}, {"zmin", Side::kZMin}, {"zmax", Side::kZMax}};
   const auto it = sides.find(s);
   if (it == sides.end() || (dim == 2 && (s == "zmin" || s == "zmax")))
     t.Fail(key, "has an unknown side \"" + s + "\" (xmin, xmax, ymin, ymax" +
@@ -59,8 +60,8 @@ ElementType ParseElement(const Table& t, int dim) {
   return ElementType::kTetrahedron4;
 }
 
-// geometry.file: a relative path is taken from the scene file's directory; the message of a
-// missing file shows the path it resolved to.
+// geometry.file: a relative path is taken from the scene file's directory; the message of
+// a missing file shows the path it resolved to.
 std::string ResolveMeshFile(const Table& g, const fs::path& base) {
   const std::string given = g.String("file");
   fs::path p(given);
@@ -68,8 +69,9 @@ std::string ResolveMeshFile(const Table& g, const fs::path& base) {
   std::error_code ec;
   const fs::path resolved = fs::weakly_canonical(fs::absolute(p, ec), ec);
   if (!fs::exists(resolved, ec))
-    g.Fail("file", "= \"" + given + "\": no such file (resolved to " + resolved.string() +
-                       "; a relative path is taken from the scene file's directory)",
+    g.Fail("file",
+           "= \"" + given + "\": no such file (resolved to " + resolved.string() +
+               "; a relative path is taken from the scene file's directory)",
            &g.Get("file"));
   return resolved.string();
 }
@@ -79,26 +81,35 @@ void ReadGeometry(const Table& g, const fs::path& base, Scene* s) {
   if (type == "msh") {
     s->msh_file = ResolveMeshFile(g, base);
     s->dim = g.Integer("dimension", Range{2, 3, ""}, 0);
-    if (s->dim != 2 && s->dim != 3) g.Fail("dimension", "must be 2 or 3 for a .msh geometry");
+    if (s->dim != 2 && s->dim != 3)
+      g.Fail("dimension", "must be 2 or 3 for a .msh geometry");
   } else {
     s->dim = type == "rectangle" ? 2 : 3;
     std::map<Side, BoundaryRole> roles;
     const std::pair<const char*, BoundaryRole> role_keys[] = {
-        {"fixed", BoundaryRole::kFixed}, {"load", BoundaryRole::kLoad}, {"contact", BoundaryRole::kContact}};
+        {"fixed", BoundaryRole::kFixed},
+        {"load", BoundaryRole::kLoad},
+        {"contact", BoundaryRole::kContact}};
     for (const auto& [key, role] : role_keys)
       for (const std::string& side : g.Strings(key)) {
         const Side sd = ParseSide(g, key, side, s->dim);
         if (roles.count(sd)) g.Fail(key, "assigns side " + side + " a second role");
         roles[sd] = role;
       }
-    const Eigen::VectorXd origin = g.Has("origin") ? g.Vec("origin", kCoordinate, s->dim) : Eigen::VectorXd::Zero(s->dim);
+    const Eigen::VectorXd origin = g.Has("origin") ? g.Vec("origin", kCoordinate, s->dim)
+                                                   : Eigen::VectorXd::Zero(s->dim);
     const Eigen::VectorXd size = g.Vec("size", kLength, s->dim);
-    const std::vector<double> cells = g.Numbers("cells", Range{1, kMaxGeneratedCells, ""}, s->dim);
+    const std::vector<double> cells =
+        g.Numbers("cells", Range{1, kMaxGeneratedCells, ""}, s->dim);
     for (double c : cells)
-      if (c != std::floor(c)) g.Fail("cells", "entries must be integers, got " + Str(c), &g.Get("cells"));
-    const std::string grid_error = CheckGridLimits(std::vector<double>(size.data(), size.data() + s->dim), cells);
-    if (!grid_error.empty()) g.Fail("size", "and 'cells': " + grid_error, &g.Get("cells"));
-    const bool structured = g.Choice("topology", {"structured", "unstructured"}, "structured") == "structured";
+      if (c != std::floor(c))
+        g.Fail("cells", "entries must be integers, got " + Str(c), &g.Get("cells"));
+    const std::string grid_error =
+        CheckGridLimits(std::vector<double>(size.data(), size.data() + s->dim), cells);
+    if (!grid_error.empty())
+      g.Fail("size", "and 'cells': " + grid_error, &g.Get("cells"));
+    const bool structured = g.Choice("topology", {"structured", "unstructured"},
+                                     "structured") == "structured";
     if (s->dim == 2) {
       RectangleMeshOptions o;
       for (int k = 0; k < 2; ++k) {
@@ -123,9 +134,12 @@ void ReadGeometry(const Table& g, const fs::path& base, Scene* s) {
       s->box = o;
     }
   }
-  for (double c : g.Has("fixed_components") ? g.Numbers("fixed_components", Range{0, 2, ""}) : std::vector<double>{}) {
+  for (double c : g.Has("fixed_components")
+                      ? g.Numbers("fixed_components", Range{0, 2, ""})
+                      : std::vector<double>{}) {
     if (c != std::floor(c) || c < 0 || c >= s->dim)
-      g.Fail("fixed_components", "entries must be components 0.." + std::to_string(s->dim - 1));
+      g.Fail("fixed_components",
+             "entries must be components 0.." + std::to_string(s->dim - 1));
     s->fixed_components.push_back(static_cast<int>(c));
   }
   g.RejectUnknownKeys();
@@ -137,15 +151,19 @@ std::shared_ptr<RigidObstacle> ReadObstacle(const Table& o, int dim) {
   try {
     if (type == "plane") {
       // The obstacle fills {y : n . y <= offset}; the body lies where n . x >= offset.
-      obstacle = std::make_shared<HalfSpace>(o.Vec("normal", kDirection, dim), o.Number("offset", kCoordinate));
+      obstacle = std::make_shared<HalfSpace>(o.Vec("normal", kDirection, dim),
+                                             o.Number("offset", kCoordinate));
     } else if (type == "parabola") {
-      obstacle = std::make_shared<ParabolaObstacle>(dim, o.Number("vertex", kCoordinate), o.Number("coefficient", kCurvature));
+      obstacle = std::make_shared<ParabolaObstacle>(dim, o.Number("vertex", kCoordinate),
+                                                    o.Number("coefficient", kCurvature));
     } else if (type == "sphere") {
-      obstacle = std::make_shared<SphereObstacle>(o.Vec("center", kCoordinate, dim), o.Number("radius", kLength));
+      obstacle = std::make_shared<SphereObstacle>(o.Vec("center", kCoordinate, dim),
+                                                  o.Number("radius", kLength));
     } else {
       if (dim != 3) o.Fail("type", "\"cylinder\" needs a 3D geometry");
-      obstacle = std::make_shared<CylinderObstacle>(o.Vec("axis_point", kCoordinate, 3), o.Vec("axis_direction", kDirection, 3),
-                                                    o.Number("radius", kLength));
+      obstacle = std::make_shared<CylinderObstacle>(
+          o.Vec("axis_point", kCoordinate, 3), o.Vec("axis_direction", kDirection, 3),
+          o.Number("radius", kLength));
     }
   } catch (const SceneError&) {
     throw;
@@ -155,9 +173,9 @@ std::shared_ptr<RigidObstacle> ReadObstacle(const Table& o, int dim) {
   return obstacle;
 }
 
-/// The deepest nesting of arrays and inline tables in TOML text, with the line where it is
-/// reached; strings and comments are skipped. toml11 parses nested values recursively, so
-/// a few hundred thousand '[' overflow the stack: this runs before it.
+/// The deepest nesting of arrays and inline tables in TOML text, with the line where it
+/// is reached; strings and comments are skipped. toml11 parses nested values recursively,
+/// so a few hundred thousand '[' overflow the stack: this runs before it.
 std::pair<int, int> MaxNestingDepth(const std::string& text) {
   int depth = 0, deepest = 0, line = 1, deepest_line = 1;
   for (size_t i = 0; i < text.size(); ++i) {
@@ -167,8 +185,11 @@ std::pair<int, int> MaxNestingDepth(const std::string& text) {
     } else if (c == '#') {
       while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
     } else if (c == '"' || c == '\'') {
-      const std::string quote = text.compare(i, 3, std::string(3, c)) == 0 ? std::string(3, c) : std::string(1, c);
-      for (i += quote.size(); i < text.size() && text.compare(i, quote.size(), quote) != 0; ++i) {
+      const std::string quote = text.compare(i, 3, std::string(3, c)) == 0
+                                    ? std::string(3, c)
+                                    : std::string(1, c);
+      for (i += quote.size();
+           i < text.size() && text.compare(i, quote.size(), quote) != 0; ++i) {
         if (text[i] == '\n') ++line;
         if (c == '"' && text[i] == '\\') ++i;  // an escape in a basic string
       }
@@ -187,28 +208,34 @@ std::pair<int, int> MaxNestingDepth(const std::string& text) {
 std::string ReadSceneText(const std::string& path) {
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
-  if (ec || !fs::exists(status)) throw SceneError(path + ": cannot read scene file: no such file");
+  if (ec || !fs::exists(status))
+    throw SceneError(path + ": cannot read scene file: no such file");
   if (!fs::is_regular_file(status))
-    throw SceneError(path + ": cannot read scene file: not a regular file (a directory?)");
+    throw SceneError(path +
+                     ": cannot read scene file: not a regular file (a directory?)");
   const std::uintmax_t bytes = fs::file_size(path, ec);
   if (ec || bytes > kMaxSceneFileBytes)
-    throw SceneError(path + ": scene file of " + std::to_string(bytes) + " bytes; at most " +
-                     std::to_string(kMaxSceneFileBytes) + " bytes are accepted");
+    throw SceneError(path + ": scene file of " + std::to_string(bytes) +
+                     " bytes; at most " + std::to_string(kMaxSceneFileBytes) +
+                     " bytes are accepted");
   std::ifstream in(path, std::ios::binary);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string text((std::istreambuf_iterator<char>(in)),
+                   std::istreambuf_iterator<char>());
   if (!in.good() && !in.eof()) throw SceneError(path + ": cannot read scene file");
   const auto [depth, line] = MaxNestingDepth(text);
   if (depth > kMaxSceneNesting)
-    throw SceneError(path + ":" + std::to_string(line) + ": arrays or inline tables nested " +
-                     std::to_string(depth) + " deep; at most " + std::to_string(kMaxSceneNesting) +
+    throw SceneError(path + ":" + std::to_string(line) +
+                     ": arrays or inline tables nested " + std::to_string(depth) +
+                     " deep; at most " + std::to_string(kMaxSceneNesting) +
                      " levels are accepted");
   return text;
 }
 
-/// Parses the scene text and applies the overrides: each "table.key" = TOML literal replaces
-/// the file's value before validation, so it is checked (and named in messages, at "command
-/// line") like a value of the file.
-toml::value ParseScene(const std::string& path, const std::string& scene_text, const SceneOverrides& overrides) {
+/// Parses the scene text and applies the overrides: each "table.key" = TOML literal
+/// replaces the file's value before validation, so it is checked (and named in messages,
+/// at "command line") like a value of the file.
+toml::value ParseScene(const std::string& path, const std::string& scene_text,
+                       const SceneOverrides& overrides) {
   toml::value root;
   std::istringstream text(scene_text);
   try {
@@ -225,11 +252,13 @@ toml::value ParseScene(const std::string& path, const std::string& scene_text, c
     try {
       parsed = toml::parse(value_text, "command line (" + dotted + ")");
     } catch (const std::exception& e) {
-      throw SceneError("command line: '" + dotted + "' = " + literal + " is not a TOML value: " + e.what());
+      throw SceneError("command line: '" + dotted + "' = " + literal +
+                       " is not a TOML value: " + e.what());
     }
     toml::value& table = root.as_table()[dotted.substr(0, dot)];
     if (table.is_uninitialized()) table = toml::table{};
-    if (!table.is_table()) throw SceneError(path + ": '" + dotted.substr(0, dot) + "' must be a table");
+    if (!table.is_table())
+      throw SceneError(path + ": '" + dotted.substr(0, dot) + "' must be a table");
     table.as_table()[dotted.substr(dot + 1)] = parsed.as_table().at("value");
   }
   return root;
@@ -240,9 +269,13 @@ void ReadMaterial(const Table& m, Scene* s) {
   s->material.youngs_modulus = m.Number("young_modulus", kModulus);
   s->material.poisson_ratio = m.Number("poisson_ratio", kPoisson);
   s->material.density = m.Number("density", kDensity);
-  s->mass = m.Choice("mass", {"consistent", "lumped"}, "consistent") == "lumped" ? MassKind::kLumped : MassKind::kConsistent;
+  s->mass = m.Choice("mass", {"consistent", "lumped"}, "consistent") == "lumped"
+                ? MassKind::kLumped
+                : MassKind::kConsistent;
   if (s->dim == 2) {
-    s->plane.model = m.Choice("plane", {"strain", "stress"}, "strain") == "stress" ? PlaneModel::kPlaneStress : PlaneModel::kPlaneStrain;
+    s->plane.model = m.Choice("plane", {"strain", "stress"}, "strain") == "stress"
+                         ? PlaneModel::kPlaneStress
+                         : PlaneModel::kPlaneStrain;
     s->plane.thickness = m.Number("thickness", kLength, 1.0);
   }
   m.RejectUnknownKeys();
@@ -250,23 +283,31 @@ void ReadMaterial(const Table& m, Scene* s) {
 
 /// [loads]: body force, traction on "load", and their time history.
 void ReadLoads(const Table& l, Scene* s) {
-  s->body_force = l.Has("body_force") ? l.Vec("body_force", kForceDensity, s->dim) : Eigen::VectorXd::Zero(s->dim);
+  s->body_force = l.Has("body_force") ? l.Vec("body_force", kForceDensity, s->dim)
+                                      : Eigen::VectorXd::Zero(s->dim);
   if (l.Has("traction")) s->traction = l.Vec("traction", kStress, s->dim);
-  const std::string history = l.Choice("history", {"constant", "step", "ramp"}, "constant");
-  s->load_history = history == "step" ? LoadHistory::kStep : history == "ramp" ? LoadHistory::kRamp : LoadHistory::kConstant;
+  const std::string history =
+      l.Choice("history", {"constant", "step", "ramp"}, "constant");
+  s->load_history = history == "step"   ? LoadHistory::kStep
+                    : history == "ramp" ? LoadHistory::kRamp
+                                        : LoadHistory::kConstant;
   if (s->load_history == LoadHistory::kRamp) s->ramp_time = l.Number("ramp_time", kTime);
   l.RejectUnknownKeys();
 }
 
-/// [time]: step, end, stability override and the initial state; at most kMaxTimeSteps steps.
+/// [time]: step, end, stability override and the initial state; at most kMaxTimeSteps
+/// steps.
 void ReadTime(const Table& t, Scene* s) {
   s->dynamics.dt = t.Number("dt", kTime);
   s->dynamics.end_time = t.Number("end_time", kTime);
   const double steps = std::ceil(s->dynamics.end_time / s->dynamics.dt);
   if (steps > kMaxTimeSteps)
-    t.Fail("dt", "= " + Str(s->dynamics.dt) + " s with time.end_time = " + Str(s->dynamics.end_time) +
-                     " s gives " + Str(steps) + " time steps; at most " + Str(kMaxTimeSteps) +
-                     " are accepted (one step record each)", &t.Get("dt"));
+    t.Fail("dt",
+           "= " + Str(s->dynamics.dt) +
+               " s with time.end_time = " + Str(s->dynamics.end_time) + " s gives " +
+               Str(steps) + " time steps; at most " + Str(kMaxTimeSteps) +
+               " are accepted (one step record each)",
+           &t.Get("dt"));
   if (s->dynamics.end_time < s->dynamics.dt)
     s->warnings.push_back("time.end_time = " + Str(s->dynamics.end_time) +
                           " s is shorter than time.dt = " + Str(s->dynamics.dt) +
@@ -289,16 +330,21 @@ void RejectRenamedSolverKeys(const Table& v) {
     const toml::value& old = v.Get("method");
     const std::string value = old.is_string() ? old.as_string().str : "";
     key = "method", at = &old;
-    fixes = value == "ipopt" ? "= \"ipopt\" is now a step method: write solver.step = \"ipopt\""
-                             : "was renamed: write solver.ncp_function = \"" +
-                                   (value.empty() ? std::string("fb") : value) +
-                                   "\" (fb, min or penalized-fb; Ipopt is solver.step = \"ipopt\")";
+    fixes = value == "ipopt"
+                ? "= \"ipopt\" is now a step method: write solver.step = \"ipopt\""
+                : "was renamed: write solver.ncp_function = \"" +
+                      (value.empty() ? std::string("fb") : value) +
+                      "\" (fb, min or penalized-fb; Ipopt is solver.step = \"ipopt\")";
   }
-  if (v.Has("friction") && v.Get("friction").is_string() && v.Get("friction").as_string().str == "eq94") {
-    const std::string fix = "= \"eq94\" was renamed: write solver.friction = \"lagged-bound\" (Tresca "
-                            "with the previous step's bound f_c lambda^k, thesis eq. 94)";
-    if (key.empty()) key = "friction", at = &v.Get("friction"), fixes = fix;
-    else fixes += "; and 'solver.friction' " + fix;
+  if (v.Has("friction") && v.Get("friction").is_string() &&
+      v.Get("friction").as_string().str == "eq94") {
+    const std::string fix =
+        "= \"eq94\" was renamed: write solver.friction = \"lagged-bound\" (Tresca "
+        "with the previous step's bound f_c lambda^k, thesis eq. 94)";
+    if (key.empty())
+      key = "friction", at = &v.Get("friction"), fixes = fix;
+    else
+      fixes += "; and 'solver.friction' " + fix;
   }
   if (!key.empty()) v.Fail(key, fixes, at);
 }
@@ -307,7 +353,8 @@ void RejectRenamedSolverKeys(const Table& v) {
 /// (ncp_function, tolerance, max_iterations, linear_solver) and the checks.
 void ReadSolver(const Table& v, Scene* s) {
   RejectRenamedSolverKeys(v);
-  const std::string step = v.Choice("step", {"auto", "condensed", "sparse", "full", "explicit", "ipopt"}, "auto");
+  const std::string step = v.Choice(
+      "step", {"auto", "condensed", "sparse", "full", "explicit", "ipopt"}, "auto");
   s->dynamics.step_method = step == "full"        ? StepMethod::kFull
                             : step == "explicit"  ? StepMethod::kExplicit
                             : step == "sparse"    ? StepMethod::kSparse
@@ -317,30 +364,42 @@ void ReadSolver(const Table& v, Scene* s) {
   if (s->dynamics.step_method == StepMethod::kExplicit && s->mass != MassKind::kLumped)
     v.Fail("step", "= \"explicit\" needs material.mass = \"lumped\"");
   if (s->dynamics.step_method == StepMethod::kIpopt && s->friction_coefficient > 0)
-    v.Fail("step", "= \"ipopt\" solves frictionless steps only, but friction.coefficient = " +
-                       std::to_string(s->friction_coefficient));
-  const std::string function = v.Choice("ncp_function", {"fb", "min", "penalized-fb"}, "fb");
-  s->dynamics.ncp.ncp_function = function == "min"            ? ncp::NcpFunction::kMin
-                                 : function == "penalized-fb" ? ncp::NcpFunction::kPenalizedFischerBurmeister
-                                                              : ncp::NcpFunction::kFischerBurmeister;
+    v.Fail("step",
+           "= \"ipopt\" solves frictionless steps only, but friction.coefficient = " +
+               std::to_string(s->friction_coefficient));
+  const std::string function =
+      v.Choice("ncp_function", {"fb", "min", "penalized-fb"}, "fb");
+  s->dynamics.ncp.ncp_function = function == "min" ? ncp::NcpFunction::kMin
+                                 : function == "penalized-fb"
+                                     ? ncp::NcpFunction::kPenalizedFischerBurmeister
+                                     : ncp::NcpFunction::kFischerBurmeister;
   s->dynamics.ncp.tolerance = v.Number("tolerance", kRelativeTolerance, 1e-10);
   s->dynamics.ncp.max_iterations = v.Integer("max_iterations", kIterations, 500);
-  const std::string ls = v.Choice("linear_solver", {"auto", "dense", "sparse-lu", "umfpack", "klu"}, "auto");
-  s->dynamics.ncp.linear_solver = ls == "dense" ? ncp::LinearSolverType::kDenseLU
-                                 : ls == "sparse-lu" ? ncp::LinearSolverType::kSparseLU
-                                 : ls == "umfpack" ? ncp::LinearSolverType::kUmfpack
-                                 : ls == "klu" ? ncp::LinearSolverType::kKlu : ncp::LinearSolverType::kAuto;
-  const std::string friction = v.Choice("friction", {"default", "lagged-bound", "coulomb-fc"}, "default");
+  const std::string ls =
+      v.Choice("linear_solver", {"auto", "dense", "sparse-lu", "umfpack", "klu"}, "auto");
+  s->dynamics.ncp.linear_solver = ls == "dense"       ? ncp::LinearSolverType::kDenseLU
+                                  : ls == "sparse-lu" ? ncp::LinearSolverType::kSparseLU
+                                  : ls == "umfpack"   ? ncp::LinearSolverType::kUmfpack
+                                  : ls == "klu"       ? ncp::LinearSolverType::kKlu
+                                                      : ncp::LinearSolverType::kAuto;
+  const std::string friction =
+      v.Choice("friction", {"default", "lagged-bound", "coulomb-fc"}, "default");
   if (friction != "default")
-    s->dynamics.friction_formulation =
-        friction == "lagged-bound" ? FrictionFormulation::kLaggedBound : FrictionFormulation::kCoulombFc;
+    s->dynamics.friction_formulation = friction == "lagged-bound"
+                                           ? FrictionFormulation::kLaggedBound
+                                           : FrictionFormulation::kCoulombFc;
   const StepMethod chosen = s->dynamics.step_method;
-  if (friction == "coulomb-fc" && chosen != StepMethod::kCondensed && chosen != StepMethod::kSparse && chosen != StepMethod::kAuto)
-    v.Fail("friction", "= \"coulomb-fc\" needs solver.step = \"auto\", \"condensed\" or \"sparse\", got \"" +
-                           step + "\"");
+  if (friction == "coulomb-fc" && chosen != StepMethod::kCondensed &&
+      chosen != StepMethod::kSparse && chosen != StepMethod::kAuto)
+    v.Fail("friction",
+           "= \"coulomb-fc\" needs solver.step = \"auto\", \"condensed\" or \"sparse\", "
+           "got \"" +
+               step + "\"");
   if (friction == "lagged-bound" && chosen == StepMethod::kSparse)
-    v.Fail("friction", "= \"lagged-bound\" needs solver.step = \"auto\", \"condensed\" or \"full\" (the "
-                       "sparse step solves implicit Coulomb only), got \"sparse\"");
+    v.Fail(
+        "friction",
+        "= \"lagged-bound\" needs solver.step = \"auto\", \"condensed\" or \"full\" (the "
+        "sparse step solves implicit Coulomb only), got \"sparse\"");
   s->dynamics.ncp.log_to_stderr = v.Boolean("log_iterations", false);
   s->dynamics.compare_with_ipopt = v.Boolean("compare_with_ipopt", false);
   if (s->dynamics.compare_with_ipopt && s->friction_coefficient > 0)
@@ -348,7 +407,8 @@ void ReadSolver(const Table& v, Scene* s) {
   v.RejectUnknownKeys();
 }
 
-/// [output]: directory (relative to the scene file), stress times, snapshots, marked point.
+/// [output]: directory (relative to the scene file), stress times, snapshots, marked
+/// point.
 void ReadOutput(const Table& out, const fs::path& base, Scene* s) {
   if (out.Has("directory")) {
     const fs::path d = out.String("directory");
@@ -356,8 +416,10 @@ void ReadOutput(const Table& out, const fs::path& base, Scene* s) {
   }
   if (out.Has("stress_times")) s->stress_times = out.Numbers("stress_times", kTimeOrZero);
   s->snapshot_every = out.Integer("snapshot_every", Range{0, kMaxTimeSteps, ""}, 0);
-  s->checkpoint_every = out.Integer("checkpoint_every", Range{0, kMaxTimeSteps, ""}, kDefaultCheckpointEvery);
-  if (out.Has("marked_point")) s->marked_point = out.Vec("marked_point", kCoordinate, s->dim);
+  s->checkpoint_every = out.Integer("checkpoint_every", Range{0, kMaxTimeSteps, ""},
+                                    kDefaultCheckpointEvery);
+  if (out.Has("marked_point"))
+    s->marked_point = out.Vec("marked_point", kCoordinate, s->dim);
   out.RejectUnknownKeys();
 }
 
@@ -366,8 +428,9 @@ void WarnAboutStressTimes(Scene* s) {
   const double last = std::ceil(s->dynamics.end_time / s->dynamics.dt) * s->dynamics.dt;
   for (const double t : s->stress_times)
     if (t - 0.5 * s->dynamics.dt > last)
-      s->warnings.push_back("output.stress_times has " + Str(t) + " s, after the last step (t = " +
-                            Str(last) + " s): no stresses are written for it");
+      s->warnings.push_back("output.stress_times has " + Str(t) +
+                            " s, after the last step (t = " + Str(last) +
+                            " s): no stresses are written for it");
 }
 
 }  // namespace
@@ -377,7 +440,8 @@ Scene LoadScene(const std::string& path, const SceneOverrides& overrides) {
   s.text = ReadSceneText(path);
   const toml::value root = ParseScene(path, s.text, overrides);
   if (!overrides.empty() && !s.text.empty() && s.text.back() != '\n') s.text += '\n';
-  for (const auto& [key, literal] : overrides) s.text += "# override: " + key + " = " + literal + "\n";
+  for (const auto& [key, literal] : overrides)
+    s.text += "# override: " + key + " = " + literal + "\n";
   s.source = path;
   const fs::path base = fs::path(path).parent_path();
   const Table top(&root, "", path);
@@ -388,7 +452,9 @@ Scene LoadScene(const std::string& path, const SceneOverrides& overrides) {
   ReadLoads(top.Sub("loads", false), &s);
   const Table o = top.Sub("obstacle", true);
   s.obstacle = ReadObstacle(o, s.dim);
-  s.normal_source = o.Choice("normal_source", {"body", "obstacle"}, "body") == "obstacle" ? NormalSource::kObstacle : NormalSource::kBody;
+  s.normal_source = o.Choice("normal_source", {"body", "obstacle"}, "body") == "obstacle"
+                        ? NormalSource::kObstacle
+                        : NormalSource::kBody;
   o.RejectUnknownKeys();
   const Table f = top.Sub("friction", false);
   s.friction_coefficient = f.Number("coefficient", kFriction, 0.0);

@@ -1,5 +1,6 @@
-// Building the model of a scene (BuildSceneModel, contact/scene.hpp): the mesh, the Dirichlet
-// map and the contact frames, K, M and the load on the free dofs, and the run's options.
+// Building the model of a scene (BuildSceneModel, contact/scene.hpp): the mesh, the
+// Dirichlet map and the contact frames, K, M and the load on the free dofs, and the run's
+// options.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -12,8 +13,8 @@
 namespace contact {
 namespace {
 
-/// The Dirichlet map (the "fixed" group, scene.fixed_components), the contact boundary and
-/// its frames; refuses a contact set that the Dirichlet conditions empty.
+/// The Dirichlet map (the "fixed" group, scene.fixed_components), the contact boundary
+/// and its frames; refuses a contact set that the Dirichlet conditions empty.
 void MakeConstraints(const Scene& scene, SceneModel* out) {
   const Mesh& mesh = out->body->mesh();
   std::vector<DirichletCondition> conditions;
@@ -24,7 +25,8 @@ void MakeConstraints(const Scene& scene, SceneModel* out) {
   }
   out->dofs = MakeDofMap(mesh, conditions);
   out->boundary = MakeContactBoundary(*out->body);
-  out->frames = MakeContactFrames(mesh, out->boundary, out->dofs, *scene.obstacle, scene.normal_source);
+  out->frames = MakeContactFrames(mesh, out->boundary, out->dofs, *scene.obstacle,
+                                  scene.normal_source);
   if (out->frames.nodes.empty())
     throw SceneError(scene.source + ": no contact node is left after removing the " +
                      std::to_string(out->frames.excluded_mesh_nodes.size()) +
@@ -42,24 +44,30 @@ Vector AssembleOnFreeDofs(const Scene& scene, const ElasticBody& body, const Dof
     const Vector lumped = body.LumpedMass();
     SparseMatrix L(lumped.size(), lumped.size());
     std::vector<Eigen::Triplet<double>> t;
-    for (Eigen::Index i = 0; i < lumped.size(); ++i) t.emplace_back(static_cast<int>(i), static_cast<int>(i), lumped(i));
+    for (Eigen::Index i = 0; i < lumped.size(); ++i)
+      t.emplace_back(static_cast<int>(i), static_cast<int>(i), lumped(i));
     L.setFromTriplets(t.begin(), t.end());
     model->M = dofs.RestrictMatrix(L);
   } else {
     SparseMatrix M_full = body.ConsistentMassMatrix();
-    if (all_free) model->M.swap(M_full);
-    else model->M = dofs.RestrictMatrix(M_full);
+    if (all_free)
+      model->M.swap(M_full);
+    else
+      model->M = dofs.RestrictMatrix(M_full);
   }
   Vector f_full = body.BodyForceLoad(scene.body_force);
   if (scene.traction.size()) f_full += body.TractionLoad(scene.traction);
   const Vector f_free = dofs.RestrictLoad(K_full, f_full);
-  if (all_free) model->K.swap(K_full);  // (swap: Eigen 3.4's SparseMatrix has no move constructor)
-  else model->K = dofs.RestrictMatrix(K_full);
+  if (all_free)
+    model->K.swap(K_full);  // (swap: Eigen 3.4's SparseMatrix has no move constructor)
+  else
+    model->K = dofs.RestrictMatrix(K_full);
   return f_free;
 }
 
 /// f(t) = factor(t) f_free with the scene's load history (constant, step at t0, ramp).
-std::function<void(double, Eigen::VectorXd*)> LoadHistoryOf(const Scene& scene, const Vector& f_free) {
+std::function<void(double, Eigen::VectorXd*)> LoadHistoryOf(const Scene& scene,
+                                                            const Vector& f_free) {
   const double t0 = scene.dynamics.start_time;
   const LoadHistory history = scene.load_history;
   const double ramp = scene.ramp_time;
@@ -68,8 +76,8 @@ std::function<void(double, Eigen::VectorXd*)> LoadHistoryOf(const Scene& scene, 
   };
 }
 
-/// scene.dynamics with the friction coefficient, and for a prescribed start u0 = 0 and the
-/// uniform initial velocity on the free dofs.
+/// scene.dynamics with the friction coefficient, and for a prescribed start u0 = 0 and
+/// the uniform initial velocity on the free dofs.
 DynamicOptions RunOptions(const Scene& scene, const SceneModel& built) {
   DynamicOptions options = scene.dynamics;
   options.friction_coefficient = scene.friction_coefficient;
@@ -77,7 +85,8 @@ DynamicOptions RunOptions(const Scene& scene, const SceneModel& built) {
     const Mesh& mesh = built.body->mesh();
     options.u0 = Eigen::VectorXd::Zero(built.dofs.NumFreeDofs());
     Vector v_full = Vector::Zero(mesh.NumDofs());
-    for (int i = 0; i < mesh.NumNodes(); ++i) v_full.segment(mesh.dim * i, mesh.dim) = scene.initial_velocity;
+    for (int i = 0; i < mesh.NumNodes(); ++i)
+      v_full.segment(mesh.dim * i, mesh.dim) = scene.initial_velocity;
     options.v0 = built.dofs.RestrictVector(v_full);
   }
   return options;
@@ -101,9 +110,12 @@ SceneModel BuildModel(const Scene& scene, Mesh mesh) {
 
 }  // namespace
 
-double internal::LoadHistoryFactor(LoadHistory history, double t0, double ramp_time, double t) {
-  if (history == LoadHistory::kStep) return t > t0 + 1e-12 * std::max(1.0, std::abs(t0)) ? 1.0 : 0.0;
-  if (history == LoadHistory::kRamp) return std::min(std::max((t - t0) / ramp_time, 0.0), 1.0);
+double internal::LoadHistoryFactor(LoadHistory history, double t0, double ramp_time,
+                                   double t) {
+  if (history == LoadHistory::kStep)
+    return t > t0 + 1e-12 * std::max(1.0, std::abs(t0)) ? 1.0 : 0.0;
+  if (history == LoadHistory::kRamp)
+    return std::min(std::max((t - t0) / ramp_time, 0.0), 1.0);
   return 1.0;
 }
 
@@ -113,8 +125,8 @@ Vector internal::SceneLoadVector(const Scene& scene, const SceneModel& built) {
   return built.dofs.RestrictVector(f_full);
 }
 
-std::function<void(double, Eigen::VectorXd*)> SceneLoad(const Scene& scene, const SceneModel& built,
-                                                        const Eigen::VectorXd& body_force) {
+std::function<void(double, Eigen::VectorXd*)> SceneLoad(
+    const Scene& scene, const SceneModel& built, const Eigen::VectorXd& body_force) {
   Vector f_full = built.body->BodyForceLoad(body_force);
   if (scene.traction.size()) f_full += built.body->TractionLoad(scene.traction);
   return LoadHistoryOf(scene, built.dofs.RestrictVector(f_full));
@@ -129,7 +141,8 @@ SceneModel BuildSceneModel(const Scene& scene) {
 }
 
 SceneModel BuildSceneModel(const Scene& scene, Mesh mesh) {
-  return internal::NamingTheScene(scene, [&] { return BuildModel(scene, std::move(mesh)); });
+  return internal::NamingTheScene(scene,
+                                  [&] { return BuildModel(scene, std::move(mesh)); });
 }
 
 }  // namespace contact

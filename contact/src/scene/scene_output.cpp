@@ -20,7 +20,8 @@ std::string OutputPositions::Encode() const {
   return out.bytes();
 }
 
-OutputPositions OutputPositions::Decode(const std::string& bytes, const std::string& checkpoint) {
+OutputPositions OutputPositions::Decode(const std::string& bytes,
+                                        const std::string& checkpoint) {
   BinaryReader in(bytes, checkpoint);
   OutputPositions p;
   p.step = static_cast<int>(in.Int("output step"));
@@ -33,12 +34,15 @@ OutputPositions OutputPositions::Decode(const std::string& bytes, const std::str
     const double t = in.Double("snapshot time");
     p.snapshots.emplace_back(t, in.String("snapshot name"));
   }
-  if (in.left() != 0) in.Fail("output positions: " + std::to_string(in.left()) + " bytes after the last field");
+  if (in.left() != 0)
+    in.Fail("output positions: " + std::to_string(in.left()) +
+            " bytes after the last field");
   return p;
 }
 
 SceneOutput::SceneOutput(const Scene& scene, const SceneModel& built, int marked,
-                         std::vector<std::string>* files_written, const OutputPositions* resume)
+                         std::vector<std::string>* files_written,
+                         const OutputPositions* resume)
     : scene_(scene),
       mesh_(built.body->mesh()),
       dofs_(built.dofs),
@@ -54,25 +58,34 @@ SceneOutput::SceneOutput(const Scene& scene, const SceneModel& built, int marked
   std::sort(pending_stress_times_.begin(), pending_stress_times_.end());
   if (scene_.output_directory.empty()) return;
   const std::string coords = dim_ == 2 ? "x,y" : "x,y,z";
-  const std::string tangents = dim_ == 2 ? "friction_stress" : "friction_stress_1,friction_stress_2";
+  const std::string tangents =
+      dim_ == 2 ? "friction_stress" : "friction_stress_1,friction_stress_2";
   std::error_code error;
   std::filesystem::create_directories(directory_, error);
-  if (error) throw ncp::OutputError("cannot create directory", directory_.string(), error.value());
+  if (error)
+    throw ncp::OutputError("cannot create directory", directory_.string(), error.value());
   steps_csv_ = OpenCsv("steps.csv", kStepsCsvHeader, resume);
-  stress_csv_ = OpenCsv("contact_stress.csv",
-                        "time,node," + coords + ",normal_stress," + tangents + ",gap,normal_force", resume);
-  if (marked_ >= 0) history_csv_ = OpenCsv("node_history.csv", "time,normal_stress,friction_stress", resume);
+  stress_csv_ = OpenCsv(
+      "contact_stress.csv",
+      "time,node," + coords + ",normal_stress," + tangents + ",gap,normal_force", resume);
+  if (marked_ >= 0)
+    history_csv_ =
+        OpenCsv("node_history.csv", "time,normal_stress,friction_stress", resume);
   WriteMesh();
-  displacement_csv_ = OpenCsv("displacement.csv", dim_ == 2 ? "time,node,ux,uy" : "time,node,ux,uy,uz", resume);
-  if (resume) {  // the stress times the steps up to resume->step consumed, the series so far
+  displacement_csv_ = OpenCsv(
+      "displacement.csv", dim_ == 2 ? "time,node,ux,uy" : "time,node,ux,uy,uz", resume);
+  if (resume) {  // the stress times the steps up to resume->step consumed, the series so
+                 // far
     if (resume->step > 0) ReachedStressTime(resume->time);
     series_.Continue(resume->snapshots);
     return;
   }
   const DynamicOptions& options = built.options;
-  if (options.initial_state == InitialState::kPrescribed)  // u^0, v^0 known before the run
-    WriteSnapshot(0, InitialContactSnapshot(dim_, options.start_time, dofs_.Expand(options.u0),
-                                            dofs_.Expand(options.v0), dt_, frames_.nodes));
+  if (options.initial_state ==
+      InitialState::kPrescribed)  // u^0, v^0 known before the run
+    WriteSnapshot(
+        0, InitialContactSnapshot(dim_, options.start_time, dofs_.Expand(options.u0),
+                                  dofs_.Expand(options.v0), dt_, frames_.nodes));
 }
 
 void SceneOutput::WriteStep(const StepRecord& record, const Eigen::VectorXd& u,
@@ -81,7 +94,8 @@ void SceneOutput::WriteStep(const StepRecord& record, const Eigen::VectorXd& u,
   WriteStepRow(record);
   if (marked_ >= 0) {
     const auto [p, tau] = Stress(static_cast<size_t>(marked_), contact, force_scale);
-    history_csv_.stream() << record.time << ',' << p << ',' << (dim_ == 2 ? tau(0) : tau.norm()) << '\n';
+    history_csv_.stream() << record.time << ',' << p << ','
+                          << (dim_ == 2 ? tau(0) : tau.norm()) << '\n';
   }
   const bool last = record.time >= end_time_ - 1e-9 * dt_;
   if (ReachedStressTime(record.time) || last) {
@@ -90,12 +104,13 @@ void SceneOutput::WriteStep(const StepRecord& record, const Eigen::VectorXd& u,
   }
   if ((scene_.snapshot_every > 0 && record.step % scene_.snapshot_every == 0) || last)
     // u^k = u^{k+1} - du, du = contact.x
-    WriteSnapshot(record.step, {record.time, dofs_.Expand(u), dofs_.Expand(u - contact.x), dt_,
-                                &frames_.nodes, force_scale * contact.normal_force,
+    WriteSnapshot(record.step, {record.time, dofs_.Expand(u), dofs_.Expand(u - contact.x),
+                                dt_, &frames_.nodes, force_scale * contact.normal_force,
                                 force_scale * contact.tangent_force, contact.gap,
                                 record.force_accuracy, record.displacement_accuracy});
   // The step's rows go to the files together, so each file ends at a whole step.
-  for (ncp::OutputFile* csv : {&steps_csv_, &history_csv_, &stress_csv_, &displacement_csv_})
+  for (ncp::OutputFile* csv :
+       {&steps_csv_, &history_csv_, &stress_csv_, &displacement_csv_})
     if (csv->is_open()) csv->Commit();
 }
 
@@ -103,9 +118,11 @@ OutputPositions SceneOutput::Positions(int step, double time) const {
   OutputPositions p;
   p.step = step;
   p.time = time;
-  for (const ncp::OutputFile* csv : {&steps_csv_, &history_csv_, &stress_csv_, &displacement_csv_})
+  for (const ncp::OutputFile* csv :
+       {&steps_csv_, &history_csv_, &stress_csv_, &displacement_csv_})
     if (csv->is_open())
-      p.csv_bytes.emplace_back(std::filesystem::path(csv->path()).filename().string(), csv->committed_bytes());
+      p.csv_bytes.emplace_back(std::filesystem::path(csv->path()).filename().string(),
+                               csv->committed_bytes());
   p.snapshots = series_.snapshots();
   return p;
 }
@@ -121,17 +138,21 @@ ncp::OutputFile SceneOutput::OpenCsv(const std::string& name, const std::string&
       files_written_->push_back(path);
       return csv;
     }
-  throw CheckpointError("the checkpoint has no position of " + name + " (written by another version?)");
+  throw CheckpointError("the checkpoint has no position of " + name +
+                        " (written by another version?)");
 }
 
 void SceneOutput::Finish() {
-  for (ncp::OutputFile* csv : {&steps_csv_, &history_csv_, &stress_csv_, &displacement_csv_})
+  for (ncp::OutputFile* csv :
+       {&steps_csv_, &history_csv_, &stress_csv_, &displacement_csv_})
     if (csv->is_open()) csv->Close();
 }
 
-ncp::OutputFile SceneOutput::Open(const std::string& name, const std::string& header, bool atomic) {
+ncp::OutputFile SceneOutput::Open(const std::string& name, const std::string& header,
+                                  bool atomic) {
   const std::string path = (directory_ / name).string();
-  ncp::OutputFile file = atomic ? ncp::OutputFile::OpenAtomic(path) : ncp::OutputFile::Open(path);
+  ncp::OutputFile file =
+      atomic ? ncp::OutputFile::OpenAtomic(path) : ncp::OutputFile::Open(path);
   file.stream() << header << "\n";
   file.stream().precision(10);
   file.Commit();
@@ -141,7 +162,8 @@ ncp::OutputFile SceneOutput::Open(const std::string& name, const std::string& he
 
 void SceneOutput::WriteMesh() {
   const std::string coords = dim_ == 2 ? "x,y" : "x,y,z";
-  ncp::OutputFile nodes_file = Open("mesh_nodes.csv", "node," + coords + ",fixed_components,contact", true);
+  ncp::OutputFile nodes_file =
+      Open("mesh_nodes.csv", "node," + coords + ",fixed_components,contact", true);
   std::ostream& nodes_csv = nodes_file.stream();
   std::vector<char> is_contact(static_cast<size_t>(mesh_.NumNodes()), 0);
   for (const ContactNode& c : frames_.nodes) is_contact[static_cast<size_t>(c.node)] = 1;
@@ -153,41 +175,51 @@ void SceneOutput::WriteMesh() {
     nodes_csv << ',' << fixed << ',' << int(is_contact[static_cast<size_t>(i)]) << '\n';
   }
   std::string element_header = "element,type";
-  for (int a = 0; a < mesh_.elements.rows(); ++a) element_header += ",n" + std::to_string(a);
+  for (int a = 0; a < mesh_.elements.rows(); ++a)
+    element_header += ",n" + std::to_string(a);
   nodes_file.Close();
   ncp::OutputFile elements_file = Open("mesh_elements.csv", element_header, true);
   std::ostream& elements_csv = elements_file.stream();
   for (int e = 0; e < mesh_.NumElements(); ++e) {
     elements_csv << e << ',' << ToString(mesh_.element_type);
-    for (int a = 0; a < mesh_.elements.rows(); ++a) elements_csv << ',' << mesh_.elements(a, e);
+    for (int a = 0; a < mesh_.elements.rows(); ++a)
+      elements_csv << ',' << mesh_.elements(a, e);
     elements_csv << '\n';
   }
   elements_file.Close();
 }
 
-void SceneOutput::WriteStepRow(const StepRecord& r) { WriteStepsCsvRow(r, &steps_csv_.stream()); }
+void SceneOutput::WriteStepRow(const StepRecord& r) {
+  WriteStepsCsvRow(r, &steps_csv_.stream());
+}
 
 const char* const kStepsCsvHeader =
-    "step,time,newton_iterations,jacobian_evaluations,residual_evaluations,seconds,kinetic_energy,"
-    "strain_energy,external_work,normal_contact_work,friction_dissipation,energy_balance_error,"
-    "normal_force_sum,friction_force_sum,max_penetration,active_nodes,equilibrium_residual,"
+    "step,time,newton_iterations,jacobian_evaluations,residual_evaluations,seconds,"
+    "kinetic_energy,"
+    "strain_energy,external_work,normal_contact_work,friction_dissipation,energy_balance_"
+    "error,"
+    "normal_force_sum,friction_force_sum,max_penetration,active_nodes,equilibrium_"
+    "residual,"
     "complementarity_residual,friction_residual,force_accuracy,displacement_accuracy";
 
 void WriteStepsCsvRow(const StepRecord& r, std::ostream* out) {
-  *out << r.step << ',' << r.time << ',' << r.newton_iterations << ',' << r.jacobian_evaluations << ','
-       << r.residual_evaluations << ',' << r.seconds << ',' << r.kinetic << ',' << r.strain << ','
-       << r.external_work << ',' << r.normal_contact_work << ',' << r.friction_dissipation << ','
-       << r.energy_balance_error << ',' << r.normal_force_sum << ',' << r.tangent_force_sum << ','
-       << r.max_penetration << ',' << r.active_nodes << ',' << r.equilibrium_residual << ','
-       << r.complementarity_residual << ',' << r.friction_residual << ',' << r.force_accuracy << ','
-       << r.displacement_accuracy << '\n';
+  *out << r.step << ',' << r.time << ',' << r.newton_iterations << ','
+       << r.jacobian_evaluations << ',' << r.residual_evaluations << ',' << r.seconds
+       << ',' << r.kinetic << ',' << r.strain << ',' << r.external_work << ','
+       << r.normal_contact_work << ',' << r.friction_dissipation << ','
+       << r.energy_balance_error << ',' << r.normal_force_sum << ','
+       << r.tangent_force_sum << ',' << r.max_penetration << ',' << r.active_nodes << ','
+       << r.equilibrium_residual << ',' << r.complementarity_residual << ','
+       << r.friction_residual << ',' << r.force_accuracy << ',' << r.displacement_accuracy
+       << '\n';
 }
 
-std::pair<double, Eigen::VectorXd> SceneOutput::Stress(size_t k, const ContactSystem::Result& contact,
-                                                       double force_scale) const {
+std::pair<double, Eigen::VectorXd> SceneOutput::Stress(
+    size_t k, const ContactSystem::Result& contact, double force_scale) const {
   const double area = frames_.nodes[k].area;
   const auto c = static_cast<Eigen::Index>(k);
-  return {force_scale * contact.normal_force(c) / area, force_scale * contact.tangent_force.col(c) / area};
+  return {force_scale * contact.normal_force(c) / area,
+          force_scale * contact.tangent_force.col(c) / area};
 }
 
 void SceneOutput::WriteContactStress(double time, const ContactSystem::Result& contact,
@@ -201,7 +233,7 @@ void SceneOutput::WriteContactStress(double time, const ContactSystem::Result& c
     out << ',' << p;
     for (Eigen::Index a = 0; a < tau.size(); ++a) out << ',' << tau(a);
     out << ',' << contact.gap(static_cast<Eigen::Index>(k)) << ','
-                << force_scale * contact.normal_force(static_cast<Eigen::Index>(k)) << '\n';
+        << force_scale * contact.normal_force(static_cast<Eigen::Index>(k)) << '\n';
   }
 }
 
@@ -221,7 +253,8 @@ void SceneOutput::WriteSnapshot(int step, const ContactSnapshot& snapshot) {
 
 bool SceneOutput::ReachedStressTime(double time) {
   bool reached = false;
-  while (!pending_stress_times_.empty() && time >= pending_stress_times_.front() - 0.5 * dt_) {
+  while (!pending_stress_times_.empty() &&
+         time >= pending_stress_times_.front() - 0.5 * dt_) {
     pending_stress_times_.erase(pending_stress_times_.begin());
     reached = true;
   }

@@ -1,13 +1,13 @@
-// The files a scene run writes into scene.output_directory (examples/scenes/README.md): the
-// mesh once (mesh_nodes.csv, mesh_elements.csv), one row per step (steps.csv), the marked
-// node's history (node_history.csv), the contact stresses and the displacement of every node
-// at the stress times and the end (contact_stress.csv, displacement.csv), and VTK snapshots.
-// Every write is checked (ncp::OutputFile): a failed one throws ncp::OutputError naming the
-// file. The CSVs grow by whole rows, committed after each step, so after a failure or an
-// interrupt they hold complete rows up to the last step written; the mesh files and the
-// snapshots are written atomically (NAME.partial renamed when complete). A resumed run
-// (OutputPositions from its checkpoint) cuts each CSV back to its size at the checkpoint's
-// step and appends, and continues the VTK series.
+// The files a scene run writes into scene.output_directory (examples/scenes/README.md):
+// the mesh once (mesh_nodes.csv, mesh_elements.csv), one row per step (steps.csv), the
+// marked node's history (node_history.csv), the contact stresses and the displacement of
+// every node at the stress times and the end (contact_stress.csv, displacement.csv), and
+// VTK snapshots. Every write is checked (ncp::OutputFile): a failed one throws
+// ncp::OutputError naming the file. The CSVs grow by whole rows, committed after each
+// step, so after a failure or an interrupt they hold complete rows up to the last step
+// written; the mesh files and the snapshots are written atomically (NAME.partial renamed
+// when complete). A resumed run (OutputPositions from its checkpoint) cuts each CSV back
+// to its size at the checkpoint's step and appends, and continues the VTK series.
 #pragma once
 
 #include <Eigen/Core>
@@ -30,8 +30,9 @@ void WriteStepsCsvRow(const StepRecord& r, std::ostream* out);
 struct OutputPositions {
   int step = 0;       ///< the step they end with
   double time = 0.0;  ///< its time [s]
-  std::vector<std::pair<std::string, long long>> csv_bytes;  ///< file name, committed bytes
-  std::vector<std::pair<double, std::string>> snapshots;     ///< the .pvd's (time, file)
+  std::vector<std::pair<std::string, long long>>
+      csv_bytes;                                          ///< file name, committed bytes
+  std::vector<std::pair<double, std::string>> snapshots;  ///< the .pvd's (time, file)
   /// As bytes (BinaryWriter; the checkpoint's application data) and back. Decode throws
   /// CheckpointError naming `checkpoint` on bytes it cannot read.
   std::string Encode() const;
@@ -40,16 +41,16 @@ struct OutputPositions {
 
 class SceneOutput {
  public:
-  /// Opens the files, writes the mesh and, for a prescribed initial state, the snapshot of
-  /// the start (step 0; a static initial state is known only once the run starts); adds each
-  /// path to *files_written; writes nothing without scene.output_directory. marked: index
-  /// into built.frames.nodes of the node_history.csv node, -1 for none. `built` must
-  /// outlive this.
-  /// With `resume`: continues the files of a run stopped after resume->step instead (the
-  /// mesh rewritten, no start snapshot; CheckpointError if a CSV is missing from it,
-  /// ncp::OutputError if a CSV is shorter than recorded).
+  /// Opens the files, writes the mesh and, for a prescribed initial state, the snapshot
+  /// of the start (step 0; a static initial state is known only once the run starts);
+  /// adds each path to *files_written; writes nothing without scene.output_directory.
+  /// marked: index into built.frames.nodes of the node_history.csv node, -1 for none.
+  /// `built` must outlive this. With `resume`: continues the files of a run stopped after
+  /// resume->step instead (the mesh rewritten, no start snapshot; CheckpointError if a
+  /// CSV is missing from it, ncp::OutputError if a CSV is shorter than recorded).
   SceneOutput(const Scene& scene, const SceneModel& built, int marked,
-              std::vector<std::string>* files_written, const OutputPositions* resume = nullptr);
+              std::vector<std::string>* files_written,
+              const OutputPositions* resume = nullptr);
 
   /// The positions after the last WriteStep (of `step` at `time`).
   OutputPositions Positions(int step, double time) const;
@@ -66,15 +67,19 @@ class SceneOutput {
   /// Opens directory/name (atomically for a file written whole at once) with its header.
   ncp::OutputFile Open(const std::string& name, const std::string& header, bool atomic);
   /// A CSV: opened with its header, or with `resume` continued at its recorded size.
-  ncp::OutputFile OpenCsv(const std::string& name, const std::string& header, const OutputPositions* resume);
-  /// Nodes with the number of fixed components and the contact flag (a node of Gamma_c that
-  /// keeps a free dof), and the connectivity.
+  ncp::OutputFile OpenCsv(const std::string& name, const std::string& header,
+                          const OutputPositions* resume);
+  /// Nodes with the number of fixed components and the contact flag (a node of Gamma_c
+  /// that keeps a free dof), and the connectivity.
   void WriteMesh();
   void WriteStepRow(const StepRecord& r);
-  /// Normal stress p = lambda_c / A_c and friction stress tau_c / A_c [Pa] of contact node k.
-  std::pair<double, Eigen::VectorXd> Stress(size_t k, const ContactSystem::Result& contact,
+  /// Normal stress p = lambda_c / A_c and friction stress tau_c / A_c [Pa] of contact
+  /// node k.
+  std::pair<double, Eigen::VectorXd> Stress(size_t k,
+                                            const ContactSystem::Result& contact,
                                             double force_scale) const;
-  void WriteContactStress(double time, const ContactSystem::Result& contact, double force_scale);
+  void WriteContactStress(double time, const ContactSystem::Result& contact,
+                          double force_scale);
   /// Full displacement of every node [m].
   void WriteDisplacement(double time, const Eigen::VectorXd& u_free);
   /// snapshot_NNNNN.vtu for `step` and solution.pvd (ParaView output, vtk_writer.hpp).

@@ -1,5 +1,5 @@
-// The scene side of contact::Simulation (contact/simulation.hpp): the built scene it owns,
-// the body force and the obstacle's translation that may change between steps.
+// The scene side of contact::Simulation (contact/simulation.hpp): the built scene it
+// owns, the body force and the obstacle's translation that may change between steps.
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -8,7 +8,6 @@
 #include <stdexcept>
 
 #include "checkpoint.hpp"
-
 #include "contact/scene.hpp"
 #include "contact/simulation.hpp"
 #include "scene/scene_error.hpp"
@@ -20,7 +19,8 @@ struct Simulation::SceneData {
   SceneModel built;
   Eigen::VectorXd body_force;   // [N/m^3]
   Eigen::VectorXd translation;  // of the obstacle from its place in the scene [m]
-  std::uint64_t mesh_hash = 0;  // Fnv1a of the gmsh file's bytes as read (0: generated mesh)
+  std::uint64_t mesh_hash =
+      0;  // Fnv1a of the gmsh file's bytes as read (0: generated mesh)
 };
 
 std::shared_ptr<Simulation::SceneData> Simulation::BuildSceneData(const Scene& scene) {
@@ -31,7 +31,8 @@ std::shared_ptr<Simulation::SceneData> Simulation::BuildSceneData(const Scene& s
   data->translation = Eigen::VectorXd::Zero(scene.dim);
   if (!scene.msh_file.empty()) {
     std::ifstream mesh(scene.msh_file, std::ios::binary);
-    const std::string bytes((std::istreambuf_iterator<char>(mesh)), std::istreambuf_iterator<char>());
+    const std::string bytes((std::istreambuf_iterator<char>(mesh)),
+                            std::istreambuf_iterator<char>());
     data->mesh_hash = internal::Fnv1a(bytes);
   }
   return data;
@@ -50,21 +51,24 @@ std::string FirstDifference(const std::string& saved, const std::string& now) {
   std::istringstream a(saved), b(now);
   std::string x, y;
   for (int line = 1;; ++line) {
-    const bool more_a = static_cast<bool>(std::getline(a, x)), more_b = static_cast<bool>(std::getline(b, y));
+    const bool more_a = static_cast<bool>(std::getline(a, x)),
+               more_b = static_cast<bool>(std::getline(b, y));
     if (!more_a && !more_b) return "the texts differ";
     if (!more_a) x = "(end of file)";
     if (!more_b) y = "(end of file)";
     if (x != y || !more_a || !more_b)
-      return "first difference at line " + std::to_string(line) + ": '" + x + "' in the checkpoint, '" + y + "' now";
+      return "first difference at line " + std::to_string(line) + ": '" + x +
+             "' in the checkpoint, '" + y + "' now";
   }
 }
 
 /// Throws std::invalid_argument unless v has `size` finite entries.
 void CheckVector(const char* what, const char* unit, const Eigen::VectorXd& v, int size) {
   if (v.size() != size || !v.allFinite())
-    throw std::invalid_argument(std::string("contact::Simulation: ") + what + " must be " +
-                                std::to_string(size) + " finite numbers [" + unit + "], got " +
-                                std::to_string(v.size()) + (v.allFinite() ? "" : " with a NaN or inf"));
+    throw std::invalid_argument(std::string("contact::Simulation: ") + what +
+                                " must be " + std::to_string(size) + " finite numbers [" +
+                                unit + "], got " + std::to_string(v.size()) +
+                                (v.allFinite() ? "" : " with a NaN or inf"));
 }
 
 }  // namespace
@@ -84,25 +88,30 @@ void Simulation::SaveScene(internal::CheckpointData* data) const {
 void Simulation::CheckScene(const internal::CheckpointData& data) const {
   const internal::CheckpointIdentity& id = data.identity;
   const Scene& scene = scene_->scene;
-  if (!data.has_scene) throw CheckpointError("it is of a Simulation of a model, not of a scene");
+  if (!data.has_scene)
+    throw CheckpointError("it is of a Simulation of a model, not of a scene");
   const std::uint64_t scene_hash = internal::Fnv1a(scene.text);
   if (id.scene_hash != scene_hash || id.scene_text != scene.text)
-    throw CheckpointError("the scene changed since the checkpoint: scene text hash " + Hex(id.scene_hash) + " (" +
-                          id.scene_source + " with its overrides, in the checkpoint) vs " + Hex(scene_hash) + " (" +
-                          scene.source + " now); " + FirstDifference(id.scene_text, scene.text));
+    throw CheckpointError("the scene changed since the checkpoint: scene text hash " +
+                          Hex(id.scene_hash) + " (" + id.scene_source +
+                          " with its overrides, in the checkpoint) vs " +
+                          Hex(scene_hash) + " (" + scene.source + " now); " +
+                          FirstDifference(id.scene_text, scene.text));
   if (id.mesh_hash != scene_->mesh_hash)
-    throw CheckpointError("the mesh file changed since the checkpoint: " + id.mesh_file + " hash " +
-                          Hex(id.mesh_hash) + " in the checkpoint, " + scene.msh_file + " hash " +
-                          Hex(scene_->mesh_hash) + " now");
-  if (data.body_force.size() != scene.dim || data.obstacle_translation.size() != scene.dim ||
-      !data.body_force.allFinite() || !data.obstacle_translation.allFinite())
-    throw CheckpointError("its body force or obstacle translation is not " + std::to_string(scene.dim) +
-                          " finite numbers");
+    throw CheckpointError("the mesh file changed since the checkpoint: " + id.mesh_file +
+                          " hash " + Hex(id.mesh_hash) + " in the checkpoint, " +
+                          scene.msh_file + " hash " + Hex(scene_->mesh_hash) + " now");
+  if (data.body_force.size() != scene.dim ||
+      data.obstacle_translation.size() != scene.dim || !data.body_force.allFinite() ||
+      !data.obstacle_translation.allFinite())
+    throw CheckpointError("its body force or obstacle translation is not " +
+                          std::to_string(scene.dim) + " finite numbers");
 }
 
 void Simulation::RestoreScene(const internal::CheckpointData& data) {
   if (data.body_force != scene_->body_force) SetBodyForce(data.body_force);
-  scene_->translation = data.obstacle_translation;  // (the gaps it gave are in the checkpoint)
+  scene_->translation =
+      data.obstacle_translation;  // (the gaps it gave are in the checkpoint)
 }
 
 Simulation::Simulation(const Scene& scene) : Simulation(BuildSceneData(scene)) {}
@@ -114,17 +123,21 @@ Simulation::Simulation(std::shared_ptr<SceneData> scene) try
 } catch (const SceneError&) {
   throw;
 } catch (const std::invalid_argument&) {
-  internal::NamingTheScene(scene->scene, []() -> int { throw; });  // rethrown with the scene's name
+  internal::NamingTheScene(scene->scene,
+                           []() -> int { throw; });  // rethrown with the scene's name
 }
 
 Simulation::SceneData& Simulation::RequireScene(const char* what) const {
   if (!scene_)
-    throw std::logic_error(std::string("contact::Simulation::") + what +
-                           ": only a Simulation of a scene has one (use SetLoad / SetContactGaps)");
+    throw std::logic_error(
+        std::string("contact::Simulation::") + what +
+        ": only a Simulation of a scene has one (use SetLoad / SetContactGaps)");
   return *scene_;
 }
 
-const SceneModel& Simulation::scene_model() const { return RequireScene("scene_model").built; }
+const SceneModel& Simulation::scene_model() const {
+  return RequireScene("scene_model").built;
+}
 
 void Simulation::SetBodyForce(const Eigen::VectorXd& body_force) {
   SceneData& data = RequireScene("SetBodyForce");
@@ -142,7 +155,9 @@ void Simulation::MoveObstacle(const Eigen::VectorXd& translation) {
   data.translation = translation;
 }
 
-const Eigen::VectorXd& Simulation::body_force() const { return RequireScene("body_force").body_force; }
+const Eigen::VectorXd& Simulation::body_force() const {
+  return RequireScene("body_force").body_force;
+}
 
 const Eigen::VectorXd& Simulation::obstacle_translation() const {
   return RequireScene("obstacle_translation").translation;

@@ -1,5 +1,5 @@
-// Reading a scene file (contact/src/scene/scene_file.cpp): a TOML table that names the key
-// in every error, and the accepted interval of each number with its unit.
+// Reading a scene file (contact/src/scene/scene_file.cpp): a TOML table that names the
+// key in every error, and the accepted interval of each number with its unit.
 #pragma once
 
 #include <Eigen/Core>
@@ -20,12 +20,13 @@ namespace contact::internal {
 
 /// Integers in full (4294967297, not 4.29497e+09), other numbers with 6 digits.
 inline std::string Str(double x) {
-  if (x == std::floor(x) && std::abs(x) < 1e15) return std::to_string(static_cast<long long>(x));
+  if (x == std::floor(x) && std::abs(x) < 1e15)
+    return std::to_string(static_cast<long long>(x));
   return internal::FormatShort(x);
 }
 
-/// The accepted interval of a scene number and its SI unit: every number of a scene is read
-/// through one of these, so a new key gets its range check and its one-line message
+/// The accepted interval of a scene number and its SI unit: every number of a scene is
+/// read through one of these, so a new key gets its range check and its one-line message
 /// "file:line: 'table.key' = value unit is outside the accepted range [min, max] unit".
 /// The bounds keep every derived quantity (stiffness E/h^2, omega_max^2 = E/(rho h^2),
 /// step counts) finite in double precision; they are far outside any physical use.
@@ -38,7 +39,8 @@ struct Range {
   }
   std::string Describe() const {
     const std::string u = unit[0] ? std::string(" ") + unit : "";
-    return std::string(" the accepted range ") + (min_open ? "(" : "[") + Str(min) + ", " + Str(max) + (max_open ? ")" : "]") + u;
+    return std::string(" the accepted range ") + (min_open ? "(" : "[") + Str(min) +
+           ", " + Str(max) + (max_open ? ")" : "]") + u;
   }
 };
 /// A TOML table that remembers which keys were read, so that unknown keys (typos) can be
@@ -94,7 +96,8 @@ class Table {
   /// One of `choices`.
   std::string Choice(const std::string& key, const std::vector<std::string>& choices,
                      const std::string& fallback = "") const {
-    const std::string s = fallback.empty() || Has(key) ? String(key) : (used_.insert(key), fallback);
+    const std::string s =
+        fallback.empty() || Has(key) ? String(key) : (used_.insert(key), fallback);
     if (std::find(choices.begin(), choices.end(), s) == choices.end()) {
       std::string list;
       for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
@@ -103,12 +106,15 @@ class Table {
     return s;
   }
   /// An array of numbers, each in `range` (and `expected_size` entries if >= 0).
-  std::vector<double> Numbers(const std::string& key, const Range& range, int expected_size = -1) const {
+  std::vector<double> Numbers(const std::string& key, const Range& range,
+                              int expected_size = -1) const {
     const toml::value& v = Get(key);
     if (!v.is_array()) Fail(key, "must be an array of numbers in" + range.Describe(), &v);
     if (expected_size >= 0 && static_cast<int>(v.as_array().size()) != expected_size)
-      Fail(key, "must have " + std::to_string(expected_size) + " entries, got " +
-                    std::to_string(v.as_array().size()), &v);
+      Fail(key,
+           "must have " + std::to_string(expected_size) + " entries, got " +
+               std::to_string(v.as_array().size()),
+           &v);
     std::vector<double> out;
     for (const toml::value& e : v.as_array()) {
       out.push_back(ToDouble(key, e, v));
@@ -118,7 +124,8 @@ class Table {
   }
   Eigen::VectorXd Vec(const std::string& key, const Range& range, int size) const {
     const std::vector<double> v = Numbers(key, range, size);
-    return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+    return Eigen::Map<const Eigen::VectorXd>(v.data(),
+                                             static_cast<Eigen::Index>(v.size()));
   }
   std::vector<std::string> Strings(const std::string& key) const {
     if (!Has(key)) return used_.insert(key), std::vector<std::string>{};
@@ -150,46 +157,58 @@ class Table {
       if (used_.count(key)) continue;
       std::string known;
       for (const auto& k : used_) known += (known.empty() ? "" : ", ") + k;
-      const std::string guess = Closest(key, std::vector<std::string>(used_.begin(), used_.end()));
-      throw SceneError(file_ + ":" + std::to_string(v.location().line()) + ": unknown " +
-                       (v.is_table() ? "table [" + Join(key) + "]" : "key '" + Join(key) + "'") +
-                       (guess.empty() ? "" : " - did you mean '" + Join(guess) + "'?") +
-                       (known.empty() ? "" : " (known keys here: " + known + ")") + known_hint);
+      const std::string guess =
+          Closest(key, std::vector<std::string>(used_.begin(), used_.end()));
+      throw SceneError(
+          file_ + ":" + std::to_string(v.location().line()) + ": unknown " +
+          (v.is_table() ? "table [" + Join(key) + "]" : "key '" + Join(key) + "'") +
+          (guess.empty() ? "" : " - did you mean '" + Join(guess) + "'?") +
+          (known.empty() ? "" : " (known keys here: " + known + ")") + known_hint);
     }
   }
 
   [[noreturn]] void Fail(const std::string& key, const std::string& what,
                          const toml::value* at = nullptr) const {
-    // The value's own source: the scene file, or "command line (table.key)" for an override.
+    // The value's own source: the scene file, or "command line (table.key)" for an
+    // override.
     const std::string where =
-        at ? at->location().file_name() + ":" + std::to_string(at->location().line()) : file_;
+        at ? at->location().file_name() + ":" + std::to_string(at->location().line())
+           : file_;
     throw SceneError(where + ": '" + Join(key) + "' " + what);
   }
 
  private:
-  /// The value of a TOML number as a double. toml11 3.7 saturates an integer literal beyond
-  /// the int64 range to INT64_MIN / INT64_MAX without an error, so those two are refused.
-  double ToDouble(const std::string& key, const toml::value& e, const toml::value& at) const {
+  /// The value of a TOML number as a double. toml11 3.7 saturates an integer literal
+  /// beyond the int64 range to INT64_MIN / INT64_MAX without an error, so those two are
+  /// refused.
+  double ToDouble(const std::string& key, const toml::value& e,
+                  const toml::value& at) const {
     if (e.is_floating()) return e.as_floating();
     if (!e.is_integer()) Fail(key, "must be a number, got a " + TypeName(e), &at);
     const std::int64_t i = e.as_integer();
-    if (i == std::numeric_limits<std::int64_t>::max() || i == std::numeric_limits<std::int64_t>::min())
+    if (i == std::numeric_limits<std::int64_t>::max() ||
+        i == std::numeric_limits<std::int64_t>::min())
       Fail(key, "is an integer literal beyond the 64-bit range [-2^63, 2^63 - 1]", &at);
     return static_cast<double>(i);
   }
-  void CheckRange(const std::string& key, double x, const Range& range, const toml::value& at,
-                  size_t entry = static_cast<size_t>(-1)) const {
+  void CheckRange(const std::string& key, double x, const Range& range,
+                  const toml::value& at, size_t entry = static_cast<size_t>(-1)) const {
     if (range.Contains(x)) return;
-    const std::string which = entry == static_cast<size_t>(-1) ? "" : "entry " + std::to_string(entry) + " ";
-    Fail(key, which + "= " + Str(x) + (range.unit[0] ? std::string(" ") + range.unit : "") +
-                  " is outside" + range.Describe(), &at);
+    const std::string which =
+        entry == static_cast<size_t>(-1) ? "" : "entry " + std::to_string(entry) + " ";
+    Fail(key,
+         which + "= " + Str(x) + (range.unit[0] ? std::string(" ") + range.unit : "") +
+             " is outside" + range.Describe(),
+         &at);
   }
   static std::string TypeName(const toml::value& v) {
     std::ostringstream s;
     s << v.type();
     return s.str();
   }
-  std::string Join(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  std::string Join(const std::string& key) const {
+    return path_.empty() ? key : path_ + "." + key;
+  }
 
   /// " (found 'youngs_modulus' in this table: a typo?)" for a present key within edit
   /// distance 2 of the missing one.
@@ -201,7 +220,8 @@ class Table {
     return found.empty() ? "" : " (found '" + Join(found) + "' instead: a typo?)";
   }
   /// The candidate within edit distance 2 of `word` (the nearest), or "".
-  static std::string Closest(const std::string& word, const std::vector<std::string>& candidates) {
+  static std::string Closest(const std::string& word,
+                             const std::vector<std::string>& candidates) {
     std::string best;
     size_t best_distance = 3;
     for (const std::string& c : candidates) {
@@ -219,7 +239,8 @@ class Table {
       row[0] = i;
       for (size_t j = 1; j <= b.size(); ++j) {
         const size_t above = row[j];
-        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        row[j] = std::min(
+            {row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
         diagonal = above;
       }
     }

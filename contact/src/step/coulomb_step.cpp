@@ -10,12 +10,14 @@
 
 namespace contact::internal {
 
-CoulombStep::CoulombStep(int dim, const Eigen::MatrixXd& W, std::vector<ContactNode> nodes,
-                         double friction_coefficient, const ncp::fc::Options& fc_options)
+CoulombStep::CoulombStep(int dim, const Eigen::MatrixXd& W,
+                         std::vector<ContactNode> nodes, double friction_coefficient,
+                         const ncp::fc::Options& fc_options)
     : dim_(dim), nodes_(std::move(nodes)), options_(fc_options) {
   if (W.rows() != W.cols())
-    throw std::invalid_argument("contact::CoulombStep: W must be square, got " + std::to_string(W.rows()) +
-                                " x " + std::to_string(W.cols()));
+    throw std::invalid_argument("contact::CoulombStep: W must be square, got " +
+                                std::to_string(W.rows()) + " x " +
+                                std::to_string(W.cols()));
   apply_W_ = [W](const Eigen::VectorXd& F, Eigen::VectorXd* x) { x->noalias() = W * F; };
   Build(W.rows(), friction_coefficient);
   // W_fc is dense (every contact sees every other through the body): dense LU.
@@ -23,7 +25,8 @@ CoulombStep::CoulombStep(int dim, const Eigen::MatrixXd& W, std::vector<ContactN
     options_.linear_solver = ncp::LinearSolverType::kDenseLU;
   W_fc_ = E_ * W * E_.transpose();
   W_fc_ = 0.5 * (W_fc_ + W_fc_.transpose());
-  // The solver keeps W_fc's structure for the run; per step only its scale F / D and q change.
+  // The solver keeps W_fc's structure for the run; per step only its scale F / D and q
+  // change.
   problem_.W = W_fc_.sparseView(0.0, 0.0);
   problem_.q = Eigen::VectorXd::Zero(problem_.size());
   solver_ = std::make_unique<ncp::fc::Solver>(problem_);
@@ -33,7 +36,10 @@ CoulombStep::CoulombStep(int dim, const Eigen::MatrixXd& W, std::vector<ContactN
 CoulombStep::CoulombStep(int dim, Operator apply_W, const Eigen::VectorXd& W_diagonal,
                          std::vector<ContactNode> nodes, double friction_coefficient,
                          const ncp::fc::Options& fc_options)
-    : dim_(dim), nodes_(std::move(nodes)), apply_W_(std::move(apply_W)), matrix_free_(true),
+    : dim_(dim),
+      nodes_(std::move(nodes)),
+      apply_W_(std::move(apply_W)),
+      matrix_free_(true),
       options_(fc_options) {
   Build(W_diagonal.size(), friction_coefficient);
   diagonal_fc_ = E_.cwiseAbs2() * W_diagonal;
@@ -53,14 +59,17 @@ CoulombStep::CoulombStep(int dim, Operator apply_W, const Eigen::VectorXd& W_dia
 void CoulombStep::Build(Eigen::Index num_unknowns, double friction_coefficient) {
   const std::string who = "contact::CoulombStep: ";
   const int dim = dim_;
-  if (dim != 2 && dim != 3) throw std::invalid_argument(who + "dim must be 2 or 3, got " + std::to_string(dim));
+  if (dim != 2 && dim != 3)
+    throw std::invalid_argument(who + "dim must be 2 or 3, got " + std::to_string(dim));
   if (!(friction_coefficient >= 0.0) || !std::isfinite(friction_coefficient))
-    throw std::invalid_argument(who + "the friction coefficient must be finite and >= 0, got " +
+    throw std::invalid_argument(who +
+                                "the friction coefficient must be finite and >= 0, got " +
                                 std::to_string(friction_coefficient));
   std::string error;
   if (!options_.IsValid(&error)) throw std::invalid_argument(who + error);
 
-  // E: row dim c + a holds e_c,a = (-n_c, t1_c[, t2_c])_a on the free components of node c.
+  // E: row dim c + a holds e_c,a = (-n_c, t1_c[, t2_c])_a on the free components of node
+  // c.
   const Eigen::Index num_contacts = static_cast<Eigen::Index>(nodes_.size());
   std::vector<Eigen::Triplet<double>> e;
   for (Eigen::Index c = 0; c < num_contacts; ++c) {
@@ -69,8 +78,9 @@ void CoulombStep::Build(Eigen::Index num_unknowns, double friction_coefficient) 
       const int unknown = node.dofs[b];
       if (unknown < 0) continue;
       if (unknown >= num_unknowns)
-        throw std::invalid_argument(who + "node " + std::to_string(node.node) + " has contact unknown " +
-                                    std::to_string(unknown) + ", W has " + std::to_string(num_unknowns));
+        throw std::invalid_argument(who + "node " + std::to_string(node.node) +
+                                    " has contact unknown " + std::to_string(unknown) +
+                                    ", W has " + std::to_string(num_unknowns));
       e.emplace_back(dim * c, unknown, -node.normal(b));
       e.emplace_back(dim * c + 1, unknown, node.tangent1(b));
       if (dim == 3) e.emplace_back(dim * c + 2, unknown, node.tangent2(b));
@@ -82,7 +92,8 @@ void CoulombStep::Build(Eigen::Index num_unknowns, double friction_coefficient) 
   for (Eigen::Index col = 0; col < E_.outerSize(); ++col)
     for (Eigen::SparseMatrix<double>::InnerIterator it(E_, col); it; ++it)
       if (it.value() != 0.0) transmits_[static_cast<size_t>(it.row())] = true;
-  for (Eigen::Index c = 0; c < num_contacts; ++c) transmits_[static_cast<size_t>(dim * c)] = true;
+  for (Eigen::Index c = 0; c < num_contacts; ++c)
+    transmits_[static_cast<size_t>(dim * c)] = true;
 
   problem_.dimension = dim;
   problem_.num_contacts = static_cast<int>(num_contacts);
@@ -90,8 +101,9 @@ void CoulombStep::Build(Eigen::Index num_unknowns, double friction_coefficient) 
   problem_.name = "contact step";
 }
 
-double CoulombStep::SolveScaled(const Eigen::VectorXd& q_fc, double F, double D, double tolerance,
-                                Eigen::VectorXd* r, ncp::fc::Summary* summary) {
+double CoulombStep::SolveScaled(const Eigen::VectorXd& q_fc, double F, double D,
+                                double tolerance, Eigen::VectorXd* r,
+                                ncp::fc::Summary* summary) {
   const Eigen::Index num_contacts = problem_.num_contacts;
   // Asked: ||e'||_2 <= kNaturalMapMargin tolerance (+ the round-off of u', 16 ulp of its
   // terms, as ContactSystem); ncp::fc's measure is relative to 1 + ||q'||_2.
@@ -99,7 +111,8 @@ double CoulombStep::SolveScaled(const Eigen::VectorXd& q_fc, double F, double D,
   const Eigen::VectorXd& q = q_;
   const double eps = std::numeric_limits<double>::epsilon();
   const double q_norm = q.norm();
-  const double roundoff = ContactSystem::kRoundoffUlps * eps * q.lpNorm<Eigen::Infinity>();
+  const double roundoff =
+      ContactSystem::kRoundoffUlps * eps * q.lpNorm<Eigen::Infinity>();
   ncp::fc::Options& options = solve_options_;
   options = options_;
   options.tolerance = (kNaturalMapMargin * tolerance + roundoff) / (1.0 + q_norm);
@@ -120,10 +133,12 @@ double CoulombStep::SolveScaled(const Eigen::VectorXd& q_fc, double F, double D,
   }
   // A local tangent along a constrained axis (empty row of E) transmits no force to the
   // body: its component of r is arbitrary in the problem and set to 0. Then r_c onto C_mu
-  // (moves r by at most the error reached): the forces applied are admissible, lambda >= 0.
+  // (moves r by at most the error reached): the forces applied are admissible, lambda >=
+  // 0.
   for (Eigen::Index i = 0; i < r->size(); ++i)
     if (!transmits_[static_cast<size_t>(i)]) (*r)(i) = 0.0;
-  for (Eigen::Index c = 0; c < num_contacts; ++c) ncp::fc::ProjectOnCone(problem_.mu(c), dim_, r->data() + dim_ * c);
+  for (Eigen::Index c = 0; c < num_contacts; ++c)
+    ncp::fc::ProjectOnCone(problem_.mu(c), dim_, r->data() + dim_ * c);
   if (matrix_free_) {
     operator_problem_.apply_W(*r, &u_);
   } else {
@@ -133,16 +148,20 @@ double CoulombStep::SolveScaled(const Eigen::VectorXd& q_fc, double F, double D,
   return ncp::fc::NaturalMapResidual(dim_, problem_.mu, *r, u_);
 }
 
-bool CoulombStep::Solve(const Eigen::VectorXd& x_free, const Eigen::VectorXd& gap0, double force_scale,
-                        double displacement_scale, double tolerance, Outcome* out) {
+bool CoulombStep::Solve(const Eigen::VectorXd& x_free, const Eigen::VectorXd& gap0,
+                        double force_scale, double displacement_scale, double tolerance,
+                        Outcome* out) {
   const Eigen::Index num_contacts = problem_.num_contacts;
   const char* who = "contact::CoulombStep::Solve: ";
   if (x_free.size() != E_.cols() || gap0.size() != num_contacts)
-    throw std::invalid_argument(who + std::string("x_free has " + std::to_string(x_free.size()) + " entries (expected " +
-                                std::to_string(E_.cols()) + "), gap0 " + std::to_string(gap0.size()) +
-                                " (expected " + std::to_string(num_contacts) + ")"));
+    throw std::invalid_argument(
+        who + std::string("x_free has " + std::to_string(x_free.size()) +
+                          " entries (expected " + std::to_string(E_.cols()) + "), gap0 " +
+                          std::to_string(gap0.size()) + " (expected " +
+                          std::to_string(num_contacts) + ")"));
   if (!(force_scale > 0.0) || !(displacement_scale > 0.0) || !(tolerance > 0.0))
-    throw std::invalid_argument(who + std::string("the scales F, D and the tolerance must be > 0"));
+    throw std::invalid_argument(
+        who + std::string("the scales F, D and the tolerance must be > 0"));
   const double F = force_scale, D = displacement_scale;
 
   Eigen::VectorXd& q_fc = q_fc_;
@@ -154,9 +173,10 @@ bool CoulombStep::Solve(const Eigen::VectorXd& x_free, const Eigen::VectorXd& ga
   else
     r.setZero(q_fc.size());
   out->natural_map_residual = SolveScaled(q_fc, F, D, tolerance, &r, &out->summary);
-  // The margin is best effort (round-off of W' r' can stop Newton short of it): the step is
-  // solved when the required bound holds at the returned (projected) r, recomputed.
-  const double roundoff = ContactSystem::kRoundoffUlps * std::numeric_limits<double>::epsilon() *
+  // The margin is best effort (round-off of W' r' can stop Newton short of it): the step
+  // is solved when the required bound holds at the returned (projected) r, recomputed.
+  const double roundoff = ContactSystem::kRoundoffUlps *
+                          std::numeric_limits<double>::epsilon() *
                           q_fc.lpNorm<Eigen::Infinity>() / D;
   const bool converged = out->natural_map_residual <= tolerance + roundoff;
 
@@ -186,8 +206,9 @@ bool CoulombStep::Solve(const Eigen::VectorXd& x_free, const Eigen::VectorXd& ga
 
 void CoulombStep::RestorePreviousForces(const Eigen::VectorXd& r) {
   if (r.size() != 0 && r.size() != E_.rows())
-    throw std::invalid_argument("the warm start (previous contact forces) has " + std::to_string(r.size()) +
-                                " entries, this run has " + std::to_string(E_.rows()) + " local components");
+    throw std::invalid_argument("the warm start (previous contact forces) has " +
+                                std::to_string(r.size()) + " entries, this run has " +
+                                std::to_string(E_.rows()) + " local components");
   r_previous_ = r;
 }
 

@@ -1,4 +1,5 @@
-// StepMethod::kExplicit: the step with a lumped (diagonal) mass in closed form, node by node.
+// StepMethod::kExplicit: the step with a lumped (diagonal) mass in closed form, node by
+// node.
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -15,27 +16,31 @@ namespace {
 // result is the exact solution of the step system.
 class ExplicitStep : public StepAlgorithm {
  public:
-  ExplicitStep(int dim, const Eigen::SparseMatrix<double>& S, const std::vector<ContactNode>& nodes)
+  ExplicitStep(int dim, const Eigen::SparseMatrix<double>& S,
+               const std::vector<ContactNode>& nodes)
       : dim_(dim), nodes_(nodes), diagonal_(S.rows()) {
     diagonal_ = S.diagonal();
     if (!IsDiagonal(S) || !(diagonal_.minCoeff() > 0.0))
-      throw std::invalid_argument("contact::RunDynamics: the explicit step needs a lumped "
-                                  "(diagonal) mass matrix; use mass = \"lumped\" or another step");
+      throw std::invalid_argument(
+          "contact::RunDynamics: the explicit step needs a lumped "
+          "(diagonal) mass matrix; use mass = \"lumped\" or another step");
     const int unequal = UnequalLumpedMassNode(dim_, diagonal_, nodes_);
     if (unequal >= 0)
-      throw std::invalid_argument("contact::RunDynamics: the explicit step needs the same "
-                                  "lumped mass in every component of contact node " +
-                                  std::to_string(unequal));
+      throw std::invalid_argument(
+          "contact::RunDynamics: the explicit step needs the same "
+          "lumped mass in every component of contact node " +
+          std::to_string(unequal));
   }
 
   /// du and the contact result, in system units, for S du + q = F with bounds g (no
-  /// iteration: the scales do not enter). (*result is reused: no allocation once it has the
-  /// sizes.)
+  /// iteration: the scales do not enter). (*result is reused: no allocation once it has
+  /// the sizes.)
   StepOutcome Solve(const StepData& step, ContactSystem::Result* result) override {
     const auto start = std::chrono::steady_clock::now();
     SolveClosedForm(step.q, step.u, step.bound, step.gap, result);
     StepOutcome out;
-    out.solve_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.solve_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out.ok = result->x.allFinite();
     out.status = out.ok ? "converged" : "non-finite values in the explicit step";
     return out;
@@ -54,10 +59,12 @@ class ExplicitStep : public StepAlgorithm {
     out.slip.setZero(dim_ - 1, N);
     for (Eigen::Index c = 0; c < N; ++c) {
       const ContactNode& node = nodes_[static_cast<size_t>(c)];
-      const int first_free = node.dofs[0] >= 0 ? node.dofs[0] : node.dofs[1] >= 0 ? node.dofs[1] : node.dofs[2];
-      const ExplicitNodeStep step =
-          SolveExplicitContactNode(dim_, node, diagonal_(first_free), gap(c), bound.size() ? bound(c) : 0.0,
-                                   q.data(), u0.data(), out.x.data());
+      const int first_free = node.dofs[0] >= 0   ? node.dofs[0]
+                             : node.dofs[1] >= 0 ? node.dofs[1]
+                                                 : node.dofs[2];
+      const ExplicitNodeStep step = SolveExplicitContactNode(
+          dim_, node, diagonal_(first_free), gap(c), bound.size() ? bound(c) : 0.0,
+          q.data(), u0.data(), out.x.data());
       out.normal_force(c) = step.normal_force;
       out.gap(c) = step.gap;
       for (int a = 0; a < dim_ - 1; ++a) {
@@ -74,7 +81,8 @@ class ExplicitStep : public StepAlgorithm {
 
 }  // namespace
 
-int UnequalLumpedMassNode(int dim, const Eigen::VectorXd& diagonal, const std::vector<ContactNode>& nodes) {
+int UnequalLumpedMassNode(int dim, const Eigen::VectorXd& diagonal,
+                          const std::vector<ContactNode>& nodes) {
   for (const ContactNode& node : nodes) {
     double m = -1.0;
     for (int a = 0; a < dim; ++a) {

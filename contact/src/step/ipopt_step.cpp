@@ -9,8 +9,8 @@ namespace contact::internal {
 IpoptQp::IpoptQp(const DynamicModel& model, double m_max, double tolerance)
     : S_(model.M / m_max), tolerance_(tolerance) {
   // Rows n_c . du_c <= s_c - n_c . u^k, i.e. G = Y R.
-  const RestrictionMaps maps =
-      MakeRestrictionMaps(model.dim, static_cast<int>(model.M.rows()), model.contact_nodes);
+  const RestrictionMaps maps = MakeRestrictionMaps(
+      model.dim, static_cast<int>(model.M.rows()), model.contact_nodes);
   G_ = maps.Y * maps.R;
 }
 
@@ -25,8 +25,9 @@ ConvexQpResult IpoptQp::Solve(const StepData& step) const {
   qp_options.dual_infeasibility_tolerance = tolerance_;
   qp_options.constraint_violation_tolerance = tolerance_;
   qp_options.complementarity_tolerance = tolerance_;
-  ConvexQpResult qp = SolveConvexQpIpopt((D / F) * S_, step.q / F, G_, (step.gap - G_ * step.u) / D,
-                                         step.guess / D, qp_options);
+  ConvexQpResult qp =
+      SolveConvexQpIpopt((D / F) * S_, step.q / F, G_, (step.gap - G_ * step.u) / D,
+                         step.guess / D, qp_options);
   qp.x *= D;
   qp.multipliers *= F;
   return qp;
@@ -39,16 +40,19 @@ namespace {
 class IpoptStep : public StepAlgorithm {
  public:
   IpoptStep(const DynamicModel& model, double m_max, double tolerance)
-      : qp_(model, m_max, tolerance), system_(model.dim, model.M / m_max, model.contact_nodes) {}
+      : qp_(model, m_max, tolerance),
+        system_(model.dim, model.M / m_max, model.contact_nodes) {}
 
   StepOutcome Solve(const StepData& step, ContactSystem::Result* result) override {
     system_.SetGaps(step.gap);
     system_.Update(step.q, step.u, step.bound);
-    system_.SetResidualScales(step.scales.force / step.force_scale, step.scales.displacement);
+    system_.SetResidualScales(step.scales.force / step.force_scale,
+                              step.scales.displacement);
     const auto start = std::chrono::steady_clock::now();
     const ConvexQpResult qp = qp_.Solve(step);
     StepOutcome out;
-    out.solve_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.solve_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out.ok = qp.status == ConvexQpStatus::kSolved;
     out.status = out.ok ? "converged" : qp.message;
     out.newton_iterations = qp.iterations;

@@ -484,7 +484,8 @@ TestProblem VonThunenMcp() {
       "x = (cst (12x4, region-major), y (12x4), ip (12), pk (12), wp, p (4)); the worker "
       "wage wl = 1 (numeraire, wl.fx in the .gms) is eliminated with its equation mkt_l; "
       "a known hard problem: from the .gms start FB without merit restarts stops at a "
-      "stationary point of psi (77 iterations) and min at max_iterations (observed here); "
+      "stationary point of psi (77 iterations) and min at max_iterations (observed "
+      "here); "
       "the default FB converges through one merit restart; the stored solution was "
       "computed with FB and nonmonotone memory 10";
   return p;

@@ -56,8 +56,8 @@ class Nash10Function : public internal::DenseJacobianFunction {
     const double d2p = (1.0 + 1.0 / kGamma) * p / (kGamma * Q * Q);
     for (int i = 0; i < kN; ++i) {
       for (int j = 0; j < kN; ++j) (*J)(i, j) = -dp - q(i) * d2p;
-      const double tc2 = std::pow(kL, 1.0 / kBeta[i]) / kBeta[i] *
-                         std::pow(q(i), 1.0 / kBeta[i] - 1.0);
+      const double tc2 =
+          std::pow(kL, 1.0 / kBeta[i]) / kBeta[i] * std::pow(q(i), 1.0 / kBeta[i] - 1.0);
       if (!std::isfinite(tc2)) return false;
       (*J)(i, i) += tc2 - dp;
     }
@@ -87,9 +87,11 @@ TestProblem Nash10() {
   TestProblem p;
   p.name = "nash";
   p.source =
-      "Murphy, Sherali and Soyster, Math. Programming 24 (1982); Harker, Math. Programming "
+      "Murphy, Sherali and Soyster, Math. Programming 24 (1982); Harker, Math. "
+      "Programming "
       "41 (1988); MCPLIB nash (Dirkse and Ferris 1995); data and start of GAMS model "
-      "library NASH (SEQ=269), read in github Rhh98/GAMS-MIRO oligopoly/nashemp.gms; F as "
+      "library NASH (SEQ=269), read in github Rhh98/GAMS-MIRO oligopoly/nashemp.gms; F "
+      "as "
       "in netlib ampl/models/compl/nash.mod";
   p.F = std::make_unique<Nash10Function>();
   internal::MakeStandardNcp(&p);
@@ -98,10 +100,10 @@ TestProblem Nash10() {
   // checked by the natural residual in tests/ncp/test_mcplib_equilibrium.cpp (no
   // published listing of the solution was available to compare with). Firms 2 and 6 have
   // identical data, and q_2 = q_6.
-  p.solutions = {Vec({7.4415466970587349, 4.0978104473473209, 2.590643747438953,
-                      0.9353857680722274, 17.94895234200661, 4.0978104473473209,
-                      1.3047257576800071, 5.5900825435576307, 3.2221794538246153,
-                      1.6770943168393271})};
+  p.solutions = {
+      Vec({7.4415466970587349, 4.0978104473473209, 2.590643747438953, 0.9353857680722274,
+           17.94895234200661, 4.0978104473473209, 1.3047257576800071, 5.5900825435576307,
+           3.2221794538246153, 1.6770943168393271})};
   p.notes =
       "start \"gams\" is q.l = 1 of the GAMS model; \"tens\" (q = 10) is an additional "
       "start of this collection, not from MCPLIB. The solution is interior (F = 0), "

@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "dense_function.hpp"
-#include "problem_building.hpp"
 #include "ncp_collection/affine_function.hpp"
+#include "problem_building.hpp"
 
 namespace ncp::collection {
 namespace {
@@ -465,8 +465,10 @@ TestProblem ColvilleDual() {
       "'hs117' is HS's start with u = 0, 'zero' is added here (not from a source). "
       "Observed with this solver (not documented in the literature): plain FB and "
       "penalized FB stall at stationary points of their merit functions (||Phi||_inf ~ "
-      "0.14; the Lagrangian is nonconvex in (w, u)) from both starts; the default restarts "
-      "(Options::merit_restarts: switch FB <-> penalized FB from the point projected onto "
+      "0.14; the Lagrangian is nonconvex in (w, u)) from both starts; the default "
+      "restarts "
+      "(Options::merit_restarts: switch FB <-> penalized FB from the point projected "
+      "onto "
       "the box) solve it. min hits max_iterations";
   return p;
 }

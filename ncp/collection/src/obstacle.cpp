@@ -136,7 +136,8 @@ class GridObstacleFunction : public SquareFunction {
 };
 
 TestProblem Assemble(std::string name, int dimension, int m, SparseMatrix A, Vector load,
-                     Vector lower, Vector upper, ObstacleKind kind, ObstacleVariable variable) {
+                     Vector lower, Vector upper, ObstacleKind kind,
+                     ObstacleVariable variable) {
   TestProblem p;
   p.name = std::move(name);
   const int n = static_cast<int>(load.size());
@@ -200,9 +201,10 @@ TestProblem Obstacle1D(int n, ObstacleKind kind, ObstacleVariable variable) {
       upper(i) = kBandHalfWidth;
     }
   }
-  TestProblem p = Assemble(
-      std::string("obstacle1d-") + ToString(kind) + "-" + std::to_string(n), 1, n,
-      Laplacian1D(n), std::move(load), std::move(lower), std::move(upper), kind, variable);
+  TestProblem p =
+      Assemble(std::string("obstacle1d-") + ToString(kind) + "-" + std::to_string(n), 1,
+               n, Laplacian1D(n), std::move(load), std::move(lower), std::move(upper),
+               kind, variable);
   p.source =
       "membrane obstacle problem (Kinderlehrer and Stampacchia 1980, ch. II), "
       "3-point finite differences on (0,1)";

@@ -8,8 +8,8 @@
 #include <utility>
 
 #include "dense_function.hpp"
-#include "problem_building.hpp"
 #include "ncp_collection/affine_function.hpp"
+#include "problem_building.hpp"
 
 namespace ncp::collection {
 namespace {
@@ -370,8 +370,8 @@ TestProblem PathManualLcp() {
 }
 
 // ---- Murty's exponential LCP ----------------------------------------------------------
-// K. G. Murty, "Computational complexity of complementary pivot methods", Math. Programming
-// Study 7 (1978) 61-73: the LCP on which Lemke's method takes 2^n - 1 pivots,
+// K. G. Murty, "Computational complexity of complementary pivot methods", Math.
+// Programming Study 7 (1978) 61-73: the LCP on which Lemke's method takes 2^n - 1 pivots,
 //   M_ii = 1,  M_ij = 2 for i > j,  M_ij = 0 for i < j,  q = -1.
 // M is lower triangular with a positive diagonal, a P-matrix: the solution is unique. By
 // hand: x = e_1 gives w = M e_1 + q = (0, 1, ..., 1) >= 0 with x' w = 0.
@@ -383,8 +383,9 @@ TestProblem MurtyExponentialLcp(int n) {
   }
   TestProblem p;
   p.name = "explcp-" + std::to_string(n);
-  p.source = "Murty (1978), Math. Programming Study 7, the exponential LCP for Lemke's method "
-             "(the family of MCPLIB explcp)";
+  p.source =
+      "Murty (1978), Math. Programming Study 7, the exponential LCP for Lemke's method "
+      "(the family of MCPLIB explcp)";
   p.F = std::make_unique<AffineFunction>(DenseToSparse(M), -Vector::Ones(n));
   MakeStandardNcp(&p);
   p.starts = {{"zero", Vector::Zero(n)}, {"ones", Vector::Ones(n)}};

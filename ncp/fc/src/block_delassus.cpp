@@ -29,17 +29,20 @@ BlockDelassus::BlockDelassus(const FrictionProblem& problem)
   blocks0_ = blocks_;  // W0's blocks, for SetScaledValues
 }
 
-bool BlockDelassus::SetScaledValues(double scale, const SparseMatrix& W0, SparseMatrix* W) {
+bool BlockDelassus::SetScaledValues(double scale, const SparseMatrix& W0,
+                                    SparseMatrix* W) {
   // Contiguous passes (vectorized): W's values, then the blocks from their unscaled copy.
   Eigen::Map<Vector> values(W->valuePtr(), W0.nonZeros());
   values = scale * Eigen::Map<const Vector>(W0.valuePtr(), W0.nonZeros());
   if (!values.allFinite()) {
-    values = Eigen::Map<const Vector>(W0.valuePtr(), W0.nonZeros()) * scale_;  // (as before)
+    values =
+        Eigen::Map<const Vector>(W0.valuePtr(), W0.nonZeros()) * scale_;  // (as before)
     return false;
   }
   const Eigen::Index n = 9 * static_cast<Eigen::Index>(blocks_.size());
   if (n > 0)
-    Eigen::Map<Vector>(blocks_.front().data(), n) = scale * Eigen::Map<const Vector>(blocks0_.front().data(), n);
+    Eigen::Map<Vector>(blocks_.front().data(), n) =
+        scale * Eigen::Map<const Vector>(blocks0_.front().data(), n);
   scale_ = scale;
   return true;
 }
@@ -60,7 +63,8 @@ void BlockDelassus::BuildJacobianPattern(SparseMatrix* J) {
   for (int a = 0; a < num_contacts_; ++a)
     for (int k = row_ptr_[a]; k < row_ptr_[a + 1]; ++k)
       for (int j = 0; j < d_; ++j)
-        for (int i = 0; i < d_; ++i) entries.emplace_back(d_ * a + i, d_ * block_col_[k] + j, 0.0);
+        for (int i = 0; i < d_; ++i)
+          entries.emplace_back(d_ * a + i, d_ * block_col_[k] + j, 0.0);
   const int n = d_ * num_contacts_;
   J->resize(n, n);
   J->setFromTriplets(entries.begin(), entries.end());
@@ -73,14 +77,14 @@ void BlockDelassus::BuildJacobianPattern(SparseMatrix* J) {
         const int* begin = J->innerIndexPtr() + J->outerIndexPtr()[column];
         const int* end = J->innerIndexPtr() + J->outerIndexPtr()[column + 1];
         for (int i = 0; i < d_; ++i)
-          jacobian_slot_[static_cast<size_t>((k * d_ + j) * d_ + i)] =
-              static_cast<int>(std::lower_bound(begin, end, d_ * a + i) - J->innerIndexPtr());
+          jacobian_slot_[static_cast<size_t>((k * d_ + j) * d_ + i)] = static_cast<int>(
+              std::lower_bound(begin, end, d_ * a + i) - J->innerIndexPtr());
       }
   jacobian_values_ = J->valuePtr();
 }
 
-void BlockDelassus::AssembleJacobian(const std::vector<Block>& A, const std::vector<Block>& B,
-                                     SparseMatrix* J) {
+void BlockDelassus::AssembleJacobian(const std::vector<Block>& A,
+                                     const std::vector<Block>& B, SparseMatrix* J) {
   if (J->valuePtr() == nullptr || J->valuePtr() != jacobian_values_ || !J->isCompressed())
     BuildJacobianPattern(J);
   double* values = J->valuePtr();

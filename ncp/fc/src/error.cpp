@@ -8,7 +8,7 @@ namespace ncp::fc {
 void ProjectOnCone(double mu, int dimension, double* z) {
   const double t = dimension == 3 ? std::hypot(z[1], z[2]) : std::abs(z[1]);
   if (z[0] >= 0.0 && t <= mu * z[0]) return;  // inside C_mu (z_N >= 0 matters for mu = 0)
-  if (mu * t <= -z[0]) {       // inside the polar cone -C*_mu
+  if (mu * t <= -z[0]) {                      // inside the polar cone -C*_mu
     for (int i = 0; i < dimension; ++i) z[i] = 0.0;
     return;
   }
@@ -17,7 +17,8 @@ void ProjectOnCone(double mu, int dimension, double* z) {
   for (int i = 1; i < dimension; ++i) z[i] = a * mu * z[i] / t;
 }
 
-double NaturalMapResidual(int dimension, const Vector& mu, const Vector& r, const Vector& u) {
+double NaturalMapResidual(int dimension, const Vector& mu, const Vector& r,
+                          const Vector& u) {
   const int d = dimension;
   double sum = 0.0;
   for (Eigen::Index a = 0; a < mu.size(); ++a) {
@@ -39,7 +40,8 @@ double NaturalMapError(const FrictionProblem& problem, const Vector& r) {
                                 std::to_string(problem.size()) + " entries, got " +
                                 std::to_string(r.size()));
   const Vector u = problem.W * r + problem.q;
-  return NaturalMapResidual(problem.dimension, problem.mu, r, u) / (1.0 + problem.q.norm());
+  return NaturalMapResidual(problem.dimension, problem.mu, r, u) /
+         (1.0 + problem.q.norm());
 }
 
 }  // namespace ncp::fc

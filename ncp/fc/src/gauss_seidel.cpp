@@ -29,8 +29,7 @@ double LocalResidual(int d, double mu, const Block& Waa, const Eigen::Vector3d& 
 }  // namespace
 
 void GaussSeidelSweep(const FrictionProblem& problem, const BlockDelassus& W,
-                      const std::vector<Rho>& rho,
-                      Vector* r) {
+                      const std::vector<Rho>& rho, Vector* r) {
   const int d = problem.dimension;
   for (int a = 0; a < problem.num_contacts; ++a) {
     const Block& Waa = W.Diagonal(a);

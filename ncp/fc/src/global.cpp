@@ -17,7 +17,8 @@ namespace {
 void Require(bool ok, const std::string& what, Eigen::Index expected, Eigen::Index got) {
   if (!ok)
     throw std::invalid_argument("GlobalFrictionProblem: " + what + " must be " +
-                                std::to_string(expected) + ", got " + std::to_string(got));
+                                std::to_string(expected) + ", got " +
+                                std::to_string(got));
 }
 
 bool Finite(const SparseMatrix& A) {
@@ -34,12 +35,15 @@ class MassFactor {
     M.makeCompressed();
     lu_.compute(M);
     if (lu_.info() != Eigen::Success)
-      throw std::runtime_error("'" + p.name + "': the matrix M (" + std::to_string(M.rows()) +
-                               " x " + std::to_string(M.cols()) +
-                               ") is singular: no Delassus form W = H' M^-1 H (" + lu_.lastErrorMessage() + ")");
+      throw std::runtime_error(
+          "'" + p.name + "': the matrix M (" + std::to_string(M.rows()) + " x " +
+          std::to_string(M.cols()) + ") is singular: no Delassus form W = H' M^-1 H (" +
+          lu_.lastErrorMessage() + ")");
   }
   template <class Rhs>
-  auto Solve(const Rhs& rhs) const { return lu_.solve(rhs); }
+  auto Solve(const Rhs& rhs) const {
+    return lu_.solve(rhs);
+  }
 
  private:
   Eigen::SparseLU<SparseMatrix> lu_;
@@ -59,11 +63,12 @@ void GlobalFrictionProblem::Validate() const {
   Require(b.size() == m, "the size of b", m, b.size());
   Require(mu.size() == num_contacts, "the size of mu", num_contacts, mu.size());
   if (!Finite(M) || !Finite(H) || !q.allFinite() || !b.allFinite() || !mu.allFinite())
-    throw std::invalid_argument("GlobalFrictionProblem: M, H, q, b and mu must be finite");
+    throw std::invalid_argument(
+        "GlobalFrictionProblem: M, H, q, b and mu must be finite");
   for (Eigen::Index a = 0; a < mu.size(); ++a)
     if (mu[a] < 0.0)
-      throw std::invalid_argument("GlobalFrictionProblem: mu[" + std::to_string(a) + "] = " +
-                                  std::to_string(mu[a]) + " < 0");
+      throw std::invalid_argument("GlobalFrictionProblem: mu[" + std::to_string(a) +
+                                  "] = " + std::to_string(mu[a]) + " < 0");
 }
 
 FrictionProblem ReduceToLocal(const GlobalFrictionProblem& g) {
@@ -95,9 +100,10 @@ GlobalResidual ComputeGlobalResidual(const GlobalFrictionProblem& g, const Vecto
                                      const Vector& r) {
   g.Validate();
   if (v.size() != g.num_dofs() || r.size() != g.size())
-    throw std::invalid_argument("ComputeGlobalResidual: v has " + std::to_string(v.size()) +
-                                " entries (expected " + std::to_string(g.num_dofs()) + "), r " +
-                                std::to_string(r.size()) + " (expected " + std::to_string(g.size()) + ")");
+    throw std::invalid_argument(
+        "ComputeGlobalResidual: v has " + std::to_string(v.size()) +
+        " entries (expected " + std::to_string(g.num_dofs()) + "), r " +
+        std::to_string(r.size()) + " (expected " + std::to_string(g.size()) + ")");
   GlobalResidual out;
   out.motion = (g.M * v - g.q - g.H * r).norm() / (1.0 + g.q.norm());
   const Vector u = g.H.transpose() * v + g.b;

@@ -33,7 +33,8 @@ class NumberStream {
     const auto bytes = std::filesystem::file_size(path, error);
     // A number takes at least one character and a separator: no count of numbers still to
     // come can exceed half the file's size (and n = dimension x contacts stays an int).
-    max_count_ = error ? 0 : static_cast<int>(std::min<std::uintmax_t>(bytes / 2, kMaxInt / 3));
+    max_count_ =
+        error ? 0 : static_cast<int>(std::min<std::uintmax_t>(bytes / 2, kMaxInt / 3));
   }
   const std::string& path() const { return path_; }
   double Next(const char* what) {
@@ -50,16 +51,17 @@ class NumberStream {
     const double v = Next(what);
     if (!(v >= min_value && v <= max_value) || v != std::floor(v))
       throw std::runtime_error("'" + path_ + "': " + what + " must be an integer in [" +
-                               std::to_string(min_value) + ", " + std::to_string(max_value) +
-                               "], got " + Format(v));
+                               std::to_string(min_value) + ", " +
+                               std::to_string(max_value) + "], got " + Format(v));
     return static_cast<int>(v);
   }
   /// The next whitespace-separated word, which must equal `expected` (CSparse's labels).
   void Expect(const char* expected) {
     std::string word;
     if (!(in_ >> word) || word != expected)
-      throw std::runtime_error("'" + path_ + "': expected '" + expected + "' in the CSparse " +
-                               "matrix printout, got '" + word + "'");
+      throw std::runtime_error("'" + path_ + "': expected '" + expected +
+                               "' in the CSparse " + "matrix printout, got '" + word +
+                               "'");
   }
   /// How many whitespace-separated words are left, counting at most `limit`.
   int WordsLeft(int limit) {
@@ -95,14 +97,16 @@ class NumberStream {
   static constexpr int kMaxInt = std::numeric_limits<int>::max();
 };
 
-/// Cumulative block sizes (Siconos blocksize0/1): strictly increasing, the last one `size`
-/// (the matrix's rows or columns).
-std::vector<int> ReadCumulativeSizes(NumberStream& in, const char* what, int count, int size) {
+/// Cumulative block sizes (Siconos blocksize0/1): strictly increasing, the last one
+/// `size` (the matrix's rows or columns).
+std::vector<int> ReadCumulativeSizes(NumberStream& in, const char* what, int count,
+                                     int size) {
   std::vector<int> end(static_cast<size_t>(count));
-  for (int k = 0; k < count; ++k) end[k] = in.NextInt(what, k == 0 ? 1 : end[k - 1] + 1, size);
+  for (int k = 0; k < count; ++k)
+    end[k] = in.NextInt(what, k == 0 ? 1 : end[k - 1] + 1, size);
   if (end.back() != size)
-    in.Fail(std::string("sparse-block matrix with ") + std::to_string(size) + " rows/columns: its " +
-            what + " end at " + std::to_string(end.back()));
+    in.Fail(std::string("sparse-block matrix with ") + std::to_string(size) +
+            " rows/columns: its " + what + " end at " + std::to_string(end.back()));
   return end;
 }
 
@@ -111,9 +115,10 @@ using Triplets = std::vector<Eigen::Triplet<double>>;
 void ReadDense(NumberStream& in, int rows, int cols, Triplets* entries) {
   const int m = in.NextInt("dense rows", 0), n = in.NextInt("dense columns", 0);
   if (m != rows || n != cols)
-    throw std::runtime_error("'" + in.path() + "': dense matrix stated " + std::to_string(rows) +
-                             " x " + std::to_string(cols) + ", its data says " +
-                             std::to_string(m) + " x " + std::to_string(n));
+    throw std::runtime_error("'" + in.path() + "': dense matrix stated " +
+                             std::to_string(rows) + " x " + std::to_string(cols) +
+                             ", its data says " + std::to_string(m) + " x " +
+                             std::to_string(n));
   for (int j = 0; j < cols; ++j)  // column by column
     for (int i = 0; i < rows; ++i) {
       const double w = in.Next("a dense entry");
@@ -126,8 +131,10 @@ void ReadSparseBlock(NumberStream& in, int rows, int cols, Triplets* entries) {
   if (num_blocks == 0) return;
   const int block_rows = in.NextInt("blocknumber0", 1, std::max(rows, 1)),
             block_cols = in.NextInt("blocknumber1", 1, std::max(cols, 1));
-  const std::vector<int> row_end = ReadCumulativeSizes(in, "blocksize0", block_rows, rows),
-                         col_end = ReadCumulativeSizes(in, "blocksize1", block_cols, cols);
+  const std::vector<int> row_end =
+                             ReadCumulativeSizes(in, "blocksize0", block_rows, rows),
+                         col_end =
+                             ReadCumulativeSizes(in, "blocksize1", block_cols, cols);
   const int filled1 = in.NextCount("filled1", 1), filled2 = in.NextCount("filled2", 0);
   if (filled1 != block_rows + 1 || filled2 != num_blocks)
     throw std::runtime_error("sparse-block W: filled1 = " + std::to_string(filled1) +
@@ -137,9 +144,11 @@ void ReadSparseBlock(NumberStream& in, int rows, int cols, Triplets* entries) {
   // Block-row pointers: from 0, non-decreasing, up to nbblocks.
   std::vector<int> row_ptr(filled1), block_col(filled2);
   for (int k = 0; k < filled1; ++k)
-    row_ptr[k] = in.NextInt("index1_data", k == 0 ? 0 : row_ptr[k - 1], k == 0 ? 0 : num_blocks);
+    row_ptr[k] =
+        in.NextInt("index1_data", k == 0 ? 0 : row_ptr[k - 1], k == 0 ? 0 : num_blocks);
   if (row_ptr.back() != num_blocks)
-    in.Fail("sparse-block W: the last block-row pointer is " + std::to_string(row_ptr.back()) +
+    in.Fail("sparse-block W: the last block-row pointer is " +
+            std::to_string(row_ptr.back()) +
             ", expected nbblocks = " + std::to_string(num_blocks));
   for (int& v : block_col) v = in.NextInt("index2_data", 0, block_cols - 1);
   for (int br = 0; br < block_rows; ++br) {
@@ -168,9 +177,11 @@ void ReadSparseBlock(NumberStream& in, int rows, int cols, Triplets* entries) {
 /// "col j : locations a to b" followed by b - a + 1 lines "i : x". Values are printed
 /// with 6 significant digits (%g).
 void ReadCompressedSparse(NumberStream& in, int rows, int cols, Triplets* entries) {
-  const int origin = in.NextInt("the sparse origin (1 triplet, 2 CSC, 3 CSR, 4 half triplet)", 1);
+  const int origin =
+      in.NextInt("the sparse origin (1 triplet, 2 CSC, 3 CSR, 4 half triplet)", 1);
   if (origin > 4)
-    throw std::runtime_error("'" + in.path() + "': sparse origin " + std::to_string(origin) +
+    throw std::runtime_error("'" + in.path() + "': sparse origin " +
+                             std::to_string(origin) +
                              " unknown (1 triplet, 2 CSC, 3 CSR, 4 half triplet)");
   in.Line();  // the rest of the origin's line
   const std::string version = in.Line();
@@ -179,22 +190,26 @@ void ReadCompressedSparse(NumberStream& in, int rows, int cols, Triplets* entrie
   const auto nnz_at = header.find("nnz:");
   if (version.find("CSparse") == std::string::npos || by == std::string::npos ||
       nnz_at == std::string::npos)
-    throw std::runtime_error("'" + in.path() + "': expected CSparse's printout of a sparse " +
+    throw std::runtime_error("'" + in.path() +
+                             "': expected CSparse's printout of a sparse " +
                              "matrix (version line, 'M-by-N, nzmax: Z nnz: K'), got '" +
                              version + "' / '" + header + "'");
-  const auto size_start = header.find_last_of(' ', by) == std::string::npos ? 0 : header.find_last_of(' ', by) + 1;
+  const auto size_start = header.find_last_of(' ', by) == std::string::npos
+                              ? 0
+                              : header.find_last_of(' ', by) + 1;
   const int m = std::stoi(header.substr(size_start, by - size_start));
   const int n = std::stoi(header.substr(by + 4));
   const long nnz = std::stol(header.substr(nnz_at + 4));
   if (m != rows || n != cols)
-    throw std::runtime_error("'" + in.path() + "': sparse matrix stated " + std::to_string(rows) +
-                             " x " + std::to_string(cols) + ", CSparse's header says " +
-                             std::to_string(m) + " x " + std::to_string(n));
+    throw std::runtime_error("'" + in.path() + "': sparse matrix stated " +
+                             std::to_string(rows) + " x " + std::to_string(cols) +
+                             ", CSparse's header says " + std::to_string(m) + " x " +
+                             std::to_string(n));
   auto add = [&](int i, int j, double x) {
     if (i < 0 || i >= rows || j < 0 || j >= cols)
-      throw std::runtime_error("'" + in.path() + "': sparse entry (" + std::to_string(i) + ", " +
-                               std::to_string(j) + ") outside " + std::to_string(rows) + " x " +
-                               std::to_string(cols));
+      throw std::runtime_error("'" + in.path() + "': sparse entry (" + std::to_string(i) +
+                               ", " + std::to_string(j) + ") outside " +
+                               std::to_string(rows) + " x " + std::to_string(cols));
     if (x != 0.0) entries->emplace_back(i, j, x);
   };
   const bool triplet = origin == 1 || origin == 4;
@@ -219,8 +234,10 @@ void ReadCompressedSparse(NumberStream& in, int rows, int cols, Triplets* entrie
       const int inner = in.NextInt("an inner index", 0);
       in.Expect(":");
       const double x = in.Next("a sparse value");
-      if (origin == 2) add(inner, outer, x);
-      else add(outer, inner, x);
+      if (origin == 2)
+        add(inner, outer, x);
+      else
+        add(outer, inner, x);
     }
   }
 }
@@ -229,7 +246,8 @@ void ReadCompressedSparse(NumberStream& in, int rows, int cols, Triplets* entrie
 /// 1 sparse-block, 2 sparse), rows, columns, then the storage's data.
 SparseMatrix ReadNumericsMatrix(NumberStream& in, const char* name) {
   const int storage = in.NextInt("the storage type", 0);
-  const int rows = in.NextCount("the matrix rows", 0), cols = in.NextCount("the matrix columns", 0);
+  const int rows = in.NextCount("the matrix rows", 0),
+            cols = in.NextCount("the matrix columns", 0);
   Triplets entries;
   if (storage == 0) {
     ReadDense(in, rows, cols, &entries);
@@ -238,8 +256,9 @@ SparseMatrix ReadNumericsMatrix(NumberStream& in, const char* name) {
   } else if (storage == 2) {
     ReadCompressedSparse(in, rows, cols, &entries);
   } else {
-    throw std::runtime_error("'" + in.path() + "': storage type " + std::to_string(storage) +
-                             " of " + name + " not supported (0 dense, 1 sparse-block, 2 sparse)");
+    throw std::runtime_error("'" + in.path() + "': storage type " +
+                             std::to_string(storage) + " of " + name +
+                             " not supported (0 dense, 1 sparse-block, 2 sparse)");
   }
   SparseMatrix A(rows, cols);
   A.setFromTriplets(entries.begin(), entries.end());
@@ -266,19 +285,21 @@ FrictionProblem ReadSiconosDat(const std::string& path) {
   p.W = ReadNumericsMatrix(in, "W");
   if (p.W.rows() != n || p.W.cols() != n)
     throw std::runtime_error("'" + path + "': W must be " + std::to_string(n) + " x " +
-                             std::to_string(n) + ", the file says " + std::to_string(p.W.rows()) +
-                             " x " + std::to_string(p.W.cols()) + " (a global problem, M " +
+                             std::to_string(n) + ", the file says " +
+                             std::to_string(p.W.rows()) + " x " +
+                             std::to_string(p.W.cols()) + " (a global problem, M " +
                              "first? Read it as one: fc-solve --global)");
   p.q = ReadVector(in, n, "q");
   p.mu.resize(p.num_contacts);
   for (int a = 0; a < p.num_contacts; ++a) p.mu[a] = in.Next("mu");
-  // Siconos' text files do not state their form: a global problem (M, H, q, b, mu) read as
-  // a local one would parse as a smaller, wrong problem and leave its data behind. (Files
-  // written by older Siconos versions end in one more integer after mu: allowed.)
+  // Siconos' text files do not state their form: a global problem (M, H, q, b, mu) read
+  // as a local one would parse as a smaller, wrong problem and leave its data behind.
+  // (Files written by older Siconos versions end in one more integer after mu: allowed.)
   if (in.WordsLeft(2) > 1)
-    throw std::runtime_error("'" + path + "': data left after mu of a local problem with " +
-                             std::to_string(p.num_contacts) + " contacts: is it a global " +
-                             "problem (M, H, q, b, mu)? Read it as one (fc-solve --global)");
+    throw std::runtime_error(
+        "'" + path + "': data left after mu of a local problem with " +
+        std::to_string(p.num_contacts) + " contacts: is it a global " +
+        "problem (M, H, q, b, mu)? Read it as one (fc-solve --global)");
   p.Validate();
   return p;
 }
@@ -292,11 +313,12 @@ GlobalFrictionProblem ReadSiconosGlobalDat(const std::string& path) {
   g.M = ReadNumericsMatrix(in, "M");
   g.H = ReadNumericsMatrix(in, "H");
   if (g.M.rows() != g.M.cols() || g.H.rows() != g.M.rows() || g.H.cols() != g.size())
-    throw std::runtime_error("'" + path + "': a global problem needs M n x n and H n x m (m = " +
-                             std::to_string(g.size()) + " = dimension x contacts), the file has M " +
-                             std::to_string(g.M.rows()) + " x " + std::to_string(g.M.cols()) + ", H " +
-                             std::to_string(g.H.rows()) + " x " + std::to_string(g.H.cols()) +
-                             " (is it a local problem? then read it without --global)");
+    throw std::runtime_error(
+        "'" + path + "': a global problem needs M n x n and H n x m (m = " +
+        std::to_string(g.size()) + " = dimension x contacts), the file has M " +
+        std::to_string(g.M.rows()) + " x " + std::to_string(g.M.cols()) + ", H " +
+        std::to_string(g.H.rows()) + " x " + std::to_string(g.H.cols()) +
+        " (is it a local problem? then read it without --global)");
   g.q = ReadVector(in, g.M.rows(), "q");
   g.b = ReadVector(in, g.H.cols(), "b");
   g.mu = ReadVector(in, g.num_contacts, "mu");
@@ -361,8 +383,8 @@ bool IsHdf5(const std::string& path) {
   if (!in) throw std::runtime_error("cannot open '" + path + "'");
   char signature[4] = {0, 0, 0, 0};
   in.read(signature, 4);
-  return in.gcount() == 4 && signature[0] == '\x89' && signature[1] == 'H' && signature[2] == 'D' &&
-         signature[3] == 'F';
+  return in.gcount() == 4 && signature[0] == '\x89' && signature[1] == 'H' &&
+         signature[2] == 'D' && signature[3] == 'F';
 }
 }  // namespace
 

@@ -182,9 +182,10 @@ void EvaluateLaw(Formulation formulation, int d, double mu, const Rho& rho, doub
 void ErrorReport(const Options& options, bool converged, double error, std::string* out) {
   char buffer[160];
   if (converged && error > options.tolerance)
-    std::snprintf(buffer, sizeof buffer,
-                  "natural-map error %g <= acceptable tolerance %g (round-off floor; tolerance %g)", error,
-                  options.acceptable_tolerance, options.tolerance);
+    std::snprintf(
+        buffer, sizeof buffer,
+        "natural-map error %g <= acceptable tolerance %g (round-off floor; tolerance %g)",
+        error, options.acceptable_tolerance, options.tolerance);
   else
     std::snprintf(buffer, sizeof buffer, "natural-map error %g %s tolerance %g", error,
                   converged ? "<=" : ">", options.tolerance);

@@ -61,7 +61,8 @@ std::vector<std::pair<Formulation, double>> AttemptSequence(Formulation formulat
 /// `previous`): error <= tolerance, or error <= acceptable_tolerance without halving
 /// (Options::acceptable_tolerance).
 inline bool Converged(const Options& options, double error, double previous) {
-  return error <= options.tolerance || (error <= options.acceptable_tolerance && error > 0.5 * previous);
+  return error <= options.tolerance ||
+         (error <= options.acceptable_tolerance && error > 0.5 * previous);
 }
 /// The bookkeeping of one Newton attempt after each of its steps: the best iterate,
 /// convergence (Converged) and stalling (the error not halved within
@@ -70,8 +71,8 @@ class AttemptProgress {
  public:
   AttemptProgress(const Options& options, double start_error)
       : options_(options), stall_reference_(start_error), previous_(start_error) {}
-  /// After a step to r with natural-map error `error`: r into *best_r if it is the best so
-  /// far; returns kConverged, kStalled, or kNotSolved to go on.
+  /// After a step to r with natural-map error `error`: r into *best_r if it is the best
+  /// so far; returns kConverged, kStalled, or kNotSolved to go on.
   Termination Update(double error, const Vector& r, double* best_error, Vector* best_r) {
     if (error < *best_error) {
       *best_error = error;
@@ -96,8 +97,9 @@ class AttemptProgress {
   int since_progress_ = 0;
 };
 
-/// "natural-map error e <= tolerance t" (or "<= acceptable tolerance a (round-off floor)",
-/// or "> tolerance t") into *out (assigned: no allocation when its capacity suffices).
+/// "natural-map error e <= tolerance t" (or "<= acceptable tolerance a (round-off
+/// floor)", or "> tolerance t") into *out (assigned: no allocation when its capacity
+/// suffices).
 void ErrorReport(const Options& options, bool converged, double error, std::string* out);
 
 }  // namespace ncp::fc::internal

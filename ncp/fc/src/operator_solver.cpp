@@ -18,15 +18,17 @@ namespace ncp::fc {
 void OperatorProblem::Validate() const {
   // The message is built only when a check fails (Validate runs once per solve).
   auto fail = [this](const std::string& what) {
-    throw std::invalid_argument("ncp::fc::OperatorProblem" + (name.empty() ? "" : " '" + name + "'") +
-                                ": " + what);
+    throw std::invalid_argument("ncp::fc::OperatorProblem" +
+                                (name.empty() ? "" : " '" + name + "'") + ": " + what);
   };
-  if (dimension != 2 && dimension != 3) fail("dimension must be 2 or 3, got " + std::to_string(dimension));
+  if (dimension != 2 && dimension != 3)
+    fail("dimension must be 2 or 3, got " + std::to_string(dimension));
   if (num_contacts < 0) fail("num_contacts must be >= 0");
   if (!apply_W) fail("apply_W is not set");
   auto check = [&](const Vector& v, Eigen::Index expected, const char* what) {
     if (v.size() != expected)
-      fail(what + (" must have " + std::to_string(expected) + " entries, got " + std::to_string(v.size())));
+      fail(what + (" must have " + std::to_string(expected) + " entries, got " +
+                   std::to_string(v.size())));
     if (!v.allFinite()) fail(what + std::string(" has non-finite entries"));
   };
   check(q, size(), "q");
@@ -47,8 +49,15 @@ constexpr int kRestart = 50;
 class OperatorNewton {
  public:
   OperatorNewton(const Options& options, const OperatorProblem& problem, Summary* summary)
-      : options_(options), problem_(problem), summary_(summary), d_(problem.dimension),
-        nc_(problem.num_contacts), A_(nc_), B_(nc_), P_inverse_(nc_), start_(Clock::now()) {
+      : options_(options),
+        problem_(problem),
+        summary_(summary),
+        d_(problem.dimension),
+        nc_(problem.num_contacts),
+        A_(nc_),
+        B_(nc_),
+        P_inverse_(nc_),
+        start_(Clock::now()) {
     ComputeRho();
   }
 
@@ -61,8 +70,10 @@ class OperatorNewton {
     u += problem_.q;
     double error = Error(*r, u);
     summary_->initial_error = error;
-    Termination status = std::isfinite(error) ? Termination::kConverged : Termination::kNonFiniteValues;
-    for (const auto& [formulation, rho_factor] : internal::AttemptSequence(options_.formulation)) {
+    Termination status =
+        std::isfinite(error) ? Termination::kConverged : Termination::kNonFiniteValues;
+    for (const auto& [formulation, rho_factor] :
+         internal::AttemptSequence(options_.formulation)) {
       if (status == Termination::kNonFiniteValues || error <= options_.tolerance) break;
       if (summary_->attempts++ > 0) {  // restart on u = W r + q of the best iterate
         MultiplyW(*r, &u);
@@ -77,12 +88,15 @@ class OperatorNewton {
     summary_->final_error = error;
     if (error <= options_.tolerance) status = Termination::kConverged;
     summary_->termination = status;
-    internal::ErrorReport(options_, status == Termination::kConverged, error, &summary_->message);
+    internal::ErrorReport(options_, status == Termination::kConverged, error,
+                          &summary_->message);
     char counts[160];
-    std::snprintf(counts, sizeof counts, " after %d Newton steps, %d GMRES iterations, %d attempts",
+    std::snprintf(counts, sizeof counts,
+                  " after %d Newton steps, %d GMRES iterations, %d attempts",
                   summary_->iterations, summary_->krylov_iterations, summary_->attempts);
     summary_->message += counts;
-    if (status != Termination::kConverged) (summary_->message += "; last ended: ") += ToString(status);
+    if (status != Termination::kConverged)
+      (summary_->message += "; last ended: ") += ToString(status);
   }
 
  private:
@@ -91,7 +105,8 @@ class OperatorNewton {
     const double largest = problem_.diagonal.size() ? problem_.diagonal.maxCoeff() : 0.0;
     rho_.resize(nc_);
     for (int a = 0; a < nc_; ++a)
-      rho_[a] = internal::RhoFromDiagonal(d_, problem_.diagonal.data() + d_ * a, largest > 0.0 ? 1.0 / largest : 1.0);
+      rho_[a] = internal::RhoFromDiagonal(d_, problem_.diagonal.data() + d_ * a,
+                                          largest > 0.0 ? 1.0 / largest : 1.0);
   }
 
   void MultiplyW(const Vector& r, Vector* Wr) {
@@ -103,26 +118,29 @@ class OperatorNewton {
     return NaturalMapResidual(d_, problem_.mu, r, u) / (1.0 + problem_.q.norm());
   }
 
-  /// Phi(r, u) of the attempt's formulation into *phi, with the blocks A_, B_; returns psi.
+  /// Phi(r, u) of the attempt's formulation into *phi, with the blocks A_, B_; returns
+  /// psi.
   double Evaluate(const Vector& r, const Vector& u, Vector* phi) {
     phi->resize(r.size());
     const double scale = options_.rho_scale * rho_factor_;
     for (int a = 0; a < nc_; ++a)
-      internal::EvaluateLaw(formulation_, d_, problem_.mu(a), rho_[a], scale, r.data() + d_ * a,
-                            u.data() + d_ * a, phi->data() + d_ * a, &A_[a], &B_[a]);
+      internal::EvaluateLaw(formulation_, d_, problem_.mu(a), rho_[a], scale,
+                            r.data() + d_ * a, u.data() + d_ * a, phi->data() + d_ * a,
+                            &A_[a], &B_[a]);
     return 0.5 * phi->squaredNorm();
   }
 
-  /// The shift delta = regularization max(1, max |J_aa|) of solver.cpp (J's diagonal taken
-  /// as that of A + B D), and the inverse blocks of the preconditioner A_a + B_a D_a + delta I.
-  /// (The blocks are formed in P_inverse_ and inverted in place.)
+  /// The shift delta = regularization max(1, max |J_aa|) of solver.cpp (J's diagonal
+  /// taken as that of A + B D), and the inverse blocks of the preconditioner A_a + B_a
+  /// D_a + delta I. (The blocks are formed in P_inverse_ and inverted in place.)
   void Precondition() {
     double largest = 1.0;
     for (int a = 0; a < nc_; ++a) {
       Block D = Block::Identity();
       for (int i = 0; i < d_; ++i) D(i, i) = problem_.diagonal(d_ * a + i);
       P_inverse_[a] = A_[a] + B_[a] * D;
-      for (int i = 0; i < d_; ++i) largest = std::max(largest, std::abs(P_inverse_[a](i, i)));
+      for (int i = 0; i < d_; ++i)
+        largest = std::max(largest, std::abs(P_inverse_[a](i, i)));
     }
     delta_ = options_.regularization * largest;
     for (int a = 0; a < nc_; ++a) {
@@ -227,8 +245,8 @@ class OperatorNewton {
 
   /// One attempt: the Newton loop from (r, u = W r + q) with error *error; keeps the best
   /// iterate in *r_best, *error_best.
-  Termination Iterate(Formulation formulation, double rho_factor, Vector* r_best, Vector* u,
-                      double* error_best) {
+  Termination Iterate(Formulation formulation, double rho_factor, Vector* r_best,
+                      Vector* u, double* error_best) {
     formulation_ = formulation;
     rho_factor_ = rho_factor;
     Vector r = *r_best, phi, trial_phi, direction, Wd, trial_r, trial_u;
@@ -237,17 +255,20 @@ class OperatorNewton {
     std::deque<double> recent_psi{psi};
     internal::AttemptProgress progress(options_, *error_best);
     while (true) {
-      if (summary_->iterations >= options_.max_iterations) return Termination::kMaxIterations;
+      if (summary_->iterations >= options_.max_iterations)
+        return Termination::kMaxIterations;
       if (options_.max_time_s > 0.0 &&
-          std::chrono::duration<double>(Clock::now() - start_).count() > options_.max_time_s)
+          std::chrono::duration<double>(Clock::now() - start_).count() >
+              options_.max_time_s)
         return Termination::kTimeLimit;
       Precondition();
       const double phi_norm = std::sqrt(2.0 * psi);
       // Forcing term: superlinear, but no finer than the error asks - a tenth of the
-      // tolerance relative to the current error (the last Newton steps of a solve to 1e-15
-      // otherwise took two thirds of all GMRES iterations).
-      const double needed =
-          progress.previous_error() > 0.0 ? 0.1 * options_.tolerance / progress.previous_error() : 0.0;
+      // tolerance relative to the current error (the last Newton steps of a solve to
+      // 1e-15 otherwise took two thirds of all GMRES iterations).
+      const double needed = progress.previous_error() > 0.0
+                                ? 0.1 * options_.tolerance / progress.previous_error()
+                                : 0.0;
       const double eta = std::min(options_.newton_residual,
                                   std::max(phi0 > 0.0 ? phi_norm / phi0 : 1.0, needed));
       const double reached = Gmres(-phi, eta, &direction);
@@ -264,7 +285,8 @@ class OperatorNewton {
         trial_r = r + t * direction;
         trial_u = *u + t * Wd;
         trial_psi = Evaluate(trial_r, trial_u, &trial_phi);
-        if (std::isfinite(trial_psi) && trial_psi <= reference - 2.0 * options_.armijo_beta * t * psi) {
+        if (std::isfinite(trial_psi) &&
+            trial_psi <= reference - 2.0 * options_.armijo_beta * t * psi) {
           accepted = true;
           break;
         }
@@ -276,10 +298,12 @@ class OperatorNewton {
       phi.swap(trial_phi);
       psi = trial_psi;
       recent_psi.push_back(psi);
-      if (static_cast<int>(recent_psi.size()) > options_.nonmonotone_window) recent_psi.pop_front();
+      if (static_cast<int>(recent_psi.size()) > options_.nonmonotone_window)
+        recent_psi.pop_front();
       ++summary_->iterations;
       double error = Error(r, *u);
-      if (internal::Converged(options_, error, progress.previous_error())) {  // confirm on u = W r + q
+      if (internal::Converged(options_, error,
+                              progress.previous_error())) {  // confirm on u = W r + q
         MultiplyW(r, u);
         *u += problem_.q;
         error = Error(r, *u);
@@ -287,9 +311,11 @@ class OperatorNewton {
       }
       if (!std::isfinite(error)) return Termination::kNonFiniteValues;
       if (options_.log_to_stderr)
-        std::fprintf(stderr, "fc-op %4d %-13s error %.3e psi %.3e step %.3g eta %.2g GMRES %.2e (%d iterations in all)\n",
-                     summary_->iterations, ToString(formulation_), error, psi, t, eta, reached,
-                     summary_->krylov_iterations);
+        std::fprintf(stderr,
+                     "fc-op %4d %-13s error %.3e psi %.3e step %.3g eta %.2g GMRES %.2e "
+                     "(%d iterations in all)\n",
+                     summary_->iterations, ToString(formulation_), error, psi, t, eta,
+                     reached, summary_->krylov_iterations);
       const Termination status = progress.Update(error, r, error_best, r_best);
       if (status != Termination::kNotSolved) return status;
     }
@@ -311,22 +337,28 @@ class OperatorNewton {
 
 }  // namespace
 
-void Solve(const Options& options, const OperatorProblem& problem, Vector* r, Summary* summary) {
+void Solve(const Options& options, const OperatorProblem& problem, Vector* r,
+           Summary* summary) {
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("ncp::fc::Options: " + why);
   problem.Validate();
-  if (!r || !summary) throw std::invalid_argument("ncp::fc::Solve: r and summary must not be null");
+  if (!r || !summary)
+    throw std::invalid_argument("ncp::fc::Solve: r and summary must not be null");
   if (r->size() == 0) r->setZero(problem.size());
   if (r->size() != problem.size())
-    throw std::invalid_argument("ncp::fc::Solve: start point must have " + std::to_string(problem.size()) +
-                                " entries, got " + std::to_string(r->size()));
-  if (!r->allFinite()) throw std::invalid_argument("ncp::fc::Solve: start point not finite");
+    throw std::invalid_argument("ncp::fc::Solve: start point must have " +
+                                std::to_string(problem.size()) + " entries, got " +
+                                std::to_string(r->size()));
+  if (!r->allFinite())
+    throw std::invalid_argument("ncp::fc::Solve: start point not finite");
   *summary = Summary();
   summary->formulation_requested = summary->formulation_final = options.formulation;
   summary->num_contacts = problem.num_contacts;
-  summary->iterations = summary->gauss_seidel_sweeps = summary->fallback_sweeps = summary->backtracks = 0;
+  summary->iterations = summary->gauss_seidel_sweeps = summary->fallback_sweeps =
+      summary->backtracks = 0;
   summary->linear_solver_failures = summary->levenberg_marquardt_steps = 0;
-  summary->symbolic_factorizations = summary->krylov_iterations = summary->operator_applications = 0;
+  summary->symbolic_factorizations = summary->krylov_iterations =
+      summary->operator_applications = 0;
   summary->attempts = 0;
   const auto start = Clock::now();
   OperatorNewton(options, problem, summary).Run(r);

@@ -16,13 +16,15 @@ namespace {
 void FrictionProblem::Validate() const {
   if (dimension != 2 && dimension != 3)
     Fail("dimension must be 2 or 3, got " + std::to_string(dimension));
-  if (num_contacts < 0) Fail("num_contacts must be >= 0, got " + std::to_string(num_contacts));
+  if (num_contacts < 0)
+    Fail("num_contacts must be >= 0, got " + std::to_string(num_contacts));
   const long n = size();
   if (W.rows() != n || W.cols() != n)
     Fail("W must be " + std::to_string(n) + " x " + std::to_string(n) + ", got " +
          std::to_string(W.rows()) + " x " + std::to_string(W.cols()));
   if (q.size() != n)
-    Fail("q must have " + std::to_string(n) + " entries, got " + std::to_string(q.size()));
+    Fail("q must have " + std::to_string(n) + " entries, got " +
+         std::to_string(q.size()));
   if (mu.size() != num_contacts)
     Fail("mu must have " + std::to_string(num_contacts) + " entries, got " +
          std::to_string(mu.size()));
@@ -34,7 +36,8 @@ void FrictionProblem::Validate() const {
              std::to_string(it.col()) + ")");
   for (int a = 0; a < num_contacts; ++a)
     if (!(std::isfinite(mu[a]) && mu[a] >= 0.0))
-      Fail("mu[" + std::to_string(a) + "] must be finite and >= 0, got " + std::to_string(mu[a]));
+      Fail("mu[" + std::to_string(a) + "] must be finite and >= 0, got " +
+           std::to_string(mu[a]));
 }
 
 }  // namespace ncp::fc

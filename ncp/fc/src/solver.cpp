@@ -79,7 +79,8 @@ bool Options::IsValid(std::string* error) const {
     return fail("armijo_beta must be in (0, 1/2)");
   if (nonmonotone_window < 1) return fail("nonmonotone_window must be >= 1");
   if (gauss_seidel_sweeps < 0) return fail("gauss_seidel_sweeps must be >= 0");
-  if (gauss_seidel_fallback_sweeps < 0) return fail("gauss_seidel_fallback_sweeps must be >= 0");
+  if (gauss_seidel_fallback_sweeps < 0)
+    return fail("gauss_seidel_fallback_sweeps must be >= 0");
   if (max_backtracks < 0) return fail("max_backtracks must be >= 0");
   if (stall_window < 1) return fail("stall_window must be >= 1");
   if (!(regularization > 0.0)) return fail("regularization must be > 0");
@@ -106,7 +107,8 @@ namespace internal {
 
 /// The semismooth Newton solver of one problem, kept between solves (Solver): W's block
 /// form, rho per contact, the Jacobian's pattern, the linear solver with its symbolic
-/// analysis and the work vectors. Run() shares its state between the attempts of the hybrid.
+/// analysis and the work vectors. Run() shares its state between the attempts of the
+/// hybrid.
 class NewtonSolver {
  public:
   explicit NewtonSolver(const FrictionProblem& problem)
@@ -183,7 +185,8 @@ class NewtonSolver {
   /// The hybrid's attempts (or the one formulation asked for) until one ends the solve.
   Termination RunAttempts() {
     Termination status = Termination::kConverged;
-    for (const auto& [formulation, rho_factor] : internal::AttemptSequence(options_->formulation)) {
+    for (const auto& [formulation, rho_factor] :
+         internal::AttemptSequence(options_->formulation)) {
       if (best_error_ <= options_->tolerance) break;
       ++summary_->attempts;
       summary_->formulation_final = formulation;
@@ -226,8 +229,8 @@ class NewtonSolver {
   void WarmStart() {
     if (options_->gauss_seidel_sweeps == 0) return;
     Vector r = best_r_;
-    for (int k = 0; k < options_->gauss_seidel_sweeps && best_error_ > options_->tolerance;
-         ++k) {
+    for (int k = 0;
+         k < options_->gauss_seidel_sweeps && best_error_ > options_->tolerance; ++k) {
       internal::GaussSeidelSweep(problem_, W_, rho_, &r);
       ++summary_->gauss_seidel_sweeps;
       const double error = Error(r);
@@ -239,12 +242,12 @@ class NewtonSolver {
     }
   }
 
-  /// Options::gauss_seidel_fallback_sweeps projected Gauss-Seidel sweeps from best_r_, as a
-  /// side trial: true (best_r_ replaced) when they reach the tolerance; otherwise their best
-  /// point is kept apart (gs_r_, gs_error_) and the Newton attempts go on from best_r_. The
-  /// sweeps stop early when the error, tested every kCheckEvery sweeps, has not halved over
-  /// kHalvingWindow sweeps (Gauss-Seidel converges linearly: a slow rate will not reach
-  /// the tolerance within the budget), or at the time limit.
+  /// Options::gauss_seidel_fallback_sweeps projected Gauss-Seidel sweeps from best_r_, as
+  /// a side trial: true (best_r_ replaced) when they reach the tolerance; otherwise their
+  /// best point is kept apart (gs_r_, gs_error_) and the Newton attempts go on from
+  /// best_r_. The sweeps stop early when the error, tested every kCheckEvery sweeps, has
+  /// not halved over kHalvingWindow sweeps (Gauss-Seidel converges linearly: a slow rate
+  /// will not reach the tolerance within the budget), or at the time limit.
   bool GaussSeidelTrial() {
     constexpr int kCheckEvery = 10, kHalvingWindow = 200;
     Vector r = best_r_;
@@ -285,7 +288,8 @@ class NewtonSolver {
       const double* ra = r.data() + d_ * a;
       const double* ua = u_.data() + d_ * a;
       double* pa = phi->data() + d_ * a;
-      internal::EvaluateLaw(formulation, d_, problem_.mu[a], rho_[a], s, ra, ua, pa, &A_[a], &B_[a]);
+      internal::EvaluateLaw(formulation, d_, problem_.mu[a], rho_[a], s, ra, ua, pa,
+                            &A_[a], &B_[a]);
     }
     return 0.5 * phi->squaredNorm();
   }
@@ -303,7 +307,8 @@ class NewtonSolver {
   /// to 104 steps, 0.27 s, with the same steps on the other 14 problems. false: both
   /// failed. J and J + delta I keep their patterns (and storage) from solve to solve.
   bool Direction(const Vector& phi, Vector* direction) {
-    const double delta = options_->regularization * std::max(1.0, LargestJacobianDiagonal());
+    const double delta =
+        options_->regularization * std::max(1.0, LargestJacobianDiagonal());
     bool solved = false, assembled = false;
     if (summary_->linear_solver_used == LinearSolverType::kDenseLU && SplitDecoupled()) {
       solved = ReducedDirection(delta, phi, direction);
@@ -313,7 +318,8 @@ class NewtonSolver {
       const bool first = !factorized_once_;
       factorized_once_ = true;
       rhs_ = -phi;
-      solved = linear_solver_->Analyze(shifted_, first) && linear_solver_->Factorize(shifted_) &&
+      solved = linear_solver_->Analyze(shifted_, first) &&
+               linear_solver_->Factorize(shifted_) &&
                linear_solver_->Solve(rhs_, direction);
     }
     if (solved && direction->allFinite() &&
@@ -349,7 +355,8 @@ class NewtonSolver {
   /// J_ = A + B W and shifted_ = J_ + delta I (patterns and storage kept between calls).
   void AssembleShifted(double delta) {
     W_.AssembleJacobian(A_, B_, &J_);
-    if (shifted_.nonZeros() != J_.nonZeros() || shifted_.rows() != J_.rows()) shifted_ = J_;
+    if (shifted_.nonZeros() != J_.nonZeros() || shifted_.rows() != J_.rows())
+      shifted_ = J_;
     std::copy(J_.valuePtr(), J_.valuePtr() + J_.nonZeros(), shifted_.valuePtr());
     for (int i = 0; i < shifted_.rows(); ++i) shifted_.coeffRef(i, i) += delta;
   }
@@ -369,7 +376,8 @@ class NewtonSolver {
   }
 
   /// coupled_: the contacts whose block B_a is not zero, position_[a] their place among
-  /// them (-1 for the others: the decoupled contacts). True when some contact is decoupled.
+  /// them (-1 for the others: the decoupled contacts). True when some contact is
+  /// decoupled.
   bool SplitDecoupled() {
     coupled_.clear();
     position_.assign(static_cast<size_t>(nc_), -1);
@@ -383,12 +391,13 @@ class NewtonSolver {
 
   /// The direction of (J + delta I) d = -phi with the decoupled contacts eliminated
   /// (SplitDecoupled). Row a of J is A_a e_a + B_a W_a, so a contact with B_a = 0 (e.g.
-  /// Alart-Curnier at a separated contact, Phi_a = r_a) has (A_a + delta I) d_a = -phi_a on
-  /// its own, and the coupled contacts C solve the dense system
-  ///   sum_{b in C} (J_ab + delta I [a = b]) d_b = -phi_a - B_a sum_{b not in C} W_ab d_b.
-  /// Exact block elimination (J is block triangular with the decoupled contacts first): the
-  /// direction of the full system with a dense LU over the coupled contacts only (2/3 (d |C|)^3
-  /// flops instead of 2/3 (d n_c)^3). false when a system is singular.
+  /// Alart-Curnier at a separated contact, Phi_a = r_a) has (A_a + delta I) d_a = -phi_a
+  /// on its own, and the coupled contacts C solve the dense system
+  ///   sum_{b in C} (J_ab + delta I [a = b]) d_b = -phi_a - B_a sum_{b not in C} W_ab
+  ///   d_b.
+  /// Exact block elimination (J is block triangular with the decoupled contacts first):
+  /// the direction of the full system with a dense LU over the coupled contacts only (2/3
+  /// (d |C|)^3 flops instead of 2/3 (d n_c)^3). false when a system is singular.
   bool ReducedDirection(double delta, const Vector& phi, Vector* direction) {
     direction->resize(phi.size());
     for (int a = 0; a < nc_; ++a) {
@@ -408,7 +417,8 @@ class NewtonSolver {
       const int a = coupled_[i];
       Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
       rhs.head(d_) = -phi.segment(d_ * a, d_);
-      Eigen::Vector3d decoupled_motion = Eigen::Vector3d::Zero();  // sum_{b not in C} W_ab d_b
+      Eigen::Vector3d decoupled_motion =
+          Eigen::Vector3d::Zero();  // sum_{b not in C} W_ab d_b
       for (int k = W_.RowBegin(a); k < W_.RowEnd(a); ++k) {
         const int b = W_.Column(k), j = position_[static_cast<size_t>(b)];
         if (j < 0) {
@@ -419,7 +429,8 @@ class NewtonSolver {
         }
         Block Jab = B_[a] * W_.BlockAt(k);
         if (b == a) Jab += A_[a] + delta * Block::Identity();
-        reduced_.block(d_ * static_cast<Eigen::Index>(i), d_ * j, d_, d_) = Jab.topLeftCorner(d_, d_);
+        reduced_.block(d_ * static_cast<Eigen::Index>(i), d_ * j, d_, d_) =
+            Jab.topLeftCorner(d_, d_);
       }
       rhs -= B_[a] * decoupled_motion;
       reduced_rhs_.segment(d_ * static_cast<Eigen::Index>(i), d_) = rhs.head(d_);
@@ -497,11 +508,13 @@ class NewtonSolver {
   /// Summary::message, written into its kept storage.
   void SetMessage(Termination status) const {
     std::string& message = summary_->message;
-    internal::ErrorReport(*options_, status == Termination::kConverged, summary_->final_error, &message);
+    internal::ErrorReport(*options_, status == Termination::kConverged,
+                          summary_->final_error, &message);
     char count[48];
     std::snprintf(count, sizeof count, " after %d Newton steps", summary_->iterations);
     message += count;
-    if (status != Termination::kConverged) (message += "; last attempt ended: ") += ToString(status);
+    if (status != Termination::kConverged)
+      (message += "; last attempt ended: ") += ToString(status);
   }
 
   const FrictionProblem& problem_;
@@ -524,8 +537,8 @@ class NewtonSolver {
   double gs_error_ = std::numeric_limits<double>::infinity();
   Vector u_, r_, phi_, trial_phi_, direction_, trial_, rhs_, Wd_;  // work vectors
   std::vector<double> recent_psi_;
-  std::vector<int> coupled_, position_;        // SplitDecoupled
-  DenseMatrix reduced_;                        // ReducedDirection's system over coupled_
+  std::vector<int> coupled_, position_;  // SplitDecoupled
+  DenseMatrix reduced_;                  // ReducedDirection's system over coupled_
   Vector reduced_rhs_, reduced_solution_;
   ncp::internal::DenseLU reduced_lu_;
   Clock::time_point start_;
@@ -572,16 +585,19 @@ void Solver::ScaleW(double scale) {
                                 std::to_string(scale));
   if (scale == scale_) return;  // (W already scale W0)
   if (!newton_->ScaleW(scale, W0_, &problem_.W))
-    throw std::invalid_argument("ncp::fc::Solver::ScaleW: scale " + std::to_string(scale) +
+    throw std::invalid_argument("ncp::fc::Solver::ScaleW: scale " +
+                                std::to_string(scale) +
                                 " times W has a non-finite entry");
   scale_ = scale;
 }
 
 void Solver::SetQ(const Vector& q) {
   if (q.size() != problem_.size())
-    throw std::invalid_argument("ncp::fc::Solver::SetQ: q must have " + std::to_string(problem_.size()) +
-                                " entries, got " + std::to_string(q.size()));
-  if (!q.allFinite()) throw std::invalid_argument("ncp::fc::Solver::SetQ: q has a non-finite entry");
+    throw std::invalid_argument("ncp::fc::Solver::SetQ: q must have " +
+                                std::to_string(problem_.size()) + " entries, got " +
+                                std::to_string(q.size()));
+  if (!q.allFinite())
+    throw std::invalid_argument("ncp::fc::Solver::SetQ: q has a non-finite entry");
   problem_.q = q;
 }
 

@@ -1,4 +1,5 @@
-// fc-solve FILE [--global] [--solver hybrid|ac|nm|fb] [--tolerance T] [--max-iterations N]
+// fc-solve FILE [--global] [--solver hybrid|ac|nm|fb] [--tolerance T] [--max-iterations
+// N]
 //          [--time-limit S] [--gauss-seidel N] [--rho-scale S] [--json]
 //          [--reactions OUT.txt] [--velocities OUT.txt] [--verbose]
 // Reads a frictional contact problem (Siconos .dat or FCLIB .hdf5), solves it, prints the
@@ -9,17 +10,16 @@
 // velocity v = M^-1 (q + H r) is reported with the residuals of the global problem,
 // recomputed from M, H, q, b without W. Exit code: 0 converged, 1 not converged (the
 // error reached is reported), 2 bad input or usage, 3 an output file could not be written
-// (its name and the reason on stderr; each file is written as NAME.partial and renamed when
-// complete, so NAME is never a truncated result).
-
-#include <cxxopts.hpp>
+// (its name and the reason on stderr; each file is written as NAME.partial and renamed
+// when complete, so NAME is never a truncated result).
 
 #include <csignal>
+#include <cxxopts.hpp>
 #include <iomanip>
 #include <iostream>
 #include <limits>
-#include <sstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "ncp/fc/error.hpp"
 #include "ncp/fc/global.hpp"
@@ -87,7 +87,8 @@ int main(int argc, char** argv) {
       "json", "print one JSON object instead of the text report")(
       "reactions", "write r, one value per line, to this file",
       cxxopts::value<std::string>())(
-      "global", "the text file holds a global problem (M, H, q, b, mu); FCLIB files say so")(
+      "global",
+      "the text file holds a global problem (M, H, q, b, mu); FCLIB files say so")(
       "velocities", "global problem: write v, one value per line, to this file",
       cxxopts::value<std::string>())("verbose", "one line per Newton step on stderr")(
       "h,help", "this help");
@@ -130,7 +131,8 @@ int main(int argc, char** argv) {
     std::string global_line;
     if (global) {
       const ncp::Vector v = ncp::fc::GlobalVelocity(global_problem, r);
-      const ncp::fc::GlobalResidual residual = ncp::fc::ComputeGlobalResidual(global_problem, v, r);
+      const ncp::fc::GlobalResidual residual =
+          ncp::fc::ComputeGlobalResidual(global_problem, v, r);
       report["dofs"] = global_problem.num_dofs();
       report["global_motion_residual"] = residual.motion;
       report["global_contact_error"] = residual.contact;

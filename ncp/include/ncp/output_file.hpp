@@ -1,14 +1,15 @@
 /// \file output_file.hpp
-/// A result file whose every write is checked: a failed or short write (disk full, file size
-/// limit, directory not writable, path is a directory) throws OutputError naming the file and
-/// the operating system's reason, so a run never reports success over a file that lost data.
+/// A result file whose every write is checked: a failed or short write (disk full, file
+/// size limit, directory not writable, path is a directory) throws OutputError naming the
+/// file and the operating system's reason, so a run never reports success over a file
+/// that lost data.
 ///
-/// Text is formatted into stream() and goes to the file at Commit() as one record. A record
-/// is written whole or not at all: after a failed write the file is cut back to the end of
-/// the last committed record, so a row-per-step CSV holds only complete rows. OpenAtomic
-/// writes NAME.partial and renames it to NAME on Close(), so NAME is either absent, the old
-/// file, or complete; the .partial is removed when the file is not closed (an exception, a
-/// failed write). POSIX only (open/write/ftruncate/rename).
+/// Text is formatted into stream() and goes to the file at Commit() as one record. A
+/// record is written whole or not at all: after a failed write the file is cut back to
+/// the end of the last committed record, so a row-per-step CSV holds only complete rows.
+/// OpenAtomic writes NAME.partial and renames it to NAME on Close(), so NAME is either
+/// absent, the old file, or complete; the .partial is removed when the file is not closed
+/// (an exception, a failed write). POSIX only (open/write/ftruncate/rename).
 #pragma once
 
 #include <sstream>
@@ -60,9 +61,11 @@ class OutputFile {
   /// The formatting buffer of the current record (precision and flags persist).
   std::ostream& stream() { return buffer_; }
   /// Appends raw bytes to the current record.
-  void Write(std::string_view bytes) { buffer_.write(bytes.data(), static_cast<std::streamsize>(bytes.size())); }
-  /// Writes the current record to the file. Throws OutputError on a failed or short write,
-  /// after cutting the file back to the previous record.
+  void Write(std::string_view bytes) {
+    buffer_.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  }
+  /// Writes the current record to the file. Throws OutputError on a failed or short
+  /// write, after cutting the file back to the previous record.
   void Commit();
   /// Commit(); the data is then in the operating system (there is no user-space buffer).
   void Flush() { Commit(); }

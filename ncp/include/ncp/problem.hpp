@@ -18,17 +18,19 @@
 
 namespace ncp {
 
-/// The accuracy a problem asks of each row, in the row's own units (MixedProblem::Scales).
-/// Row i is converged when |row_i| <= floor_i + tolerance * scale_i, with tolerance =
-/// Options::tolerance (then dimensionless, relative): an absolute plus a relative accuracy per
-/// row, as ODE codes use atol + rtol |y|. For a pair (A_j, B_j) the NCP function is applied to
-/// the rows divided by these accuracies, phi(A_j / a_j, B_j / b_j), so that A_j and B_j may
-/// carry different units (e.g. a force and a gap) and |phi| <= 1 means: A_j within its
-/// accuracy of 0, or B_j within its own, with both >= minus their accuracy.
+/// The accuracy a problem asks of each row, in the row's own units
+/// (MixedProblem::Scales). Row i is converged when |row_i| <= floor_i + tolerance *
+/// scale_i, with tolerance = Options::tolerance (then dimensionless, relative): an
+/// absolute plus a relative accuracy per row, as ODE codes use atol + rtol |y|. For a
+/// pair (A_j, B_j) the NCP function is applied to the rows divided by these accuracies,
+/// phi(A_j / a_j, B_j / b_j), so that A_j and B_j may carry different units (e.g. a force
+/// and a gap) and |phi| <= 1 means: A_j within its accuracy of 0, or B_j within its own,
+/// with both >= minus their accuracy.
 struct ResidualScales {
-  Vector equation;        ///< typical magnitude of E_i (size m), > 0
-  Vector a, b;            ///< typical magnitudes of A_j and B_j (size n - m), > 0
-  Vector equation_floor;  ///< absolute accuracy of E_i (e.g. its round-off), >= 0; empty = 0
+  Vector equation;  ///< typical magnitude of E_i (size m), > 0
+  Vector a, b;      ///< typical magnitudes of A_j and B_j (size n - m), > 0
+  Vector
+      equation_floor;  ///< absolute accuracy of E_i (e.g. its round-off), >= 0; empty = 0
   Vector a_floor, b_floor;  ///< same for A_j and B_j; empty = 0
 };
 
@@ -59,13 +61,14 @@ class MixedProblem {
   /// choice of row i <-> variable i. Override only if your ordering differs.
   virtual int PairVariable(int j) const { return NumEquations() + j; }
 
-  /// Optional: the accuracy each row is to be solved to (see ResidualScales), evaluated once
-  /// per solve at the start point x0. Return false (the default) to use the plain test
+  /// Optional: the accuracy each row is to be solved to (see ResidualScales), evaluated
+  /// once per solve at the start point x0. Return false (the default) to use the plain
+  /// test
   /// ||Phi||_inf <= Options::tolerance in the units of the rows. When it returns true the
   /// solver works on the relative system E_i / t_i, phi(A_j / ta_j, B_j / tb_j) with
-  /// t = scale + floor / tolerance, stops when its infinity norm is <= tolerance (i.e. every
-  /// row within floor + tolerance * scale), and reports that norm in Summary::final_phi_inf
-  /// (Summary::weighted_residual is true).
+  /// t = scale + floor / tolerance, stops when its infinity norm is <= tolerance (i.e.
+  /// every row within floor + tolerance * scale), and reports that norm in
+  /// Summary::final_phi_inf (Summary::weighted_residual is true).
   virtual bool Scales(const Vector& x0, ResidualScales* scales) {
     (void)x0;
     (void)scales;
@@ -73,8 +76,8 @@ class MixedProblem {
   }
 
   /// Optional: the point a restart (Options::merit_restarts) continues from, given in *x
-  /// the point where the solve got stuck. Default: x unchanged. The box MCP entry projects
-  /// x onto [l, u]. Return false if no restart should be made.
+  /// the point where the solve got stuck. Default: x unchanged. The box MCP entry
+  /// projects x onto [l, u]. Return false if no restart should be made.
   virtual bool RestartPoint(Vector* x) {
     (void)x;
     return true;

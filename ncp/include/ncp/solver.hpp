@@ -36,17 +36,17 @@ namespace ncp {
 
 /// State after one iteration, passed to the callback and stored in Summary::trace.
 struct IterationRecord {
-  int iteration = 0;            ///< k (0 = the start point, before any step)
-  double phi_inf = 0.0;         ///< ||Phi(x^k)||_inf
-  double psi = 0.0;             ///< psi(x^k) = 1/2 ||Phi(x^k)||_2^2
-  double grad_psi_inf = 0.0;    ///< ||J' Phi||_inf at x^k
-  double step_length = 0.0;     ///< 2^-i accepted to reach x^k (0 for k = 0)
-  double direction_norm = 0.0;  ///< ||d||_2 of the step that reached x^k
-  int backtracks = 0;           ///< i of the step that reached x^k
-  bool gradient_step = false;   ///< the step that reached x^k was d = -grad psi
+  int iteration = 0;              ///< k (0 = the start point, before any step)
+  double phi_inf = 0.0;           ///< ||Phi(x^k)||_inf
+  double psi = 0.0;               ///< psi(x^k) = 1/2 ||Phi(x^k)||_2^2
+  double grad_psi_inf = 0.0;      ///< ||J' Phi||_inf at x^k
+  double step_length = 0.0;       ///< 2^-i accepted to reach x^k (0 for k = 0)
+  double direction_norm = 0.0;    ///< ||d||_2 of the step that reached x^k
+  int backtracks = 0;             ///< i of the step that reached x^k
+  bool gradient_step = false;     ///< the step that reached x^k was d = -grad psi
   bool regularized_step = false;  ///< ... was the Levenberg-Marquardt direction
-  int degenerate_pairs = 0;     ///< |gamma| at x^k (pairs with A = B = 0)
-  double time_s = 0.0;          ///< wall time since the solve started
+  int degenerate_pairs = 0;       ///< |gamma| at x^k (pairs with A = B = 0)
+  double time_s = 0.0;            ///< wall time since the solve started
 };
 
 /// Why the hybrid default (Options::hybrid) left a strategy for the next one.
@@ -70,12 +70,13 @@ struct Strategy {
 
 /// A switch of the hybrid default, recorded in Summary::strategy_switches.
 struct StrategySwitch {
-  int iteration = 0;     ///< k of the iterate the new strategy starts from
+  int iteration = 0;       ///< k of the iterate the new strategy starts from
   Strategy from_strategy;  ///< the strategy left
   Strategy to_strategy;    ///< the strategy taken
   SwitchReason reason = SwitchReason::kStuck;
-  int best_iteration = 0;     ///< k at which from_strategy reached that point (smallest psi)
-  double best_psi = 0.0;      ///< psi (merit of from_strategy) at that point, where to_strategy starts
+  int best_iteration = 0;  ///< k at which from_strategy reached that point (smallest psi)
+  double best_psi =
+      0.0;  ///< psi (merit of from_strategy) at that point, where to_strategy starts
 };
 
 /// Return false to stop the solve (TerminationType::kUserAbort).
@@ -87,30 +88,34 @@ inline constexpr int kMaxStagnationWindow = 1000000;
 struct Options {
   NcpFunction ncp_function = NcpFunction::kFischerBurmeister;
   /// min function at a tie A_j = B_j: take grad B_j (true) or grad A_j (false) as the
-  /// B-subdifferential element. false: x_j = 0 for a standard NCP pair (x, F); the contact
-  /// module uses true (a touching node is closed), which keeps the Newton matrix regular
-  /// for a body held only by contact.
+  /// B-subdifferential element. false: x_j = 0 for a standard NCP pair (x, F); the
+  /// contact module uses true (a touching node is closed), which keeps the Newton matrix
+  /// regular for a body held only by contact.
   bool min_tie_takes_b = false;
-  /// lambda of the penalized FB function, in (0, 1]; 1 gives plain FB (CCK 2000 use 0.95).
+  /// lambda of the penalized FB function, in (0, 1]; 1 gives plain FB (CCK 2000 use
+  /// 0.95).
   double penalized_fb_lambda = 0.95;
-  /// Converged when ||Phi(x)||_inf <= tolerance (thesis section 6.4, eq. 109), in the units
-  /// of the rows. For a problem that states its own scales (MixedProblem::Scales) tolerance is
-  /// relative instead: row i must satisfy |row_i| <= floor_i + tolerance * scale_i.
+  /// Converged when ||Phi(x)||_inf <= tolerance (thesis section 6.4, eq. 109), in the
+  /// units of the rows. For a problem that states its own scales (MixedProblem::Scales)
+  /// tolerance is relative instead: row i must satisfy |row_i| <= floor_i + tolerance *
+  /// scale_i.
   double tolerance = 1e-10;
   /// Round-off floor of the test, in ulps: x^k is also converged when every row of Phi is
-  /// within tolerance + roundoff_ulps * eps * r_i, r_i the change of row i caused by moving
-  /// every x_j by one relative unit, r = |J_E||x| for an equation and
-  /// |dphi/dA| |J_A||x| + |dphi/dB| |J_B||x| for a pair (eps = 2.2e-16; weighted rows use the
-  /// weighted Jacobians). That is where a tolerance below what double precision resolves at
-  /// x (e.g. rows scaled by h^-2 on a fine grid: eps h^-2 |u| > 1e-10) stops; the Summary
-  /// then says so (Summary::roundoff_limited). Applies only where the rows' own accuracy ends,
-  /// so a problem whose rows resolve the tolerance is tested exactly as before. 0 = off.
+  /// within tolerance + roundoff_ulps * eps * r_i, r_i the change of row i caused by
+  /// moving every x_j by one relative unit, r = |J_E||x| for an equation and |dphi/dA|
+  /// |J_A||x| + |dphi/dB| |J_B||x| for a pair (eps = 2.2e-16; weighted rows use the
+  /// weighted Jacobians). That is where a tolerance below what double precision resolves
+  /// at x (e.g. rows scaled by h^-2 on a fine grid: eps h^-2 |u| > 1e-10) stops; the
+  /// Summary then says so (Summary::roundoff_limited). Applies only where the rows' own
+  /// accuracy ends, so a problem whose rows resolve the tolerance is tested exactly as
+  /// before. 0 = off.
   double roundoff_ulps = 10.0;
   /// Stop with kMaxIterations after this many Newton/gradient steps.
   int max_iterations = 500;
-  /// Stop with kTimeLimit when the wall time since Solve() began exceeds this [s]. Checked
-  /// at every iterate, at every line-search trial and before every numeric factorization:
-  /// a factorization whose predicted time exceeds the time left is not started.
+  /// Stop with kTimeLimit when the wall time since Solve() began exceeds this [s].
+  /// Checked at every iterate, at every line-search trial and before every numeric
+  /// factorization: a factorization whose predicted time exceeds the time left is not
+  /// started.
   double max_seconds = std::numeric_limits<double>::infinity();
   /// Rate [flop/s] that turns the predicted flop count of a factorization (from the
   /// symbolic analysis) into a predicted time until one factorization has been timed;
@@ -118,14 +123,15 @@ struct Options {
   /// rate of the backend (constants in linear_solver.cpp; their measurement:
   /// docs/ncp-measurements.md).
   double factorization_flop_rate = 0.0;
-  /// Newton direction kept only if grad psi' d <= -descent_rho ||d||_2^descent_p (eq. 22).
+  /// Newton direction kept only if grad psi' d <= -descent_rho ||d||_2^descent_p (eq.
+  /// 22).
   double descent_rho = 1e-8;
   double descent_p = 2.1;
   /// Armijo constant beta in (0, 1/2) of eq. (23).
   double armijo_beta = 1e-4;
-  /// Armijo reference: psi(x^k) replaced by the largest psi of the last nonmonotone_memory
-  /// iterates (Grippo, Lampariello and Lucidi 1986). 1 is the monotone eq. (23) of
-  /// Algorithm 1. The default 3 was chosen on the problem collection
+  /// Armijo reference: psi(x^k) replaced by the largest psi of the last
+  /// nonmonotone_memory iterates (Grippo, Lampariello and Lucidi 1986). 1 is the monotone
+  /// eq. (23) of Algorithm 1. The default 3 was chosen on the problem collection
   /// (docs/ncp-measurements.md).
   int nonmonotone_memory = 3;
   /// Before falling back to -grad psi, try the Levenberg-Marquardt direction
@@ -135,19 +141,20 @@ struct Options {
   /// iteration).
   bool regularized_direction = false;
   /// Restart strategy: when a Fischer-Burmeister-family solve ends at a stationary point
-  /// of psi that is not a solution (kStationaryPoint) or in a failed line search, continue
-  /// from that point with the other member of the family (FB <-> penalized FB with
-  /// penalized_fb_lambda), at most this many times; the iteration limit counts all. The
-  /// two merit functions have different non-solution stationary points, so a point where
-  /// one is stuck is generally not one of the other (Chen, Chen and Kanzow 2000 for the
-  /// penalized FB function). No effect with the min function. 0 turns restarts off; the
-  /// default 6 was chosen on the problem collection (docs/ncp-measurements.md).
+  /// of psi that is not a solution (kStationaryPoint) or in a failed line search,
+  /// continue from that point with the other member of the family (FB <-> penalized FB
+  /// with penalized_fb_lambda), at most this many times; the iteration limit counts all.
+  /// The two merit functions have different non-solution stationary points, so a point
+  /// where one is stuck is generally not one of the other (Chen, Chen and Kanzow 2000 for
+  /// the penalized FB function). No effect with the min function. 0 turns restarts off;
+  /// the default 6 was chosen on the problem collection (docs/ncp-measurements.md).
   int merit_restarts = 6;
-  /// Hybrid default: a strategy (NCP function, direction) that stops making progress hands
-  /// its best iterate to the next strategy instead of ending the solve. The sequence is the
-  /// requested one (ncp_function, regularized_direction) followed by penalized FB, min, FB
-  /// with the Levenberg-Marquardt direction and penalized FB with it, each taken once
-  /// (skipping the requested one). A strategy is left (Summary::strategy_switches) when
+  /// Hybrid default: a strategy (NCP function, direction) that stops making progress
+  /// hands its best iterate to the next strategy instead of ending the solve. The
+  /// sequence is the requested one (ncp_function, regularized_direction) followed by
+  /// penalized FB, min, FB with the Levenberg-Marquardt direction and penalized FB with
+  /// it, each taken once (skipping the requested one). A strategy is left
+  /// (Summary::strategy_switches) when
   ///  - it ends stuck: a non-solution stationary point, a failed line search, a failed
   ///    Newton solve without fallback (merit_restarts are used up first);
   ///  - slow progress: its smallest psi fell by less than the factor hybrid_decrease over
@@ -160,15 +167,15 @@ struct Options {
   /// strategies. The last strategy runs until the ordinary stopping tests. false: one
   /// strategy (with merit restarts), the solver before the hybrid default.
   bool hybrid = true;
-  /// Window of the slow-progress test [iterations] (0 turns the test off). The defaults of
-  /// the window and of hybrid_decrease were chosen on the problem collection
+  /// Window of the slow-progress test [iterations] (0 turns the test off). The defaults
+  /// of the window and of hybrid_decrease were chosen on the problem collection
   /// (docs/ncp.md, "Hybrid default").
   int hybrid_window = 50;
   /// Slow progress when min psi now > hybrid_decrease * min psi hybrid_window iterations
   /// ago; in (0, 1). 0.01: two orders of magnitude of psi (one of ||Phi||) per window.
   double hybrid_decrease = 0.01;
-  /// Iteration budget of one strategy = max(hybrid_window, hybrid_budget_per_unknown * n);
-  /// > 0 (+inf: no budget).
+  /// Iteration budget of one strategy = max(hybrid_window, hybrid_budget_per_unknown *
+  /// n); > 0 (+inf: no budget).
   double hybrid_budget_per_unknown = 10.0;
   /// Largest i tried in the step 2^-i; failing it ends with kLineSearchFailure.
   int max_backtracks = 60;
@@ -179,10 +186,12 @@ struct Options {
   /// stationarity_tolerance * ||Phi||_inf, else as kLineSearchFailure. grad psi = 0
   /// exactly with Phi != 0 is always kStationaryPoint.
   double stationarity_tolerance = 1e-6;
-  /// Stagnation: stop with kStationaryPoint when the smallest psi so far decreased by less
-  /// than stagnation_tolerance of itself over the last stagnation_window iterations (the iterates
-  /// approach a stationary point of psi that is not a solution). 0 disables the test.
-  int stagnation_window = 20;  ///< in [0, kMaxStagnationWindow] (a ring buffer of that many psi)
+  /// Stagnation: stop with kStationaryPoint when the smallest psi so far decreased by
+  /// less than stagnation_tolerance of itself over the last stagnation_window iterations
+  /// (the iterates approach a stationary point of psi that is not a solution). 0 disables
+  /// the test.
+  int stagnation_window =
+      20;  ///< in [0, kMaxStagnationWindow] (a ring buffer of that many psi)
   double stagnation_tolerance = 1e-6;
   /// Algorithm 1 step 2: fall back to d = -grad psi. If false, a failed Newton solve
   /// ends with kLinearSolverFailure and a failed descent test keeps the Newton direction.
@@ -220,16 +229,17 @@ struct Summary {
   int num_variables = -1;
   int num_equations = -1;
   int num_pairs = -1;
-  NcpFunction ncp_function = NcpFunction::kFischerBurmeister;  ///< as requested (restarts may switch)
+  NcpFunction ncp_function =
+      NcpFunction::kFischerBurmeister;  ///< as requested (restarts may switch)
   LinearSolverType linear_solver_requested = LinearSolverType::kAuto;
   LinearSolverType linear_solver_used = LinearSolverType::kAuto;
 
-  int iterations = -1;               ///< steps taken
-  int jacobian_evaluations = -1;     ///< calls of Jacobian()
-  int residual_evaluations = -1;     ///< calls of Evaluate() (line search included)
-  int gradient_steps = -1;           ///< steps with d = -grad psi
-  int regularized_steps = -1;        ///< steps along the Levenberg-Marquardt direction
-  int merit_restarts = -1;           ///< switches FB <-> penalized FB (Options::merit_restarts)
+  int iterations = -1;            ///< steps taken
+  int jacobian_evaluations = -1;  ///< calls of Jacobian()
+  int residual_evaluations = -1;  ///< calls of Evaluate() (line search included)
+  int gradient_steps = -1;        ///< steps with d = -grad psi
+  int regularized_steps = -1;     ///< steps along the Levenberg-Marquardt direction
+  int merit_restarts = -1;  ///< switches FB <-> penalized FB (Options::merit_restarts)
   /// Options::hybrid: every switch of strategy, in order (empty when the first one solved
   /// the problem or the hybrid is off).
   std::vector<StrategySwitch> strategy_switches;
@@ -243,18 +253,19 @@ struct Summary {
   /// Box MCP: components of the start point outside [l, u] moved onto the nearer bound
   /// (x0_i <- mid(l_i, u_i, x0_i)); 0 for a mixed problem.
   int projected_start_components = -1;
-  /// Box MCP: components of the returned x that were outside [l, u] and were moved onto the
-  /// nearer bound (the FB iterates may leave the box; the returned x never does).
+  /// Box MCP: components of the returned x that were outside [l, u] and were moved onto
+  /// the nearer bound (the FB iterates may leave the box; the returned x never does).
   int projected_final_components = -1;
-  /// TerminationType::kInfeasible: the Farkas certificate y (size n, one entry per row of F
-  /// = M x + q) with y_i >= 0 on rows with only a lower bound, <= 0 with only an upper bound,
-  /// 0 on two-sided or fixed rows, g = M'y with g_i <= 0 where u_i = +inf and g_i >= 0 where
-  /// l_i = -inf, and q'y + sum_i max(g_i l_i, g_i u_i) < 0: then y'F(x) < 0 for every x in
-  /// [l, u], while a solution would have y'F(x) >= 0. Empty otherwise.
+  /// TerminationType::kInfeasible: the Farkas certificate y (size n, one entry per row of
+  /// F = M x + q) with y_i >= 0 on rows with only a lower bound, <= 0 with only an upper
+  /// bound, 0 on two-sided or fixed rows, g = M'y with g_i <= 0 where u_i = +inf and g_i
+  /// >= 0 where l_i = -inf, and q'y + sum_i max(g_i l_i, g_i u_i) < 0: then y'F(x) < 0
+  /// for every x in [l, u], while a solution would have y'F(x) >= 0. Empty otherwise.
   Vector infeasibility_certificate;
 
-  /// true when the problem gave its scales (MixedProblem::Scales): the residuals below are
-  /// then of the relative system (rows divided by scale + floor / tolerance; converged when
+  /// true when the problem gave its scales (MixedProblem::Scales): the residuals below
+  /// are then of the relative system (rows divided by scale + floor / tolerance;
+  /// converged when
   /// <= tolerance).
   bool weighted_residual = false;
   /// kConverged although ||Phi||_inf > tolerance: every row was within tolerance + its
@@ -292,8 +303,8 @@ class Solver {
   Solver& operator=(Solver&&) noexcept;
 
   const Options& options() const { return options_; }
-  /// New options for the next solves; the workspace (symbolic factorization, box MCP form)
-  /// is kept. Throws std::invalid_argument like the constructor.
+  /// New options for the next solves; the workspace (symbolic factorization, box MCP
+  /// form) is kept. Throws std::invalid_argument like the constructor.
   void set_options(const Options& options);
 
   /// Mixed problem; *x holds the start point on entry and the last iterate on return.
@@ -314,8 +325,8 @@ class Solver {
 };
 
 /// One-shot conveniences. Problems with n <= 100 borrow a Solver kept per thread (the
-/// workspace is built once, not in every call; results are those of a fresh Solver); larger
-/// problems and calls nested inside a running one-shot solve use a fresh Solver.
+/// workspace is built once, not in every call; results are those of a fresh Solver);
+/// larger problems and calls nested inside a running one-shot solve use a fresh Solver.
 void Solve(const Options& options, MixedProblem& problem, Vector* x, Summary* summary);
 void Solve(const Options& options, SquareFunction& F, const Vector& lower,
            const Vector& upper, Vector* x, Summary* summary);

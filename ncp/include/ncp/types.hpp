@@ -26,21 +26,22 @@ enum class NcpFunction {
 
 /// Linear solver used for the Newton system J d = -Phi.
 enum class LinearSolverType {
-  kAuto,      ///< dense LU below Options::dense_threshold unknowns, else UMFPACK
-  kDenseLU,   ///< dense LU of the densified Jacobian: Eigen::FullPivLU (rank-revealing) up
-              ///< to 100 unknowns, Eigen::PartialPivLU above (singular: a pivot below n eps the largest)
+  kAuto,     ///< dense LU below Options::dense_threshold unknowns, else UMFPACK
+  kDenseLU,  ///< dense LU of the densified Jacobian: Eigen::FullPivLU (rank-revealing) up
+             ///< to 100 unknowns, Eigen::PartialPivLU above (singular: a pivot below n
+             ///< eps the largest)
   kSparseLU,  ///< Eigen::SparseLU (supernodal, COLAMD ordering)
   kUmfpack,   ///< SuiteSparse UMFPACK through Eigen::UmfPackLU
   kKlu,       ///< SuiteSparse KLU through Eigen::KLU
-  /// SuiteSparse CHOLMOD Cholesky of the Newton matrix made symmetric: rows that fix their
-  /// variable alone (d_i = rhs_i / J_ii) are eliminated and the others scaled by s_i (one
-  /// sign per connected block) with s_i J_ij = s_j J_ji (relative 1e-10). A box MCP with a
-  /// symmetric positive definite F' and one-sided bounds (obstacle problems, convex
-  /// bound-constrained minimization) gives S J = diag(da / db) + F' for the FB, min and
-  /// penalized FB functions: positive definite, so about half the flops of an LU of the
-  /// same fill and no pivoting (Davis, Direct Methods for Sparse Linear Systems, 2006;
-  /// timings against UMFPACK: docs/ncp-measurements.md). A Newton matrix that is not
-  /// symmetrizable, or not positive definite, is factored by UMFPACK instead
+  /// SuiteSparse CHOLMOD Cholesky of the Newton matrix made symmetric: rows that fix
+  /// their variable alone (d_i = rhs_i / J_ii) are eliminated and the others scaled by
+  /// s_i (one sign per connected block) with s_i J_ij = s_j J_ji (relative 1e-10). A box
+  /// MCP with a symmetric positive definite F' and one-sided bounds (obstacle problems,
+  /// convex bound-constrained minimization) gives S J = diag(da / db) + F' for the FB,
+  /// min and penalized FB functions: positive definite, so about half the flops of an LU
+  /// of the same fill and no pivoting (Davis, Direct Methods for Sparse Linear Systems,
+  /// 2006; timings against UMFPACK: docs/ncp-measurements.md). A Newton matrix that is
+  /// not symmetrizable, or not positive definite, is factored by UMFPACK instead
   /// (Summary::cholesky_fallbacks).
   kCholmod,
 };
@@ -50,14 +51,15 @@ constexpr LinearSolverType kLastLinearSolverType = LinearSolverType::kCholmod;
 
 /// Why a solve stopped. Only kConverged means the returned x solves the problem.
 enum class TerminationType {
-  kNotSolved,            ///< Solve() has not run yet (Summary default)
-  kConverged,            ///< ||Phi(x)||_inf <= Options::tolerance
-  kMaxIterations,        ///< Options::max_iterations reached
-  kLineSearchFailure,    ///< no step of length >= Options::min_step satisfies Armijo
-  kStationaryPoint,      ///< at (or stagnating near) a stationary point of psi that is not
-                         ///< a solution: grad psi = 0, no Armijo decrease with a tiny
-                         ///< gradient, or psi stalled (e.g. Billups from x0 = 0)
-  kLinearSolverFailure,  ///< Newton system unsolvable and the gradient fallback is disabled
+  kNotSolved,          ///< Solve() has not run yet (Summary default)
+  kConverged,          ///< ||Phi(x)||_inf <= Options::tolerance
+  kMaxIterations,      ///< Options::max_iterations reached
+  kLineSearchFailure,  ///< no step of length >= Options::min_step satisfies Armijo
+  kStationaryPoint,    ///< at (or stagnating near) a stationary point of psi that is not
+                       ///< a solution: grad psi = 0, no Armijo decrease with a tiny
+                       ///< gradient, or psi stalled (e.g. Billups from x0 = 0)
+  kLinearSolverFailure,  ///< Newton system unsolvable and the gradient fallback is
+                         ///< disabled
   kNonFiniteValues,      ///< NaN/Inf in the residual or Jacobian at the current iterate
   kEvaluationFailure,    ///< Evaluate()/Jacobian() returned false at the current iterate
   kUserAbort,            ///< the iteration callback asked to stop

@@ -1,20 +1,21 @@
 // ncp::petsc::Solver: Algorithm 1 of the thesis (section 3.1), the globalized semismooth
 // Newton method of De Luca, Facchinei and Kanzow (1996), over distributed PETSc Vec/Mat.
 //
-// The box MCP l <= x <= u perp F(x) is written row by row as the serial solver's mixed form
-// (ncp/src/box_mcp.cpp) without reordering:
+// The box MCP l <= x <= u perp F(x) is written row by row as the serial solver's mixed
+// form (ncp/src/box_mcp.cpp) without reordering:
 //
 //   free  (l = -inf, u = +inf):  Phi_i = F_i(x)                  J_i = F'_i
 //   fixed (l = u):               Phi_i = x_i - l_i               J_i = e_i'
 //   lower (l finite, u = +inf):  Phi_i = phi(x_i - l_i,  F_i)     J_i = da e_i' + db F'_i
-//   upper (l = -inf, u finite):  Phi_i = phi(u_i - x_i, -F_i)     J_i = -da e_i' - db F'_i
+//   upper (l = -inf, u finite):  Phi_i = phi(u_i - x_i, -F_i)     J_i = -da e_i' - db
+//   F'_i
 //
-// so the Newton matrix is J = diag(c_F) F' + diag(c_I) with per-row coefficients c_F, c_I,
-// assembled by MatCopy + MatDiagonalScale + MatDiagonalSet on the pattern of F'. Every
-// decision (z-vector rule, descent test, Armijo, restarts, stopping tests) is taken by the
-// functions of ncp/src/globalization.hpp and ncp_function_internal.hpp, the serial
-// solver's own, from norms and dot products reduced over the communicator: every rank takes
-// the same decision, so no rank can wait in a collective call the others skipped.
+// so the Newton matrix is J = diag(c_F) F' + diag(c_I) with per-row coefficients c_F,
+// c_I, assembled by MatCopy + MatDiagonalScale + MatDiagonalSet on the pattern of F'.
+// Every decision (z-vector rule, descent test, Armijo, restarts, stopping tests) is taken
+// by the functions of ncp/src/globalization.hpp and ncp_function_internal.hpp, the serial
+// solver's own, from norms and dot products reduced over the communicator: every rank
+// takes the same decision, so no rank can wait in a collective call the others skipped.
 
 #include "ncp/petsc/solver.hpp"
 
@@ -45,7 +46,8 @@ double Seconds(Clock::time_point since) {
 // event of the iteration, so it is thrown, naming the call.
 void Check(PetscErrorCode code, const char* call) {
   if (code != 0)
-    throw std::runtime_error(std::string("ncp::petsc::Solver: ") + call + " failed with PETSc error " +
+    throw std::runtime_error(std::string("ncp::petsc::Solver: ") + call +
+                             " failed with PETSc error " +
                              std::to_string(static_cast<int>(code)));
 }
 #define NCP_PETSC_CHECK(call) Check((call), #call)
@@ -71,7 +73,9 @@ long long MinRanks(MPI_Comm comm, long long local) {
 class OwnedVec {
  public:
   OwnedVec() = default;
-  ~OwnedVec() { if (v_) VecDestroy(&v_); }
+  ~OwnedVec() {
+    if (v_) VecDestroy(&v_);
+  }
   OwnedVec(const OwnedVec&) = delete;
   OwnedVec& operator=(const OwnedVec&) = delete;
   void DuplicateOf(Vec layout) { NCP_PETSC_CHECK(VecDuplicate(layout, &v_)); }
@@ -128,8 +132,10 @@ double Dot(Vec a, Vec b) {
 
 bool IsAij(Mat M, bool* parallel) {
   PetscBool seq = PETSC_FALSE, mpi = PETSC_FALSE;
-  NCP_PETSC_CHECK(PetscObjectBaseTypeCompare(reinterpret_cast<PetscObject>(M), MATSEQAIJ, &seq));
-  NCP_PETSC_CHECK(PetscObjectBaseTypeCompare(reinterpret_cast<PetscObject>(M), MATMPIAIJ, &mpi));
+  NCP_PETSC_CHECK(
+      PetscObjectBaseTypeCompare(reinterpret_cast<PetscObject>(M), MATSEQAIJ, &seq));
+  NCP_PETSC_CHECK(
+      PetscObjectBaseTypeCompare(reinterpret_cast<PetscObject>(M), MATMPIAIJ, &mpi));
   *parallel = mpi == PETSC_TRUE;
   return seq == PETSC_TRUE || mpi == PETSC_TRUE;
 }
@@ -140,8 +146,9 @@ template <bool kWrite, class Function>
 void ForEachLocalValue(Mat M, Function&& f) {
   bool parallel = false;
   if (!IsAij(M, &parallel))
-    throw std::invalid_argument("ncp::petsc::Solver: the Jacobian matrix must be of type AIJ "
-                                "(MATSEQAIJ or MATMPIAIJ)");
+    throw std::invalid_argument(
+        "ncp::petsc::Solver: the Jacobian matrix must be of type AIJ "
+        "(MATSEQAIJ or MATMPIAIJ)");
   Mat blocks[2] = {M, nullptr};
   if (parallel) NCP_PETSC_CHECK(MatMPIAIJGetSeqAIJ(M, &blocks[0], &blocks[1], nullptr));
   for (Mat block : blocks) {
@@ -165,9 +172,12 @@ void ForEachLocalValue(Mat M, Function&& f) {
 
 // *abs_copy = |M| entry by entry (created on first use with M's pattern).
 void AbsoluteCopy(Mat M, Mat* abs_copy) {
-  if (*abs_copy == nullptr) NCP_PETSC_CHECK(MatDuplicate(M, MAT_COPY_VALUES, abs_copy));
-  else NCP_PETSC_CHECK(MatCopy(M, *abs_copy, SAME_NONZERO_PATTERN));
-  ForEachLocalValue<true>(*abs_copy, [](PetscScalar& v) { v = std::abs(PetscRealPart(v)); });
+  if (*abs_copy == nullptr)
+    NCP_PETSC_CHECK(MatDuplicate(M, MAT_COPY_VALUES, abs_copy));
+  else
+    NCP_PETSC_CHECK(MatCopy(M, *abs_copy, SAME_NONZERO_PATTERN));
+  ForEachLocalValue<true>(*abs_copy,
+                          [](PetscScalar& v) { v = std::abs(PetscRealPart(v)); });
 }
 
 void DestroyMat(Mat* M) {
@@ -202,7 +212,8 @@ struct Solver::Impl {
   Mat source = nullptr;
   PetscObjectState source_state = -1;
   bool same_pattern = true;  // J's pattern is F''s (no diagonal entry was added)
-  Mat abs_source = nullptr, abs_newton = nullptr;  // |F'|, |J| (round-off floor, backward error)
+  Mat abs_source = nullptr,
+      abs_newton = nullptr;  // |F'|, |J| (round-off floor, backward error)
   // The symmetrized Newton system (symmetric_newton): rows with c_F != 0 divided by c_F,
   // the others eliminated (KspReport::symmetric_newton).
   bool symmetric_newton = false;
@@ -244,7 +255,8 @@ struct Solver::Impl {
     if (symmetric_newton) {
       NCP_PETSC_CHECK(MatDuplicate(newton, MAT_DO_NOT_COPY_VALUES, &symmetric));
       NCP_PETSC_CHECK(MatSetOption(symmetric, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
-      NCP_PETSC_CHECK(MatSetOption(symmetric, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
+      NCP_PETSC_CHECK(
+          MatSetOption(symmetric, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
     }
     Mat op = symmetric_newton ? symmetric : newton;
     NCP_PETSC_CHECK(KSPSetOperators(ksp, op, op));
@@ -260,13 +272,15 @@ struct Solver::Impl {
     PC pc = nullptr;
     NCP_PETSC_CHECK(KSPGetPC(ksp, &pc));
     PetscBool symmetric_ksp = PETSC_FALSE, symmetric_pc = PETSC_FALSE;
-    NCP_PETSC_CHECK(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(ksp), &symmetric_ksp, KSPCG,
-                                              KSPPIPECG, KSPGROPPCG, KSPCR, KSPPIPECR, KSPMINRES,
-                                              KSPSYMMLQ, ""));
-    NCP_PETSC_CHECK(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &symmetric_pc, PCCHOLESKY,
-                                              PCICC, ""));
-    PetscBool flag = symmetric_ksp || symmetric_pc ? PETSC_TRUE : PETSC_FALSE, set = PETSC_FALSE;
-    NCP_PETSC_CHECK(PetscOptionsGetBool(nullptr, prefix.c_str(), "-symmetric_newton", &flag, &set));
+    NCP_PETSC_CHECK(PetscObjectTypeCompareAny(
+        reinterpret_cast<PetscObject>(ksp), &symmetric_ksp, KSPCG, KSPPIPECG, KSPGROPPCG,
+        KSPCR, KSPPIPECR, KSPMINRES, KSPSYMMLQ, ""));
+    NCP_PETSC_CHECK(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc),
+                                              &symmetric_pc, PCCHOLESKY, PCICC, ""));
+    PetscBool flag = symmetric_ksp || symmetric_pc ? PETSC_TRUE : PETSC_FALSE,
+              set = PETSC_FALSE;
+    NCP_PETSC_CHECK(
+        PetscOptionsGetBool(nullptr, prefix.c_str(), "-symmetric_newton", &flag, &set));
     symmetric_newton = flag == PETSC_TRUE;
     report.symmetric_newton = symmetric_newton;
     ksp_configured = true;
@@ -283,8 +297,8 @@ struct Solver::Impl {
     report.ksp_type = ksp_type ? ksp_type : "";
     report.pc_type = pc_type ? pc_type : "";
     PetscBool factor = PETSC_FALSE;
-    NCP_PETSC_CHECK(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &factor, PCLU,
-                                              PCCHOLESKY, PCILU, PCICC, ""));
+    NCP_PETSC_CHECK(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &factor,
+                                              PCLU, PCCHOLESKY, PCILU, PCICC, ""));
     MatSolverType solver_type = nullptr;
     if (factor) NCP_PETSC_CHECK(PCFactorGetMatSolverType(pc, &solver_type));
     report.factor_solver_type = solver_type ? solver_type : "";
@@ -307,8 +321,9 @@ void CheckLayout(MPI_Comm comm, Vec x, Vec v, const char* name) {
   NCP_PETSC_CHECK(VecGetSize(v, &N));
   NCP_PETSC_CHECK(VecGetLocalSize(v, &NL));
   if (AnyRank(comm, N != n || NL != nl))
-    Misuse(std::string(name) + " has global size " + std::to_string(N) + ", the start point " +
-           std::to_string(n) + (N == n ? " (but the local sizes differ on some rank)" : "") +
+    Misuse(std::string(name) + " has global size " + std::to_string(N) +
+           ", the start point " + std::to_string(n) +
+           (N == n ? " (but the local sizes differ on some rank)" : "") +
            ": both must have the same layout");
 }
 
@@ -319,13 +334,13 @@ void CheckMatrixLayout(MPI_Comm comm, Vec x, Mat J) {
   NCP_PETSC_CHECK(MatGetSize(J, &rows, &cols));
   NCP_PETSC_CHECK(MatGetLocalSize(J, &local_rows, &local_cols));
   if (AnyRank(comm, rows != n || cols != n || local_rows != nl || local_cols != nl))
-    Misuse("the Jacobian matrix is " + std::to_string(rows) + " x " + std::to_string(cols) +
-           ", the start point has size " + std::to_string(n) +
+    Misuse("the Jacobian matrix is " + std::to_string(rows) + " x " +
+           std::to_string(cols) + ", the start point has size " + std::to_string(n) +
            ": the matrix must be square with rows and columns laid out like x");
 }
 
-// The first (lowest global index) bad entry of the bounds or the start point, reported with
-// its values on every rank (the owner contributes them to a sum, the others zeros).
+// The first (lowest global index) bad entry of the bounds or the start point, reported
+// with its values on every rank (the owner contributes them to a sum, the others zeros).
 void CheckBoundsAndStart(MPI_Comm comm, PetscInt first, const std::vector<double>& lower,
                          const std::vector<double>& upper, Vec x) {
   const auto n = static_cast<PetscInt>(lower.size());
@@ -335,7 +350,8 @@ void CheckBoundsAndStart(MPI_Comm comm, PetscInt first, const std::vector<double
     const double l = lower[static_cast<size_t>(i)], u = upper[static_cast<size_t>(i)];
     const bool problem = std::isnan(l) || std::isnan(u) || l > u ||
                          l == std::numeric_limits<double>::infinity() ||
-                         u == -std::numeric_limits<double>::infinity() || !std::isfinite(xa[i]);
+                         u == -std::numeric_limits<double>::infinity() ||
+                         !std::isfinite(xa[i]);
     if (problem) bad = first + i;
   }
   const long long global_bad = MinRanks(comm, bad);
@@ -355,7 +371,8 @@ void CheckBoundsAndStart(MPI_Comm comm, PetscInt first, const std::vector<double
   if (l > u)
     Misuse("lower" + at + " = " + FormatNumber("%.17g", l) + " > upper" + at + " = " +
            FormatNumber("%.17g", u));
-  if (l == std::numeric_limits<double>::infinity() || u == -std::numeric_limits<double>::infinity())
+  if (l == std::numeric_limits<double>::infinity() ||
+      u == -std::numeric_limits<double>::infinity())
     Misuse("empty box at" + at + " (lower = +inf or upper = -inf)");
   Misuse("start point x" + at + " = " + FormatNumber("%g", x0) + " is not finite");
 }
@@ -369,10 +386,19 @@ void CheckBoundsAndStart(MPI_Comm comm, PetscInt first, const std::vector<double
 class Iteration {
  public:
   Iteration(Solver::Impl& impl, const BoxMcp& problem, Vec x, Summary& summary,
-            std::vector<Row> rows, std::vector<double> lower, std::vector<double> upper, PetscInt n)
-      : impl_(impl), o_(impl.options), comm_(impl.comm), p_(problem), x_(x), s_(summary),
-        rows_(std::move(rows)), lower_(std::move(lower)), upper_(std::move(upper)),
-        local_(static_cast<PetscInt>(rows_.size())), n_(n) {}
+            std::vector<Row> rows, std::vector<double> lower, std::vector<double> upper,
+            PetscInt n)
+      : impl_(impl),
+        o_(impl.options),
+        comm_(impl.comm),
+        p_(problem),
+        x_(x),
+        s_(summary),
+        rows_(std::move(rows)),
+        lower_(std::move(lower)),
+        upper_(std::move(upper)),
+        local_(static_cast<PetscInt>(rows_.size())),
+        n_(n) {}
 
   void Run() {
     if (!Start()) return;
@@ -385,7 +411,8 @@ class Iteration {
       jacobian_ok_ = true;
       degenerate_count_ = 0;
       if (have_jacobian_ && !EvaluateJacobian(k)) return;
-      if (have_jacobian_ && jacobian_ok_) converged_ = roundoff_limited_ = WithinRoundoffFloor();
+      if (have_jacobian_ && jacobian_ok_)
+        converged_ = roundoff_limited_ = WithinRoundoffFloor();
       if (!Report(k)) return;
       if (TestStop(k)) {
         if (Restart(k)) continue;
@@ -403,12 +430,13 @@ class Iteration {
   }
 
  private:
-  // ---- Start: work vectors, Phi(x^0) -----------------------------------------------------
+  // ---- Start: work vectors, Phi(x^0)
+  // -----------------------------------------------------
   bool Start() {
     start_ = Clock::now();
     InitializeSummary();
-    for (OwnedVec* v : {&f_, &f_trial_, &phi_, &phi_trial_, &grad_, &d_, &x_trial_, &c_f_, &c_i_,
-                        &z_, &f_z_, &work_, &work2_, &fixed_values_})
+    for (OwnedVec* v : {&f_, &f_trial_, &phi_, &phi_trial_, &grad_, &d_, &x_trial_, &c_f_,
+                        &c_i_, &z_, &f_z_, &work_, &work2_, &fixed_values_})
       v->DuplicateOf(x_);
     impl_.Configure();
     const bool new_matrix = impl_.PrepareNewtonMatrix(p_.jacobian_matrix);
@@ -420,7 +448,8 @@ class Iteration {
     impl_.report.linear_iterations = 0;
     if (!Evaluate(x_, f_, phi_)) {
       NCP_PETSC_CHECK(VecSet(phi_, std::numeric_limits<double>::quiet_NaN()));
-      Finish(TerminationType::kEvaluationFailure, "the problem cannot be evaluated at the start point");
+      Finish(TerminationType::kEvaluationFailure,
+             "the problem cannot be evaluated at the start point");
       return false;
     }
     s_.initial_phi_inf = NormInf(phi_);
@@ -431,8 +460,8 @@ class Iteration {
     stagnation_.Reset(o_.stagnation_window);
     armijo_reference_.Reset(o_.nonmonotone_memory);
     if (o_.log_to_stderr)
-      PetscFPrintf(comm_, PETSC_STDERR, "%5s %12s %12s %12s %10s %4s %4s %5s\n", "iter", "|Phi|_inf",
-                   "psi", "|grad|_inf", "step", "bt", "dir", "|gam|");
+      PetscFPrintf(comm_, PETSC_STDERR, "%5s %12s %12s %12s %10s %4s %4s %5s\n", "iter",
+                   "|Phi|_inf", "psi", "|grad|_inf", "step", "bt", "dir", "|gam|");
     return true;
   }
 
@@ -450,10 +479,12 @@ class Iteration {
     s_.linear_solver_failures = s_.descent_test_failures = s_.backtracks = 0;
     s_.cholesky_fallbacks = s_.projected_start_components = 0;
     s_.evaluation_time_s = s_.linear_solver_time_s = 0.0;
-    s_.predicted_factorization_flops = std::numeric_limits<double>::quiet_NaN();  // none predicted
+    s_.predicted_factorization_flops =
+        std::numeric_limits<double>::quiet_NaN();  // none predicted
   }
 
-  // ---- Phi(x) row by row (file comment); false when F cannot be evaluated on some rank ----
+  // ---- Phi(x) row by row (file comment); false when F cannot be evaluated on some rank
+  // ----
   bool Evaluate(Vec point, Vec f, Vec phi) {
     ++s_.residual_evaluations;
     const auto t0 = Clock::now();
@@ -465,21 +496,27 @@ class Iteration {
     for (PetscInt i = 0; i < local_; ++i) {
       const auto ii = static_cast<size_t>(i);
       switch (rows_[ii]) {
-        case Row::kFree: out[i] = fa[i]; break;
-        case Row::kFixed: out[i] = xa[i] - lower_[ii]; break;
+        case Row::kFree:
+          out[i] = fa[i];
+          break;
+        case Row::kFixed:
+          out[i] = xa[i] - lower_[ii];
+          break;
         case Row::kLower:
-          out[i] = internal::PhiValue(function_, o_.penalized_fb_lambda, xa[i] - lower_[ii], fa[i]);
+          out[i] = internal::PhiValue(function_, o_.penalized_fb_lambda,
+                                      xa[i] - lower_[ii], fa[i]);
           break;
         case Row::kUpper:
-          out[i] = internal::PhiValue(function_, o_.penalized_fb_lambda, upper_[ii] - xa[i], -fa[i]);
+          out[i] = internal::PhiValue(function_, o_.penalized_fb_lambda,
+                                      upper_[ii] - xa[i], -fa[i]);
           break;
       }
     }
     return true;
   }
 
-  // ---- J^k in the B-subdifferential and grad psi = J' Phi (eq. 24) ---------------------
-  // false only when the solve has finished (non-finite Jacobian).
+  // ---- J^k in the B-subdifferential and grad psi = J' Phi (eq. 24)
+  // --------------------- false only when the solve has finished (non-finite Jacobian).
   bool EvaluateJacobian(int k) {
     ++s_.jacobian_evaluations;
     const auto t0 = Clock::now();
@@ -487,7 +524,9 @@ class Iteration {
     s_.evaluation_time_s += Seconds(t0);
     if (!jacobian_ok_) return true;
     bool finite = true;
-    ForEachLocalValue<false>(p_.jacobian_matrix, [&](const PetscScalar& v) { finite = finite && std::isfinite(PetscRealPart(v)); });
+    ForEachLocalValue<false>(p_.jacobian_matrix, [&](const PetscScalar& v) {
+      finite = finite && std::isfinite(PetscRealPart(v));
+    });
     if (AnyRank(comm_, !finite)) {
       Finish(TerminationType::kNonFiniteValues,
              "the Jacobian has NaN or Inf entries at iteration " + std::to_string(k));
@@ -499,9 +538,9 @@ class Iteration {
     return true;
   }
 
-  // c_F, c_I of every row: the partials (da, db) of phi at (A_i, B_i), the z-vector rule on
-  // the degenerate set (z = 1 at the variable of every degenerate pair; DFK 1996, eq. 27):
-  // za = A' z = +-z_i, zb = B' z = +-(F' z)_i.
+  // c_F, c_I of every row: the partials (da, db) of phi at (A_i, B_i), the z-vector rule
+  // on the degenerate set (z = 1 at the variable of every degenerate pair; DFK 1996, eq.
+  // 27): za = A' z = +-z_i, zb = B' z = +-(F' z)_i.
   void PhiPartials() {
     long long degenerate = 0;
     {
@@ -541,7 +580,8 @@ class Iteration {
   }
 
   // (A_i, B_i) of a pair row; false for an equation row.
-  bool PairValues(PetscInt i, const LocalRead& xa, const LocalRead& fa, double* a, double* b) const {
+  bool PairValues(PetscInt i, const LocalRead& xa, const LocalRead& fa, double* a,
+                  double* b) const {
     const auto ii = static_cast<size_t>(i);
     if (rows_[ii] == Row::kLower) {
       *a = xa[i] - lower_[ii];
@@ -559,15 +599,16 @@ class Iteration {
   // J = diag(c_F) F' + diag(c_I).
   void FillNewtonMatrix() {
     Mat J = impl_.newton;
-    NCP_PETSC_CHECK(MatCopy(p_.jacobian_matrix, J,
-                            impl_.same_pattern ? SAME_NONZERO_PATTERN : DIFFERENT_NONZERO_PATTERN));
+    NCP_PETSC_CHECK(
+        MatCopy(p_.jacobian_matrix, J,
+                impl_.same_pattern ? SAME_NONZERO_PATTERN : DIFFERENT_NONZERO_PATTERN));
     NCP_PETSC_CHECK(MatDiagonalScale(J, c_f_, nullptr));
     NCP_PETSC_CHECK(MatDiagonalSet(J, c_i_, ADD_VALUES));
   }
 
-  // ---- the round-off floor of the test (Options::roundoff_ulps) -------------------------
-  // r_i = |c_F,i| (|F'||x|)_i + |c_I,i| |x_i|, the serial solver's |da| |J_A||x| + |db|
-  // |J_B||x| (and |J_E||x| for equations) for these rows.
+  // ---- the round-off floor of the test (Options::roundoff_ulps)
+  // ------------------------- r_i = |c_F,i| (|F'||x|)_i + |c_I,i| |x_i|, the serial
+  // solver's |da| |J_A||x| + |db| |J_B||x| (and |J_E||x| for equations) for these rows.
   bool WithinRoundoffFloor() {
     if (o_.roundoff_ulps == 0.0) return false;
     AbsoluteCopy(p_.jacobian_matrix, &impl_.abs_source);
@@ -579,7 +620,8 @@ class Iteration {
       LocalRead phi(phi_), abs_fx(work_), abs_x(work2_), c_f(c_f_), c_i(c_i_);
       for (PetscInt i = 0; i < local_ && within; ++i) {
         const double r = std::abs(c_f[i]) * abs_fx[i] + std::abs(c_i[i]) * abs_x[i];
-        within = internal::RowWithinRoundoffFloor(phi[i], o_.tolerance, o_.roundoff_ulps, r);
+        within =
+            internal::RowWithinRoundoffFloor(phi[i], o_.tolerance, o_.roundoff_ulps, r);
       }
     }
     return !AnyRank(comm_, !within);
@@ -596,18 +638,21 @@ class Iteration {
     record_.time_s = reported ? Seconds(start_) : 0.0;
     if (o_.keep_trace) s_.trace.push_back(record_);
     if (o_.log_to_stderr)
-      PetscFPrintf(comm_, PETSC_STDERR, "%5d %12.4e %12.4e %12.4e %10.3e %4d %4s %5d\n", k, phi_inf_, psi_,
-                   record_.grad_psi_inf, record_.step_length, record_.backtracks,
-                   record_.gradient_step ? "grad" : "newt", degenerate_count_);
+      PetscFPrintf(comm_, PETSC_STDERR, "%5d %12.4e %12.4e %12.4e %10.3e %4d %4s %5d\n",
+                   k, phi_inf_, psi_, record_.grad_psi_inf, record_.step_length,
+                   record_.backtracks, record_.gradient_step ? "grad" : "newt",
+                   degenerate_count_);
     if (o_.callback && AnyRank(comm_, !o_.callback(record_))) {
-      Finish(TerminationType::kUserAbort,
-             "the iteration callback stopped the solve at iteration " + std::to_string(k));
+      Finish(
+          TerminationType::kUserAbort,
+          "the iteration callback stopped the solve at iteration " + std::to_string(k));
       return false;
     }
     return true;
   }
 
-  // ---- step 1 and the safeguards; true when the solve ends here ------------------------
+  // ---- step 1 and the safeguards; true when the solve ends here
+  // ------------------------
   bool TestStop(int k) {
     if (converged_) {
       s_.roundoff_limited = roundoff_limited_;
@@ -616,7 +661,8 @@ class Iteration {
       return true;
     }
     if (k >= o_.max_iterations) {
-      Finish(TerminationType::kMaxIterations, internal::MaxIterationsMessage(o_, phi_inf_));
+      Finish(TerminationType::kMaxIterations,
+             internal::MaxIterationsMessage(o_, phi_inf_));
       return true;
     }
     if (OutOfTime("at iteration ", k)) return true;
@@ -627,7 +673,8 @@ class Iteration {
     }
     grad_inf_ = NormInf(grad_);
     if (stagnation_.Stagnated(static_cast<size_t>(k - first_k_), psi_, o_)) {
-      Finish(TerminationType::kStationaryPoint, internal::StagnationMessage(o_, phi_inf_, grad_inf_));
+      Finish(TerminationType::kStationaryPoint,
+             internal::StagnationMessage(o_, phi_inf_, grad_inf_));
       return true;
     }
     if (grad_inf_ == 0.0) {
@@ -641,11 +688,13 @@ class Iteration {
   bool OutOfTime(const char* where, int k) {
     if (!std::isfinite(o_.max_seconds)) return false;
     if (!AnyRank(comm_, Seconds(start_) > o_.max_seconds)) return false;
-    Finish(TerminationType::kTimeLimit, internal::TimeLimitMessage(o_, where, k, phi_inf_));
+    Finish(TerminationType::kTimeLimit,
+           internal::TimeLimitMessage(o_, where, k, phi_inf_));
     return true;
   }
 
-  // ---- step 2: the direction d and slope_ = grad psi' d; true for d = -grad psi --------
+  // ---- step 2: the direction d and slope_ = grad psi' d; true for d = -grad psi
+  // --------
   bool ChooseDirection(int k) {
     const bool newton_solved = NewtonDirection();
     if (newton_solved) {
@@ -660,8 +709,9 @@ class Iteration {
     if (!o_.gradient_fallback) {
       if (!newton_solved)
         Finish(TerminationType::kLinearSolverFailure,
-               "the Newton system is singular or the KSP solve (" + impl_.report.ksp_type + " + " +
-                   impl_.report.pc_type + ") failed at iteration " + std::to_string(k) +
+               "the Newton system is singular or the KSP solve (" +
+                   impl_.report.ksp_type + " + " + impl_.report.pc_type +
+                   ") failed at iteration " + std::to_string(k) +
                    " and gradient_fallback is off");
       return false;
     }
@@ -705,17 +755,19 @@ class Iteration {
     return solved;
   }
 
-  // The same system J d = rhs made symmetric (the serial kCholmod backend's transformation,
-  // types.hpp): a row with c_F != 0 is divided by c_F, giving diag(c_I / c_F) + F'_i with
-  // c_I / c_F >= 0 for FB, min and penalized FB (both partials are <= 0); a row with c_F = 0
-  // fixes d_i = rhs_i / c_I and is eliminated from the others (MatZeroRowsColumns). For a
-  // symmetric positive (semi)definite F' (obstacle problems) the result is symmetric positive
-  // definite: CG and AMG apply. rhs is replaced by the symmetric system's right-hand side;
-  // false when a row is zero (c_F = c_I = 0) on some rank.
+  // The same system J d = rhs made symmetric (the serial kCholmod backend's
+  // transformation, types.hpp): a row with c_F != 0 is divided by c_F, giving diag(c_I /
+  // c_F) + F'_i with c_I / c_F >= 0 for FB, min and penalized FB (both partials are <=
+  // 0); a row with c_F = 0 fixes d_i = rhs_i / c_I and is eliminated from the others
+  // (MatZeroRowsColumns). For a symmetric positive (semi)definite F' (obstacle problems)
+  // the result is symmetric positive definite: CG and AMG apply. rhs is replaced by the
+  // symmetric system's right-hand side; false when a row is zero (c_F = c_I = 0) on some
+  // rank.
   bool Symmetrize(Vec rhs) {
     Mat S = impl_.symmetric;
-    NCP_PETSC_CHECK(MatCopy(p_.jacobian_matrix, S,
-                            impl_.same_pattern ? SAME_NONZERO_PATTERN : DIFFERENT_NONZERO_PATTERN));
+    NCP_PETSC_CHECK(
+        MatCopy(p_.jacobian_matrix, S,
+                impl_.same_pattern ? SAME_NONZERO_PATTERN : DIFFERENT_NONZERO_PATTERN));
     PetscInt first = 0, last = 0;
     NCP_PETSC_CHECK(VecGetOwnershipRange(x_, &first, &last));
     std::vector<PetscInt> fixed_rows;
@@ -739,23 +791,27 @@ class Iteration {
     }
     if (AnyRank(comm_, zero_row)) return false;
     NCP_PETSC_CHECK(MatDiagonalSet(S, work2_, ADD_VALUES));
-    NCP_PETSC_CHECK(MatZeroRowsColumns(S, static_cast<PetscInt>(fixed_rows.size()), fixed_rows.data(), 1.0,
-                                       fixed_values_, rhs));
+    NCP_PETSC_CHECK(MatZeroRowsColumns(S, static_cast<PetscInt>(fixed_rows.size()),
+                                       fixed_rows.data(), 1.0, fixed_values_, rhs));
     return true;
   }
 
-  // ---- step 3: Armijo line search (internal::ArmijoLineSearch) ----------------------------
+  // ---- step 3: Armijo line search (internal::ArmijoLineSearch)
+  // ----------------------------
   bool LineSearch(int k, bool gradient) {
-    const double reference = armijo_reference_.Update(static_cast<size_t>(k - first_k_), psi_);
+    const double reference =
+        armijo_reference_.Update(static_cast<size_t>(k - first_k_), psi_);
     using Trial = internal::LineSearchTrial;
     const internal::LineSearchResult r = internal::ArmijoLineSearch(
-        o_, reference, slope_, [&] { return OutOfTime("in the line search of iteration ", k); },
+        o_, reference, slope_,
+        [&] { return OutOfTime("in the line search of iteration ", k); },
         [&](double t) {
           NCP_PETSC_CHECK(VecWAXPY(x_trial_, t, d_, x_));
           PetscBool unchanged = PETSC_FALSE;
           NCP_PETSC_CHECK(VecEqual(x_trial_, x_, &unchanged));
           if (unchanged) return Trial{Trial::kUnchanged, 0.0};
-          if (!Evaluate(x_trial_, f_trial_, phi_trial_)) return Trial{Trial::kNotEvaluable, 0.0};
+          if (!Evaluate(x_trial_, f_trial_, phi_trial_))
+            return Trial{Trial::kNotEvaluable, 0.0};
           if (!AllFinite(comm_, phi_trial_)) return Trial{Trial::kNonFinite, 0.0};
           return Trial{Trial::kEvaluated, 0.5 * Dot(phi_trial_, phi_trial_)};
         });
@@ -767,16 +823,18 @@ class Iteration {
     step_ = r.step;
     backtracks_ = r.backtracks;
     if (!r.accepted) {
-      const internal::Ending ending =
-          internal::LineSearchFailure(o_, r, gradient ? "gradient" : "Newton", k, phi_inf_, grad_inf_);
+      const internal::Ending ending = internal::LineSearchFailure(
+          o_, r, gradient ? "gradient" : "Newton", k, phi_inf_, grad_inf_);
       Finish(ending.termination, ending.message);
     }
     return r.accepted;
   }
 
-  // ---- restart strategy (Options::merit_restarts): continue from mid(l, u, x^k) --------
+  // ---- restart strategy (Options::merit_restarts): continue from mid(l, u, x^k)
+  // --------
   bool Restart(int k) {
-    if (!internal::MeritRestartApplies(s_.termination, restarts_left_, function_)) return false;
+    if (!internal::MeritRestartApplies(s_.termination, restarts_left_, function_))
+      return false;
     const NcpFunction stuck_function = function_;
     function_ = internal::OtherMeritFunction(function_);
     NCP_PETSC_CHECK(VecCopy(x_, x_trial_));
@@ -796,17 +854,19 @@ class Iteration {
     phi_.Swap(phi_trial_);
     --restarts_left_;
     ++s_.merit_restarts;
-    if (o_.keep_trace && !s_.trace.empty()) s_.trace.pop_back();  // iterate k is reported anew
+    if (o_.keep_trace && !s_.trace.empty())
+      s_.trace.pop_back();  // iterate k is reported anew
     finished_ = false;
     s_.termination = TerminationType::kNotSolved;
     first_k_ = k;
     if (o_.log_to_stderr)
-      PetscFPrintf(comm_, PETSC_STDERR, "restart %d at iteration %d with %s\n", s_.merit_restarts, k,
-                   ToString(function_));
+      PetscFPrintf(comm_, PETSC_STDERR, "restart %d at iteration %d with %s\n",
+                   s_.merit_restarts, k, ToString(function_));
     return true;
   }
 
-  // ---- step 4: x^{k+1} = x^k + t d -------------------------------------------------------
+  // ---- step 4: x^{k+1} = x^k + t d
+  // -------------------------------------------------------
   void Accept(bool gradient) {
     NCP_PETSC_CHECK(VecCopy(x_trial_, x_));
     f_.Swap(f_trial_);
@@ -840,7 +900,8 @@ class Iteration {
   const std::vector<Row> rows_;
   const std::vector<double> lower_, upper_;  // local, normalized (+-inf = no bound)
   const PetscInt local_, n_;
-  OwnedVec f_, f_trial_, phi_, phi_trial_, grad_, d_, x_trial_, c_f_, c_i_, z_, f_z_, work_, work2_;
+  OwnedVec f_, f_trial_, phi_, phi_trial_, grad_, d_, x_trial_, c_f_, c_i_, z_, f_z_,
+      work_, work2_;
   OwnedVec fixed_values_;  // d_i of the rows the symmetrized system eliminates
   Clock::time_point start_;
   NcpFunction function_ = NcpFunction::kFischerBurmeister;
@@ -857,11 +918,14 @@ class Iteration {
 // ---------------------------------------------------------------------------------------
 // The public API.
 
-BoxMcp BoxMcp::FromFunctionPointers(ResidualFunctionPointer residual, JacobianFunctionPointer jacobian,
-                                    void* context, Mat jacobian_matrix, Vec lower, Vec upper) {
+BoxMcp BoxMcp::FromFunctionPointers(ResidualFunctionPointer residual,
+                                    JacobianFunctionPointer jacobian, void* context,
+                                    Mat jacobian_matrix, Vec lower, Vec upper) {
   BoxMcp p;
-  if (residual) p.residual = [residual, context](Vec x, Vec f) { return residual(x, f, context); };
-  if (jacobian) p.jacobian = [jacobian, context](Vec x, Mat J) { return jacobian(x, J, context); };
+  if (residual)
+    p.residual = [residual, context](Vec x, Vec f) { return residual(x, f, context); };
+  if (jacobian)
+    p.jacobian = [jacobian, context](Vec x, Mat J) { return jacobian(x, J, context); };
   p.jacobian_matrix = jacobian_matrix;
   p.lower = lower;
   p.upper = upper;
@@ -873,19 +937,23 @@ Solver::Solver(MPI_Comm comm, const Options& options, const std::string& options
   PetscBool initialized = PETSC_FALSE;
   PetscInitialized(&initialized);
   if (!initialized)
-    throw std::invalid_argument("ncp::petsc::Solver: PETSc is not initialized; call PetscInitialize "
-                                "before constructing the solver (and PetscFinalize after destroying it)");
+    throw std::invalid_argument(
+        "ncp::petsc::Solver: PETSc is not initialized; call PetscInitialize "
+        "before constructing the solver (and PetscFinalize after destroying it)");
   std::string error;
-  if (!options.IsValid(&error)) throw std::invalid_argument("ncp::petsc::Solver: " + error);
+  if (!options.IsValid(&error))
+    throw std::invalid_argument("ncp::petsc::Solver: " + error);
   if (options.regularized_direction)
-    throw std::invalid_argument("ncp::petsc::Solver: Options::regularized_direction = true is not "
-                                "available over PETSc (only the Newton and -grad psi directions)");
+    throw std::invalid_argument(
+        "ncp::petsc::Solver: Options::regularized_direction = true is not "
+        "available over PETSc (only the Newton and -grad psi directions)");
   if (options.linear_solver != LinearSolverType::kAuto)
-    throw std::invalid_argument(std::string("ncp::petsc::Solver: Options::linear_solver = ") +
-                                ToString(options.linear_solver) +
-                                " names a serial backend; over PETSc the Newton systems are solved by "
-                                "the KSP (leave kAuto, choose with -" + options_prefix + "ksp_type / -" +
-                                options_prefix + "pc_type)");
+    throw std::invalid_argument(
+        std::string("ncp::petsc::Solver: Options::linear_solver = ") +
+        ToString(options.linear_solver) +
+        " names a serial backend; over PETSc the Newton systems are solved by "
+        "the KSP (leave kAuto, choose with -" +
+        options_prefix + "ksp_type / -" + options_prefix + "pc_type)");
   impl_->comm = comm;
   impl_->options = options;
   impl_->prefix = options_prefix;
@@ -912,10 +980,12 @@ void Solver::Solve(const BoxMcp& problem, Vec x, Summary* summary) {
   Impl& impl = *impl_;
   const Options& o = impl.options;
   if (x == nullptr || summary == nullptr) Misuse("x and summary must not be null");
-  if (!problem.residual || !problem.jacobian) Misuse("BoxMcp::residual and BoxMcp::jacobian must be set");
+  if (!problem.residual || !problem.jacobian)
+    Misuse("BoxMcp::residual and BoxMcp::jacobian must be set");
   if (problem.jacobian_matrix == nullptr) Misuse("BoxMcp::jacobian_matrix must be set");
   int compare = MPI_UNEQUAL;
-  MPI_Comm_compare(PetscObjectComm(reinterpret_cast<PetscObject>(x)), impl.comm, &compare);
+  MPI_Comm_compare(PetscObjectComm(reinterpret_cast<PetscObject>(x)), impl.comm,
+                   &compare);
   if (compare != MPI_IDENT && compare != MPI_CONGRUENT)
     Misuse("the start point lives on another communicator than the solver");
   if (problem.lower) CheckLayout(impl.comm, x, problem.lower, "lower");
@@ -931,9 +1001,11 @@ void Solver::Solve(const BoxMcp& problem, Vec x, Summary* summary) {
   NCP_PETSC_CHECK(VecGetLocalSize(x, &local));
   NCP_PETSC_CHECK(VecGetOwnershipRange(x, &first, &last));
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  std::vector<double> lower(static_cast<size_t>(local), -kInf), upper(static_cast<size_t>(local), kInf);
-  for (auto [bound, out] : {std::pair<Vec, std::vector<double>*>{problem.lower, &lower},
-                            std::pair<Vec, std::vector<double>*>{problem.upper, &upper}}) {
+  std::vector<double> lower(static_cast<size_t>(local), -kInf),
+      upper(static_cast<size_t>(local), kInf);
+  for (auto [bound, out] :
+       {std::pair<Vec, std::vector<double>*>{problem.lower, &lower},
+        std::pair<Vec, std::vector<double>*>{problem.upper, &upper}}) {
     if (!bound) continue;
     LocalRead a(bound);
     for (PetscInt i = 0; i < local; ++i)
@@ -944,14 +1016,19 @@ void Solver::Solve(const BoxMcp& problem, Vec x, Summary* summary) {
   long long two_sided = LLONG_MAX;
   for (size_t i = 0; i < rows.size(); ++i) {
     const bool lo = std::isfinite(lower[i]), up = std::isfinite(upper[i]);
-    rows[i] = !lo && !up ? Row::kFree : lo && up && lower[i] == upper[i] ? Row::kFixed
-              : lo && up ? Row::kFree /* rejected below */ : lo ? Row::kLower : Row::kUpper;
-    if (lo && up && lower[i] != upper[i] && two_sided == LLONG_MAX) two_sided = first + static_cast<long long>(i);
+    rows[i] = !lo && !up                         ? Row::kFree
+              : lo && up && lower[i] == upper[i] ? Row::kFixed
+              : lo && up                         ? Row::kFree /* rejected below */
+              : lo                               ? Row::kLower
+                                                 : Row::kUpper;
+    if (lo && up && lower[i] != upper[i] && two_sided == LLONG_MAX)
+      two_sided = first + static_cast<long long>(i);
   }
   const long long first_two_sided = MinRanks(impl.comm, two_sided);
   if (first_two_sided != LLONG_MAX)
     Misuse("x[" + std::to_string(first_two_sided) +
-           "] has two finite bounds l < u; the PETSc solver supports free, fixed, lower-bounded and "
+           "] has two finite bounds l < u; the PETSc solver supports free, fixed, "
+           "lower-bounded and "
            "upper-bounded components only (ncp::Solver handles two-sided bounds)");
 
   // Options::project_start_point: x0 <- mid(l, u, x0).
@@ -960,19 +1037,23 @@ void Solver::Solve(const BoxMcp& problem, Vec x, Summary* summary) {
     LocalWrite xa(x);
     for (PetscInt i = 0; i < local; ++i) {
       const auto ii = static_cast<size_t>(i);
-      const double projected = std::max(lower[ii], std::min(upper[ii], PetscRealPart(xa[i])));
+      const double projected =
+          std::max(lower[ii], std::min(upper[ii], PetscRealPart(xa[i])));
       if (projected != PetscRealPart(xa[i])) ++moved;
       xa[i] = projected;
     }
   }
   moved = SumRanks(impl.comm, moved);
 
-  Iteration(impl, problem, x, *summary, std::move(rows), std::move(lower), std::move(upper), n).Run();
+  Iteration(impl, problem, x, *summary, std::move(rows), std::move(lower),
+            std::move(upper), n)
+      .Run();
 
   summary->projected_start_components = static_cast<int>(moved);
   if (moved > 0)
-    summary->message += " (" + std::to_string(moved) +
-                        " components of the start point were outside [l, u] and were projected onto it)";
+    summary->message +=
+        " (" + std::to_string(moved) +
+        " components of the start point were outside [l, u] and were projected onto it)";
 }
 
 }  // namespace ncp::petsc

@@ -1,4 +1,5 @@
-// Reads a problem with the installed ncp::fc, solves it, prints the error; exit 0 if solved.
+// Reads a problem with the installed ncp::fc, solves it, prints the error; exit 0 if
+// solved.
 #include <cstdio>
 
 #include "ncp/fc/error.hpp"
@@ -11,6 +12,7 @@ int main(int argc, char** argv) {
   ncp::Vector r;
   ncp::fc::Summary summary;
   ncp::fc::Solve(ncp::fc::Options(), problem, &r, &summary);
-  std::printf("%s: error %.3e\n", problem.name.c_str(), ncp::fc::NaturalMapError(problem, r));
+  std::printf("%s: error %.3e\n", problem.name.c_str(),
+              ncp::fc::NaturalMapError(problem, r));
   return summary.IsSolutionUsable() ? 0 : 1;
 }

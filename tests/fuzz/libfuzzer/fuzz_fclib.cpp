@@ -1,6 +1,6 @@
 // libFuzzer target: the FCLIB HDF5 reader (ncp::fc::ReadFclib and ReadFclibSolution).
-// Reads through ncp's own checked HDF5 reader (ncp/fc/src/fclib_hdf5.cpp): a malformed file
-// must end in an exception, never in exit() or a crash (docs/reliability-fclib.md).
+// Reads through ncp's own checked HDF5 reader (ncp/fc/src/fclib_hdf5.cpp): a malformed
+// file must end in an exception, never in exit() or a crash (docs/reliability-fclib.md).
 #include <cstdint>
 #include <exception>
 

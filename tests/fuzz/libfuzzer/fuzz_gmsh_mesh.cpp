@@ -1,5 +1,5 @@
-// libFuzzer target: the gmsh .msh reader (contact::ReadGmshMesh: the tag scanner, then gmsh
-// itself, then the checks of the mesh). Every input must give a mesh or a
+// libFuzzer target: the gmsh .msh reader (contact::ReadGmshMesh: the tag scanner, then
+// gmsh itself, then the checks of the mesh). Every input must give a mesh or a
 // std::invalid_argument naming the file.
 #include <cstdint>
 #include <exception>

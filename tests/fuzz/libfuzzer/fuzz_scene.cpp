@@ -1,6 +1,7 @@
 // libFuzzer target: the scene TOML reader (contact::LoadScene). Every input must either
 // load or be refused with an exception derived from std::exception (SceneError names the
-// file and key); a crash, a sanitizer report, a hang or an unbounded allocation is a finding.
+// file and key); a crash, a sanitizer report, a hang or an unbounded allocation is a
+// finding.
 #include <cstdint>
 #include <exception>
 

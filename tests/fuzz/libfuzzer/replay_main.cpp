@@ -1,7 +1,8 @@
-// Replays inputs through a libFuzzer target without libFuzzer (any compiler): each argument
-// is a file or a directory (every regular file below it, recursively, in sorted order). A
-// crash or a sanitizer report ends the process as it would under libFuzzer; the ctests
-// fuzz_replay_<target> run the seeds and tests/fuzz/regressions/<target>/ this way.
+// Replays inputs through a libFuzzer target without libFuzzer (any compiler): each
+// argument is a file or a directory (every regular file below it, recursively, in sorted
+// order). A crash or a sanitizer report ends the process as it would under libFuzzer; the
+// ctests fuzz_replay_<target> run the seeds and tests/fuzz/regressions/<target>/ this
+// way.
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
@@ -20,7 +21,8 @@ int main(int argc, char** argv) {
     const fs::path arg(argv[a]);
     if (fs::is_directory(arg)) {
       for (const auto& entry : fs::recursive_directory_iterator(arg))
-        if (entry.is_regular_file() && entry.path().filename() != "README.md") inputs.push_back(entry.path());
+        if (entry.is_regular_file() && entry.path().filename() != "README.md")
+          inputs.push_back(entry.path());
     } else if (fs::is_regular_file(arg)) {
       inputs.push_back(arg);
     } else {
@@ -31,7 +33,8 @@ int main(int argc, char** argv) {
   std::sort(inputs.begin(), inputs.end());
   for (const fs::path& path : inputs) {
     std::ifstream in(path, std::ios::binary);
-    const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::vector<char> bytes((std::istreambuf_iterator<char>(in)),
+                                  std::istreambuf_iterator<char>());
     if (!in.eof() && in.fail()) {
       std::fprintf(stderr, "replay: cannot read %s\n", path.c_str());
       return 2;

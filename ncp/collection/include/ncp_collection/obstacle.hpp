@@ -33,7 +33,8 @@ enum class ObstacleVariable {
   /// The gap to the lower obstacle w = u - l: 0 <= w <= r - l perp A w - (f - A l), with
   /// A l - f computed once. The same solution shifted, but better conditioned in floating
   /// point: an iterate w is stored to eps |w|, which vanishes on the contact set, where u
-  /// is stored to eps |u|; the rows' round-off eps h^-2 |u| (above 1e-10 from h ~ 1e-3 on)
+  /// is stored to eps |u|; the rows' round-off eps h^-2 |u| (above 1e-10 from h ~ 1e-3
+  /// on)
   /// becomes eps h^-2 |w|.
   kGap,
 };

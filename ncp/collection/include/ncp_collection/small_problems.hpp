@@ -38,8 +38,8 @@ TestProblem Hs35Lcp();
 /// (2.8, 0, 0.8, 1.2).
 TestProblem PathManualLcp();
 
-/// Murty's exponential LCP (Murty 1978; the family of MCPLIB `explcp`): M lower triangular,
-/// M_ii = 1, M_ij = 2 below the diagonal, q = -1. Unique solution e_1.
+/// Murty's exponential LCP (Murty 1978; the family of MCPLIB `explcp`): M lower
+/// triangular, M_ii = 1, M_ij = 2 below the diagonal, q = -1. Unique solution e_1.
 TestProblem MurtyExponentialLcp(int n);
 
 }  // namespace ncp::collection

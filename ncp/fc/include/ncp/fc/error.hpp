@@ -19,6 +19,7 @@ double NaturalMapError(const FrictionProblem& problem, const Vector& r);
 
 /// ||e||_2 of the natural map at forces r and relative motions u (not normalized, no
 /// check of u = W r + q): for solvers that hold u. mu one entry per contact.
-double NaturalMapResidual(int dimension, const Vector& mu, const Vector& r, const Vector& u);
+double NaturalMapResidual(int dimension, const Vector& mu, const Vector& r,
+                          const Vector& u);
 
 }  // namespace ncp::fc

@@ -31,8 +31,8 @@ struct GlobalFrictionProblem {
 
   int num_dofs() const { return static_cast<int>(M.rows()); }
   int size() const { return dimension * num_contacts; }
-  /// Throws std::invalid_argument (expected vs actual) unless the sizes agree, every entry
-  /// is finite and every mu >= 0.
+  /// Throws std::invalid_argument (expected vs actual) unless the sizes agree, every
+  /// entry is finite and every mu >= 0.
   void Validate() const;
 };
 
@@ -50,7 +50,7 @@ struct GlobalResidual {
   double motion = 0.0;
   double contact = 0.0;
 };
-GlobalResidual ComputeGlobalResidual(const GlobalFrictionProblem& problem, const Vector& v,
-                                     const Vector& r);
+GlobalResidual ComputeGlobalResidual(const GlobalFrictionProblem& problem,
+                                     const Vector& v, const Vector& r);
 
 }  // namespace ncp::fc

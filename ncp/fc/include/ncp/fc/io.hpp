@@ -18,8 +18,8 @@ namespace ncp::fc {
 /// Sparse-block: nbblocks, block rows, block cols, cumulative row sizes, cumulative col
 /// sizes, filled1, filled2, block-row pointers (filled1), block-column indices (filled2),
 /// then per block its number and its entries column by column.
-/// Sparse (2): the origin (1 triplet, 2 CSC, 3 CSR, 4 half triplet) and CSparse's printout
-/// of the matrix (values with 6 significant digits, as Siconos writes them).
+/// Sparse (2): the origin (1 triplet, 2 CSC, 3 CSR, 4 half triplet) and CSparse's
+/// printout of the matrix (values with 6 significant digits, as Siconos writes them).
 /// Throws std::runtime_error (with the file name and what was expected) on a malformed
 /// file.
 FrictionProblem ReadSiconosDat(const std::string& path);
@@ -36,15 +36,15 @@ bool HaveFclib();
 /// FCLIB HDF5 (read by ncp's own checked reader on the HDF5 C library, not libfclib): a
 /// local problem as is; a global problem (M v = H r + f, u = H' v + w, without equality
 /// constraints G) reduced to local form W = H' M^-1 H, q = H' M^-1 f + w (M factorized by
-/// sparse Cholesky). Throws std::runtime_error naming the file, the dataset and the defect
-/// when the file is not a well-formed FCLIB problem (missing dataset, wrong type or length,
-/// sizes that disagree, a sparse index out of range, a non-finite value, negative mu), when
-/// the problem has constraints (local R, global G) or is a rolling-friction one, or when HDF5
-/// is not compiled in. Never exits the process.
+/// sparse Cholesky). Throws std::runtime_error naming the file, the dataset and the
+/// defect when the file is not a well-formed FCLIB problem (missing dataset, wrong type
+/// or length, sizes that disagree, a sparse index out of range, a non-finite value,
+/// negative mu), when the problem has constraints (local R, global G) or is a
+/// rolling-friction one, or when HDF5 is not compiled in. Never exits the process.
 FrictionProblem ReadFclib(const std::string& path);
 
-/// FCLIB HDF5 global problem as is (no reduction); throws std::runtime_error when the file
-/// holds none, on a malformed file (as ReadFclib) or when HDF5 is not compiled in.
+/// FCLIB HDF5 global problem as is (no reduction); throws std::runtime_error when the
+/// file holds none, on a malformed file (as ReadFclib) or when HDF5 is not compiled in.
 GlobalFrictionProblem ReadFclibGlobal(const std::string& path);
 /// True when the FCLIB file holds a global problem and no local one (false without HDF5).
 bool IsFclibGlobal(const std::string& path);
@@ -59,8 +59,8 @@ GlobalFrictionProblem ReadSiconosGlobalDat(const std::string& path);
 /// (ReadSiconosGlobalDat).
 GlobalFrictionProblem ReadGlobalProblem(const std::string& path);
 
-/// The stored reference solution r (/solution/r) of an FCLIB file, local or global; nullopt
-/// when the file has none. Throws like ReadFclib on a malformed file or solution.
+/// The stored reference solution r (/solution/r) of an FCLIB file, local or global;
+/// nullopt when the file has none. Throws like ReadFclib on a malformed file or solution.
 std::optional<Vector> ReadFclibSolution(const std::string& path);
 
 /// By content: HDF5 (signature "\x89HDF") goes to ReadFclib, anything else to

@@ -1,20 +1,20 @@
 /// \file operator_problem.hpp
-/// The frictional contact problem of problem.hpp with the Delassus operator W given by its
-/// action r -> W r only (matrix-free), and its semismooth Newton solver.
+/// The frictional contact problem of problem.hpp with the Delassus operator W given by
+/// its action r -> W r only (matrix-free), and its semismooth Newton solver.
 ///
 /// For Delassus operators too large to form: W = G M^-1 G' of a finite-element body with
 /// 10^4 contacts is a dense matrix of (3 10^4)^2 entries, while one product with it costs
 /// one sparse solve with M. The solver (operator_solver.cpp) is the semismooth Newton of
 /// solver.hpp with the same formulations and the same hybrid sequence of attempts,
-/// Phi(r, W r + q) = 0 with J = A + B W, but the Newton equation (J + delta I) d = -Phi is solved by GMRES, right
-/// preconditioned by the block-diagonal matrix of blocks A_a + B_a D_a + delta I
-/// (D_a = diag(W_aa) as given by the caller), to the relative residual
+/// Phi(r, W r + q) = 0 with J = A + B W, but the Newton equation (J + delta I) d = -Phi
+/// is solved by GMRES, right preconditioned by the block-diagonal matrix of blocks A_a +
+/// B_a D_a + delta I (D_a = diag(W_aa) as given by the caller), to the relative residual
 ///     eta_k = min(Options::newton_residual, max(||Phi_k|| / ||Phi_0||, 0.1 tol / e_k))
 /// (inexact Newton with a forcing term that goes to zero with Phi: superlinear, Eisenstat
 /// and Walker 1996; never finer than a tenth of the tolerance relative to the current
-/// natural-map error e_k). ||J d + Phi|| <= eta_k ||Phi|| < ||Phi|| makes d a descent direction
-/// of psi = ||Phi||^2 / 2; the nonmonotone Armijo search of solver.hpp follows, with
-/// W (r + t d) = W r + t W d (one product per Newton step, none per backtrack).
+/// natural-map error e_k). ||J d + Phi|| <= eta_k ||Phi|| < ||Phi|| makes d a descent
+/// direction of psi = ||Phi||^2 / 2; the nonmonotone Armijo search of solver.hpp follows,
+/// with W (r + t d) = W r + t W d (one product per Newton step, none per backtrack).
 /// Converged on the natural-map error of error.hpp (same measure and tolerance as the
 /// matrix solvers), checked with u = W r + q recomputed, not updated.
 /// Cost per Newton step: (GMRES iterations + 2) products with W.

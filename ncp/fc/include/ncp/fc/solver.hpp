@@ -41,7 +41,8 @@ enum class Formulation {
   /// no halving of the error in Options::stall_window iterations) the next attempt of
   /// (Fischer-Burmeister, natural map, AC with rho x10, natural map with rho/10, AC with
   /// rho/10, natural map with rho x10) restarts from the best iterate so far. After the
-  /// first attempt, projected Gauss-Seidel sweeps are tried (Options::gauss_seidel_fallback_sweeps).
+  /// first attempt, projected Gauss-Seidel sweeps are tried
+  /// (Options::gauss_seidel_fallback_sweeps).
   kHybrid,
 };
 
@@ -87,10 +88,10 @@ struct Options {
   /// Fallback of the hybrid: when its first attempt (Alart-Curnier) stalls, at most this
   /// many projected Gauss-Seidel sweeps from the best iterate, stopping at tolerance or
   /// when the error no longer halves within 200 sweeps; if they do not converge, the next
-  /// Newton attempts go on from the Newton iterate (and the Gauss-Seidel point is returned
-  /// only if nothing came closer). Gauss-Seidel needs no factorization of W and copes with
-  /// redundant contacts (W rank-deficient with many stuck contacts: Kapla towers), where
-  /// the Newton direction is ill-determined. 0 turns it off.
+  /// Newton attempts go on from the Newton iterate (and the Gauss-Seidel point is
+  /// returned only if nothing came closer). Gauss-Seidel needs no factorization of W and
+  /// copes with redundant contacts (W rank-deficient with many stuck contacts: Kapla
+  /// towers), where the Newton direction is ill-determined. 0 turns it off.
   int gauss_seidel_fallback_sweeps = 2000;
   /// Multiplies the per-contact rho of the formulations (see Formulation).
   double rho_scale = 1.0;
@@ -117,8 +118,8 @@ struct Options {
   /// kAuto: dense LU for dimension n_c <= dense_threshold, UMFPACK above.
   int dense_threshold = 150;
   /// GMRES iterations per Newton step at most (operator_problem.hpp only; restarted every
-  /// 50). A Newton step whose GMRES stops short of the forcing term is still taken when it
-  /// reduces ||J d + Phi|| below ||Phi|| (then still a descent direction).
+  /// 50). A Newton step whose GMRES stops short of the forcing term is still taken when
+  /// it reduces ||J d + Phi|| below ||Phi|| (then still a descent direction).
   int krylov_max_iterations = 200;
   /// One line per iteration on stderr.
   bool log_to_stderr = false;
@@ -152,7 +153,8 @@ struct Summary {
   int linear_solver_failures = -1;  ///< Newton solves failed or failing the residual test
   int levenberg_marquardt_steps = -1;  ///< directions from (J'J + m I) d = -J' Phi
   int symbolic_factorizations = -1;
-  int krylov_iterations = -1;      ///< GMRES iterations, all Newton steps (operator_problem.hpp)
+  int krylov_iterations =
+      -1;  ///< GMRES iterations, all Newton steps (operator_problem.hpp)
   int operator_applications = -1;  ///< products with W (operator_problem.hpp)
 
   double initial_error = -1.0;  ///< NaturalMapError at the start point
@@ -177,12 +179,12 @@ namespace internal {
 class NewtonSolver;
 }
 
-/// Repeated solves of one problem whose q and scale of W change between solves but not its
-/// structure (the steps of a time stepper): the problem is validated once, and W's block
-/// form, rho per contact, the Jacobian's pattern, the linear solver's symbolic analysis and
-/// the work vectors are kept, so that a solve allocates nothing in its Newton iterations
-/// (dense LU) and only the Summary's trace and message grow. Solve(options, problem, r,
-/// summary) above is one Solver used once.
+/// Repeated solves of one problem whose q and scale of W change between solves but not
+/// its structure (the steps of a time stepper): the problem is validated once, and W's
+/// block form, rho per contact, the Jacobian's pattern, the linear solver's symbolic
+/// analysis and the work vectors are kept, so that a solve allocates nothing in its
+/// Newton iterations (dense LU) and only the Summary's trace and message grow.
+/// Solve(options, problem, r, summary) above is one Solver used once.
 class Solver {
  public:
   /// Throws std::invalid_argument as FrictionProblem::Validate.

@@ -1,24 +1,25 @@
 /// \file solver.hpp
-/// ncp's semismooth Newton method (ncp/solver.hpp: Algorithm 1 of the thesis with the same
-/// ncp::Options and ncp::Summary) over distributed PETSc objects: the box MCP
+/// ncp's semismooth Newton method (ncp/solver.hpp: Algorithm 1 of the thesis with the
+/// same ncp::Options and ncp::Summary) over distributed PETSc objects: the box MCP
 ///
 ///     l <= x <= u  perp  F(x)       (x, l, u, F(x) distributed Vecs, F'(x) a Mat)
 ///
-/// on any number of MPI ranks. Every decision of the iteration (z-vector rule, descent test,
-/// nonmonotone Armijo, merit restarts, stopping tests) is the serial solver's own code
-/// (ncp/src/globalization.hpp); only the linear algebra is PETSc's. The Newton systems
-/// J d = -Phi are solved by a KSP: by default a direct LU factorization by MUMPS
-/// (KSPPREONLY + PCLU + MATSOLVERMUMPS); any KSP/PC from PETSc's options database under the
-/// solver's prefix, e.g. -ncp_ksp_type cg -ncp_pc_type gamg (docs/petsc.md).
+/// on any number of MPI ranks. Every decision of the iteration (z-vector rule, descent
+/// test, nonmonotone Armijo, merit restarts, stopping tests) is the serial solver's own
+/// code (ncp/src/globalization.hpp); only the linear algebra is PETSc's. The Newton
+/// systems J d = -Phi are solved by a KSP: by default a direct LU factorization by MUMPS
+/// (KSPPREONLY + PCLU + MATSOLVERMUMPS); any KSP/PC from PETSc's options database under
+/// the solver's prefix, e.g. -ncp_ksp_type cg -ncp_pc_type gamg (docs/petsc.md).
 ///
 /// The caller initializes PETSc (PetscInitialize) before constructing a Solver and
 /// finalizes it after destroying it; the library never does either.
 ///
-/// Errors: misuse (PETSc not initialized, Vecs of different layouts, l > u, NaN in a bound
-/// or in x0, invalid Options) throws std::invalid_argument with the same message on every
-/// rank of the communicator (the checks are collective). Numerical trouble (a residual with
-/// NaN, a singular Newton matrix, a stalled line search) never throws: it ends the solve
-/// with a TerminationType and a message in the Summary, again the same on every rank.
+/// Errors: misuse (PETSc not initialized, Vecs of different layouts, l > u, NaN in a
+/// bound or in x0, invalid Options) throws std::invalid_argument with the same message on
+/// every rank of the communicator (the checks are collective). Numerical trouble (a
+/// residual with NaN, a singular Newton matrix, a stalled line search) never throws: it
+/// ends the solve with a TerminationType and a message in the Summary, again the same on
+/// every rank.
 #pragma once
 
 #include <petscksp.h>
@@ -33,12 +34,12 @@
 
 namespace ncp::petsc {
 
-/// f = F(x). x and f have the layout of the start point. Return 0 when F could be evaluated;
-/// a non-zero value (on any rank) means "F cannot be evaluated at x": the line search then
-/// shortens the step, like `false` from ncp::SquareFunction::Evaluate.
+/// f = F(x). x and f have the layout of the start point. Return 0 when F could be
+/// evaluated; a non-zero value (on any rank) means "F cannot be evaluated at x": the line
+/// search then shortens the step, like `false` from ncp::SquareFunction::Evaluate.
 using ResidualFunction = std::function<PetscErrorCode(Vec x, Vec f)>;
-/// J = F'(x), assembled (MatAssemblyBegin/End) into the matrix BoxMcp::jacobian_matrix with
-/// the same nonzero pattern at every call. Return value as for ResidualFunction.
+/// J = F'(x), assembled (MatAssemblyBegin/End) into the matrix BoxMcp::jacobian_matrix
+/// with the same nonzero pattern at every call. Return value as for ResidualFunction.
 using JacobianFunction = std::function<PetscErrorCode(Vec x, Mat J)>;
 
 /// The same callbacks as PETSc-style function pointers with a user context.
@@ -49,8 +50,8 @@ using JacobianFunctionPointer = PetscErrorCode (*)(Vec x, Mat J, void* context);
 struct BoxMcp {
   ResidualFunction residual;
   JacobianFunction jacobian;
-  /// The matrix F'(x) is assembled into (e.g. from DMCreateMatrix or MatCreateAIJ): square,
-  /// rows distributed like x. An AIJ type (MATSEQAIJ / MATMPIAIJ) is required.
+  /// The matrix F'(x) is assembled into (e.g. from DMCreateMatrix or MatCreateAIJ):
+  /// square, rows distributed like x. An AIJ type (MATSEQAIJ / MATMPIAIJ) is required.
   Mat jacobian_matrix = nullptr;
   /// Lower bounds, laid out like x; nullptr means -inf everywhere. An entry <=
   /// -Options::infinite_bound (PETSC_NINFINITY, -1e20) is no bound.
@@ -68,24 +69,24 @@ struct BoxMcp {
 /// Counters of the PETSc solver beyond ncp::Summary (Summary::linear_solver_used stays
 /// kAuto: the Newton systems are solved by the KSP described here).
 struct KspReport {
-  std::string ksp_type;             ///< e.g. "preonly"
-  std::string pc_type;              ///< e.g. "lu"
-  std::string factor_solver_type;   ///< e.g. "mumps" (empty without a factorization)
-  int linear_iterations = -1;       ///< KSP iterations summed over all Newton systems
+  std::string ksp_type;            ///< e.g. "preonly"
+  std::string pc_type;             ///< e.g. "lu"
+  std::string factor_solver_type;  ///< e.g. "mumps" (empty without a factorization)
+  int linear_iterations = -1;      ///< KSP iterations summed over all Newton systems
   /// The KSP solved the symmetrized Newton system (rows scaled, fixed rows eliminated;
   /// docs/petsc.md): on by default for CG-like KSPs and Cholesky/ICC, else off;
   /// -<prefix>symmetric_newton true|false decides.
   bool symmetric_newton = false;
-  int ranks = -1;                   ///< size of the communicator
+  int ranks = -1;  ///< size of the communicator
 };
 
 /// Keeps the KSP (and the symbolic factorization of a direct solver) between solves.
 class Solver {
  public:
   /// comm: the communicator of every Vec and Mat of the problems solved. options_prefix:
-  /// prefix of the KSP in PETSc's options database ("ncp_": -ncp_ksp_type, -ncp_pc_type, ...).
-  /// Throws std::invalid_argument (collectively) when PETSc is not initialized or the
-  /// options are invalid, or when they ask for what this solver does not provide
+  /// prefix of the KSP in PETSc's options database ("ncp_": -ncp_ksp_type, -ncp_pc_type,
+  /// ...). Throws std::invalid_argument (collectively) when PETSc is not initialized or
+  /// the options are invalid, or when they ask for what this solver does not provide
   /// (Options::regularized_direction; Options::linear_solver other than kAuto).
   explicit Solver(MPI_Comm comm, const Options& options = Options(),
                   const std::string& options_prefix = "ncp_");
