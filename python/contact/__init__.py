@@ -186,26 +186,6 @@ class Result:
             raise ValueError(f"contact: point must have {self.contact_coordinates.shape[1]} coordinates")
         return int(np.argmin(np.linalg.norm(self.contact_coordinates - point, axis=1)))
 
-    def save(self, path):
-        """Writes the state after the current step to `path` (binary, atomically: path.partial
-        renamed when complete): everything the next steps read, the summary with every step's
-        record, the body force and obstacle translation, and the scene's text and hash.
-        Raises RuntimeError naming the file and the reason if it cannot be written."""
-        self._core.save(os.fspath(path))
-
-    @classmethod
-    def load(cls, path, scene, base_dir=".", **overrides):
-        """The Simulation of `scene` (a Scene, a path or a dict, with the overrides of
-        ``run``) continued from the checkpoint at `path`: its steps from there are those of
-        the Simulation that was saved, bit for bit.  Raises contact.CheckpointError (a
-        ValueError) when the file is missing, truncated or corrupt or of another scene (the
-        message names both hashes and the first line that differs).  ``result()`` holds the
-        snapshots of the steps after the load (as the uninterrupted run's after the checkpoint's
-        step); ``records`` and ``summary`` all steps."""
-        sim = cls(scene, base_dir, **overrides)
-        sim._core.load_checkpoint(os.fspath(path))
-        return sim
-
     @property
     def completed(self):
         return self.summary["status"] == "completed"
