@@ -194,9 +194,10 @@ contact::SceneOverrides OverridesOf(const cxxopts::ParseResult& args) {
 }
 
 /// The human-readable summary (the thesis's table columns dt, f_c, k_sim, N_Jac, N_func,
-/// t_comp, then the accuracy and energy balance of the run).
+/// t_comp, then the accuracy and energy balance of the run; a distributed run does not
+/// compute them yet and says so).
 void PrintReport(std::FILE* table, const contact::Scene& scene,
-                 const contact::SceneResult& r) {
+                 const contact::SceneResult& r, bool distributed) {
   const contact::DynamicSummary& s = r.summary;
   // A run that did not complete has its reason on stderr already (main): not twice.
   if (s.status == contact::DynamicStatus::kCompleted)
@@ -214,6 +215,14 @@ void PrintReport(std::FILE* table, const contact::Scene& scene,
   std::fprintf(table, "  %-10g %-6g %-7d %-8ld %-8ld %-10.4f\n", scene.dynamics.dt,
                scene.friction_coefficient, s.steps, s.jacobian_evaluations,
                s.residual_evaluations, s.seconds);
+  if (distributed) {
+    std::fprintf(
+        table,
+        "  penetration %.3e m; the accuracy measures and the energy balance are not "
+        "computed on MPI ranks yet (docs/petsc.md, \"Contact scenes on MPI ranks\")\n",
+        s.max_penetration);
+    return;
+  }
   std::fprintf(table,
                "  accuracy over all steps: equilibrium residual %.3e N, penetration %.3e "
                "m, contact "
@@ -399,7 +408,7 @@ int main(int argc, char** argv) {
                  "with --resume "
                  "continues the run\n",
                  r.checkpoint_step, scene.output_directory.c_str());
-  if (completed || (!quiet && s.steps > 0)) PrintReport(table, scene, r);
+  if (completed || (!quiet && s.steps > 0)) PrintReport(table, scene, r, distributed);
   if (!r.files_written.empty() && !quiet)
     std::fprintf(stderr, "  wrote %zu files into %s\n", r.files_written.size(),
                  scene.output_directory.c_str());
