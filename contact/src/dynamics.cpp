@@ -659,8 +659,8 @@ void Simulation::Impl::Check(const internal::CheckpointData& d) const {
 
 void Simulation::Impl::Restore(const internal::CheckpointData& d) {
   try {
-    integrator->Restore(
-        d);  // (the warm start first: it may refuse before anything changes)
+    // The warm start first: it may refuse before anything changes.
+    integrator->Restore(d);
   } catch (const std::invalid_argument& e) {
     throw CheckpointError(std::string("it does not fit this run: ") + e.what());
   }

@@ -385,19 +385,19 @@ class ExplicitRun {
     }
     rec->solve_seconds = Seconds(start);
     // u^{k+1}, M du, the kinetic energy (dynamics.cpp MeasureStep, energy_balance.cpp).
-    int finite = 1;
-    double kinetic = 0.0;
+    double kinetic = 0.0, non_finite = 0.0;
     for (PetscInt i = 0; i < n_; ++i) {
-      if (!std::isfinite(a.du[i])) finite = 0;
+      if (!std::isfinite(a.du[i])) non_finite = 1.0;
       a.u[i] = a.u[i] + a.du[i];
       a.Mdu[i] = a.m[i] * a.du[i];
       kinetic += a.du[i] * a.Mdu[i];
     }
     a.Restore();
-    double sums[2] = {kinetic, static_cast<double>(finite)};
-    MPI_Allreduce(MPI_IN_PLACE, &sums[0], 1, MPI_DOUBLE, MPI_SUM, comm_);
-    MPI_Allreduce(MPI_IN_PLACE, &sums[1], 1, MPI_DOUBLE, MPI_MIN, comm_);
-    if (sums[1] < 1.0) return false;
+    // One reduction: the kinetic energy and the number of ranks with a non-finite
+    // increment.
+    double sums[2] = {kinetic, non_finite};
+    MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, comm_);
+    if (sums[1] > 0.0) return false;
     CONTACT_PETSC_CHECK(MatMult(body_.stiffness(), u_, Ku_));
     PetscScalar uKu = 0.0;
     CONTACT_PETSC_CHECK(VecDot(u_, Ku_, &uKu));
