@@ -104,6 +104,7 @@ void RecordFields(Io& io, Record& r) {
   io("record.newton_iterations", r.newton_iterations);
   io("record.jacobian_evaluations", r.jacobian_evaluations);
   io("record.residual_evaluations", r.residual_evaluations);
+  io("record.krylov_iterations", r.krylov_iterations);
   io("record.seconds", r.seconds);
   io("record.solve_seconds", r.solve_seconds);
   io("record.solver_status", r.solver_status);
@@ -136,6 +137,7 @@ void SummaryFields(Io& io, Summary& s) {
   io("summary.jacobian_evaluations", s.jacobian_evaluations);
   io("summary.residual_evaluations", s.residual_evaluations);
   io("summary.friction_restarts", s.friction_restarts);
+  io("summary.krylov_iterations", s.krylov_iterations);
   io("summary.seconds", s.seconds);
   io("summary.assembly_seconds", s.assembly_seconds);
   io("summary.mass_solve_seconds", s.mass_solve_seconds);

@@ -27,7 +27,8 @@
 
 namespace contact::internal {
 
-inline constexpr std::uint32_t kCheckpointVersion = 1;
+// 2: StepRecord and DynamicSummary carry krylov_iterations.
+inline constexpr std::uint32_t kCheckpointVersion = 2;
 
 /// FNV-1a, 64 bit, of `bytes` (a change detector, not a cryptographic hash).
 std::uint64_t Fnv1a(std::string_view bytes, std::uint64_t hash = 0xcbf29ce484222325ULL);

@@ -280,6 +280,7 @@ class CentralDifferences {
     rec->newton_iterations = outcome.newton_iterations;
     rec->jacobian_evaluations = outcome.jacobian_evaluations;
     rec->residual_evaluations = outcome.residual_evaluations;
+    rec->krylov_iterations = outcome.krylov_iterations;
     summary_.friction_restarts += outcome.friction_restarts;
     // Implicit Coulomb: the bound the step was solved (and is measured) against is
     // f_c lambda^{k+1}, not the lagged f_c lambda^k.
@@ -289,6 +290,7 @@ class CentralDifferences {
     summary_.newton_iterations += rec->newton_iterations;
     summary_.jacobian_evaluations += rec->jacobian_evaluations;
     summary_.residual_evaluations += rec->residual_evaluations;
+    summary_.krylov_iterations += rec->krylov_iterations;
     if (outcome.ok) return true;
     summary_.status = DynamicStatus::kSolverFailure;
     summary_.message = "step " + std::to_string(k + 1) +
