@@ -483,21 +483,23 @@ class Solver::Iteration {
     return solved;
   }
 
-  // Symbolic analysis (sparse backends), the time check, the numeric factorization of J
-  // (dense: of J equilibrated when its rows or columns spread widely,
-  // Options::scale_newton_system).
+  // Symbolic analysis (sparse backends), the time check, the numeric factorization of J.
+  // Dense: an LU that calls J singular is tried again on J equilibrated when J's rows or
+  // columns spread over more than 2^20 (Options::scale_newton_system; nothing is computed
+  // for the scaling while the LU of J succeeds).
   bool FactorizeJacobian(int k) {
     if (work_.dense) {
       const double flops = internal::DenseLU::PredictedFlops(n_);
       if (!FactorizationFits(flops, internal::DenseLU::kTypicalFlopRate, k)) return false;
-      work_.equilibrated =
-          options_.scale_newton_system && work_.equilibration.Compute(work_.Jd);
-      if (work_.equilibrated) {
-        work_.equilibration.Scale(work_.Jd, &work_.Js);
-        ++summary_.equilibrated_factorizations;
-      }
-      const DenseMatrix& A = work_.equilibrated ? work_.Js : work_.Jd;
-      return TimedFactorize(flops, [&] { return work_.dense_lu.Factorize(A); });
+      work_.equilibrated = false;
+      if (TimedFactorize(flops, [&] { return work_.dense_lu.Factorize(work_.Jd); }))
+        return true;
+      if (!options_.scale_newton_system || !work_.equilibration.Compute(work_.Jd))
+        return false;
+      work_.equilibrated = true;
+      work_.equilibration.Scale(work_.Jd, &work_.Js);
+      ++summary_.equilibrated_factorizations;
+      return TimedFactorize(flops, [&] { return work_.dense_lu.Factorize(work_.Js); });
     }
     internal::LinearSolver& solver = *work_.linear_solver;
     if (!solver.Analyze(work_.J, iterate_.pattern_changed)) return false;

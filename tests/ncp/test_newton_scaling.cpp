@@ -114,13 +114,13 @@ TEST_CASE("rows scaled over 16 decades: the equilibrated LU solves as if unscale
     const Run after = SolveLcp(scaled, Plain());
     INFO("seed " << seed << ": unscaled " << reference.summary.message
                  << "; scaled, no equilibration: " << before.summary.message
-                 << ", failed LU " << before.summary.linear_solver_failures
-                 << "; equilibrated: " << after.summary.message << ", failed LU "
-                 << after.summary.linear_solver_failures);
-    // The rank test of the unscaled LU calls the scaled matrix singular ...
+                 << ", failed Newton solves " << before.summary.linear_solver_failures
+                 << "; equilibrated: " << after.summary.message
+                 << ", failed Newton solves " << after.summary.linear_solver_failures);
+    // The rank test of the LU calls the scaled matrix singular ...
     CHECK(before.summary.linear_solver_failures > 0);
-    // ... the equilibrated one does not. (The iterations differ from the unscaled
-    // problem's: FB of rows scaled by 1e-8 .. 1e8 is another merit function.)
+    // ... the LU of the equilibrated matrix does not. (The iterations differ from the
+    // unscaled problem's: FB of rows scaled by 1e-8 .. 1e8 is another merit function.)
     CHECK(after.summary.termination == TerminationType::kConverged);
     CHECK(after.summary.linear_solver_failures == 0);
     CHECK(after.summary.equilibrated_factorizations > 0);
@@ -188,7 +188,7 @@ TEST_CASE("scaled rows (diagnostic)", "[.scan]") {
                          SolveLcp(scaled, Plain())};
     std::printf("seed %u:", seed);
     for (const Run& r : runs)
-      std::printf("  %s %d it, %d failed LU, %d gradient, ||Phi|| %.1e |",
+      std::printf("  %s %d it, %d failed Newton solves, %d gradient, ||Phi|| %.1e |",
                   ToString(r.summary.termination), r.summary.iterations,
                   r.summary.linear_solver_failures, r.summary.gradient_steps,
                   r.summary.final_phi_inf);

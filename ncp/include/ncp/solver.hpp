@@ -197,10 +197,10 @@ struct Options {
   /// Algorithm 1 step 2: fall back to d = -grad psi. If false, a failed Newton solve
   /// ends with kLinearSolverFailure and a failed descent test keeps the Newton direction.
   bool gradient_fallback = true;
-  /// Dense LU: equilibrate J (rows, then columns, by powers of two) before the
-  /// factorization when its row or column max-norms spread over more than 2^20
-  /// (internal::Equilibration). The Newton direction is the same; the pivots and the
-  /// singularity test see rows of one size. The stopping tests stay in the problem's
+  /// Dense LU: when the LU calls J singular and J's row or column max-norms spread over
+  /// more than 2^20, factor J equilibrated (rows, then columns, by powers of two;
+  /// internal::Equilibration) instead. The Newton direction is the same; the pivots and
+  /// the singularity test see rows of one size. The stopping tests stay in the problem's
   /// units. (UMFPACK and KLU scale rows themselves; CHOLMOD needs J symmetric.)
   bool scale_newton_system = true;
   /// When the LU of J reports singularity or fails the backward-error check, take the
@@ -253,7 +253,8 @@ struct Summary {
   int regularized_steps = -1;     ///< steps along the Levenberg-Marquardt direction
   /// Steps along the rank-revealing least-squares direction (Options::minimum_norm_step).
   int minimum_norm_steps = -1;
-  /// Dense LU factorizations of an equilibrated J (Options::scale_newton_system).
+  /// Dense LU factorizations of an equilibrated J after the LU of J called it singular
+  /// (Options::scale_newton_system).
   int equilibrated_factorizations = -1;
   int merit_restarts = -1;  ///< switches FB <-> penalized FB (Options::merit_restarts)
   /// Options::hybrid: every switch of strategy, in order (empty when the first one solved
