@@ -10,16 +10,14 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace ncp::internal {
 
 bool DenseLU::Factorize(const DenseMatrix& A) {
   full_pivoting_ = A.rows() <= kFullPivotingLimit;
-  if (full_pivoting_) {
-    full_.compute(A);
-    return full_.isInvertible();
-  }
+  if (full_pivoting_) return FactorizeFullPivoting(A);
   partial_.compute(A);
   // FullPivLU's test on the pivots of U: |u_ii| > n eps max_i |u_ii| (no allocation,
   // unlike PartialPivLU::rcond()).
@@ -30,17 +28,62 @@ bool DenseLU::Factorize(const DenseMatrix& A) {
                                  std::numeric_limits<double>::epsilon() * largest;
 }
 
+// Eigen::FullPivLU::computeInPlace step by step: the pivot is the first entry of largest
+// magnitude of the remaining corner in column-major order; rows and columns swapped; the
+// column below divided by it; the corner updated by the outer product, column by column.
+// Singular (Eigen's isInvertible) when fewer than n pivots exceed n eps max |pivot|, or
+// when the corner becomes exactly zero.
+bool DenseLU::FactorizeFullPivoting(const DenseMatrix& A) {
+  const Eigen::Index n = A.rows();
+  lu_ = A;
+  row_swap_.resize(static_cast<size_t>(n));
+  column_swap_.resize(static_cast<size_t>(n));
+  double largest_pivot = 0.0;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    Eigen::Index row = k, column = k;
+    double biggest = std::abs(lu_(k, k));
+    for (Eigen::Index c = k; c < n; ++c)
+      for (Eigen::Index r = k; r < n; ++r)
+        if (std::abs(lu_(r, c)) > biggest)
+          biggest = std::abs(lu_(r, c)), row = r, column = c;
+    if (biggest == 0.0) return false;  // rank k < n
+    largest_pivot = std::max(largest_pivot, biggest);
+    row_swap_[static_cast<size_t>(k)] = row;
+    column_swap_[static_cast<size_t>(k)] = column;
+    if (row != k) lu_.row(k).swap(lu_.row(row));
+    if (column != k) lu_.col(k).swap(lu_.col(column));
+    const double pivot = lu_(k, k);
+    for (Eigen::Index r = k + 1; r < n; ++r) lu_(r, k) /= pivot;
+    for (Eigen::Index c = k + 1; c < n; ++c) {
+      const double u = lu_(k, c);
+      for (Eigen::Index r = k + 1; r < n; ++r) lu_(r, c) -= u * lu_(r, k);
+    }
+  }
+  const double threshold =
+      largest_pivot * std::numeric_limits<double>::epsilon() * static_cast<double>(n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (!(std::abs(lu_(i, i)) > threshold)) return false;
+  return true;
+}
+
 void DenseLU::Solve(const Vector& rhs, Vector* x) {
-  // Full: P A Q = L U, x = Q U^-1 L^-1 P rhs. Partial: P A = L U, x = U^-1 L^-1 P rhs.
-  const DenseMatrix& LU = full_pivoting_ ? full_.matrixLU() : partial_.matrixLU();
-  permuted_.noalias() =
-      (full_pivoting_ ? full_.permutationP() : partial_.permutationP()) * rhs;
-  LU.triangularView<Eigen::UnitLower>().solveInPlace(permuted_);
-  LU.triangularView<Eigen::Upper>().solveInPlace(permuted_);
-  if (full_pivoting_)
-    x->noalias() = full_.permutationQ() * permuted_;
-  else
+  if (!full_pivoting_) {  // P A = L U: x = U^-1 L^-1 P rhs
+    permuted_.noalias() = partial_.permutationP() * rhs;
+    partial_.matrixLU().triangularView<Eigen::UnitLower>().solveInPlace(permuted_);
+    partial_.matrixLU().triangularView<Eigen::Upper>().solveInPlace(permuted_);
     *x = permuted_;
+    return;
+  }
+  // P A Q = L U: x = Q U^-1 L^-1 P rhs, P and Q applied as their transpositions.
+  permuted_ = rhs;
+  const Eigen::Index n = lu_.rows();
+  for (Eigen::Index k = 0; k < n; ++k)
+    std::swap(permuted_(k), permuted_(row_swap_[static_cast<size_t>(k)]));
+  lu_.triangularView<Eigen::UnitLower>().solveInPlace(permuted_);
+  lu_.triangularView<Eigen::Upper>().solveInPlace(permuted_);
+  for (Eigen::Index k = n - 1; k >= 0; --k)
+    std::swap(permuted_(k), permuted_(column_swap_[static_cast<size_t>(k)]));
+  *x = permuted_;
 }
 
 namespace {

@@ -3,6 +3,7 @@
 #include <Eigen/LU>
 #include <Eigen/QR>
 #include <memory>
+#include <vector>
 
 #include "ncp/types.hpp"
 
@@ -11,7 +12,11 @@ namespace ncp::internal {
 /// Dense LU of an n x n matrix, allocation-free once sized. Up to kFullPivotingLimit
 /// unknowns with full pivoting (rank-revealing: singular when the numerical rank is below
 /// n); above, with partial pivoting (blocked, an order of magnitude faster at n = 1000),
-/// singular when a pivot of U is below n eps times the largest.
+/// singular when a pivot of U is below n eps times the largest. The full-pivoting LU is
+/// Eigen::FullPivLU's algorithm (same pivots, same operations, the same factors to the
+/// bit) written for the small matrices it serves: Eigen's spends most of its time
+/// outside the arithmetic there (an extra pass for the 1-norm, expression overhead per
+/// step, permutation matrices).
 class DenseLU {
  public:
   static constexpr Eigen::Index kFullPivotingLimit = 100;
@@ -28,8 +33,13 @@ class DenseLU {
   void Solve(const Vector& rhs, Vector* x);
 
  private:
+  bool FactorizeFullPivoting(const DenseMatrix& A);
+
   bool full_pivoting_ = true;
-  Eigen::FullPivLU<DenseMatrix> full_;
+  // Full pivoting: P A Q = L U in lu_ (L unit lower), P and Q as the transpositions
+  // applied at step k (rows k <-> row_swap_[k], columns k <-> column_swap_[k]).
+  DenseMatrix lu_;
+  std::vector<Eigen::Index> row_swap_, column_swap_;
   Eigen::PartialPivLU<DenseMatrix> partial_;
   Vector permuted_;
 };
