@@ -6,8 +6,9 @@
 // measured as the CPU time of the thread (not wall time: the 2 shared cores of the
 // development machine run ~7 jobs, and a batch's wall time is mostly waiting) in
 // alternating batches of calls (each batch ~kBatchSeconds, kRounds rounds, the order
-// swapped every round) on one kept Solver each; the time ratio is the median over the
-// rounds of hybrid / plain. One markdown line per run, then the totals.
+// swapped every round); the time ratio is the median over the
+// rounds of hybrid / plain. Both settings run on one kept Solver. One markdown line per
+// run, then the totals.
 //
 // Usage: ncp-hybrid-overhead [--max-n N]   (default N = 1000)
 #include <algorithm>
@@ -64,12 +65,16 @@ int main(int argc, char** argv) {
         ncp::Options options[2];
         for (ncp::Options& o : options) o.ncp_function = function;
         options[0].hybrid = false;
-        ncp::Solver solvers[2] = {ncp::Solver(options[0]), ncp::Solver(options[1])};
+        // One Solver for both settings (set_options before every call): two Solvers
+        // doing the same work differed by up to 4x in UMFPACK's factorization time
+        // (jbearing-25x25, both plain), an effect of the instance, not of the settings.
+        ncp::Solver solver(options[0]);
         ncp::Summary summary[2];
         ncp::Vector x;
         auto run = [&](int which) {
           x = start.x;
-          solvers[which].Solve(*p.F, p.lower, p.upper, &x, &summary[which]);
+          solver.set_options(options[which]);
+          solver.Solve(*p.F, p.lower, p.upper, &x, &summary[which]);
         };
         run(0);
         run(1);
