@@ -428,6 +428,13 @@ bool RunSmallTiming(const Settings& settings, const std::vector<BenchProblem>& p
     for (const ncp::collection::StartPoint& start : b.problem.starts)
       cases.push_back({b.problem.name, start.label, &b.peer, start.x});
   }
+  // Mixed problems with free variables (issue 28 item 6), n = 2 and 10.
+  std::vector<ncp_bench::MixedFreeProblem> mixed;
+  mixed.push_back(ncp_bench::MakeMixedFreeProblem(2, 1, 2));
+  mixed.push_back(ncp_bench::MakeMixedFreeProblem(10, 4, 10));
+  for (const ncp_bench::MixedFreeProblem& p : mixed)
+    for (const auto& [label, x0] : p.starts)
+      cases.push_back({p.name, label, &p.peer, x0});
   const auto rows = ncp_bench::TimeSmallProblems(cases, kSmallTimingTolerance, log);
   ncp::OutputFile out = ncp::OutputFile::OpenAtomic(settings.small_timing_path);
   ncp_bench::WriteSmallTimingCsv(rows, out.stream());

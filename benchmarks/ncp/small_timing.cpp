@@ -6,6 +6,9 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <random>
+#include <string>
+#include <utility>
 
 #include "ncp/solver.hpp"
 
@@ -39,7 +42,56 @@ ncp::Options TimingOptions(double tolerance) {
   return options;
 }
 
+// F(x) = M x + q + x.^3 / 10 (MixedFreeProblem); the Jacobian stores all n^2 entries.
+class CubicAffine final : public ncp::SquareFunction {
+ public:
+  CubicAffine(ncp::DenseMatrix M, ncp::Vector q) : M_(std::move(M)), q_(std::move(q)) {}
+  int NumVariables() const override { return static_cast<int>(q_.size()); }
+  bool Evaluate(const ncp::Vector& x, ncp::Vector* F) override {
+    F->noalias() = M_ * x;
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+      (*F)(i) += q_(i) + 0.1 * x(i) * x(i) * x(i);
+    return true;
+  }
+  bool Jacobian(const ncp::Vector& x, ncp::SparseMatrix* J) override {
+    if (J->nonZeros() != M_.size()) *J = M_.sparseView(0.0, 0.0);
+    // Column-major, every entry stored: the values are M's, plus the diagonal term.
+    double* values = J->valuePtr();
+    const Eigen::Index n = x.size();
+    for (Eigen::Index c = 0; c < n; ++c)
+      for (Eigen::Index r = 0; r < n; ++r)
+        values[c * n + r] = M_(r, c) + (r == c ? 0.3 * x(c) * x(c) : 0.0);
+    return true;
+  }
+
+ private:
+  ncp::DenseMatrix M_;
+  ncp::Vector q_;
+};
+
 }  // namespace
+
+MixedFreeProblem MakeMixedFreeProblem(int n, int free_variables, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> normal;
+  ncp::DenseMatrix B(n, n), K(n, n);
+  ncp::Vector q(n);
+  for (int i = 0; i < n; ++i) {
+    q(i) = normal(rng);
+    for (int j = 0; j < n; ++j) B(i, j) = normal(rng), K(i, j) = normal(rng);
+  }
+  const ncp::DenseMatrix M = 2.0 * ncp::DenseMatrix::Identity(n, n) +
+                             (K - K.transpose()) + B * B.transpose() / n;
+  MixedFreeProblem p;
+  p.name = "mixed-free-" + std::to_string(n);
+  p.F = std::make_unique<CubicAffine>(M, q);
+  p.peer.F = p.F.get();
+  p.peer.lower = ncp::Vector::Zero(n);
+  p.peer.lower.head(free_variables).setConstant(-std::numeric_limits<double>::infinity());
+  p.peer.upper = ncp::Vector::Constant(n, std::numeric_limits<double>::infinity());
+  p.starts = {{"zero", ncp::Vector::Zero(n)}, {"ones", ncp::Vector::Ones(n)}};
+  return p;
+}
 
 std::vector<SmallTimingRow> TimeSmallProblems(const std::vector<SmallTimingCase>& cases,
                                               double tolerance, std::ostream& log) {

@@ -10,8 +10,10 @@
 /// each call). A third column times ncp::Solver::Solve on one Solver kept between calls.
 #pragma once
 
+#include <memory>
 #include <ostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ncp/square_function.hpp"
@@ -37,6 +39,18 @@ struct SmallTimingRow {
   double ncp_reused_us_per_iteration() const { return ncp_reused_us / ncp_iterations; }
   double peer_us_per_iteration() const { return peer_us / peer_iterations; }
 };
+
+/// Mixed MCPs with free variables (issue 28 item 6; the collection's small problems have
+/// none): F(x) = M x + q + x.^3 / 10, M = 2 I + (K - K') + B B' / n with K, B, q normal
+/// (x'Mx >= 2 |x|^2 and F' = M + diag(0.3 x.^2): strongly monotone, one solution); the
+/// first `free_variables` are free, the rest >= 0. Starts: zero and ones.
+struct MixedFreeProblem {
+  std::string name;
+  std::unique_ptr<ncp::SquareFunction> F;
+  PeerProblem peer;
+  std::vector<std::pair<std::string, ncp::Vector>> starts;
+};
+MixedFreeProblem MakeMixedFreeProblem(int n, int free_variables, unsigned seed);
 
 /// Times every case (problems with n <= 10 only are expected) at Siconos' and ncp's
 /// tolerance `tolerance`; progress and a summary go to `log`. Cases where either solver

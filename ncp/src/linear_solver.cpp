@@ -3,22 +3,21 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/KLUSupport>
 #include <Eigen/LU>
+#include <Eigen/SPQRSupport>
 #include <Eigen/SparseLU>
 #include <Eigen/UmfPackSupport>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace ncp::internal {
 
 bool DenseLU::Factorize(const DenseMatrix& A) {
   full_pivoting_ = A.rows() <= kFullPivotingLimit;
-  if (full_pivoting_) {
-    full_.compute(A);
-    return full_.isInvertible();
-  }
+  if (full_pivoting_) return FactorizeFullPivoting(A);
   partial_.compute(A);
   // FullPivLU's test on the pivots of U: |u_ii| > n eps max_i |u_ii| (no allocation,
   // unlike PartialPivLU::rcond()).
@@ -29,17 +28,171 @@ bool DenseLU::Factorize(const DenseMatrix& A) {
                                  std::numeric_limits<double>::epsilon() * largest;
 }
 
+// Eigen::FullPivLU::computeInPlace step by step: the pivot is the first entry of largest
+// magnitude of the remaining corner in column-major order; rows and columns swapped; the
+// column below divided by it; the corner updated by the outer product, column by column.
+// Singular (Eigen's isInvertible) when fewer than n pivots exceed n eps max |pivot|, or
+// when the corner becomes exactly zero.
+bool DenseLU::FactorizeFullPivoting(const DenseMatrix& A) {
+  const Eigen::Index n = A.rows();
+  lu_ = A;
+  row_swap_.resize(static_cast<size_t>(n));
+  column_swap_.resize(static_cast<size_t>(n));
+  double largest_pivot = 0.0;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    Eigen::Index row = k, column = k;
+    double biggest = std::abs(lu_(k, k));
+    for (Eigen::Index c = k; c < n; ++c)
+      for (Eigen::Index r = k; r < n; ++r)
+        if (std::abs(lu_(r, c)) > biggest)
+          biggest = std::abs(lu_(r, c)), row = r, column = c;
+    if (biggest == 0.0) return false;  // rank k < n
+    largest_pivot = std::max(largest_pivot, biggest);
+    row_swap_[static_cast<size_t>(k)] = row;
+    column_swap_[static_cast<size_t>(k)] = column;
+    if (row != k) lu_.row(k).swap(lu_.row(row));
+    if (column != k) lu_.col(k).swap(lu_.col(column));
+    const double pivot = lu_(k, k);
+    for (Eigen::Index r = k + 1; r < n; ++r) lu_(r, k) /= pivot;
+    for (Eigen::Index c = k + 1; c < n; ++c) {
+      const double u = lu_(k, c);
+      for (Eigen::Index r = k + 1; r < n; ++r) lu_(r, c) -= u * lu_(r, k);
+    }
+  }
+  const double threshold =
+      largest_pivot * std::numeric_limits<double>::epsilon() * static_cast<double>(n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (!(std::abs(lu_(i, i)) > threshold)) return false;
+  return true;
+}
+
 void DenseLU::Solve(const Vector& rhs, Vector* x) {
-  // Full: P A Q = L U, x = Q U^-1 L^-1 P rhs. Partial: P A = L U, x = U^-1 L^-1 P rhs.
-  const DenseMatrix& LU = full_pivoting_ ? full_.matrixLU() : partial_.matrixLU();
-  permuted_.noalias() =
-      (full_pivoting_ ? full_.permutationP() : partial_.permutationP()) * rhs;
-  LU.triangularView<Eigen::UnitLower>().solveInPlace(permuted_);
-  LU.triangularView<Eigen::Upper>().solveInPlace(permuted_);
-  if (full_pivoting_)
-    x->noalias() = full_.permutationQ() * permuted_;
-  else
+  if (!full_pivoting_) {  // P A = L U: x = U^-1 L^-1 P rhs
+    permuted_.noalias() = partial_.permutationP() * rhs;
+    partial_.matrixLU().triangularView<Eigen::UnitLower>().solveInPlace(permuted_);
+    partial_.matrixLU().triangularView<Eigen::Upper>().solveInPlace(permuted_);
     *x = permuted_;
+    return;
+  }
+  // P A Q = L U: x = Q U^-1 L^-1 P rhs, P and Q applied as their transpositions.
+  permuted_ = rhs;
+  const Eigen::Index n = lu_.rows();
+  for (Eigen::Index k = 0; k < n; ++k)
+    std::swap(permuted_(k), permuted_(row_swap_[static_cast<size_t>(k)]));
+  lu_.triangularView<Eigen::UnitLower>().solveInPlace(permuted_);
+  lu_.triangularView<Eigen::Upper>().solveInPlace(permuted_);
+  for (Eigen::Index k = n - 1; k >= 0; --k)
+    std::swap(permuted_(k), permuted_(column_swap_[static_cast<size_t>(k)]));
+  *x = permuted_;
+}
+
+namespace {
+
+// 2^-e for 2^e <= m < 2^(e+1); 1 for m = 0 or not finite (nothing to scale by).
+double InversePowerOfTwo(double m) {
+  if (!(m > 0.0) || !std::isfinite(m)) return 1.0;
+  return std::ldexp(1.0, -std::ilogb(m));
+}
+
+// max/min over the entries of `norms` that are > 0 (1 when there are none).
+double Spread(const Vector& norms) {
+  double largest = 0.0, smallest = std::numeric_limits<double>::infinity();
+  for (Eigen::Index i = 0; i < norms.size(); ++i) {
+    if (!(norms(i) > 0.0)) continue;
+    largest = std::max(largest, norms(i));
+    smallest = std::min(smallest, norms(i));
+  }
+  return largest > 0.0 ? largest / smallest : 1.0;
+}
+
+}  // namespace
+
+// Two passes over A: row max-norms, then the column max-norms of diag(r) A.
+bool Equilibration::Compute(const DenseMatrix& A) {
+  row_.setZero(A.rows());
+  column_.setZero(A.cols());
+  for (Eigen::Index c = 0; c < A.cols(); ++c)
+    for (Eigen::Index r = 0; r < A.rows(); ++r)
+      row_(r) = std::max(row_(r), std::abs(A(r, c)));
+  spread_ = Spread(row_);
+  for (Eigen::Index r = 0; r < A.rows(); ++r) row_(r) = InversePowerOfTwo(row_(r));
+  for (Eigen::Index c = 0; c < A.cols(); ++c)
+    for (Eigen::Index r = 0; r < A.rows(); ++r)
+      column_(c) = std::max(column_(c), row_(r) * std::abs(A(r, c)));
+  return Finish();
+}
+
+bool Equilibration::Compute(const SparseMatrix& A) {
+  row_.setZero(A.rows());
+  column_.setZero(A.cols());
+  for (Eigen::Index c = 0; c < A.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(A, c); it; ++it)
+      row_(it.row()) = std::max(row_(it.row()), std::abs(it.value()));
+  spread_ = Spread(row_);
+  for (Eigen::Index r = 0; r < A.rows(); ++r) row_(r) = InversePowerOfTwo(row_(r));
+  for (Eigen::Index c = 0; c < A.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(A, c); it; ++it)
+      column_(c) = std::max(column_(c), row_(it.row()) * std::abs(it.value()));
+  return Finish();
+}
+
+bool Equilibration::Finish() {
+  spread_ = std::max(spread_, Spread(column_));
+  for (Eigen::Index c = 0; c < column_.size(); ++c)
+    column_(c) = InversePowerOfTwo(column_(c));
+  return spread_ > kSpreadThreshold;
+}
+
+void Equilibration::Scale(const DenseMatrix& A, DenseMatrix* scaled) const {
+  scaled->resize(A.rows(), A.cols());
+  for (Eigen::Index c = 0; c < A.cols(); ++c)
+    scaled->col(c) = column_(c) * row_.cwiseProduct(A.col(c));
+}
+
+void Equilibration::Scale(const SparseMatrix& A, SparseMatrix* scaled) const {
+  *scaled = A;
+  for (Eigen::Index c = 0; c < scaled->outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(*scaled, c); it; ++it)
+      it.valueRef() *= row_(it.row()) * column_(c);
+}
+
+bool RankRevealingSolver::Solve(const DenseMatrix& J, const Vector& rhs, Vector* x) {
+  equilibration_.Compute(J);
+  equilibration_.Scale(J, &scaled_dense_);
+  cod_.compute(scaled_dense_);
+  rank_ = cod_.rank();
+  scaled_rhs_ = equilibration_.row().cwiseProduct(rhs);
+  y_ = cod_.solve(scaled_rhs_);
+  *x = equilibration_.column().cwiseProduct(y_);
+  return x->allFinite();
+}
+
+// Minimum norm through the QR of J' (SuiteSparseQR): J' P = Q R with rank r and R11 =
+// R(1:r, 1:r), so rows E_i = P e_i of J satisfy J_{E_i} = (R' Q')_i. d = Q [z; 0] with
+// R11' z = rhs_{E_1..E_r} solves the r independent rows with the least norm (d lies in
+// range(J')); the other rows hold when the system is consistent (the caller checks).
+bool RankRevealingSolver::Solve(const SparseMatrix& J, const Vector& rhs, Vector* x) {
+  using LongMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, SuiteSparse_long>;
+  equilibration_.Compute(J);
+  equilibration_.Scale(J, &scaled_sparse_);
+  const LongMatrix transposed(scaled_sparse_.transpose());
+  Eigen::SPQR<LongMatrix> qr;
+  qr.compute(transposed);
+  if (qr.info() != Eigen::Success) return false;
+  rank_ = qr.rank();
+  const auto permutation = qr.colsPermutation();
+  scaled_rhs_ = equilibration_.row().cwiseProduct(rhs);
+  Vector z(J.rows());
+  for (Eigen::Index i = 0; i < rank_; ++i) z(i) = scaled_rhs_(permutation.indices()(i));
+  const LongMatrix R = qr.matrixR();
+  z.head(rank_) = R.topLeftCorner(rank_, rank_)
+                      .transpose()
+                      .triangularView<Eigen::Lower>()
+                      .solve(z.head(rank_));
+  z.tail(J.rows() - rank_).setZero();
+  y_ = qr.matrixQ() * z;
+  *x = equilibration_.column().cwiseProduct(y_);
+  return x->allFinite();
 }
 
 namespace {

@@ -1,7 +1,9 @@
 #pragma once
 
 #include <Eigen/LU>
+#include <Eigen/QR>
 #include <memory>
+#include <vector>
 
 #include "ncp/types.hpp"
 
@@ -10,7 +12,11 @@ namespace ncp::internal {
 /// Dense LU of an n x n matrix, allocation-free once sized. Up to kFullPivotingLimit
 /// unknowns with full pivoting (rank-revealing: singular when the numerical rank is below
 /// n); above, with partial pivoting (blocked, an order of magnitude faster at n = 1000),
-/// singular when a pivot of U is below n eps times the largest.
+/// singular when a pivot of U is below n eps times the largest. The full-pivoting LU is
+/// Eigen::FullPivLU's algorithm (same pivots, same operations, the same factors to the
+/// bit) written for the small matrices it serves: Eigen's spends most of its time
+/// outside the arithmetic there (an extra pass for the 1-norm, expression overhead per
+/// step, permutation matrices).
 class DenseLU {
  public:
   static constexpr Eigen::Index kFullPivotingLimit = 100;
@@ -27,10 +33,71 @@ class DenseLU {
   void Solve(const Vector& rhs, Vector* x);
 
  private:
+  bool FactorizeFullPivoting(const DenseMatrix& A);
+
   bool full_pivoting_ = true;
-  Eigen::FullPivLU<DenseMatrix> full_;
+  // Full pivoting: P A Q = L U in lu_ (L unit lower), P and Q as the transpositions
+  // applied at step k (rows k <-> row_swap_[k], columns k <-> column_swap_[k]).
+  DenseMatrix lu_;
+  std::vector<Eigen::Index> row_swap_, column_swap_;
   Eigen::PartialPivLU<DenseMatrix> partial_;
   Vector permuted_;
+};
+
+/// Row and column scaling of a square matrix by powers of two (exact in floating point):
+/// As = diag(r) A diag(c), r_i = 2^-e with 2^e <= max_j |a_ij| < 2^(e+1), then c_j the
+/// same on the columns of diag(r) A (LAPACK's xGEEQU rounded to powers of two, as
+/// xGEEQUB does). A x = b  <=>  As y = diag(r) b, x = diag(c) y: the solution is the
+/// same, only the pivots (and the singularity test on them) see rows and columns of
+/// one size. Zero rows and columns keep the scale 1. Allocation-free once sized.
+class Equilibration {
+ public:
+  /// Applied when the largest row (or column) max-norm exceeds the smallest nonzero one
+  /// by more than this factor: 2^20 ~ 1e6, far below 1 / (n eps) where a rank test
+  /// relative to the largest pivot starts to call a well-posed system singular, and far
+  /// above the spread of a Newton matrix whose rows are in consistent units.
+  static constexpr double kSpreadThreshold = 1048576.0;
+  /// Computes r and c for A; returns whether the spread exceeds kSpreadThreshold.
+  bool Compute(const DenseMatrix& A);
+  bool Compute(const SparseMatrix& A);
+  /// *scaled = diag(r) A diag(c) (the A given to Compute).
+  void Scale(const DenseMatrix& A, DenseMatrix* scaled) const;
+  void Scale(const SparseMatrix& A, SparseMatrix* scaled) const;
+  const Vector& row() const { return row_; }
+  const Vector& column() const { return column_; }
+  /// max/min of the nonzero row max-norms and column max-norms of the last Compute.
+  double spread() const { return spread_; }
+
+ private:
+  bool Finish();  // r, c from the max-norms in row_, column_; sets spread_
+  Vector row_, column_;
+  double spread_ = 1.0;
+};
+
+/// Solution of a square J x = rhs that may be singular, from a rank-revealing
+/// factorization of J equilibrated (Equilibration, always; the rank tolerance then
+/// compares rows and columns of one size, and x is minimal in the scaled unknowns).
+/// Dense: the minimum-norm least-squares solution of a complete orthogonal decomposition
+/// (Eigen::CompleteOrthogonalDecomposition: column-pivoted Householder QR, then RZ).
+/// Sparse: SuiteSparseQR (Davis 2011, rank-revealing multifrontal QR, MATLAB's tolerance
+/// 20 (m + n) eps max_j ||J_j||_2) of J', which gives the minimum-norm solution of the
+/// rank(J) rows it finds independent (the least-norm solution of J x = rhs when that
+/// system is consistent; the caller checks). The sparse path copies J' (SPQR takes
+/// 64-bit indices) and allocates inside SPQR: a fallback, not the rule.
+class RankRevealingSolver {
+ public:
+  bool Solve(const DenseMatrix& J, const Vector& rhs, Vector* x);
+  bool Solve(const SparseMatrix& J, const Vector& rhs, Vector* x);
+  /// Numerical rank found by the last Solve.
+  Eigen::Index rank() const { return rank_; }
+
+ private:
+  Equilibration equilibration_;
+  Eigen::CompleteOrthogonalDecomposition<DenseMatrix> cod_;
+  DenseMatrix scaled_dense_;
+  SparseMatrix scaled_sparse_;
+  Vector scaled_rhs_, y_;
+  Eigen::Index rank_ = 0;
 };
 
 /// Solves J d = rhs for a square sparse J in two phases: Analyze() does the symbolic

@@ -20,6 +20,7 @@ Options Options::Algorithm1() {
   options.nonmonotone_memory = 1;
   options.regularized_direction = false;
   options.gradient_fallback = true;
+  options.minimum_norm_step = false;
   options.merit_restarts = 0;
   options.hybrid = false;
   return options;
@@ -137,6 +138,8 @@ std::string Summary::FullReport() const {
       << "  residual evaluations     " << residual_evaluations << "\n"
       << "  gradient steps           " << gradient_steps << "\n"
       << "  regularized (LM) steps   " << regularized_steps << "\n"
+      << "  minimum-norm steps       " << minimum_norm_steps << "\n"
+      << "  equilibrated LU          " << equilibrated_factorizations << "\n"
       << "  merit restarts           " << merit_restarts << "\n"
       << "  strategy switches        " << strategy_switches.size()
       << internal::StrategySwitchSuffix(strategy_switches) << "\n"

@@ -153,7 +153,7 @@ class Solver::Iteration {
   }
 
  private:
-  enum class Direction { kNewton, kRegularized, kGradient };
+  enum class Direction { kNewton, kMinimumNorm, kRegularized, kGradient };
 
   // ||Phi(x^k)||_inf and psi(x^k); the rest of iterate k reset in one assignment.
   void BeginIterate(int k) {
@@ -233,6 +233,7 @@ class Solver::Iteration {
     summary_.iterations = summary_.jacobian_evaluations = summary_.residual_evaluations =
         0;
     summary_.gradient_steps = summary_.regularized_steps = summary_.merit_restarts = 0;
+    summary_.minimum_norm_steps = summary_.equilibrated_factorizations = 0;
     summary_.linear_solver_failures = summary_.descent_test_failures =
         summary_.backtracks = 0;
     summary_.projected_start_components = summary_.projected_final_components = 0;
@@ -359,9 +360,10 @@ class Solver::Iteration {
       std::fprintf(stderr, "%5d %12.4e %12.4e %12.4e %10.3e %4d %4s %5d\n", k,
                    iterate_.phi_inf, iterate_.psi, record_.grad_psi_inf,
                    record_.step_length, record_.backtracks,
-                   record_.gradient_step      ? "grad"
-                   : record_.regularized_step ? "reg"
-                                              : "newt",
+                   record_.gradient_step       ? "grad"
+                   : record_.regularized_step  ? "reg"
+                   : record_.minimum_norm_step ? "mnrm"
+                                               : "newt",
                    iterate_.degenerate_count);
     if (options_.callback && !options_.callback(record_)) {
       Finish(
@@ -423,8 +425,10 @@ class Solver::Iteration {
   }
 
   // ---- step 2: the direction d and its slope grad psi' d --------------------------
-  // Newton J d = -Phi (eq. 21) kept if it passes the descent test (eq. 22); else, with
-  // Options::regularized_direction, the Levenberg-Marquardt direction; else -grad psi.
+  // Newton J d = -Phi (eq. 21) kept if it passes the descent test (eq. 22); a singular J:
+  // the rank-revealing least-squares step (Options::minimum_norm_step) if it passes the
+  // test; else, with Options::regularized_direction, the Levenberg-Marquardt direction;
+  // else -grad psi.
   Direction ChooseDirection(int k) {
     const bool newton_solved = NewtonDirection(k);
     if (finished_) return Direction::kNewton;
@@ -433,6 +437,11 @@ class Solver::Iteration {
       ++summary_.descent_test_failures;
     else
       ++summary_.linear_solver_failures;
+    if (!newton_solved && options_.minimum_norm_step && MinimumNormDirection() &&
+        PassesDescentTest()) {
+      ++summary_.minimum_norm_steps;
+      return Direction::kMinimumNorm;
+    }
     if (!options_.gradient_fallback) {
       if (!newton_solved)
         Finish(TerminationType::kLinearSolverFailure,
@@ -475,11 +484,22 @@ class Solver::Iteration {
   }
 
   // Symbolic analysis (sparse backends), the time check, the numeric factorization of J.
+  // Dense: an LU that calls J singular is tried again on J equilibrated when J's rows or
+  // columns spread over more than 2^20 (Options::scale_newton_system; nothing is computed
+  // for the scaling while the LU of J succeeds).
   bool FactorizeJacobian(int k) {
     if (work_.dense) {
       const double flops = internal::DenseLU::PredictedFlops(n_);
-      return FactorizationFits(flops, internal::DenseLU::kTypicalFlopRate, k) &&
-             TimedFactorize(flops, [&] { return work_.dense_lu.Factorize(work_.Jd); });
+      if (!FactorizationFits(flops, internal::DenseLU::kTypicalFlopRate, k)) return false;
+      work_.equilibrated = false;
+      if (TimedFactorize(flops, [&] { return work_.dense_lu.Factorize(work_.Jd); }))
+        return true;
+      if (!options_.scale_newton_system || !work_.equilibration.Compute(work_.Jd))
+        return false;
+      work_.equilibrated = true;
+      work_.equilibration.Scale(work_.Jd, &work_.Js);
+      ++summary_.equilibrated_factorizations;
+      return TimedFactorize(flops, [&] { return work_.dense_lu.Factorize(work_.Js); });
     }
     internal::LinearSolver& solver = *work_.linear_solver;
     if (!solver.Analyze(work_.J, iterate_.pattern_changed)) return false;
@@ -488,11 +508,40 @@ class Solver::Iteration {
            TimedFactorize(flops, [&] { return solver.Factorize(work_.J); });
   }
 
-  // x = J^-1 rhs with the factorization of FactorizeJacobian.
+  // x = J^-1 rhs with the factorization of FactorizeJacobian (equilibrated: x = diag(c)
+  // Js^-1 diag(r) rhs).
   bool SolveFactorized(const Vector& rhs, Vector* x) {
     if (!work_.dense) return work_.linear_solver->Solve(rhs, x);
-    work_.dense_lu.Solve(rhs, x);
+    if (!work_.equilibrated) {
+      work_.dense_lu.Solve(rhs, x);
+      return true;
+    }
+    work_.scaled_rhs = work_.equilibration.row().cwiseProduct(rhs);
+    work_.dense_lu.Solve(work_.scaled_rhs, x);
+    x->array() *= work_.equilibration.column().array();
     return true;
+  }
+
+  // The least-squares step d = argmin ||J d + Phi|| of a rank-revealing factorization
+  // (internal::RankRevealingSolver: minimum norm when dense), kept when it solves J d =
+  // -Phi to the backward error asked of an LU solve: a singular but consistent Newton
+  // system. (Taken on inconsistent systems too, the least-squares step lost 3 runs of the
+  // collection, colvdual and vonthmcp; docs/ncp.md.) false when it failed or does not
+  // solve the system.
+  bool MinimumNormDirection() {
+    const auto t0 = Clock::now();
+    work_.newton_rhs = -work_.phi;
+    bool solved = work_.dense
+                      ? work_.rank_revealing.Solve(work_.Jd, work_.newton_rhs, &work_.d)
+                      : work_.rank_revealing.Solve(work_.J, work_.newton_rhs, &work_.d);
+    if (solved) {
+      const double terms_inf = work_.ResidualAndTerms(
+          work_.d, work_.phi, &work_.newton_residual, &work_.newton_terms);
+      solved = internal::NewtonSolutionAccurate(
+          work_.newton_residual.lpNorm<Eigen::Infinity>(), iterate_.phi_inf, terms_inf);
+    }
+    summary_.linear_solver_time_s += Seconds(t0);
+    return solved;
   }
 
   int SymbolicFactorizations() const {
@@ -608,6 +657,7 @@ class Solver::Iteration {
     if (!r.accepted) {
       const char* name = direction == Direction::kGradient      ? "gradient"
                          : direction == Direction::kRegularized ? "regularized"
+                         : direction == Direction::kMinimumNorm ? "minimum-norm"
                                                                 : "Newton";
       const internal::Ending ending = internal::LineSearchFailure(
           options_, r, name, k, iterate_.phi_inf, iterate_.grad_inf);
@@ -731,6 +781,7 @@ class Solver::Iteration {
     record_.backtracks = iterate_.backtracks;
     record_.gradient_step = direction == Direction::kGradient;
     record_.regularized_step = direction == Direction::kRegularized;
+    record_.minimum_norm_step = direction == Direction::kMinimumNorm;
   }
 
   void Finish(TerminationType type, const std::string& message) {

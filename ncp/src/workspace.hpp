@@ -30,6 +30,14 @@ struct Solver::Workspace {
   bool dense = false;
   DenseMatrix Jd;
   internal::DenseLU dense_lu;
+  // Options::scale_newton_system: dense_lu holds the LU of Js = diag(r) Jd diag(c) when
+  // `equilibrated` (the rows or columns of Jd spread over more than 2^20).
+  internal::Equilibration equilibration;
+  bool equilibrated = false;
+  DenseMatrix Js;
+  Vector scaled_rhs;
+  // Options::minimum_norm_step: the least-squares step of a singular J.
+  internal::RankRevealingSolver rank_revealing;
 
   // Cached patterns of the user's JE, JA, JB; a change triggers a new symbolic analysis.
   internal::SparsePattern pattern[3];

@@ -208,6 +208,8 @@ void BindOptions(py::module_& m) {
       ("stagnation_window", &Options::stagnation_window, "iterations of the stagnation test (0: off)")
       ("stagnation_tolerance", &Options::stagnation_tolerance, "relative psi decrease of the stagnation test")
       ("gradient_fallback", &Options::gradient_fallback, "fall back to d = -grad psi (Algorithm 1 step 2)")
+      ("scale_newton_system", &Options::scale_newton_system, "dense LU: equilibrate J when its rows or columns spread over more than 2^20")
+      ("minimum_norm_step", &Options::minimum_norm_step, "singular J: the rank-revealing least-squares step before LM and -grad psi")
       ("linear_solver", &Options::linear_solver, "linear solver of the Newton system")
       ("dense_threshold", &Options::dense_threshold, "AUTO: dense LU for n <= dense_threshold, else UMFPACK")
       ("keep_trace", &Options::keep_trace, "store an IterationRecord per iteration in Summary.trace")
@@ -239,6 +241,7 @@ void BindSummary(py::module_& m) {
       ("backtracks", &IterationRecord::backtracks, "i of that step")
       ("gradient_step", &IterationRecord::gradient_step, "that step was d = -grad psi")
       ("regularized_step", &IterationRecord::regularized_step, "that step was the Levenberg-Marquardt direction")
+      ("minimum_norm_step", &IterationRecord::minimum_norm_step, "that step was the rank-revealing least-squares direction")
       ("degenerate_pairs", &IterationRecord::degenerate_pairs, "pairs with A = B = 0 at x^k")
       ("time_s", &IterationRecord::time_s, "wall time since the start [s]");
   // clang-format on
@@ -286,6 +289,8 @@ void BindSummary(py::module_& m) {
       ("descent_test_failures", &Summary::descent_test_failures, "Newton directions rejected by eq. 22")
       ("backtracks", &Summary::backtracks, "total halvings in the line search")
       ("regularized_steps", &Summary::regularized_steps, "steps along the Levenberg-Marquardt direction")
+      ("minimum_norm_steps", &Summary::minimum_norm_steps, "steps along the rank-revealing least-squares direction")
+      ("equilibrated_factorizations", &Summary::equilibrated_factorizations, "dense LU factorizations of an equilibrated J")
       ("merit_restarts", &Summary::merit_restarts, "restarts switching FB <-> penalized FB")
       ("strategy_switches", &Summary::strategy_switches, "StrategySwitch per switch of the hybrid default")
       ("projected_start_components", &Summary::projected_start_components, "start components moved onto [l, u]")

@@ -113,6 +113,21 @@ TEST_CASE("singular Newton matrix at the start: gradient fallback",
   x << 1.0, 1.0;
   ncp::Options options = ncp::test::MakeOptions(NcpFunction::kFischerBurmeister, backend);
   options.keep_trace = true;
+  {  // By default the consistent singular system is solved by the rank-revealing step.
+    ncp::Summary summary;
+    ncp::Solve(options, F, Vector::Zero(2), Vector::Constant(2, kInf), &x, &summary);
+    INFO(ncp::ToString(backend) << ": " << summary.FullReport());
+    CHECK(summary.linear_solver_failures >= 1);
+    REQUIRE(summary.trace.size() >= 2);
+    CHECK(summary.trace[1].minimum_norm_step);
+    CHECK(summary.gradient_steps == 0);
+    CHECK(summary.termination == TerminationType::kConverged);
+    CHECK(ncp::collection::NaturalResidual(F, Vector::Zero(2), Vector::Constant(2, kInf),
+                                           x) <= 1e-8);
+  }
+  // The gradient fallback itself.
+  options.minimum_norm_step = false;
+  x << 1.0, 1.0;
   ncp::Summary summary;
   ncp::Solve(options, F, Vector::Zero(2), Vector::Constant(2, kInf), &x, &summary);
   INFO(ncp::ToString(backend) << ": " << summary.FullReport());
@@ -236,6 +251,7 @@ TEST_CASE(
   x << 1.0, 1.0;
   ncp::Options options = ncp::test::MakeOptions(NcpFunction::kFischerBurmeister, backend);
   options.regularized_direction = true;
+  options.minimum_norm_step = false;  // (by default it solves this consistent system)
   options.keep_trace = true;
   ncp::Summary summary;
   ncp::Solve(options, F, Vector::Zero(2), Vector::Constant(2, kInf), &x, &summary);

@@ -36,17 +36,18 @@ namespace ncp {
 
 /// State after one iteration, passed to the callback and stored in Summary::trace.
 struct IterationRecord {
-  int iteration = 0;              ///< k (0 = the start point, before any step)
-  double phi_inf = 0.0;           ///< ||Phi(x^k)||_inf
-  double psi = 0.0;               ///< psi(x^k) = 1/2 ||Phi(x^k)||_2^2
-  double grad_psi_inf = 0.0;      ///< ||J' Phi||_inf at x^k
-  double step_length = 0.0;       ///< 2^-i accepted to reach x^k (0 for k = 0)
-  double direction_norm = 0.0;    ///< ||d||_2 of the step that reached x^k
-  int backtracks = 0;             ///< i of the step that reached x^k
-  bool gradient_step = false;     ///< the step that reached x^k was d = -grad psi
-  bool regularized_step = false;  ///< ... was the Levenberg-Marquardt direction
-  int degenerate_pairs = 0;       ///< |gamma| at x^k (pairs with A = B = 0)
-  double time_s = 0.0;            ///< wall time since the solve started
+  int iteration = 0;               ///< k (0 = the start point, before any step)
+  double phi_inf = 0.0;            ///< ||Phi(x^k)||_inf
+  double psi = 0.0;                ///< psi(x^k) = 1/2 ||Phi(x^k)||_2^2
+  double grad_psi_inf = 0.0;       ///< ||J' Phi||_inf at x^k
+  double step_length = 0.0;        ///< 2^-i accepted to reach x^k (0 for k = 0)
+  double direction_norm = 0.0;     ///< ||d||_2 of the step that reached x^k
+  int backtracks = 0;              ///< i of the step that reached x^k
+  bool gradient_step = false;      ///< the step that reached x^k was d = -grad psi
+  bool regularized_step = false;   ///< ... was the Levenberg-Marquardt direction
+  bool minimum_norm_step = false;  ///< ... was the rank-revealing least-squares step
+  int degenerate_pairs = 0;        ///< |gamma| at x^k (pairs with A = B = 0)
+  double time_s = 0.0;             ///< wall time since the solve started
 };
 
 /// Why the hybrid default (Options::hybrid) left a strategy for the next one.
@@ -196,6 +197,17 @@ struct Options {
   /// Algorithm 1 step 2: fall back to d = -grad psi. If false, a failed Newton solve
   /// ends with kLinearSolverFailure and a failed descent test keeps the Newton direction.
   bool gradient_fallback = true;
+  /// Dense LU: when the LU calls J singular and J's row or column max-norms spread over
+  /// more than 2^20, factor J equilibrated (rows, then columns, by powers of two;
+  /// internal::Equilibration) instead. The Newton direction is the same; the pivots and
+  /// the singularity test see rows of one size. The stopping tests stay in the problem's
+  /// units. (UMFPACK and KLU scale rows themselves; CHOLMOD needs J symmetric.)
+  bool scale_newton_system = true;
+  /// When the LU of J reports singularity or fails the backward-error check, take the
+  /// least-squares step of a rank-revealing factorization (minimum norm for the dense
+  /// backend, SuiteSparseQR's basic solution for the sparse ones) if it passes the
+  /// descent test (eq. 22), before the Levenberg-Marquardt direction and -grad psi.
+  bool minimum_norm_step = true;
   LinearSolverType linear_solver = LinearSolverType::kAuto;
   /// kAuto uses dense LU for n <= dense_threshold, UMFPACK above.
   int dense_threshold = 100;
@@ -239,6 +251,11 @@ struct Summary {
   int residual_evaluations = -1;  ///< calls of Evaluate() (line search included)
   int gradient_steps = -1;        ///< steps with d = -grad psi
   int regularized_steps = -1;     ///< steps along the Levenberg-Marquardt direction
+  /// Steps along the rank-revealing least-squares direction (Options::minimum_norm_step).
+  int minimum_norm_steps = -1;
+  /// Dense LU factorizations of an equilibrated J after the LU of J called it singular
+  /// (Options::scale_newton_system).
+  int equilibrated_factorizations = -1;
   int merit_restarts = -1;  ///< switches FB <-> penalized FB (Options::merit_restarts)
   /// Options::hybrid: every switch of strategy, in order (empty when the first one solved
   /// the problem or the hybrid is off).
