@@ -90,7 +90,8 @@ def run_case(args, n, ranks, workdir):
         f.write(scene_text(n, args.steps))
     log = os.path.join(case, "log_view.txt")
     env = dict(os.environ, OMP_NUM_THREADS="1", PETSC_OPTIONS=f"-log_view :{log}",
-               OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+               OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_mpi_yield_when_idle="1")  # (waiting ranks yield the core)
     # Each rank under /usr/bin/time: its own peak resident set size [kB] into rss.RANK.
     rank_cmd = (f'exec /usr/bin/time -f %M -o {case}/rss.$OMPI_COMM_WORLD_RANK '
                 f'{args.contact_sim} {scene} --distributed --quiet --json '
@@ -182,7 +183,7 @@ def main():
                 w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
                 w.writeheader()
                 w.writerows(rows)
-    plot(rows, os.path.join(args.out, "mpi_scaling.png"))
+            plot(rows, os.path.join(args.out, "mpi_scaling.png"))  # (after every case)
 
 
 if __name__ == "__main__":

@@ -114,6 +114,14 @@ class MpiSession {
   MpiSession& operator=(const MpiSession&) = delete;
 
   bool active() const { return active_; }
+  /// `code`, once rank 0 has got here: mpiexec stops every rank as soon as one exits with
+  /// a nonzero code, which must not cut rank 0's report short.
+  int AfterRankZero(int code) const {
+#ifdef CONTACT_SIM_WITH_PETSC
+    if (active_) MPI_Barrier(PETSC_COMM_WORLD);
+#endif
+    return code;
+  }
   int rank() const { return rank_; }
   int size() const { return size_; }
   /// A failure of this rank alone: printed (on rank > 0 with its rank), then every rank
@@ -408,7 +416,8 @@ int main(int argc, char** argv) {
     return 3;
   }
   // (On MPI ranks a rank the signal missed stops with the others: as if by SIGINT.)
+  int code = s.status == contact::DynamicStatus::kCompleted ? 0 : 1;
   if (s.status == contact::DynamicStatus::kInterrupted)
-    return 128 + static_cast<int>(g_stop_signal ? g_stop_signal : SIGINT);
-  return s.status == contact::DynamicStatus::kCompleted ? 0 : 1;
+    code = 128 + static_cast<int>(g_stop_signal ? g_stop_signal : SIGINT);
+  return mpi.AfterRankZero(code);
 }

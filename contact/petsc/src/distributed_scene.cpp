@@ -15,6 +15,7 @@
 
 #include <petscdmplex.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -184,7 +185,8 @@ Eigen::VectorXd GatherFreeDofs(const DistributedBody& body, Vec v, int num_free_
   return out;
 }
 
-// The files of the run: steps.csv and displacement.csv on rank 0; per snapshot one .vtu
+// The files of the run: on rank 0 the CSVs of one process (steps.csv, contact_stress.csv,
+// node_history.csv, displacement.csv; not the mesh CSVs); per snapshot one .vtu
 // piece per rank (its cells, the displacement of their vertices and the rank as a cell
 // field), the .pvtu that joins them and series.pvd listing the .pvtu files (rank 0).
 class DistributedOutput {
@@ -203,11 +205,12 @@ class DistributedOutput {
       std::filesystem::create_directories(directory_, error);
       created = error ? 0 : 1;
       if (created) {
-        steps_ = ncp::OutputFile::Open((directory_ / "steps.csv").string());
-        steps_.stream() << ::contact::internal::kStepsCsvHeader << "\n";
-        steps_.stream().precision(10);
-        steps_.Commit();
-        files_written_->push_back((directory_ / "steps.csv").string());
+        namespace in = ::contact::internal;
+        steps_ = Open("steps.csv", in::kStepsCsvHeader);
+        stress_ = Open("contact_stress.csv", in::ContactStressCsvHeader(scene.dim));
+        if (scene.marked_point)
+          history_ = Open("node_history.csv", in::kNodeHistoryCsvHeader);
+        displacement_ = Open("displacement.csv", in::DisplacementCsvHeader(scene.dim));
       }
     }
     MPI_Bcast(&created, 1, MPI_INT, 0, comm_);  // (the pieces go into the directory)
@@ -217,10 +220,28 @@ class DistributedOutput {
 
   bool enabled() const { return !directory_.empty(); }
 
-  void WriteStepRow(const StepRecord& record) {
+  /// Rank 0, after each step: steps.csv's row, the marked node's node_history.csv row
+  /// (marked >= 0: its index in nodes) and, with u_free (the free dofs in the serial
+  /// numbering) at a stress time or the end, the displacement.csv and contact_stress.csv
+  /// rows - as SceneOutput::WriteStep; contact in system units (times force_scale [N]).
+  void WriteStep(const StepRecord& record, const Mesh& mesh, const DofMap& dofs,
+                 const std::vector<ContactNode>& nodes, int marked,
+                 const ContactSystem::Result& contact, double force_scale,
+                 const Eigen::VectorXd* u_free) {
     if (directory_.empty() || rank_ != 0) return;
-    ::contact::internal::WriteStepsCsvRow(record, &steps_.stream());
-    steps_.Commit();
+    namespace in = ::contact::internal;
+    in::WriteStepsCsvRow(record, &steps_.stream());
+    if (marked >= 0)
+      in::WriteNodeHistoryRow(record.time, mesh.dim, nodes, static_cast<size_t>(marked),
+                              contact, force_scale, &history_.stream());
+    if (u_free) {
+      in::WriteDisplacementRows(record.time, mesh, dofs, *u_free,
+                                &displacement_.stream());
+      in::WriteContactStressRows(record.time, mesh, nodes, contact, force_scale,
+                                 &stress_.stream());
+    }
+    for (ncp::OutputFile* csv : {&steps_, &history_, &stress_, &displacement_})
+      if (csv->is_open()) csv->Commit();
   }
 
   /// Collective: the snapshot of global displacement vector u at `time`.
@@ -262,25 +283,11 @@ class DistributedOutput {
     files_written_->push_back((directory_ / name).string());
   }
 
-  /// Rank 0: displacement.csv (every node, as from one process) and closes steps.csv.
-  void Finish(const Mesh& mesh, const DofMap& dofs, double time,
-              const Eigen::VectorXd& u_free) {
+  /// Rank 0: closes the CSVs (checked).
+  void Finish() {
     if (directory_.empty() || rank_ != 0) return;
-    steps_.Close();
-    if (u_free.size() == 0) return;
-    const int dim = mesh.dim;
-    const std::string path = (directory_ / "displacement.csv").string();
-    ncp::OutputFile file = ncp::OutputFile::Open(path);
-    file.stream() << (dim == 2 ? "time,node,ux,uy\n" : "time,node,ux,uy,uz\n");
-    file.stream().precision(10);
-    const Eigen::VectorXd u = dofs.Expand(u_free);
-    for (int i = 0; i < mesh.NumNodes(); ++i) {
-      file.stream() << time << ',' << i;
-      for (int a = 0; a < dim; ++a) file.stream() << ',' << u(dim * i + a);
-      file.stream() << '\n';
-    }
-    file.Close();
-    files_written_->push_back(path);
+    for (ncp::OutputFile* csv : {&steps_, &history_, &stress_, &displacement_})
+      if (csv->is_open()) csv->Close();
     files_written_->push_back((directory_ / "series.pvd").string());
   }
 
@@ -288,8 +295,19 @@ class DistributedOutput {
   MPI_Comm comm_;
   int rank_, size_;
   std::filesystem::path directory_;
+  // A CSV of rank 0, opened with its header.
+  ncp::OutputFile Open(const std::string& name, const std::string& header) {
+    const std::string path = (directory_ / name).string();
+    ncp::OutputFile file = ncp::OutputFile::Open(path);
+    file.stream() << header << "\n";
+    file.stream().precision(10);
+    file.Commit();
+    files_written_->push_back(path);
+    return file;
+  }
+
   std::vector<std::string>* files_written_;
-  ncp::OutputFile steps_;
+  ncp::OutputFile steps_, stress_, history_, displacement_;
   std::vector<std::pair<double, std::string>> series_;
 };
 
@@ -594,12 +612,6 @@ std::string WhyNotDistributed(const Scene& scene) {
   if (scene.dynamics.compare_with_ipopt)
     return scene.source + ": compare_with_ipopt is not available on MPI ranks; " +
            supported;
-  if (scene.marked_point || !scene.stress_times.empty())
-    return scene.source +
-           ": the marked node history and the contact stress output "
-           "(output.marked_point, "
-           "output.stress_times) are not yet written on MPI ranks; remove them or run on "
-           "one rank";
   return "";
 }
 
@@ -655,9 +667,16 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   Mesh mesh;
   DofMap dofs;
   std::unique_ptr<internal::StepRecorder> recorder;
+  std::vector<ContactNode> nodes;
+  int marked = -1;  // output.marked_point's contact node
   if (built) {
     mesh = built->body->mesh();
     dofs = built->dofs;
+    nodes = built->frames.nodes;
+    if (scene.marked_point) {
+      marked = ::contact::internal::NearestContactNode(mesh, nodes, *scene.marked_point);
+      result.marked_node = nodes[static_cast<size_t>(marked)].node;
+    }
     recorder = std::make_unique<internal::StepRecorder>(
         scene, built->frames.nodes, recorder_start.lambda0, recorder_start.energy,
         run.m_max());
@@ -667,6 +686,9 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   const long num_steps = static_cast<long>(
       std::ceil((options.end_time - options.start_time) / options.dt - 1e-3));
   output.WriteSnapshot(body, run.displacement(), 0, options.start_time);
+  const double force_scale = run.m_max() / (options.dt * options.dt);
+  std::vector<double> stress_times = scene.stress_times;
+  std::sort(stress_times.begin(), stress_times.end());
   RankStepPart part;
   std::vector<NodeResult> node_results;
   GatheredStep gathered;
@@ -694,9 +716,16 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
     if (decision == kStopUnrecorded) break;
     const bool go_on = decision == kGoOn;
     summary.steps = rec.step;
-    output.WriteStepRow(rec);
-    if ((scene.snapshot_every > 0 && rec.step % scene.snapshot_every == 0) ||
-        k + 1 == num_steps || !go_on)
+    // The end and the stress times as SceneOutput::WriteStep decides them.
+    const bool last = rec.time >= options.end_time - 1e-9 * options.dt;
+    const bool stress_time =
+        ::contact::internal::ConsumeStressTimes(rec.time, options.dt, &stress_times);
+    Eigen::VectorXd u_free;
+    if (output.enabled() && (stress_time || last))
+      u_free = GatherFreeDofs(body, run.displacement(), info.num_free_dofs);
+    output.WriteStep(rec, mesh, dofs, nodes, marked, gathered.contact, force_scale,
+                     stress_time || last ? &u_free : nullptr);
+    if ((scene.snapshot_every > 0 && rec.step % scene.snapshot_every == 0) || last)
       output.WriteSnapshot(body, run.displacement(), rec.step, rec.time);
     if (rank == 0) {
       summary.records.push_back(rec);
@@ -718,9 +747,7 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   ShareEnd(comm, &summary);
   const Eigen::VectorXd u = GatherFreeDofs(body, run.displacement(), info.num_free_dofs);
   if (rank == 0) summary.u = u;
-  output.Finish(
-      mesh, dofs,
-      summary.records.empty() ? options.start_time : summary.records.back().time, u);
+  output.Finish();
   summary.seconds = Seconds(start);
   return result;
 }

@@ -27,9 +27,10 @@ std::string WhyNotDistributed(const Scene& scene);
 /// the accuracy and energy measures of one process (the same definitions and scales,
 /// summed over the ranks in rank order), and the energy blow-up guard and
 /// scene.dynamics.stop_requested (read on every rank, agreed at the step's end) end the
-/// run with the status of one process. Files (rank 0 unless said): steps.csv, displacement.csv (last
-/// step), and the snapshots as one .vtu piece per rank (each rank writes its own), one
-/// .pvtu per snapshot and series.pvd.
+/// run with the status of one process. Files (rank 0 unless said): steps.csv,
+/// contact_stress.csv and displacement.csv (at output.stress_times and the end),
+/// node_history.csv (output.marked_point), as from one process, and the snapshots as one
+/// .vtu piece per rank (each rank writes its own), one .pvtu per snapshot and series.pvd.
 SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress);
 
 }  // namespace contact::petsc
