@@ -145,7 +145,7 @@ def plot(rows, path):
     eff = [x for x in rows if x["ranks"] == 2 and x.get("efficiency") == x.get("efficiency")]
     b.semilogx([x["dofs"] for x in eff], [x["efficiency"] for x in eff], "s-")
     b.axhline(0.8, color="gray", ls="--", label="goal 0.8 (idle machine)")
-    b.set_ylim(0, 1.2)
+    b.set_ylim(0, 1.4)
     b.set_xlabel("dofs")
     b.set_ylabel("strong-scaling efficiency t1 / (2 t2)")
     load = max(max(x["load_before"], x["load_after"]) for x in rows)

@@ -381,11 +381,7 @@ class CentralDifferences {
     if (!options_.stop_requested || !options_.stop_requested->load() ||
         rec.step >= num_steps)
       return false;
-    summary_.status = DynamicStatus::kInterrupted;
-    char buffer[200];
-    std::snprintf(buffer, sizeof buffer, "interrupted at step %d (t = %.9g s) of %ld",
-                  rec.step, rec.time, num_steps);
-    summary_.message = buffer;
+    internal::SetInterrupted(rec, num_steps, &summary_);
     return true;
   }
 

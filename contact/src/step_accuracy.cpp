@@ -154,4 +154,12 @@ void SetFinalStatus(const StepRecord& first_inaccurate, DynamicSummary* summary)
   }
 }
 
+void SetInterrupted(const StepRecord& rec, long num_steps, DynamicSummary* summary) {
+  summary->status = DynamicStatus::kInterrupted;
+  char buffer[200];
+  std::snprintf(buffer, sizeof buffer, "interrupted at step %d (t = %.9g s) of %ld",
+                rec.step, rec.time, num_steps);
+  summary->message = buffer;
+}
+
 }  // namespace contact::internal

@@ -69,4 +69,8 @@ bool StepIsAccurate(const StepRecord& rec);
 /// or kAccuracyNotReached naming the first inaccurate step and how many missed.
 void SetFinalStatus(const StepRecord& first_inaccurate, DynamicSummary* summary);
 
+/// A run stopped on request (DynamicOptions::stop_requested) after the step of rec, of
+/// num_steps: kInterrupted and its message.
+void SetInterrupted(const StepRecord& rec, long num_steps, DynamicSummary* summary);
+
 }  // namespace contact::internal

@@ -162,11 +162,7 @@ bool StepRecorder::Record(GatheredStep* step, long num_steps, StepRecord* rec,
                                               blowup_factor_, summary))
     return false;
   if (all.sum[RankStepPart::kStopRequested] > 0.0 && rec->step < num_steps) {
-    summary->status = DynamicStatus::kInterrupted;
-    char buffer[200];
-    std::snprintf(buffer, sizeof buffer, "interrupted at step %d (t = %.9g s) of %ld",
-                  rec->step, rec->time, num_steps);
-    summary->message = buffer;
+    ::contact::internal::SetInterrupted(*rec, num_steps, summary);
     return false;
   }
   return true;
