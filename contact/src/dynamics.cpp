@@ -377,11 +377,7 @@ class CentralDifferences {
     if (!options_.stop_requested || !options_.stop_requested->load() ||
         rec.step >= num_steps)
       return false;
-    summary_.status = DynamicStatus::kInterrupted;
-    char buffer[200];
-    std::snprintf(buffer, sizeof buffer, "interrupted at step %d (t = %.9g s) of %ld",
-                  rec.step, rec.time, num_steps);
-    summary_.message = buffer;
+    internal::SetInterrupted(rec, num_steps, &summary_);
     return true;
   }
 
@@ -391,20 +387,8 @@ class CentralDifferences {
   // shadow energy of the balance cannot reveal an instability (its cross term turns
   // negative).
   bool GuardEnergy(const StepRecord& rec) {
-    const double energy = rec.kinetic + rec.strain;
-    const double reference = energy_.BlowUpReference();
-    if (std::isfinite(energy) &&
-        !(reference > 0.0 && energy > options_.energy_blowup_factor * reference))
-      return true;
-    summary_.status = DynamicStatus::kEnergyBlowUp;
-    char buffer[200];
-    std::snprintf(
-        buffer, sizeof buffer,
-        "energy blow-up at step %d (t = %.6g s): E = %.3e J against %.3e J of initial "
-        "energy and external work",
-        rec.step, rec.time, energy, reference);
-    summary_.message = buffer;
-    return false;
+    return internal::EnergyWithinGuard(rec, energy_.BlowUpReference(),
+                                       options_.energy_blowup_factor, &summary_);
   }
 
   const DynamicModel& model_;
@@ -425,30 +409,6 @@ class CentralDifferences {
   Eigen::VectorXd gap0_;            // s_c [m]
   StepRecord first_inaccurate_;
 };
-
-// The status of a run that went to the end: completed, or which steps missed their
-// accuracy.
-void SetFinalStatus(const StepRecord& first_inaccurate, DynamicSummary* summary) {
-  if (summary->status == DynamicStatus::kNotRun && summary->inaccurate_steps > 0) {
-    summary->status = DynamicStatus::kAccuracyNotReached;
-    char buffer[400];
-    std::snprintf(
-        buffer, sizeof buffer,
-        "%d of %d steps missed their accuracy; the first, step %d (t = %.6g s): "
-        "equilibrium %.3e N, contact %.3e N, friction %.3e N against %.3e N, "
-        "penetration %.3e m against %.3e m (x %g allowed)",
-        summary->inaccurate_steps, summary->steps, first_inaccurate.step,
-        first_inaccurate.time, first_inaccurate.equilibrium_residual,
-        first_inaccurate.complementarity_residual, first_inaccurate.friction_residual,
-        first_inaccurate.force_accuracy, first_inaccurate.max_penetration,
-        first_inaccurate.displacement_accuracy, kAccuracySlack);
-    summary->message = buffer;
-  }
-  if (summary->status == DynamicStatus::kNotRun) {
-    summary->status = DynamicStatus::kCompleted;
-    summary->message = "completed " + std::to_string(summary->steps) + " steps";
-  }
-}
 
 }  // namespace
 
@@ -516,7 +476,7 @@ struct Simulation::Impl {
 
   // The status of a run that reached end_time.
   void Finish() {
-    SetFinalStatus(integrator->first_inaccurate(), &summary);
+    internal::SetFinalStatus(integrator->first_inaccurate(), &summary);
     run_state = SimulationState::kFinished;
   }
 

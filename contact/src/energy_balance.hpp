@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "contact/dynamics.hpp"
 #include "contact/dynamics_types.hpp"
 
 namespace contact::internal {
@@ -31,6 +32,12 @@ struct EnergyBalance {
   void AddStepWork(int dim, const std::vector<ContactNode>& nodes,
                    const Eigen::VectorXd& f, const Eigen::VectorXd& r,
                    const Eigen::VectorXd& u_next, const Eigen::VectorXd& u_previous);
+  /// Its parts: W_ext += dw_ext = 1/2 (f^k . u^{k+1} - f^k . u^{k-1}) [J], and the
+  /// contact nodes' work (r, u_next, u_previous indexed by the nodes' dofs).
+  void AddExternalWork(double dw_ext);
+  void AddContactWork(int dim, const std::vector<ContactNode>& nodes,
+                      const Eigen::VectorXd& r, const Eigen::VectorXd& u_next,
+                      const Eigen::VectorXd& u_previous);
 
   /// The energies of rec after step k: kinetic 1/2 du' M du / dt^2 (Mdu = M du), strain
   /// 1/2 (u^{k+1})' K u^{k+1} (Ku_next = K u^{k+1}), the cumulative works and the balance
@@ -38,10 +45,21 @@ struct EnergyBalance {
   void Record(const Eigen::VectorXd& du, const Eigen::VectorXd& Mdu,
               const Eigen::VectorXd& u, const Eigen::VectorXd& u_next,
               const Eigen::VectorXd& Ku_next, double dt, StepRecord* rec) const;
+  /// The same from the products: du_Mdu = du' M du [kg m^2], u_Ku_next = (u^k)' K u^{k+1}
+  /// and u_next_Ku_next = (u^{k+1})' K u^{k+1} [J] (a run on MPI ranks sums them over the
+  /// ranks).
+  void Record(double du_Mdu, double u_Ku_next, double u_next_Ku_next, double dt,
+              StepRecord* rec) const;
 
   /// What the blow-up guard compares kinetic + strain energy with: the initial kinetic
   /// and strain energy and all external work that entered.
   double BlowUpReference() const { return kinetic0 + strain0 + work_scale; }
 };
+
+/// The blow-up guard after a recorded step: true if kinetic + strain energy of rec is
+/// finite and within `factor` times `reference` (EnergyBalance::BlowUpReference; no test
+/// while the reference is 0); else false, and summary gets kEnergyBlowUp and a message.
+bool EnergyWithinGuard(const StepRecord& rec, double reference, double factor,
+                       DynamicSummary* summary);
 
 }  // namespace contact::internal

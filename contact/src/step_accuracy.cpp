@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace contact::internal {
@@ -10,9 +11,6 @@ StepScales ComputeStepScales(const Eigen::VectorXd& f, const Eigen::VectorXd& Ku
                              double contact_force_max, const Eigen::VectorXd& du_previous,
                              const std::vector<ContactNode>& nodes,
                              const Eigen::VectorXd& u, double m_max, double dt) {
-  StepScales out;
-  out.force = std::max(
-      {f.lpNorm<Eigen::Infinity>(), Ku.lpNorm<Eigen::Infinity>(), contact_force_max});
   double penetration = 0.0;
   for (const ContactNode& node : nodes) {
     double un = 0.0;
@@ -20,9 +18,18 @@ StepScales ComputeStepScales(const Eigen::VectorXd& f, const Eigen::VectorXd& Ku
       if (node.dofs[a] >= 0) un += node.normal(a) * u(node.dofs[a]);
     penetration = std::max(penetration, un - node.gap);
   }
+  return StepScalesFromMaxima(f.lpNorm<Eigen::Infinity>(), Ku.lpNorm<Eigen::Infinity>(),
+                              contact_force_max, du_previous.lpNorm<Eigen::Infinity>(),
+                              penetration, m_max, dt);
+}
+
+StepScales StepScalesFromMaxima(double f_max, double Ku_max, double contact_force_max,
+                                double du_max, double penetration, double m_max,
+                                double dt) {
+  StepScales out;
+  out.force = std::max({f_max, Ku_max, contact_force_max});
   const double step_of_force = out.force * dt * dt / m_max;
-  out.displacement =
-      std::max({du_previous.lpNorm<Eigen::Infinity>(), step_of_force, penetration});
+  out.displacement = std::max({du_max, step_of_force, penetration});
   if (out.force == 0.0) out.force = out.displacement * m_max / (dt * dt);
   if (out.force == 0.0)
     out.force = out.displacement = 1.0;  // nothing moves, loads or touches
@@ -33,15 +40,23 @@ void SetAskedAccuracy(double tolerance, const StepScales& scales,
                       const Eigen::VectorXd& Q, const Eigen::VectorXd& Mdu, double dt,
                       const Eigen::VectorXd& u_next, const Eigen::VectorXd& gap0,
                       StepRecord* rec) {
+  AskedAccuracyMaxima maxima;
+  maxima.Q = Q.lpNorm<Eigen::Infinity>();
+  maxima.Mdu = Mdu.lpNorm<Eigen::Infinity>();
+  maxima.u_next = u_next.lpNorm<Eigen::Infinity>();
+  maxima.gap0 = gap0.lpNorm<Eigen::Infinity>();
+  SetAskedAccuracy(tolerance, scales, maxima, dt, rec);
+}
+
+void SetAskedAccuracy(double tolerance, const StepScales& scales,
+                      const AskedAccuracyMaxima& maxima, double dt, StepRecord* rec) {
   const double eps = std::numeric_limits<double>::epsilon();
   rec->force_accuracy =
       tolerance * scales.force +
-      ContactSystem::kRoundoffUlps * eps *
-          (Q.lpNorm<Eigen::Infinity>() + Mdu.lpNorm<Eigen::Infinity>() / (dt * dt));
+      ContactSystem::kRoundoffUlps * eps * (maxima.Q + maxima.Mdu / (dt * dt));
   rec->displacement_accuracy =
       tolerance * scales.displacement +
-      ContactSystem::kRoundoffUlps * eps *
-          (u_next.lpNorm<Eigen::Infinity>() + gap0.lpNorm<Eigen::Infinity>());
+      ContactSystem::kRoundoffUlps * eps * (maxima.u_next + maxima.gap0);
 }
 
 // Accuracy of a completed step, recomputed from the state in newtons and metres:
@@ -107,10 +122,44 @@ void MeasureStepAccuracy(int dim, const std::vector<ContactNode>& nodes,
   rec->max_penetration = std::max(0.0, penetration);
   rec->complementarity_residual = complementarity;
   rec->friction_residual = friction;
-  rec->accurate = rec->equilibrium_residual <= kAccuracySlack * rec->force_accuracy &&
-                  rec->complementarity_residual <= kAccuracySlack * rec->force_accuracy &&
-                  rec->friction_residual <= kAccuracySlack * rec->force_accuracy &&
-                  rec->max_penetration <= kAccuracySlack * rec->displacement_accuracy;
+  rec->accurate = StepIsAccurate(*rec);
+}
+
+bool StepIsAccurate(const StepRecord& rec) {
+  return rec.equilibrium_residual <= kAccuracySlack * rec.force_accuracy &&
+         rec.complementarity_residual <= kAccuracySlack * rec.force_accuracy &&
+         rec.friction_residual <= kAccuracySlack * rec.force_accuracy &&
+         rec.max_penetration <= kAccuracySlack * rec.displacement_accuracy;
+}
+
+void SetFinalStatus(const StepRecord& first_inaccurate, DynamicSummary* summary) {
+  if (summary->status == DynamicStatus::kNotRun && summary->inaccurate_steps > 0) {
+    summary->status = DynamicStatus::kAccuracyNotReached;
+    char buffer[400];
+    std::snprintf(
+        buffer, sizeof buffer,
+        "%d of %d steps missed their accuracy; the first, step %d (t = %.6g s): "
+        "equilibrium %.3e N, contact %.3e N, friction %.3e N against %.3e N, "
+        "penetration %.3e m against %.3e m (x %g allowed)",
+        summary->inaccurate_steps, summary->steps, first_inaccurate.step,
+        first_inaccurate.time, first_inaccurate.equilibrium_residual,
+        first_inaccurate.complementarity_residual, first_inaccurate.friction_residual,
+        first_inaccurate.force_accuracy, first_inaccurate.max_penetration,
+        first_inaccurate.displacement_accuracy, kAccuracySlack);
+    summary->message = buffer;
+  }
+  if (summary->status == DynamicStatus::kNotRun) {
+    summary->status = DynamicStatus::kCompleted;
+    summary->message = "completed " + std::to_string(summary->steps) + " steps";
+  }
+}
+
+void SetInterrupted(const StepRecord& rec, long num_steps, DynamicSummary* summary) {
+  summary->status = DynamicStatus::kInterrupted;
+  char buffer[200];
+  std::snprintf(buffer, sizeof buffer, "interrupted at step %d (t = %.9g s) of %ld",
+                rec.step, rec.time, num_steps);
+  summary->message = buffer;
 }
 
 }  // namespace contact::internal

@@ -115,6 +115,14 @@ class MpiSession {
   MpiSession& operator=(const MpiSession&) = delete;
 
   bool active() const { return active_; }
+  /// `code`, once rank 0 has got here: mpiexec stops every rank as soon as one exits with
+  /// a nonzero code, which must not cut rank 0's report short.
+  int AfterRankZero(int code) const {
+#ifdef CONTACT_SIM_WITH_PETSC
+    if (active_) MPI_Barrier(PETSC_COMM_WORLD);
+#endif
+    return code;
+  }
   int rank() const { return rank_; }
   int size() const { return size_; }
   /// A failure of this rank alone: printed (on rank > 0 with its rank), then every rank
@@ -195,10 +203,9 @@ contact::SceneOverrides OverridesOf(const cxxopts::ParseResult& args) {
 }
 
 /// The human-readable summary (the thesis's table columns dt, f_c, k_sim, N_Jac, N_func,
-/// t_comp, then the accuracy and energy balance of the run; a distributed run does not
-/// compute them yet and says so).
+/// t_comp, then the accuracy and energy balance of the run, on MPI ranks too).
 void PrintReport(std::FILE* table, const contact::Scene& scene,
-                 const contact::SceneResult& r, bool distributed) {
+                 const contact::SceneResult& r) {
   const contact::DynamicSummary& s = r.summary;
   // A run that did not complete has its reason on stderr already (main): not twice.
   if (s.status == contact::DynamicStatus::kCompleted)
@@ -216,14 +223,6 @@ void PrintReport(std::FILE* table, const contact::Scene& scene,
   std::fprintf(table, "  %-10g %-6g %-7d %-8ld %-8ld %-10.4f\n", scene.dynamics.dt,
                scene.friction_coefficient, s.steps, s.jacobian_evaluations,
                s.residual_evaluations, s.seconds);
-  if (distributed) {
-    std::fprintf(
-        table,
-        "  penetration %.3e m; the accuracy measures and the energy balance are not "
-        "computed on MPI ranks yet (docs/petsc.md, \"Contact scenes on MPI ranks\")\n",
-        s.max_penetration);
-    return;
-  }
   std::fprintf(table,
                "  accuracy over all steps: equilibrium residual %.3e N, penetration %.3e "
                "m, contact "
@@ -304,8 +303,8 @@ nlohmann::json JsonSummary(const contact::Scene& scene, const contact::SceneResu
 }
 
 /// The scene on the MPI ranks (contact::petsc): only the explicit step; a scene it cannot
-/// run is refused alike on every rank. Between steps it reads no stop request (mpiexec
-/// passes SIGINT on and the run ends there).
+/// run is refused alike on every rank. SIGINT/SIGTERM (mpiexec passes them on to every
+/// rank) stop it after the step in progress, agreed by the ranks at the step's end.
 contact::SceneResult RunDistributed(const contact::Scene& scene, const MpiSession& mpi,
                                     bool progress) {
 #ifdef CONTACT_SIM_WITH_PETSC
@@ -378,6 +377,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "contact-sim: warning: %s\n", w.c_str());
     if (args.count("output")) scene.output_directory = args["output"].as<std::string>();
     if (args.count("no-output")) scene.output_directory.clear();
+    scene.dynamics.stop_requested = &g_stop_requested;
+    InstallSignalHandlers();
     if (distributed) {
       if (args.count("resume"))
         throw contact::SceneError(
@@ -386,8 +387,6 @@ int main(int argc, char** argv) {
             std::to_string(mpi.size()) + " MPI ranks]");
       r = RunDistributed(scene, mpi, !quiet);
     } else {
-      scene.dynamics.stop_requested = &g_stop_requested;
-      InstallSignalHandlers();
       contact::SceneRunOptions run;
       run.progress = !quiet;
       run.resume = args.count("resume") > 0;
@@ -433,7 +432,7 @@ int main(int argc, char** argv) {
                  "with --resume "
                  "continues the run\n",
                  r.checkpoint_step, scene.output_directory.c_str());
-  if (completed || (!quiet && s.steps > 0)) PrintReport(table, scene, r, distributed);
+  if (completed || (!quiet && s.steps > 0)) PrintReport(table, scene, r);
   if (!r.files_written.empty() && !quiet)
     std::fprintf(stderr, "  wrote %zu files into %s\n", r.files_written.size(),
                  scene.output_directory.c_str());
@@ -441,7 +440,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "contact-sim: writing the report to stdout failed\n");
     return 3;
   }
+  // (On MPI ranks a rank the signal missed stops with the others: as if by SIGINT.)
+  int code = s.status == contact::DynamicStatus::kCompleted ? 0 : 1;
   if (s.status == contact::DynamicStatus::kInterrupted)
-    return 128 + static_cast<int>(g_stop_signal);
-  return s.status == contact::DynamicStatus::kCompleted ? 0 : 1;
+    code = 128 + static_cast<int>(g_stop_signal ? g_stop_signal : SIGINT);
+  return mpi.AfterRankZero(code);
 }

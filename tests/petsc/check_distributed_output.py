@@ -5,14 +5,21 @@ files a user opens: series.pvd lists one .pvtu per snapshot, VTK's own parallel 
 (the pieces share their partition-boundary vertices) the mesh's nodes once merged, its
 displacement the serial displacement.csv to its 10 printed digits - steps.csv has the
 serial rows' contact force sums (the 1e-12 comparison of the trajectories themselves is
-test_distributed_scene.cpp's, in one process without the files' rounding), --json reports ranks = 2; and a scene whose step is not
-explicit is refused once, with exit code 1, naming the step."""
+test_distributed_scene.cpp's, in one process without the files' rounding), and
+contact_stress.csv, node_history.csv (output.marked_point) and displacement.csv (at
+output.stress_times and the end) have the serial rows; --json reports ranks = 2; a scene
+whose step is not explicit is refused once, with exit code 1, naming the step; and SIGINT
+to mpiexec ends a run after a finished step with the "interrupted" summary and steps.csv
+complete up to that step (OpenMPI 4.1's mpiexec passes SIGINT on as SIGTERM and exits
+nonzero)."""
 import argparse
 import csv
 import json
 import os
+import signal
 import subprocess
 import sys
+import time
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -52,6 +59,8 @@ initial_velocity = [0.0, 0.0, -0.5]
 step = "explicit"
 [output]
 snapshot_every = 50
+stress_times = [0.001, 0.002]
+marked_point = [0.1, 0.1, 0.0]
 """
 SAME = 1e-9  # relative: the CSV files print 10 significant digits
 
@@ -59,6 +68,36 @@ SAME = 1e-9  # relative: the CSV files print 10 significant digits
 def read_csv(path):
     with open(path) as f:
         return list(csv.DictReader(f))
+
+
+def check_interrupt(a, mpi, scene):
+    """SIGINT to mpiexec once steps.csv has rows: the run stops after a finished step."""
+    with open(scene) as f:
+        text = f.read().replace("end_time = 0.004", "end_time = 4.0")
+    long_scene = os.path.join(a.workdir, "box_drop_long.toml")
+    with open(long_scene, "w") as f:
+        f.write(text)
+    out = os.path.join(a.workdir, "interrupted")
+    steps = os.path.join(out, "steps.csv")
+    if os.path.exists(steps):
+        os.remove(steps)
+    run = subprocess.Popen(mpi + [long_scene, "--quiet", "--output", out],
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 90
+    while time.time() < deadline and run.poll() is None:
+        if os.path.exists(steps) and len(read_csv(steps)) >= 5:
+            break
+        time.sleep(0.2)
+    assert run.poll() is None, "the long run ended before the signal"
+    run.send_signal(signal.SIGINT)
+    stdout, stderr = run.communicate(timeout=90)
+    assert run.returncode != 0, run.returncode
+    lines = [l for l in stderr.splitlines() if "interrupted at step" in l]
+    assert len(lines) == 1, stderr
+    step = int(lines[0].split("interrupted at step")[1].split()[0])
+    rows = read_csv(steps)
+    assert len(rows) == step and int(rows[-1]["step"]) == step, (len(rows), step)
+    return f"stopped after step {step} (mpiexec exit code {run.returncode})"
 
 
 def main():
@@ -118,13 +157,24 @@ def main():
         m = np.array([float(r[column]) for r in rows_mpi])
         assert s.max() > 0 and np.abs(m - s).max() <= SAME * np.abs(s).max(), column
 
+    # The other CSVs of one process: the same rows (the stress times, the marked node).
+    for name in ("contact_stress.csv", "node_history.csv", "displacement.csv"):
+        s = np.loadtxt(os.path.join(serial_dir, name), delimiter=",", skiprows=1, ndmin=2)
+        m = np.loadtxt(os.path.join(mpi_dir, name), delimiter=",", skiprows=1, ndmin=2)
+        assert s.shape == m.shape and len(s) > 1, (name, s.shape, m.shape)
+        scale = np.maximum(np.abs(s).max(axis=0), 1e-300)
+        assert (np.abs(m - s) / scale).max() <= SAME, (name, (np.abs(m - s) / scale).max())
+
+    interrupted = check_interrupt(a, mpi, scene)
+
     # Another step on 2 ranks: refused, once, naming the step and what is supported.
     refused = subprocess.run(mpi + [scene, "--step", "condensed", "--no-output"], capture_output=True, text=True)
     assert refused.returncode == 1, refused
     lines = [l for l in refused.stderr.splitlines() if "condensed" in l]
     assert len(lines) == 1 and "explicit" in lines[0], refused.stderr
     print(f"ok: {len(files)} snapshots, {grid.GetNumberOfPoints()} piece points = {len(nodes)} nodes merged, "
-          f"{num_elements} cells; |u_mpi - u_serial| = {difference:.3g} m of {u_max:.3g} m")
+          f"{num_elements} cells; |u_mpi - u_serial| = {difference:.3g} m of {u_max:.3g} m; "
+          f"SIGINT: {interrupted}")
     return 0
 
 

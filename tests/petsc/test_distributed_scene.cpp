@@ -147,6 +147,54 @@ double MaxAbs(const std::vector<contact::StepRecord>& records,
   return m;
 }
 
+// The accuracy and energy measures of every step (steps.csv's columns) and the summary's
+// maxima: the same definitions as in one process, so equal up to the round-off of the
+// reordered sums - within kSameTrajectory of the quantity's scale: the energy columns of
+// the largest energy of the run [J]; the residuals of the step's force scale F =
+// force_accuracy / tolerance [N] (the residuals themselves are round-off of the explicit
+// step's closed form, so their own size is no scale); the penetration of D =
+// displacement_accuracy / tolerance [m].
+void CheckSameMeasures(const contact::Scene& scene, const contact::DynamicSummary& serial,
+                       const contact::DynamicSummary& parallel) {
+  using R = contact::StepRecord;
+  double energy_scale = 0.0;
+  for (double R::*field : {&R::kinetic, &R::strain, &R::external_work,
+                           &R::normal_contact_work, &R::friction_dissipation})
+    energy_scale = std::max(energy_scale, MaxAbs(serial.records, field));
+  REQUIRE(energy_scale > 0.0);
+  const double tolerance = scene.dynamics.ncp.tolerance;
+  double worst_energy = 0.0, worst_force = 0.0, worst_penetration = 0.0,
+         worst_accuracy = 0.0;
+  for (size_t k = 0; k < serial.records.size(); ++k) {
+    const R &s = serial.records[k], &p = parallel.records[k];
+    INFO("step " << s.step);
+    for (double R::*field :
+         {&R::kinetic, &R::strain, &R::external_work, &R::normal_contact_work,
+          &R::friction_dissipation, &R::energy_balance_error})
+      worst_energy = std::max(worst_energy, std::abs(p.*field - s.*field) / energy_scale);
+    const double F = s.force_accuracy / tolerance,
+                 D = s.displacement_accuracy / tolerance;
+    for (double R::*field :
+         {&R::equilibrium_residual, &R::complementarity_residual, &R::friction_residual})
+      worst_force = std::max(worst_force, std::abs(p.*field - s.*field) / F);
+    worst_penetration =
+        std::max(worst_penetration, std::abs(p.max_penetration - s.max_penetration) / D);
+    worst_accuracy = std::max(
+        {worst_accuracy, std::abs(p.force_accuracy - s.force_accuracy) / s.force_accuracy,
+         std::abs(p.displacement_accuracy - s.displacement_accuracy) /
+             s.displacement_accuracy});
+    CHECK(p.active_nodes == s.active_nodes);
+    CHECK(p.accurate == s.accurate);
+  }
+  CHECK(worst_energy <= kSameTrajectory);
+  CHECK(worst_force <= kSameTrajectory);
+  CHECK(worst_penetration <= kSameTrajectory);
+  CHECK(worst_accuracy <= kSameTrajectory);
+  CHECK(parallel.inaccurate_steps == serial.inaccurate_steps);
+  CHECK(std::abs(parallel.energy_balance_error - serial.energy_balance_error) <=
+        kSameTrajectory * energy_scale);
+}
+
 }  // namespace
 
 TEST_CASE("the explicit step on MPI ranks follows the serial trajectory") {
@@ -191,11 +239,27 @@ TEST_CASE("the explicit step on MPI ranks follows the serial trajectory") {
   }
   CHECK(normal_difference <= kSameTrajectory * normal_max);
   CHECK(friction_difference <= kSameTrajectory * friction_max);
-  // The energies, summed over ranks in another order: to round-off.
-  const contact::StepRecord &s = serial.summary.records.back(),
-                            &p = parallel.summary.records.back();
-  CHECK(std::abs(p.kinetic - s.kinetic) <= 1e-10 * std::max(s.kinetic, 1e-300));
-  CHECK(std::abs(p.strain - s.strain) <= 1e-10 * std::max(s.strain, 1e-300));
+  CheckSameMeasures(scene, serial.summary, parallel.summary);
+}
+
+TEST_CASE("an unstable explicit step blows up on MPI ranks as in one process") {
+  // kBox3d with dt = 4e-4 s, above its dt_crit = 1.74e-4 s, allowed: the energy guard
+  // must stop the run at the same step with the same status.
+  std::string text = kBox3d;
+  text.replace(text.find("dt = 2e-5"), 9, "dt = 4e-4");
+  text.replace(text.find("end_time = 0.005"), 16,
+               "end_time = 0.2\nallow_unstable = true");
+  const contact::Scene scene = LoadSceneText(text, "unstable");
+  const contact::SceneResult parallel =
+      contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, false);
+  CHECK(parallel.summary.status == contact::DynamicStatus::kEnergyBlowUp);
+  if (Rank() != 0) return;
+  const contact::SceneResult serial = contact::RunScene(scene, false);
+  INFO(serial.summary.message << " / " << parallel.summary.message);
+  REQUIRE(serial.summary.status == contact::DynamicStatus::kEnergyBlowUp);
+  CHECK(parallel.summary.steps == serial.summary.steps);
+  CHECK(parallel.summary.steps < 500);  // stopped before end_time
+  CHECK(parallel.summary.message == serial.summary.message);
 }
 
 TEST_CASE("a scene whose step is not explicit is refused on every rank") {

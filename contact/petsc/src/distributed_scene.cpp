@@ -15,6 +15,7 @@
 
 #include <petscdmplex.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -26,19 +27,23 @@
 #include "contact/vtk_writer.hpp"
 #include "distributed_body.hpp"
 #include "ncp/output_file.hpp"
+#include "parallel.hpp"
 #include "petsc_check.hpp"
 #include "scene/scene_error.hpp"
 #include "scene/scene_load.hpp"
 #include "scene/scene_output.hpp"
 #include "step/explicit_contact_node.hpp"
+#include "step_record.hpp"
 
 namespace contact::petsc {
 namespace {
 
 using internal::DistributedBody;
+using internal::GatheredStep;
 using internal::NodeData;
+using internal::NodeResult;
+using internal::RankStepPart;
 using Clock = std::chrono::steady_clock;
-constexpr double kNotMeasured = std::numeric_limits<double>::quiet_NaN();
 
 double Seconds(Clock::time_point since) {
   return std::chrono::duration<double>(Clock::now() - since).count();
@@ -62,10 +67,18 @@ struct StartInfo {
   int num_dofs = 0, num_free_dofs = 0, num_contact_nodes = 0, num_elements = 0;
 };
 
+// What rank 0's StepRecorder starts from: the initial normal forces lambda^0 [N] and the
+// energy balance of u^0, u^{-1} (K and M are the serial ones, dropped after the set-up).
+struct RecorderStart {
+  Eigen::VectorXd lambda0;
+  ::contact::internal::EnergyBalance energy;
+};
+
 // Rank 0: the model, the critical step and the initial state of the serial run, and the
 // NodeData of every mesh node.
 std::vector<double> SerialSetUp(const Scene& scene, SceneModel* built,
-                                DynamicSummary* summary, StartInfo* info) {
+                                DynamicSummary* summary, StartInfo* info,
+                                RecorderStart* recorder) {
   *built = BuildSceneModel(scene);
   const Mesh& mesh = built->body->mesh();
   const int dim = mesh.dim;
@@ -88,6 +101,16 @@ std::vector<double> SerialSetUp(const Scene& scene, SceneModel* built,
   const Eigen::VectorXd u_previous = u0 - options.dt * initial.velocity();
   const Eigen::VectorXd f = ::contact::internal::SceneLoadVector(scene, *built);
   const ContactNodeStates start = initial.contact();
+  {
+    const Eigen::VectorXd du = u0 - u_previous;
+    Eigen::VectorXd Ku(u0.size()), Mdu(u0.size());
+    ::contact::internal::SymmetricMultiply(built->model.K, u0, &Ku);
+    ::contact::internal::SymmetricMultiply(built->model.M, du, &Mdu);
+    recorder->energy =
+        ::contact::internal::EnergyBalance(u0, u_previous, Ku, Mdu, options.dt);
+    recorder->lambda0 =
+        start.normal_force.unaryExpr([](double l) { return std::isfinite(l) ? l : 0.0; });
+  }
   const int width = NodeData::Width(dim);
   std::vector<double> data(
       static_cast<size_t>(width) * static_cast<size_t>(mesh.NumNodes()), 0.0);
@@ -127,61 +150,6 @@ struct OwnedContactNode {
   ::contact::internal::ExplicitNodeStep step;
 };
 
-// The result of every contact node gathered on rank 0 (serial node order): per node its
-// index, normal force, gap, tangent force and slip (system units), by one MPI_Gatherv.
-class ContactGather {
- public:
-  ContactGather(MPI_Comm comm, int dim)
-      : comm_(comm), width_(2 * dim + 1), rank_(RankOf(comm)) {
-    counts_.resize(static_cast<size_t>(SizeOf(comm)));
-    offsets_.resize(counts_.size());
-  }
-
-  /// Collective; on rank 0 fills *result (normal_force, gap, tangent_force, slip) for
-  /// num_nodes contact nodes.
-  void Gather(int dim, int num_nodes, const std::vector<OwnedContactNode>& nodes,
-              ContactSystem::Result* result) {
-    send_.clear();
-    for (const OwnedContactNode& n : nodes) {
-      send_.push_back(n.node.node);
-      send_.push_back(n.step.normal_force);
-      send_.push_back(n.step.gap);
-      for (int a = 0; a < dim - 1; ++a) send_.push_back(n.step.tangent_force(a));
-      for (int a = 0; a < dim - 1; ++a) send_.push_back(n.step.slip(a));
-    }
-    const int count = static_cast<int>(send_.size());
-    MPI_Gather(&count, 1, MPI_INT, counts_.data(), 1, MPI_INT, 0, comm_);
-    int total = 0;
-    if (rank_ == 0)
-      for (size_t r = 0; r < counts_.size(); ++r)
-        offsets_[r] = total, total += counts_[r];
-    receive_.resize(static_cast<size_t>(total));
-    MPI_Gatherv(send_.data(), count, MPI_DOUBLE, receive_.data(), counts_.data(),
-                offsets_.data(), MPI_DOUBLE, 0, comm_);
-    if (rank_ != 0) return;
-    const Eigen::Index N = num_nodes;
-    result->normal_force.setZero(N);
-    result->gap.setZero(N);
-    result->tangent_force.setZero(dim - 1, N);
-    result->slip.setZero(dim - 1, N);
-    for (size_t k = 0; k + static_cast<size_t>(width_) <= receive_.size();
-         k += static_cast<size_t>(width_)) {
-      const double* d = &receive_[k];
-      const auto c = static_cast<Eigen::Index>(d[0]);
-      result->normal_force(c) = d[1];
-      result->gap(c) = d[2];
-      for (int a = 0; a < dim - 1; ++a)
-        result->tangent_force(a, c) = d[3 + a], result->slip(a, c) = d[dim + 2 + a];
-    }
-  }
-
- private:
-  MPI_Comm comm_;
-  int width_, rank_;
-  std::vector<int> counts_, offsets_;
-  std::vector<double> send_, receive_;
-};
-
 // The owned free dofs of a global Vec on rank 0 in the serial free-dof numbering.
 Eigen::VectorXd GatherFreeDofs(const DistributedBody& body, Vec v, int num_free_dofs) {
   MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(v));
@@ -217,7 +185,8 @@ Eigen::VectorXd GatherFreeDofs(const DistributedBody& body, Vec v, int num_free_
   return out;
 }
 
-// The files of the run: steps.csv and displacement.csv on rank 0; per snapshot one .vtu
+// The files of the run: on rank 0 the CSVs of one process (steps.csv, contact_stress.csv,
+// node_history.csv, displacement.csv; not the mesh CSVs); per snapshot one .vtu
 // piece per rank (its cells, the displacement of their vertices and the rank as a cell
 // field), the .pvtu that joins them and series.pvd listing the .pvtu files (rank 0).
 class DistributedOutput {
@@ -236,11 +205,12 @@ class DistributedOutput {
       std::filesystem::create_directories(directory_, error);
       created = error ? 0 : 1;
       if (created) {
-        steps_ = ncp::OutputFile::Open((directory_ / "steps.csv").string());
-        steps_.stream() << ::contact::internal::kStepsCsvHeader << "\n";
-        steps_.stream().precision(10);
-        steps_.Commit();
-        files_written_->push_back((directory_ / "steps.csv").string());
+        namespace in = ::contact::internal;
+        steps_ = Open("steps.csv", in::kStepsCsvHeader);
+        stress_ = Open("contact_stress.csv", in::ContactStressCsvHeader(scene.dim));
+        if (scene.marked_point)
+          history_ = Open("node_history.csv", in::kNodeHistoryCsvHeader);
+        displacement_ = Open("displacement.csv", in::DisplacementCsvHeader(scene.dim));
       }
     }
     MPI_Bcast(&created, 1, MPI_INT, 0, comm_);  // (the pieces go into the directory)
@@ -250,10 +220,28 @@ class DistributedOutput {
 
   bool enabled() const { return !directory_.empty(); }
 
-  void WriteStepRow(const StepRecord& record) {
+  /// Rank 0, after each step: steps.csv's row, the marked node's node_history.csv row
+  /// (marked >= 0: its index in nodes) and, with u_free (the free dofs in the serial
+  /// numbering) at a stress time or the end, the displacement.csv and contact_stress.csv
+  /// rows - as SceneOutput::WriteStep; contact in system units (times force_scale [N]).
+  void WriteStep(const StepRecord& record, const Mesh& mesh, const DofMap& dofs,
+                 const std::vector<ContactNode>& nodes, int marked,
+                 const ContactSystem::Result& contact, double force_scale,
+                 const Eigen::VectorXd* u_free) {
     if (directory_.empty() || rank_ != 0) return;
-    ::contact::internal::WriteStepsCsvRow(record, &steps_.stream());
-    steps_.Commit();
+    namespace in = ::contact::internal;
+    in::WriteStepsCsvRow(record, &steps_.stream());
+    if (marked >= 0)
+      in::WriteNodeHistoryRow(record.time, mesh.dim, nodes, static_cast<size_t>(marked),
+                              contact, force_scale, &history_.stream());
+    if (u_free) {
+      in::WriteDisplacementRows(record.time, mesh, dofs, *u_free,
+                                &displacement_.stream());
+      in::WriteContactStressRows(record.time, mesh, nodes, contact, force_scale,
+                                 &stress_.stream());
+    }
+    for (ncp::OutputFile* csv : {&steps_, &history_, &stress_, &displacement_})
+      if (csv->is_open()) csv->Commit();
   }
 
   /// Collective: the snapshot of global displacement vector u at `time`.
@@ -295,25 +283,11 @@ class DistributedOutput {
     files_written_->push_back((directory_ / name).string());
   }
 
-  /// Rank 0: displacement.csv (every node, as from one process) and closes steps.csv.
-  void Finish(const Mesh& mesh, const DofMap& dofs, double time,
-              const Eigen::VectorXd& u_free) {
+  /// Rank 0: closes the CSVs (checked).
+  void Finish() {
     if (directory_.empty() || rank_ != 0) return;
-    steps_.Close();
-    if (u_free.size() == 0) return;
-    const int dim = mesh.dim;
-    const std::string path = (directory_ / "displacement.csv").string();
-    ncp::OutputFile file = ncp::OutputFile::Open(path);
-    file.stream() << (dim == 2 ? "time,node,ux,uy\n" : "time,node,ux,uy,uz\n");
-    file.stream().precision(10);
-    const Eigen::VectorXd u = dofs.Expand(u_free);
-    for (int i = 0; i < mesh.NumNodes(); ++i) {
-      file.stream() << time << ',' << i;
-      for (int a = 0; a < dim; ++a) file.stream() << ',' << u(dim * i + a);
-      file.stream() << '\n';
-    }
-    file.Close();
-    files_written_->push_back(path);
+    for (ncp::OutputFile* csv : {&steps_, &history_, &stress_, &displacement_})
+      if (csv->is_open()) csv->Close();
     files_written_->push_back((directory_ / "series.pvd").string());
   }
 
@@ -321,59 +295,152 @@ class DistributedOutput {
   MPI_Comm comm_;
   int rank_, size_;
   std::filesystem::path directory_;
+  // A CSV of rank 0, opened with its header.
+  ncp::OutputFile Open(const std::string& name, const std::string& header) {
+    const std::string path = (directory_ / name).string();
+    ncp::OutputFile file = ncp::OutputFile::Open(path);
+    file.stream() << header << "\n";
+    file.stream().precision(10);
+    file.Commit();
+    files_written_->push_back(path);
+    return file;
+  }
+
   std::vector<std::string>* files_written_;
-  ncp::OutputFile steps_;
+  ncp::OutputFile steps_, stress_, history_, displacement_;
   std::vector<std::pair<double, std::string>> series_;
 };
 
 // The distributed explicit time loop over the owned free dofs of `body`.
 class ExplicitRun {
  public:
-  ExplicitRun(MPI_Comm comm, const Scene& scene, const DistributedBody& body,
-              int num_contact_nodes)
+  ExplicitRun(MPI_Comm comm, const Scene& scene, const DistributedBody& body)
       : comm_(comm),
-        rank_(RankOf(comm)),
         scene_(scene),
         body_(body),
         dim_(body.dim()),
-        num_contact_nodes_(num_contact_nodes),
         dt_(scene.dynamics.dt) {
     DM dm = body.dm();
-    for (Vec* v : {&u_, &du_, &Ku_, &Mdu_, &f_free_, &q_, &d_})
-      CONTACT_PETSC_CHECK(DMCreateGlobalVector(dm, v));
+    for (Vec* v : Vectors()) CONTACT_PETSC_CHECK(DMCreateGlobalVector(dm, v));
     CONTACT_PETSC_CHECK(VecGetLocalSize(u_, &n_));
     CONTACT_PETSC_CHECK(VecMax(body.lumped_mass(), nullptr, &m_max_));
     force_scale_ = m_max_ / (dt_ * dt_);
     SetInitialState();
   }
   ~ExplicitRun() {
-    for (Vec* v : {&u_, &du_, &Ku_, &Mdu_, &f_free_, &q_, &d_}) VecDestroy(v);
+    for (Vec* v : Vectors()) VecDestroy(v);
   }
   ExplicitRun(const ExplicitRun&) = delete;
   ExplicitRun& operator=(const ExplicitRun&) = delete;
 
   Vec displacement() const { return u_; }
-  int num_contact_nodes_owned() const { return static_cast<int>(nodes_.size()); }
+  double m_max() const { return m_max_; }
 
-  /// Step k -> k+1 (collective). False if a value is not finite (on any rank).
-  bool Step(long k, StepRecord* rec, ContactSystem::Result* contact,
-            ContactGather* gather) {
-    const auto start = Clock::now();
-    rec->step = static_cast<int>(k + 1);
-    rec->time = scene_.dynamics.start_time + static_cast<double>(k) * dt_ + dt_;
+  /// Step k -> k+1 on this rank's dofs and contact nodes, u^{k+1} and K u^{k+1}
+  /// (collective: MatMult); *part and *nodes: what the step's record needs from here.
+  void Step(long k, bool stop_requested, RankStepPart* part,
+            std::vector<NodeResult>* results) {
+    *part = RankStepPart();
+    part->sum[RankStepPart::kStopRequested] = stop_requested ? 1.0 : 0.0;
     const double factor = ::contact::internal::LoadHistoryFactor(
         scene_.load_history, scene_.dynamics.start_time, scene_.ramp_time,
         scene_.dynamics.start_time + static_cast<double>(k) * dt_);
-    Arrays a(*this);
-    // Q^k, q and the increment off contact (dynamics.cpp LoadStep, explicit_step.cpp).
+    {
+      Arrays a(*this);
+      Predict(factor, a, part);
+      SolveContactNodes(a, part);
+      Advance(factor, a, part);
+      Results(a, results);
+    }
+    // u^{k-1} <- u^k <- u^{k+1} (the handles), then K u^{k+1} and its products.
+    std::swap(u_previous_, u_);
+    std::swap(u_, u_next_);
+    CONTACT_PETSC_CHECK(MatMult(body_.stiffness(), u_, Ku_));
+    const PetscScalar *u = nullptr, *u_previous = nullptr, *Ku = nullptr;
+    CONTACT_PETSC_CHECK(VecGetArrayRead(u_, &u));
+    CONTACT_PETSC_CHECK(VecGetArrayRead(u_previous_, &u_previous));
+    CONTACT_PETSC_CHECK(VecGetArrayRead(Ku_, &Ku));
+    for (PetscInt i = 0; i < n_; ++i) {
+      part->sum[RankStepPart::kUKuNext] += u_previous[i] * Ku[i];
+      part->sum[RankStepPart::kUNextKuNext] += u[i] * Ku[i];
+    }
+    CONTACT_PETSC_CHECK(VecRestoreArrayRead(Ku_, &Ku));
+    CONTACT_PETSC_CHECK(VecRestoreArrayRead(u_previous_, &u_previous));
+    CONTACT_PETSC_CHECK(VecRestoreArrayRead(u_, &u));
+  }
+
+ private:
+  std::vector<Vec*> Vectors() {
+    return {&u_, &u_previous_, &u_next_, &du_, &Ku_, &Mdu_, &f_free_, &Q_, &q_, &d_, &r_};
+  }
+
+  // The owned arrays of the state vectors for one step.
+  struct Arrays {
+    explicit Arrays(const ExplicitRun& run) : run_(run) {
+      CONTACT_PETSC_CHECK(VecGetArray(run.u_next_, &u_next));
+      CONTACT_PETSC_CHECK(VecGetArray(run.du_, &du));
+      CONTACT_PETSC_CHECK(VecGetArray(run.Mdu_, &Mdu));
+      CONTACT_PETSC_CHECK(VecGetArray(run.Q_, &Q));
+      CONTACT_PETSC_CHECK(VecGetArray(run.q_, &q));
+      CONTACT_PETSC_CHECK(VecGetArray(run.r_, &r));
+      CONTACT_PETSC_CHECK(VecGetArrayRead(run.u_, &u));
+      CONTACT_PETSC_CHECK(VecGetArrayRead(run.u_previous_, &u_previous));
+      CONTACT_PETSC_CHECK(VecGetArrayRead(run.Ku_, &Ku));
+      CONTACT_PETSC_CHECK(VecGetArrayRead(run.f_free_, &f_free));
+      CONTACT_PETSC_CHECK(VecGetArrayRead(run.d_, &d));
+      CONTACT_PETSC_CHECK(VecGetArrayRead(run.body_.lumped_mass(), &m));
+    }
+    ~Arrays() {
+      VecRestoreArray(run_.u_next_, &u_next);
+      VecRestoreArray(run_.du_, &du);
+      VecRestoreArray(run_.Mdu_, &Mdu);
+      VecRestoreArray(run_.Q_, &Q);
+      VecRestoreArray(run_.q_, &q);
+      VecRestoreArray(run_.r_, &r);
+      VecRestoreArrayRead(run_.u_, &u);
+      VecRestoreArrayRead(run_.u_previous_, &u_previous);
+      VecRestoreArrayRead(run_.Ku_, &Ku);
+      VecRestoreArrayRead(run_.f_free_, &f_free);
+      VecRestoreArrayRead(run_.d_, &d);
+      VecRestoreArrayRead(run_.body_.lumped_mass(), &m);
+    }
+    Arrays(const Arrays&) = delete;
+    Arrays& operator=(const Arrays&) = delete;
+    const ExplicitRun& run_;
+    PetscScalar *u_next = nullptr, *du = nullptr, *Mdu = nullptr, *Q = nullptr,
+                *q = nullptr, *r = nullptr;
+    const PetscScalar *u = nullptr, *u_previous = nullptr, *Ku = nullptr,
+                      *f_free = nullptr, *d = nullptr, *m = nullptr;
+  };
+
+  // Q^k = K u^k - f^k - M (u^k - u^{k-1}) / dt^2, q = Q^k / force_scale and the
+  // increment off contact du = -q / d (dynamics.cpp LoadStep, explicit_step.cpp), with
+  // the maxima of the step's scales.
+  void Predict(double factor, Arrays& a, RankStepPart* part) const {
+    double* max = part->max;
     for (PetscInt i = 0; i < n_; ++i) {
       const double f = factor * a.f_free[i];
-      const double Q = a.Ku[i] - f - a.Mdu[i] / (dt_ * dt_);
-      a.q[i] = Q / force_scale_;
+      a.Q[i] = a.Ku[i] - f - a.Mdu[i] / (dt_ * dt_);
+      a.q[i] = a.Q[i] / force_scale_;
       a.du[i] = -a.q[i] / a.d[i];
+      max[RankStepPart::kF] = std::max(max[RankStepPart::kF], std::abs(f));
+      max[RankStepPart::kKu] = std::max(max[RankStepPart::kKu], std::abs(a.Ku[i]));
+      max[RankStepPart::kQ] = std::max(max[RankStepPart::kQ], std::abs(a.Q[i]));
+      max[RankStepPart::kDu] =
+          std::max(max[RankStepPart::kDu], std::abs(a.u[i] - a.u_previous[i]));
     }
+  }
+
+  // Per owned contact node the closed form of SolveExplicitContactNode with the Tresca
+  // bound f_c lambda^k, and the penetration of u^k (the displacement scale).
+  void SolveContactNodes(Arrays& a, RankStepPart* part) {
     const double friction = scene_.friction_coefficient;
+    double& penetration = part->max[RankStepPart::kPenetration];
     for (OwnedContactNode& n : nodes_) {
+      double un = 0.0;
+      for (int c = 0; c < 3; ++c)
+        if (n.node.dofs[c] >= 0) un += n.node.normal(c) * a.u[n.node.dofs[c]];
+      penetration = std::max(penetration, un - n.node.gap);
       const double bound =
           friction > 0.0 ? (friction / force_scale_) * std::max(n.lambda, 0.0) : 0.0;
       const int first_free = n.node.dofs[0] >= 0   ? n.node.dofs[0]
@@ -383,87 +450,79 @@ class ExplicitRun {
           dim_, n.node, a.d[first_free], n.node.gap, bound, a.q, a.u, a.du);
       n.lambda = force_scale_ * n.step.normal_force;
     }
-    rec->solve_seconds = Seconds(start);
-    // u^{k+1}, M du, the kinetic energy (dynamics.cpp MeasureStep, energy_balance.cpp).
-    double kinetic = 0.0, non_finite = 0.0;
-    for (PetscInt i = 0; i < n_; ++i) {
-      if (!std::isfinite(a.du[i])) non_finite = 1.0;
-      a.u[i] = a.u[i] + a.du[i];
-      a.Mdu[i] = a.m[i] * a.du[i];
-      kinetic += a.du[i] * a.Mdu[i];
-    }
-    a.Restore();
-    // One reduction: the kinetic energy and the number of ranks with a non-finite
-    // increment.
-    double sums[2] = {kinetic, non_finite};
-    MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, comm_);
-    if (sums[1] > 0.0) return false;
-    CONTACT_PETSC_CHECK(MatMult(body_.stiffness(), u_, Ku_));
-    PetscScalar uKu = 0.0;
-    CONTACT_PETSC_CHECK(VecDot(u_, Ku_, &uKu));
-    rec->kinetic = 0.5 * sums[0] / (dt_ * dt_);
-    rec->strain = 0.5 * uKu;
-    gather->Gather(dim_, num_contact_nodes_, nodes_, contact);
-    if (rank_ == 0) Record(*contact, rec);
-    rec->seconds = Seconds(start);
-    return true;
   }
 
-  double force_scale() const { return force_scale_; }
-
- private:
-  // The owned arrays of the state vectors for one step.
-  struct Arrays {
-    explicit Arrays(const ExplicitRun& run) : run_(run) {
-      CONTACT_PETSC_CHECK(VecGetArray(run.u_, &u));
-      CONTACT_PETSC_CHECK(VecGetArray(run.du_, &du));
-      CONTACT_PETSC_CHECK(VecGetArray(run.Mdu_, &Mdu));
-      CONTACT_PETSC_CHECK(VecGetArray(run.q_, &q));
-      CONTACT_PETSC_CHECK(VecGetArrayRead(run.Ku_, &Ku));
-      CONTACT_PETSC_CHECK(VecGetArrayRead(run.f_free_, &f_free));
-      CONTACT_PETSC_CHECK(VecGetArrayRead(run.d_, &d));
-      CONTACT_PETSC_CHECK(VecGetArrayRead(run.body_.lumped_mass(), &m));
+  // u^{k+1} = u^k + du, M du, r = M du / dt^2 + Q^k (the contact forces at the contact
+  // nodes, else the equilibrium residual), the energy sums and the maxima
+  // (dynamics.cpp MeasureStep, energy_balance.cpp).
+  void Advance(double factor, Arrays& a, RankStepPart* part) const {
+    double* sum = part->sum;
+    double* max = part->max;
+    for (PetscInt i = 0; i < n_; ++i) {
+      if (!std::isfinite(a.du[i])) sum[RankStepPart::kNonFinite] = 1.0;
+      const double f = factor * a.f_free[i];
+      a.u_next[i] = a.u[i] + a.du[i];
+      a.Mdu[i] = a.m[i] * a.du[i];
+      a.r[i] = a.Mdu[i] / (dt_ * dt_) + a.Q[i];
+      sum[RankStepPart::kDuMdu] += a.du[i] * a.Mdu[i];
+      sum[RankStepPart::kFUNext] += f * a.u_next[i];
+      sum[RankStepPart::kFUPrevious] += f * a.u_previous[i];
+      max[RankStepPart::kMdu] = std::max(max[RankStepPart::kMdu], std::abs(a.Mdu[i]));
+      max[RankStepPart::kUNext] =
+          std::max(max[RankStepPart::kUNext], std::abs(a.u_next[i]));
+      if (!contact_dof_[static_cast<size_t>(i)])
+        max[RankStepPart::kRFree] = std::max(max[RankStepPart::kRFree], std::abs(a.r[i]));
     }
-    void Restore() {
-      if (!u) return;
-      VecRestoreArray(run_.u_, &u);
-      VecRestoreArray(run_.du_, &du);
-      VecRestoreArray(run_.Mdu_, &Mdu);
-      VecRestoreArray(run_.q_, &q);
-      VecRestoreArrayRead(run_.Ku_, &Ku);
-      VecRestoreArrayRead(run_.f_free_, &f_free);
-      VecRestoreArrayRead(run_.d_, &d);
-      VecRestoreArrayRead(run_.body_.lumped_mass(), &m);
-      u = nullptr;
-    }
-    ~Arrays() { Restore(); }
-    const ExplicitRun& run_;
-    PetscScalar *u = nullptr, *du = nullptr, *Mdu = nullptr, *q = nullptr;
-    const PetscScalar *Ku = nullptr, *f_free = nullptr, *d = nullptr, *m = nullptr;
-  };
+  }
 
-  // u^0, f_F, M (u^0 - u^{-1}), K u^0, d = m / m_max and the owned contact nodes, from
-  // the node data rank 0 sent.
+  // The owned contact nodes' results for rank 0.
+  void Results(const Arrays& a, std::vector<NodeResult>* results) const {
+    results->resize(nodes_.size());
+    for (size_t j = 0; j < nodes_.size(); ++j) {
+      const OwnedContactNode& n = nodes_[j];
+      NodeResult& out = (*results)[j];
+      out.index = n.node.node;
+      out.normal_force = n.step.normal_force;
+      out.gap = n.step.gap;
+      out.tangent_force = n.step.tangent_force;
+      out.slip = n.step.slip;
+      for (int c = 0; c < dim_; ++c) {
+        const int i = n.node.dofs[c];
+        out.r(c) = i >= 0 ? a.r[i] : 0.0;
+        out.u_next(c) = i >= 0 ? a.u_next[i] : 0.0;
+        out.u_previous(c) = i >= 0 ? a.u_previous[i] : 0.0;
+      }
+    }
+  }
+
+  // u^0, u^{-1}, f_F, M (u^0 - u^{-1}), K u^0, d = m / m_max and the owned contact nodes,
+  // from the node data rank 0 sent.
   void SetInitialState() {
-    PetscScalar *u = nullptr, *Mdu = nullptr, *f = nullptr, *d = nullptr;
+    PetscScalar *u = nullptr, *u_previous = nullptr, *Mdu = nullptr, *f = nullptr,
+                *d = nullptr;
     const PetscScalar* m = nullptr;
     CONTACT_PETSC_CHECK(VecGetArray(u_, &u));
+    CONTACT_PETSC_CHECK(VecGetArray(u_previous_, &u_previous));
     CONTACT_PETSC_CHECK(VecGetArray(Mdu_, &Mdu));
     CONTACT_PETSC_CHECK(VecGetArray(f_free_, &f));
     CONTACT_PETSC_CHECK(VecGetArray(d_, &d));
     CONTACT_PETSC_CHECK(VecGetArrayRead(body_.lumped_mass(), &m));
+    contact_dof_.assign(static_cast<size_t>(n_), 0);
     for (int i = 0; i < body_.NumLocalVertices(); ++i) {
       const double* data = body_.Data(i);
+      const bool contact_node = body_.Owns(i) && data[4 * dim_] >= 0;
       for (int c = 0; c < dim_; ++c) {
         const PetscInt k = body_.OwnedIndex(i, c);
         if (k < 0) continue;
         u[k] = data[dim_ + c];
+        u_previous[k] = data[2 * dim_ + c];
         const double du = data[dim_ + c] - data[2 * dim_ + c];  // u^0 - u^{-1}
         Mdu[k] = m[k] * du;
         f[k] = data[3 * dim_ + c];
         d[k] = m[k] / m_max_;
+        contact_dof_[static_cast<size_t>(k)] = contact_node ? 1 : 0;
       }
-      if (!body_.Owns(i) || data[4 * dim_] < 0) continue;
+      if (!contact_node) continue;
       OwnedContactNode n;
       n.node.node = static_cast<int>(data[4 * dim_]);
       for (int c = 0; c < dim_; ++c)
@@ -481,44 +540,26 @@ class ExplicitRun {
     CONTACT_PETSC_CHECK(VecRestoreArray(d_, &d));
     CONTACT_PETSC_CHECK(VecRestoreArray(f_free_, &f));
     CONTACT_PETSC_CHECK(VecRestoreArray(Mdu_, &Mdu));
+    CONTACT_PETSC_CHECK(VecRestoreArray(u_previous_, &u_previous));
     CONTACT_PETSC_CHECK(VecRestoreArray(u_, &u));
     CONTACT_PETSC_CHECK(MatMult(body_.stiffness(), u_, Ku_));
   }
 
-  // Rank 0: the record's contact sums in the serial node order (dynamics.cpp
-  // MeasureStep); the accuracy and energy-balance measures are not computed here.
-  void Record(const ContactSystem::Result& contact, StepRecord* rec) const {
-    const Eigen::VectorXd lambda = force_scale_ * contact.normal_force;
-    rec->normal_force_sum = lambda.sum();
-    rec->tangent_force_sum = 0.0;
-    for (Eigen::Index c = 0; c < contact.tangent_force.cols(); ++c)
-      rec->tangent_force_sum += force_scale_ * contact.tangent_force.col(c).norm();
-    rec->max_penetration =
-        std::max(0.0, contact.gap.size() ? -contact.gap.minCoeff() : 0.0);
-    rec->solver_status = "converged";
-    for (double* measure :
-         {&rec->external_work, &rec->normal_contact_work, &rec->friction_dissipation,
-          &rec->energy_balance_error, &rec->equilibrium_residual,
-          &rec->complementarity_residual, &rec->friction_residual, &rec->force_accuracy,
-          &rec->displacement_accuracy})
-      *measure = kNotMeasured;
-    rec->active_nodes = -1;
-  }
-
   MPI_Comm comm_;
-  int rank_;
   const Scene& scene_;
   const DistributedBody& body_;
   int dim_;
-  int num_contact_nodes_;  // of the whole body
   double dt_;
   PetscInt n_ = 0;          // owned free dofs
   PetscReal m_max_ = 0.0;   // largest lumped mass [kg]
   double force_scale_ = 0;  // m_max / dt^2 [N]
-  // u^k [m]; du: the last increment [m]; Ku [N]; Mdu = M du [kg m]; f_F [N]; q (system
-  // units); d = m / m_max (the diagonal of S).
-  Vec u_ = nullptr, du_ = nullptr, Ku_ = nullptr, Mdu_ = nullptr, f_free_ = nullptr,
-      q_ = nullptr, d_ = nullptr;
+  // u^k, u^{k-1}, u^{k+1} [m]; du = u^{k+1} - u^k [m]; Ku = K u^k [N]; Mdu = M (u^k -
+  // u^{k-1}), then M du [kg m]; f_F [N]; Q^k [N]; q (system units); d = m / m_max (the
+  // diagonal of S); r = M du / dt^2 + Q^k [N].
+  Vec u_ = nullptr, u_previous_ = nullptr, u_next_ = nullptr, du_ = nullptr,
+      Ku_ = nullptr, Mdu_ = nullptr, f_free_ = nullptr, Q_ = nullptr, q_ = nullptr,
+      d_ = nullptr, r_ = nullptr;
+  std::vector<char> contact_dof_;  // per owned free dof: of an owned contact node
   std::vector<OwnedContactNode> nodes_;
 };
 
@@ -544,6 +585,15 @@ void ShareStart(MPI_Comm comm, StartInfo* info, DynamicSummary* summary) {
   BroadcastString(comm, &summary->message);
 }
 
+// Broadcasts rank 0's final status, message and step count.
+void ShareEnd(MPI_Comm comm, DynamicSummary* summary) {
+  int values[2] = {static_cast<int>(summary->status), summary->steps};
+  MPI_Bcast(values, 2, MPI_INT, 0, comm);
+  summary->status = static_cast<DynamicStatus>(values[0]);
+  summary->steps = values[1];
+  BroadcastString(comm, &summary->message);
+}
+
 }  // namespace
 
 std::string WhyNotDistributed(const Scene& scene) {
@@ -562,12 +612,6 @@ std::string WhyNotDistributed(const Scene& scene) {
   if (scene.dynamics.compare_with_ipopt)
     return scene.source + ": compare_with_ipopt is not available on MPI ranks; " +
            supported;
-  if (scene.marked_point || !scene.stress_times.empty())
-    return scene.source +
-           ": the marked node history and the contact stress output "
-           "(output.marked_point, "
-           "output.stress_times) are not yet written on MPI ranks; remove them or run on "
-           "one rank";
   return "";
 }
 
@@ -581,13 +625,15 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   std::unique_ptr<SceneModel> built;
   StartInfo info;
   std::vector<double> node_data;
+  RecorderStart recorder_start;
   // A refused scene or mesh on rank 0 is refused on every rank (no rank left waiting).
   std::string error;
   if (rank == 0) {
     try {
       built = std::make_unique<SceneModel>();
-      node_data = ::contact::internal::NamingTheScene(
-          scene, [&] { return SerialSetUp(scene, built.get(), &summary, &info); });
+      node_data = ::contact::internal::NamingTheScene(scene, [&] {
+        return SerialSetUp(scene, built.get(), &summary, &info, &recorder_start);
+      });
       built->model = DynamicModel();  // (the serial K and M: not needed any more)
     } catch (const std::exception& e) {
       error = e.what();
@@ -606,14 +652,6 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   const double setup_seconds = Seconds(start);
   const DistributedBody body(comm, scene, built.get(), node_data);
   node_data = {};
-  // Rank 0 keeps of the serial set-up only what the output needs (mesh, Dirichlet map).
-  Mesh mesh;
-  DofMap dofs;
-  if (built) {
-    mesh = built->body->mesh();
-    dofs = built->dofs;
-    built.reset();
-  }
   if (progress && rank == 0)
     std::fprintf(stderr,
                  "  set-up on rank 0: model, dt_crit and initial state %.3g s; DMPlex "
@@ -622,36 +660,74 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
                  setup_seconds, body.partitioner().c_str(), body.distribute_seconds(),
                  body.section_seconds(), body.assemble_seconds());
   DistributedOutput output(comm, scene, &result.files_written);
-  ExplicitRun run(comm, scene, body, info.num_contact_nodes);
-  ContactGather gather(comm, scene.dim);
+  ExplicitRun run(comm, scene, body);
+  internal::StepGather gather(comm, scene.dim, info.num_contact_nodes);
+  // Rank 0 keeps of the serial set-up what the records and the output need (mesh,
+  // Dirichlet map, contact nodes).
+  Mesh mesh;
+  DofMap dofs;
+  std::unique_ptr<internal::StepRecorder> recorder;
+  std::vector<ContactNode> nodes;
+  int marked = -1;  // output.marked_point's contact node
+  if (built) {
+    mesh = built->body->mesh();
+    dofs = built->dofs;
+    nodes = built->frames.nodes;
+    if (scene.marked_point) {
+      marked = ::contact::internal::NearestContactNode(mesh, nodes, *scene.marked_point);
+      result.marked_node = nodes[static_cast<size_t>(marked)].node;
+    }
+    recorder = std::make_unique<internal::StepRecorder>(
+        scene, built->frames.nodes, recorder_start.lambda0, recorder_start.energy,
+        run.m_max());
+    built.reset();
+  }
   const DynamicOptions& options = scene.dynamics;
   const long num_steps = static_cast<long>(
       std::ceil((options.end_time - options.start_time) / options.dt - 1e-3));
   output.WriteSnapshot(body, run.displacement(), 0, options.start_time);
-  summary.max_penetration = 0.0;
-  for (double* measure :
-       {&summary.max_equilibrium_residual, &summary.max_complementarity_residual,
-        &summary.max_friction_residual, &summary.energy_balance_error})
-    *measure = kNotMeasured;
-  ContactSystem::Result contact;
+  const double force_scale = run.m_max() / (options.dt * options.dt);
+  std::vector<double> stress_times = scene.stress_times;
+  std::sort(stress_times.begin(), stress_times.end());
+  RankStepPart part;
+  std::vector<NodeResult> node_results;
+  GatheredStep gathered;
   double last_progress = 0.0;
-  summary.status = DynamicStatus::kCompleted;
+  summary.status = DynamicStatus::kNotRun;
   for (long k = 0; k < num_steps; ++k) {
+    const auto step_start = Clock::now();
     StepRecord rec;
-    if (!run.Step(k, &rec, &contact, &gather)) {
-      summary.status = DynamicStatus::kSolverFailure;
-      summary.message = "step " + std::to_string(k + 1) +
-                        " (t = " + std::to_string(rec.time) +
-                        " s): non-finite values in the explicit step";
-      break;
+    rec.step = static_cast<int>(k + 1);
+    rec.time = options.start_time + static_cast<double>(k) * options.dt + options.dt;
+    run.Step(k, options.stop_requested && options.stop_requested->load(), &part,
+             &node_results);
+    rec.solve_seconds = Seconds(step_start);
+    gather.Gather(part, node_results, &gathered);
+    // Rank 0 records the step and decides for every rank whether the run goes on.
+    enum Decision : int { kGoOn, kStopAfterRecord, kStopUnrecorded };
+    int decision = kGoOn;
+    if (rank == 0) {
+      if (!recorder->Record(&gathered, num_steps, &rec, &summary))
+        decision = summary.status == DynamicStatus::kSolverFailure ? kStopUnrecorded
+                                                                   : kStopAfterRecord;
+      rec.seconds = Seconds(step_start);
     }
+    MPI_Bcast(&decision, 1, MPI_INT, 0, comm);
+    if (decision == kStopUnrecorded) break;
+    const bool go_on = decision == kGoOn;
     summary.steps = rec.step;
-    output.WriteStepRow(rec);
-    if ((scene.snapshot_every > 0 && rec.step % scene.snapshot_every == 0) ||
-        k + 1 == num_steps)
+    // The end and the stress times as SceneOutput::WriteStep decides them.
+    const bool last = rec.time >= options.end_time - 1e-9 * options.dt;
+    const bool stress_time =
+        ::contact::internal::ConsumeStressTimes(rec.time, options.dt, &stress_times);
+    Eigen::VectorXd u_free;
+    if (output.enabled() && (stress_time || last))
+      u_free = GatherFreeDofs(body, run.displacement(), info.num_free_dofs);
+    output.WriteStep(rec, mesh, dofs, nodes, marked, gathered.contact, force_scale,
+                     stress_time || last ? &u_free : nullptr);
+    if ((scene.snapshot_every > 0 && rec.step % scene.snapshot_every == 0) || last)
       output.WriteSnapshot(body, run.displacement(), rec.step, rec.time);
     if (rank == 0) {
-      summary.max_penetration = std::max(summary.max_penetration, rec.max_penetration);
       summary.records.push_back(rec);
       if (progress && Seconds(start) - last_progress > 1.0) {
         last_progress = Seconds(start);
@@ -659,16 +735,19 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
                      rec.step, num_steps, rec.time, SizeOf(comm));
       }
     }
+    if (!go_on) break;
   }
-  if (summary.status == DynamicStatus::kCompleted)
-    summary.message = "completed " + std::to_string(summary.steps) + " steps on " +
-                      std::to_string(SizeOf(comm)) + " MPI ranks (partitioner " +
-                      body.partitioner() + ")";
+  if (rank == 0) {
+    recorder->Finish(&summary);
+    if (summary.status == DynamicStatus::kCompleted)
+      summary.message = "completed " + std::to_string(summary.steps) + " steps on " +
+                        std::to_string(SizeOf(comm)) + " MPI ranks (partitioner " +
+                        body.partitioner() + ")";
+  }
+  ShareEnd(comm, &summary);
   const Eigen::VectorXd u = GatherFreeDofs(body, run.displacement(), info.num_free_dofs);
   if (rank == 0) summary.u = u;
-  output.Finish(
-      mesh, dofs,
-      summary.records.empty() ? options.start_time : summary.records.back().time, u);
+  output.Finish();
   summary.seconds = Seconds(start);
   return result;
 }

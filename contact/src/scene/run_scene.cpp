@@ -1,7 +1,6 @@
 // A scene run (RunScene, contact/scene.hpp): build the model, open the outputs, run the
 // time loop with one output call per step.
 #include <filesystem>
-#include <limits>
 #include <optional>
 
 #include "contact/scene.hpp"
@@ -10,22 +9,6 @@
 #include "scene/scene_output.hpp"
 
 namespace contact {
-namespace {
-
-/// The contact node nearest to `point` (index into nodes; the first one if every distance
-/// compares equal, e.g. overflows to inf). nodes is not empty (BuildSceneModel checks).
-int NearestContactNode(const Mesh& mesh, const std::vector<ContactNode>& nodes,
-                       const Eigen::VectorXd& point) {
-  double best = std::numeric_limits<double>::infinity();
-  int nearest = 0;
-  for (size_t c = 0; c < nodes.size(); ++c) {
-    const double d = (mesh.nodes.col(nodes[c].node) - point).norm();
-    if (d < best) best = d, nearest = static_cast<int>(c);
-  }
-  return nearest;
-}
-
-}  // namespace
 
 SceneResult RunScene(const Scene& scene, bool progress) {
   SceneRunOptions options;
@@ -77,7 +60,7 @@ SceneResult RunScene(const Scene& scene, const SceneRunOptions& run) {
   result.num_elements = mesh.NumElements();
   int marked = -1;
   if (scene.marked_point) {
-    marked = NearestContactNode(mesh, built.frames.nodes, *scene.marked_point);
+    marked = internal::NearestContactNode(mesh, built.frames.nodes, *scene.marked_point);
     result.marked_node = built.frames.nodes[static_cast<size_t>(marked)].node;
   }
   internal::SceneOutput writer(scene, built, marked, &result.files_written,

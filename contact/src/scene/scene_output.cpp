@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <limits>
 
 #include "checkpoint.hpp"
 #include "contact/simulation.hpp"
@@ -57,23 +58,16 @@ SceneOutput::SceneOutput(const Scene& scene, const SceneModel& built, int marked
       series_(scene.output_directory, *built.body) {
   std::sort(pending_stress_times_.begin(), pending_stress_times_.end());
   if (scene_.output_directory.empty()) return;
-  const std::string coords = dim_ == 2 ? "x,y" : "x,y,z";
-  const std::string tangents =
-      dim_ == 2 ? "friction_stress" : "friction_stress_1,friction_stress_2";
   std::error_code error;
   std::filesystem::create_directories(directory_, error);
   if (error)
     throw ncp::OutputError("cannot create directory", directory_.string(), error.value());
   steps_csv_ = OpenCsv("steps.csv", kStepsCsvHeader, resume);
-  stress_csv_ = OpenCsv(
-      "contact_stress.csv",
-      "time,node," + coords + ",normal_stress," + tangents + ",gap,normal_force", resume);
+  stress_csv_ = OpenCsv("contact_stress.csv", ContactStressCsvHeader(dim_), resume);
   if (marked_ >= 0)
-    history_csv_ =
-        OpenCsv("node_history.csv", "time,normal_stress,friction_stress", resume);
+    history_csv_ = OpenCsv("node_history.csv", kNodeHistoryCsvHeader, resume);
   WriteMesh();
-  displacement_csv_ = OpenCsv(
-      "displacement.csv", dim_ == 2 ? "time,node,ux,uy" : "time,node,ux,uy,uz", resume);
+  displacement_csv_ = OpenCsv("displacement.csv", DisplacementCsvHeader(dim_), resume);
   if (resume) {  // the stress times the steps up to resume->step consumed, the series so
                  // far
     if (resume->step > 0) ReachedStressTime(resume->time);
@@ -92,15 +86,14 @@ void SceneOutput::WriteStep(const StepRecord& record, const Eigen::VectorXd& u,
                             const ContactSystem::Result& contact, double force_scale) {
   if (scene_.output_directory.empty()) return;
   WriteStepRow(record);
-  if (marked_ >= 0) {
-    const auto [p, tau] = Stress(static_cast<size_t>(marked_), contact, force_scale);
-    history_csv_.stream() << record.time << ',' << p << ','
-                          << (dim_ == 2 ? tau(0) : tau.norm()) << '\n';
-  }
+  if (marked_ >= 0)
+    WriteNodeHistoryRow(record.time, dim_, frames_.nodes, static_cast<size_t>(marked_),
+                        contact, force_scale, &history_csv_.stream());
   const bool last = record.time >= end_time_ - 1e-9 * dt_;
   if (ReachedStressTime(record.time) || last) {
-    WriteDisplacement(record.time, u);
-    WriteContactStress(record.time, contact, force_scale);
+    WriteDisplacementRows(record.time, mesh_, dofs_, u, &displacement_csv_.stream());
+    WriteContactStressRows(record.time, mesh_, frames_.nodes, contact, force_scale,
+                           &stress_csv_.stream());
   }
   if ((scene_.snapshot_every > 0 && record.step % scene_.snapshot_every == 0) || last)
     // u^k = u^{k+1} - du, du = contact.x
@@ -214,37 +207,84 @@ void WriteStepsCsvRow(const StepRecord& r, std::ostream* out) {
        << '\n';
 }
 
-std::pair<double, Eigen::VectorXd> SceneOutput::Stress(
-    size_t k, const ContactSystem::Result& contact, double force_scale) const {
-  const double area = frames_.nodes[k].area;
+namespace {
+
+// Normal stress p = lambda_c / A_c and friction stress tau_c / A_c [Pa] of contact node
+// k.
+std::pair<double, Eigen::VectorXd> Stress(const std::vector<ContactNode>& nodes, size_t k,
+                                          const ContactSystem::Result& contact,
+                                          double force_scale) {
+  const double area = nodes[k].area;
   const auto c = static_cast<Eigen::Index>(k);
   return {force_scale * contact.normal_force(c) / area,
           force_scale * contact.tangent_force.col(c) / area};
 }
 
-void SceneOutput::WriteContactStress(double time, const ContactSystem::Result& contact,
-                                     double force_scale) {
-  for (size_t k = 0; k < frames_.nodes.size(); ++k) {
-    const auto [p, tau] = Stress(k, contact, force_scale);
-    const int node = frames_.nodes[k].node;
-    std::ostream& out = stress_csv_.stream();
-    out << time << ',' << node;
-    for (int a = 0; a < dim_; ++a) out << ',' << mesh_.nodes(a, node);
-    out << ',' << p;
-    for (Eigen::Index a = 0; a < tau.size(); ++a) out << ',' << tau(a);
-    out << ',' << contact.gap(static_cast<Eigen::Index>(k)) << ','
-        << force_scale * contact.normal_force(static_cast<Eigen::Index>(k)) << '\n';
+}  // namespace
+
+std::string ContactStressCsvHeader(int dim) {
+  return std::string("time,node,") + (dim == 2 ? "x,y" : "x,y,z") + ",normal_stress," +
+         (dim == 2 ? "friction_stress" : "friction_stress_1,friction_stress_2") +
+         ",gap,normal_force";
+}
+
+const char* const kNodeHistoryCsvHeader = "time,normal_stress,friction_stress";
+
+std::string DisplacementCsvHeader(int dim) {
+  return dim == 2 ? "time,node,ux,uy" : "time,node,ux,uy,uz";
+}
+
+void WriteContactStressRows(double time, const Mesh& mesh,
+                            const std::vector<ContactNode>& nodes,
+                            const ContactSystem::Result& contact, double force_scale,
+                            std::ostream* out) {
+  for (size_t k = 0; k < nodes.size(); ++k) {
+    const auto [p, tau] = Stress(nodes, k, contact, force_scale);
+    const int node = nodes[k].node;
+    *out << time << ',' << node;
+    for (int a = 0; a < mesh.dim; ++a) *out << ',' << mesh.nodes(a, node);
+    *out << ',' << p;
+    for (Eigen::Index a = 0; a < tau.size(); ++a) *out << ',' << tau(a);
+    *out << ',' << contact.gap(static_cast<Eigen::Index>(k)) << ','
+         << force_scale * contact.normal_force(static_cast<Eigen::Index>(k)) << '\n';
   }
 }
 
-void SceneOutput::WriteDisplacement(double time, const Eigen::VectorXd& u_free) {
-  const Eigen::VectorXd u_full = dofs_.Expand(u_free);
-  for (int i = 0; i < mesh_.NumNodes(); ++i) {
-    std::ostream& out = displacement_csv_.stream();
-    out << time << ',' << i;
-    for (int a = 0; a < dim_; ++a) out << ',' << u_full(dim_ * i + a);
-    out << '\n';
+void WriteNodeHistoryRow(double time, int dim, const std::vector<ContactNode>& nodes,
+                         size_t k, const ContactSystem::Result& contact,
+                         double force_scale, std::ostream* out) {
+  const auto [p, tau] = Stress(nodes, k, contact, force_scale);
+  *out << time << ',' << p << ',' << (dim == 2 ? tau(0) : tau.norm()) << '\n';
+}
+
+void WriteDisplacementRows(double time, const Mesh& mesh, const DofMap& dofs,
+                           const Eigen::VectorXd& u_free, std::ostream* out) {
+  const Eigen::VectorXd u_full = dofs.Expand(u_free);
+  for (int i = 0; i < mesh.NumNodes(); ++i) {
+    *out << time << ',' << i;
+    for (int a = 0; a < mesh.dim; ++a) *out << ',' << u_full(mesh.dim * i + a);
+    *out << '\n';
   }
+}
+
+int NearestContactNode(const Mesh& mesh, const std::vector<ContactNode>& nodes,
+                       const Eigen::VectorXd& point) {
+  double best = std::numeric_limits<double>::infinity();
+  int nearest = 0;
+  for (size_t c = 0; c < nodes.size(); ++c) {
+    const double d = (mesh.nodes.col(nodes[c].node) - point).norm();
+    if (d < best) best = d, nearest = static_cast<int>(c);
+  }
+  return nearest;
+}
+
+bool ConsumeStressTimes(double time, double dt, std::vector<double>* pending) {
+  bool reached = false;
+  while (!pending->empty() && time >= pending->front() - 0.5 * dt) {
+    pending->erase(pending->begin());
+    reached = true;
+  }
+  return reached;
 }
 
 void SceneOutput::WriteSnapshot(int step, const ContactSnapshot& snapshot) {
@@ -252,13 +292,7 @@ void SceneOutput::WriteSnapshot(int step, const ContactSnapshot& snapshot) {
 }
 
 bool SceneOutput::ReachedStressTime(double time) {
-  bool reached = false;
-  while (!pending_stress_times_.empty() &&
-         time >= pending_stress_times_.front() - 0.5 * dt_) {
-    pending_stress_times_.erase(pending_stress_times_.begin());
-    reached = true;
-  }
-  return reached;
+  return ConsumeStressTimes(time, dt_, &pending_stress_times_);
 }
 
 }  // namespace contact::internal

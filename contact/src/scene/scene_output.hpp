@@ -26,6 +26,33 @@ namespace contact::internal {
 extern const char* const kStepsCsvHeader;
 void WriteStepsCsvRow(const StepRecord& r, std::ostream* out);
 
+/// contact_stress.csv, node_history.csv and displacement.csv: headers and rows, shared by
+/// SceneOutput and the run on MPI ranks (contact/petsc/). Stresses [Pa] are forces over
+/// the node's area (ContactNode::area); contact in system units (times force_scale [N]).
+std::string ContactStressCsvHeader(int dim);
+extern const char* const kNodeHistoryCsvHeader;
+std::string DisplacementCsvHeader(int dim);
+/// Rows of every contact node at `time`.
+void WriteContactStressRows(double time, const Mesh& mesh,
+                            const std::vector<ContactNode>& nodes,
+                            const ContactSystem::Result& contact, double force_scale,
+                            std::ostream* out);
+/// The row of contact node k at `time`.
+void WriteNodeHistoryRow(double time, int dim, const std::vector<ContactNode>& nodes,
+                         size_t k, const ContactSystem::Result& contact,
+                         double force_scale, std::ostream* out);
+/// Rows of every mesh node at `time` [m] (u_free on the free dofs, 0 where fixed).
+void WriteDisplacementRows(double time, const Mesh& mesh, const DofMap& dofs,
+                           const Eigen::VectorXd& u_free, std::ostream* out);
+/// The contact node nearest to `point` (index into nodes; the first one if every distance
+/// compares equal, e.g. overflows to inf): output.marked_point's node. nodes is not empty
+/// (BuildSceneModel checks).
+int NearestContactNode(const Mesh& mesh, const std::vector<ContactNode>& nodes,
+                       const Eigen::VectorXd& point);
+/// True once per stress time reached by `time` (within dt / 2), consuming it (*pending
+/// ascending).
+bool ConsumeStressTimes(double time, double dt, std::vector<double>* pending);
+
 /// Where the outputs stand after a step: what a checkpoint keeps to continue them.
 struct OutputPositions {
   int step = 0;       ///< the step they end with
@@ -73,15 +100,6 @@ class SceneOutput {
   /// that keeps a free dof), and the connectivity.
   void WriteMesh();
   void WriteStepRow(const StepRecord& r);
-  /// Normal stress p = lambda_c / A_c and friction stress tau_c / A_c [Pa] of contact
-  /// node k.
-  std::pair<double, Eigen::VectorXd> Stress(size_t k,
-                                            const ContactSystem::Result& contact,
-                                            double force_scale) const;
-  void WriteContactStress(double time, const ContactSystem::Result& contact,
-                          double force_scale);
-  /// Full displacement of every node [m].
-  void WriteDisplacement(double time, const Eigen::VectorXd& u_free);
   /// snapshot_NNNNN.vtu for `step` and solution.pvd (ParaView output, vtk_writer.hpp).
   void WriteSnapshot(int step, const ContactSnapshot& snapshot);
   /// True once per stress time reached by `time` (within dt / 2), consuming it.

@@ -23,11 +23,14 @@ std::string WhyNotDistributed(const Scene& scene);
 /// Throws std::invalid_argument with WhyNotDistributed's sentence for a scene it cannot
 /// run. On rank 0 the result is complete: summary (status, records, u = the final
 /// displacement on the free dofs in the serial numbering) and files_written; on the other
-/// ranks the summary has the status and the step count only. The step's accuracy and
-/// energy-balance measures are not computed (NaN in the summary and steps.csv,
-/// active_nodes = -1). Files (rank 0 unless said): steps.csv, displacement.csv (last
-/// step), and the snapshots as one .vtu piece per rank (each rank writes its own), one
-/// .pvtu per snapshot and series.pvd.
+/// ranks the summary has the status, message and step count only. Each step's record has
+/// the accuracy and energy measures of one process (the same definitions and scales,
+/// summed over the ranks in rank order), and the energy blow-up guard and
+/// scene.dynamics.stop_requested (read on every rank, agreed at the step's end) end the
+/// run with the status of one process. Files (rank 0 unless said): steps.csv,
+/// contact_stress.csv and displacement.csv (at output.stress_times and the end),
+/// node_history.csv (output.marked_point), as from one process, and the snapshots as one
+/// .vtu piece per rank (each rank writes its own), one .pvtu per snapshot and series.pvd.
 SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress);
 
 }  // namespace contact::petsc
