@@ -84,6 +84,10 @@ int main(int argc, char** argv) {
       cxxopts::value<int>()->default_value("15"))(
       "rho-scale", "multiplies the per-contact rho of the formulations",
       cxxopts::value<double>()->default_value("1"))(
+      "regularization",
+      "Newton shift delta = this x max |J_ii| in (J + delta I) d = -Phi",
+      cxxopts::value<double>()->default_value("1e-10"))(
+      "shift-cap", "shift cap", cxxopts::value<double>()->default_value("0"))(
       "json", "print one JSON object instead of the text report")(
       "reactions", "write r, one value per line, to this file",
       cxxopts::value<std::string>())(
@@ -120,6 +124,8 @@ int main(int argc, char** argv) {
     options.gauss_seidel_sweeps = args["gauss-seidel"].as<int>();
     options.stall_window = args["stall-window"].as<int>();
     options.rho_scale = args["rho-scale"].as<double>();
+    options.regularization = args["regularization"].as<double>();
+    options.shift_error_cap = args["shift-cap"].as<double>();
     options.log_to_stderr = args.count("verbose") > 0;
     ncp::Vector r;
     ncp::fc::Summary summary;

@@ -114,6 +114,7 @@ struct Options {
   /// m = max(||Phi||, regularization).
   double newton_residual = 0.1;
   double regularization = 1e-10;
+  double shift_error_cap = 0.0;
   LinearSolverType linear_solver = LinearSolverType::kAuto;
   /// kAuto: dense LU for dimension n_c <= dense_threshold, UMFPACK above.
   int dense_threshold = 150;
