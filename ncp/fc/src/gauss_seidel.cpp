@@ -46,7 +46,7 @@ void GaussSeidelSweep(const FrictionProblem& problem, const BlockDelassus& W,
       AlartCurnierLaw(d, mu, rho[a].n, rho[a].t, x.data(), u.data(), phi.data(), &A, &B);
       Block J = A + B * Waa;
       for (int i = d; i < 3; ++i) J(i, i) = 1.0;  // the padding of d = 2
-      const Eigen::FullPivLU<Block> lu(J);         // fixed size: no allocation
+      const Eigen::FullPivLU<Block> lu(J);        // fixed size: no allocation
       if (!lu.isInvertible()) break;
       Eigen::Vector3d rhs = -phi;
       rhs.tail(3 - d).setZero();

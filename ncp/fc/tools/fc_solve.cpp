@@ -1,6 +1,7 @@
 // fc-solve FILE [--global] [--solver hybrid|ac|nm|fb] [--tolerance T] [--max-iterations
 // N]
-//          [--time-limit S] [--gauss-seidel N] [--rho-scale S] [--json]
+//          [--time-limit S] [--gauss-seidel N] [--rho-scale S] [--stall-window N]
+//          [--regularization R] [--shift-cap S] [--json]
 //          [--reactions OUT.txt] [--velocities OUT.txt] [--verbose]
 // Reads a frictional contact problem (Siconos .dat or FCLIB .hdf5), solves it, prints the
 // status and Siconos' natural-map error recomputed at the returned r (or one JSON
@@ -87,7 +88,9 @@ int main(int argc, char** argv) {
       "regularization",
       "Newton shift delta = this x max |J_ii| in (J + delta I) d = -Phi",
       cxxopts::value<double>()->default_value("1e-10"))(
-      "shift-cap", "shift cap", cxxopts::value<double>()->default_value("0"))(
+      "shift-cap",
+      "relative Newton shift min(this, natural-map error) when above --regularization",
+      cxxopts::value<double>()->default_value("1e-6"))(
       "json", "print one JSON object instead of the text report")(
       "reactions", "write r, one value per line, to this file",
       cxxopts::value<std::string>())(
