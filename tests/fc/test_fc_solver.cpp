@@ -103,6 +103,10 @@ TEST_CASE("misuse throws std::invalid_argument", "[fc][solver]") {
   bad.tolerance = -1.0;
   r.resize(0);
   CHECK_THROWS_WITH(Solve(bad, p, &r, &summary), Catch::Contains("tolerance"));
+  Options bad_shift;
+  bad_shift.shift_error_cap = -1e-6;
+  CHECK_THROWS_WITH(Solve(bad_shift, p, &r, &summary),
+                    Catch::Contains("shift_error_cap"));
   FrictionProblem wrong = p;
   wrong.mu.resize(2);
   CHECK_THROWS_WITH(Solve(Options(), wrong, &r, &summary),
@@ -153,4 +157,19 @@ TEST_CASE("Gauss-Seidel trial after the hybrid's first attempt stalls", "[fc][so
   Solve(off, p, &r, &summary);
   CHECK(summary.IsSolutionUsable());
   CHECK(summary.fallback_sweeps == 0);
+}
+
+TEST_CASE("a Newton shift proportional to the error on a rounded, indefinite W",
+          "[fc][solver]") {
+  // 2020 contacts, W printed to 6 digits and slightly indefinite: the hybrid finishes
+  // through the shift of Options::shift_error_cap (docs/fc.md has the runs without it).
+  const FrictionProblem p = ReadProblem(
+      std::string(NCP_FC_DATA_DIR) + "/../fc2d/fc2d_granularflowonwall_02020_00213.dat");
+  Eigen::VectorXd r;
+  Summary summary;
+  Solve(Options(), p, &r, &summary);
+  INFO(summary.BriefReport());
+  REQUIRE(summary.IsSolutionUsable());
+  CHECK(NaturalMapError(p, r) <= 1e-8);
+  CHECK(test::CoulombViolation(p, r) <= 1e-6);
 }

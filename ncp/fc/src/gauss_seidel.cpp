@@ -44,12 +44,15 @@ void GaussSeidelSweep(const FrictionProblem& problem, const BlockDelassus& W,
     for (int k = 0; k < kLocalNewtonSteps; ++k) {
       const Eigen::Vector3d u = Waa * x + v;
       AlartCurnierLaw(d, mu, rho[a].n, rho[a].t, x.data(), u.data(), phi.data(), &A, &B);
-      const Eigen::MatrixXd J = (A + B * Waa).topLeftCorner(d, d);
-      const Eigen::FullPivLU<Eigen::MatrixXd> lu(J);
+      Block J = A + B * Waa;
+      for (int i = d; i < 3; ++i) J(i, i) = 1.0;  // the padding of d = 2
+      const Eigen::FullPivLU<Block> lu(J);        // fixed size: no allocation
       if (!lu.isInvertible()) break;
-      const Eigen::VectorXd step = lu.solve(-phi.head(d));
+      Eigen::Vector3d rhs = -phi;
+      rhs.tail(3 - d).setZero();
+      const Eigen::Vector3d step = lu.solve(rhs);
       if (!step.allFinite()) break;
-      x.head(d) += step;
+      x += step;
       if (step.norm() <= 1e-14 * (1.0 + x.norm())) break;
     }
     if (x.allFinite() && LocalResidual(d, mu, Waa, v, x) < before)

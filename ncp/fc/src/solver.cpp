@@ -84,6 +84,8 @@ bool Options::IsValid(std::string* error) const {
   if (max_backtracks < 0) return fail("max_backtracks must be >= 0");
   if (stall_window < 1) return fail("stall_window must be >= 1");
   if (!(regularization > 0.0)) return fail("regularization must be > 0");
+  if (!(shift_error_cap >= 0.0 && shift_error_cap < 1.0))
+    return fail("shift_error_cap must be in [0, 1)");
   if (!(newton_residual > 0.0 && newton_residual < 1.0))
     return fail("newton_residual must be in (0, 1)");
   if (dense_threshold < 0) return fail("dense_threshold must be >= 0");
@@ -295,9 +297,11 @@ class NewtonSolver {
   }
 
   /// The Newton direction of the shifted matrix, (J + delta I) d = -phi with
-  /// delta = regularization max |J_ii| (1e-10: the step changes by O(1e-10) relative
-  /// where J is regular, and stays defined where J is singular, as when sticking contacts
-  /// make J = rho W with W rank-deficient), kept when it passes the inexact-Newton test
+  /// delta = max(regularization, min(shift_error_cap, error)) max(1, max |J_ii|), error
+  /// the natural-map error of the iterate (Options::shift_error_cap: the step stays
+  /// defined where J is singular, as when sticking contacts make J = rho W with W
+  /// rank-deficient, and bounded along W's near-null directions), kept when it passes the
+  /// inexact-Newton test
   /// ||J d + phi|| <= eta ||phi||, eta = Options::newton_residual < 1, which makes d a
   /// descent direction of psi: grad psi' d = phi' (J d + phi) - ||phi||^2 < 0. Otherwise
   /// the Levenberg-Marquardt direction (J'J + m I) d = -J' phi, m = max(||phi||,
@@ -306,9 +310,10 @@ class NewtonSolver {
   /// first and J + delta I after a failure took Capsules-i101-404 from 111 steps, 0.45 s
   /// to 104 steps, 0.27 s, with the same steps on the other 14 problems. false: both
   /// failed. J and J + delta I keep their patterns (and storage) from solve to solve.
-  bool Direction(const Vector& phi, Vector* direction) {
-    const double delta =
-        options_->regularization * std::max(1.0, LargestJacobianDiagonal());
+  bool Direction(const Vector& phi, double error, Vector* direction) {
+    const double relative_shift =
+        std::max(options_->regularization, std::min(options_->shift_error_cap, error));
+    const double delta = relative_shift * std::max(1.0, LargestJacobianDiagonal());
     bool solved = false, assembled = false;
     if (summary_->linear_solver_used == LinearSolverType::kDenseLU && SplitDecoupled()) {
       solved = ReducedDirection(delta, phi, direction);
@@ -459,7 +464,8 @@ class NewtonSolver {
         return Termination::kMaxIterations;
       if (options_->max_time_s > 0.0 && Elapsed() > options_->max_time_s)
         return Termination::kTimeLimit;
-      if (!Direction(phi_, &direction_)) return Termination::kLinearSolverFailure;
+      if (!Direction(phi_, progress.previous_error(), &direction_))
+        return Termination::kLinearSolverFailure;
       // Nonmonotone Armijo: psi(r + t d) <= max(recent psi) - 2 beta t psi(r).
       const double reference = *std::max_element(recent_psi_.begin(), recent_psi_.end());
       double t = 1.0, trial_psi = 0.0;

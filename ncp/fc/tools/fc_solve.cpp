@@ -1,6 +1,7 @@
 // fc-solve FILE [--global] [--solver hybrid|ac|nm|fb] [--tolerance T] [--max-iterations
 // N]
-//          [--time-limit S] [--gauss-seidel N] [--rho-scale S] [--json]
+//          [--time-limit S] [--gauss-seidel N] [--rho-scale S] [--stall-window N]
+//          [--gauss-seidel-fallback N] [--regularization R] [--shift-cap S] [--json]
 //          [--reactions OUT.txt] [--velocities OUT.txt] [--verbose]
 // Reads a frictional contact problem (Siconos .dat or FCLIB .hdf5), solves it, prints the
 // status and Siconos' natural-map error recomputed at the returned r (or one JSON
@@ -20,6 +21,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
 
 #include "ncp/fc/error.hpp"
 #include "ncp/fc/global.hpp"
@@ -79,11 +81,21 @@ int main(int argc, char** argv) {
       cxxopts::value<double>()->default_value("0"))(
       "gauss-seidel", "projected Gauss-Seidel sweeps before Newton",
       cxxopts::value<int>()->default_value("0"))(
+      "gauss-seidel-fallback",
+      "at most this many Gauss-Seidel sweeps when the hybrid's first attempt stalls",
+      cxxopts::value<int>()->default_value(
+          std::to_string(ncp::fc::Options().gauss_seidel_fallback_sweeps)))(
       "stall-window",
       "an attempt stalls when its error has not halved in this many steps",
       cxxopts::value<int>()->default_value("15"))(
       "rho-scale", "multiplies the per-contact rho of the formulations",
       cxxopts::value<double>()->default_value("1"))(
+      "regularization",
+      "Newton shift delta = this x max |J_ii| in (J + delta I) d = -Phi",
+      cxxopts::value<double>()->default_value("1e-10"))(
+      "shift-cap",
+      "relative Newton shift min(this, natural-map error) when above --regularization",
+      cxxopts::value<double>()->default_value("1e-6"))(
       "json", "print one JSON object instead of the text report")(
       "reactions", "write r, one value per line, to this file",
       cxxopts::value<std::string>())(
@@ -118,8 +130,11 @@ int main(int argc, char** argv) {
     options.max_iterations = args["max-iterations"].as<int>();
     options.max_time_s = args["time-limit"].as<double>();
     options.gauss_seidel_sweeps = args["gauss-seidel"].as<int>();
+    options.gauss_seidel_fallback_sweeps = args["gauss-seidel-fallback"].as<int>();
     options.stall_window = args["stall-window"].as<int>();
     options.rho_scale = args["rho-scale"].as<double>();
+    options.regularization = args["regularization"].as<double>();
+    options.shift_error_cap = args["shift-cap"].as<double>();
     options.log_to_stderr = args.count("verbose") > 0;
     ncp::Vector r;
     ncp::fc::Summary summary;

@@ -107,13 +107,22 @@ struct Options {
   /// took 41 / 26 / 21 steps with 30 / 15 / 10, and 10 also switched OneObject-i1028-138
   /// away from an AC run that converges.
   int stall_window = 15;
-  /// Newton step from (J + delta I) d = -Phi, delta = regularization max |J_ii|, kept
-  /// when
-  /// ||J d + Phi|| <= newton_residual ||Phi|| (< 1: then a descent direction of psi);
-  /// otherwise the Levenberg-Marquardt direction (J'J + m I) d = -J' Phi,
-  /// m = max(||Phi||, regularization).
+  /// Newton step from (J + delta I) d = -Phi, delta = s max(1, max |J_ii|) with the
+  /// relative shift s = max(regularization, min(shift_error_cap, e)), e the natural-map
+  /// error of the iterate, kept when ||J d + Phi|| <= newton_residual ||Phi|| (< 1: then
+  /// a descent direction of psi); otherwise the Levenberg-Marquardt direction
+  /// (J'J + m I) d = -J' Phi, m = max(||Phi||, regularization).
   double newton_residual = 0.1;
   double regularization = 1e-10;
+  /// Upper bound of the residual-proportional part of the shift above (0: the shift is
+  /// `regularization` alone). A shift proportional to the residual (regularized Newton:
+  /// Li, Fukushima, Qi & Yamashita 2003; Yamashita & Fukushima 2001 for LM) bounds the
+  /// step along W's near-null directions - redundant contacts, or a W stored with 6
+  /// significant digits that has turned slightly indefinite - where the step of J +
+  /// 1e-10 I jumps across the kinks of the law, and it vanishes with e, so the local
+  /// convergence stays superlinear. The matrix-free solver (operator_problem.hpp) does
+  /// not use it.
+  double shift_error_cap = 1e-6;
   LinearSolverType linear_solver = LinearSolverType::kAuto;
   /// kAuto: dense LU for dimension n_c <= dense_threshold, UMFPACK above.
   int dense_threshold = 150;
