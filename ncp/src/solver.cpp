@@ -473,14 +473,18 @@ class Solver::Iteration {
     work_.newton_rhs = -work_.phi;
     bool solved = FactorizeJacobian(k) && SolveFactorized(work_.newton_rhs, &work_.d) &&
                   AllFinite(work_.d);
-    if (solved) {  // the backward-error guard of globalization.hpp
-      const double terms_inf = work_.ResidualAndTerms(
-          work_.d, work_.phi, &work_.newton_residual, &work_.newton_terms);
-      solved = internal::NewtonSolutionAccurate(
-          work_.newton_residual.lpNorm<Eigen::Infinity>(), iterate_.phi_inf, terms_inf);
-    }
+    solved = solved && SolvesNewtonSystem();
     summary_.linear_solver_time_s += Seconds(t0);
     return solved;
+  }
+
+  // The backward-error guard of globalization.hpp: whether work_.d solves J d = -Phi as
+  // accurately as a backward-stable solve would.
+  bool SolvesNewtonSystem() {
+    const double terms_inf = work_.ResidualAndTerms(
+        work_.d, work_.phi, &work_.newton_residual, &work_.newton_terms);
+    return internal::NewtonSolutionAccurate(
+        work_.newton_residual.lpNorm<Eigen::Infinity>(), iterate_.phi_inf, terms_inf);
   }
 
   // Symbolic analysis (sparse backends), the time check, the numeric factorization of J.
@@ -534,12 +538,7 @@ class Solver::Iteration {
     bool solved = work_.dense
                       ? work_.rank_revealing.Solve(work_.Jd, work_.newton_rhs, &work_.d)
                       : work_.rank_revealing.Solve(work_.J, work_.newton_rhs, &work_.d);
-    if (solved) {
-      const double terms_inf = work_.ResidualAndTerms(
-          work_.d, work_.phi, &work_.newton_residual, &work_.newton_terms);
-      solved = internal::NewtonSolutionAccurate(
-          work_.newton_residual.lpNorm<Eigen::Infinity>(), iterate_.phi_inf, terms_inf);
-    }
+    solved = solved && SolvesNewtonSystem();
     summary_.linear_solver_time_s += Seconds(t0);
     return solved;
   }
