@@ -6,6 +6,7 @@
 #define CATCH_CONFIG_RUNNER
 #include <petscsys.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
@@ -77,11 +78,24 @@ void CheckSameAnswer(TestProblem& problem, const Both& r) {
         kNaturalResidual);
 }
 
+// A solve that fails the same way: same status, iteration and gradient-step counts, and
+// the same ||Phi||_inf at the end to 1e-6 relative.
+void CheckSameFailure(const Both& r) {
+  INFO("serial:   " << r.serial.BriefReport() << " - " << r.serial.message);
+  INFO("parallel: " << r.parallel.BriefReport() << " - " << r.parallel.message);
+  CHECK(r.parallel.termination == r.serial.termination);
+  CHECK(r.parallel.iterations == r.serial.iterations);
+  CHECK(r.parallel.gradient_steps == r.serial.gradient_steps);
+  CHECK(std::abs(r.parallel.final_phi_inf - r.serial.final_phi_inf) <=
+        1e-6 * r.serial.final_phi_inf);
+}
+
 // The random P-LCP of the collection with bounds of every kind: component i is
 // lower-bounded (i mod 5 = 0, 4; at 0 and -0.3), upper-bounded (1: u = 0.5), free (2,
-// with +-1e20) or fixed (3: l = u = 0.25). F is a P-function, so the box MCP has one
-// solution.
-TestProblem RandomBoxMcp(int n) {
+// with +-1e20) or fixed (3: l = u = 0.25); with two_sided, the components i mod 5 = 4
+// have [-0.3, 0.1] instead (and n = 300 then has solutions at both bounds and between).
+// F is a P-function, so the box MCP has one solution.
+TestProblem RandomBoxMcp(int n, bool two_sided = false) {
   RandomLcpOptions options;
   options.seed = 26;
   TestProblem p = RandomPLcp(n, options);
@@ -104,11 +118,48 @@ TestProblem RandomBoxMcp(int n) {
         break;
       default:
         p.lower(i) = -0.3;
-        p.upper(i) = kInf;
+        p.upper(i) = two_sided ? 0.1 : kInf;
         break;
     }
   }
   return p;
+}
+
+// The box MCP's conditions recomputed from F at x, independently of both solvers and of
+// the natural residual: l <= x <= u, F_i > 0 only where x_i = l_i and F_i < 0 only where
+// x_i = u_i. Returns the largest violation
+//   max_i max(l_i - x_i, x_i - u_i, min(x_i - l_i, F_i^+), min(u_i - x_i, F_i^-)).
+double BoxConditionsViolation(ncp::SquareFunction& F, const Vector& lower,
+                              const Vector& upper, const Vector& x) {
+  Vector Fx(x.size());
+  REQUIRE(F.Evaluate(x, &Fx));
+  double worst = 0.0;
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    const double l = lower(i) <= -1e20 ? -kInf : lower(i);
+    const double u = upper(i) >= 1e20 ? kInf : upper(i);
+    worst = std::max({worst, l - x(i), x(i) - u, std::min(x(i) - l, std::max(Fx(i), 0.0)),
+                      std::min(u - x(i), std::max(-Fx(i), 0.0))});
+  }
+  return worst;
+}
+
+// How many two-sided components of a solution x sit at l, at u and strictly between.
+struct TwoSidedCounts {
+  int at_lower = 0, at_upper = 0, between = 0;
+};
+TwoSidedCounts CountTwoSided(const TestProblem& p, const Vector& x) {
+  TwoSidedCounts c;
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    const double l = p.lower(i), u = p.upper(i);
+    if (!(std::isfinite(l) && std::isfinite(u) && l < u)) continue;
+    if (x(i) <= l + 1e-9)
+      ++c.at_lower;
+    else if (x(i) >= u - 1e-9)
+      ++c.at_upper;
+    else
+      ++c.between;
+  }
+  return c;
 }
 
 int Rank() {
@@ -149,6 +200,40 @@ TEST_CASE("random sparse box MCP: the serial iterates on any rank count",
     const Both r = SolveBoth(problem, start.x, options);
     CheckSameAnswer(problem, r);
     CHECK(r.parallel.projected_start_components == r.serial.projected_start_components);
+  }
+}
+
+TEST_CASE("random sparse box MCP with two-sided bounds: the serial iterates",
+          "[petsc][mpi]") {
+  const NcpFunction function =
+      GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin,
+               NcpFunction::kPenalizedFischerBurmeister);
+  TestProblem problem = RandomBoxMcp(300, true);
+  Options options;
+  options.ncp_function = function;
+  options.hybrid = false;
+  for (const StartPoint& start : problem.starts) {
+    INFO(problem.name << " (two-sided box) from " << start.label << " with "
+                      << ncp::ToString(function));
+    const Both r = SolveBoth(problem, start.x, options);
+    if (r.serial.termination != TerminationType::kConverged) {
+      // (min from "ones": both stop at max_iterations on the same path.)
+      CheckSameFailure(r);
+      continue;
+    }
+    CheckSameAnswer(problem, r);
+    // The slack form of both: 60 two-sided components, 2 slacks each.
+    CHECK(r.parallel.num_variables == 300 + 2 * 60);
+    CHECK(r.parallel.num_variables == r.serial.num_variables);
+    CHECK(r.parallel.num_equations == r.serial.num_equations);
+    CHECK(BoxConditionsViolation(*problem.F, problem.lower, problem.upper,
+                                 r.x_parallel) <= kNaturalResidual);
+    const TwoSidedCounts c = CountTwoSided(problem, r.x_parallel);
+    INFO("two-sided at l: " << c.at_lower << ", at u: " << c.at_upper
+                            << ", between: " << c.between);
+    CHECK(c.at_lower > 0);
+    CHECK(c.at_upper > 0);
+    CHECK(c.between > 0);
   }
 }
 
@@ -269,10 +354,27 @@ TEST_CASE("bad input is rejected on every rank with the same message", "[petsc][
     CHECK_THAT(SolveMessage(s, s.F.Problem(s.lower, s.upper)),
                Catch::Contains("start point x[9] = nan is not finite"));
   }
-  SECTION("two finite bounds (not supported yet)") {
-    SmallProblem::Set(s.lower, 1, -1.0);  // component 1 has u = 0.5
+  SECTION("lower > upper on a two-sided component") {
+    SmallProblem::Set(s.lower, 1, 0.75);  // component 1 has u = 0.5
     CHECK_THAT(SolveMessage(s, s.F.Problem(s.lower, s.upper)),
-               Catch::Contains("x[1] has two finite bounds"));
+               Catch::Contains("lower[1] = 0.75 > upper[1] = 0.5"));
+  }
+  SECTION("NaN in a bound of a two-sided component") {
+    SmallProblem::Set(s.lower, 1, -1.0);  // component 1 has u = 0.5
+    SmallProblem::Set(s.lower, 6, std::nan(""));
+    CHECK_THAT(SolveMessage(s, s.F.Problem(s.lower, s.upper)),
+               Catch::Contains("bound[6] is NaN"));
+  }
+  SECTION("two finite bounds with a CG KSP (symmetrized system): refused") {
+    PetscOptionsSetValue(nullptr, "-sym_ksp_type", "cg");
+    SmallProblem::Set(s.lower, 1, -1.0);  // component 1 has u = 0.5
+    ncp::petsc::Solver solver(PETSC_COMM_WORLD, Options(), "sym_");
+    Summary summary;
+    CHECK_THROWS_WITH(
+        solver.Solve(s.F.Problem(s.lower, s.upper), s.x, &summary),
+        Catch::Contains("two-sided bounds (l < u, both finite) at 1 components") &&
+            Catch::Contains("-sym_symmetric_newton false"));
+    PetscOptionsClearValue(nullptr, "-sym_ksp_type");
   }
   SECTION("a Jacobian matrix of another size") {
     Mat wrong = nullptr;
