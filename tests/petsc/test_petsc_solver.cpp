@@ -11,11 +11,13 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "ncp/petsc/solver.hpp"
 #include "ncp/solver.hpp"
 #include "ncp_collection/affine_function.hpp"
 #include "ncp_collection/checks.hpp"
+#include "ncp_collection/mcplib_nlp.hpp"
 #include "ncp_collection/obstacle.hpp"
 #include "ncp_collection/random_lcp.hpp"
 #include "petsc_support.hpp"
@@ -211,7 +213,6 @@ TEST_CASE("random sparse box MCP with two-sided bounds: the serial iterates",
   TestProblem problem = RandomBoxMcp(300, true);
   Options options;
   options.ncp_function = function;
-  options.hybrid = false;
   for (const StartPoint& start : problem.starts) {
     INFO(problem.name << " (two-sided box) from " << start.label << " with "
                       << ncp::ToString(function));
@@ -235,6 +236,58 @@ TEST_CASE("random sparse box MCP with two-sided bounds: the serial iterates",
     CHECK(c.at_upper > 0);
     CHECK(c.between > 0);
   }
+}
+
+TEST_CASE("Levenberg-Marquardt directions (regularized_direction): the serial iterates",
+          "[petsc][mpi]") {
+  // Problems and starts where the Newton direction fails the descent test and
+  // (J'J + mu I) d = -J' Phi is taken instead; obstacle-band has two-sided bounds.
+  struct Case {
+    TestProblem problem;
+    std::string start;
+    NcpFunction function;
+  };
+  std::vector<Case> cases;
+  cases.push_back({HarkMcp(), "zero", NcpFunction::kFischerBurmeister});
+  cases.push_back({HarkMcp(), "gams", NcpFunction::kPenalizedFischerBurmeister});
+  cases.push_back({Obstacle1D(100, ObstacleKind::kTwoSidedBand), "ceiling",
+                   NcpFunction::kFischerBurmeister});
+  for (Case& c : cases) {
+    Options options;
+    options.hybrid = false;
+    options.regularized_direction = true;
+    options.ncp_function = c.function;
+    for (const StartPoint& start : c.problem.starts) {
+      if (start.label != c.start) continue;
+      INFO(c.problem.name << " from " << start.label << " with "
+                          << ncp::ToString(c.function));
+      const Both r = SolveBoth(c.problem, start.x, options);
+      CheckSameAnswer(c.problem, r);
+      CHECK(r.serial.regularized_steps > 0);
+      CHECK(r.parallel.regularized_steps == r.serial.regularized_steps);
+    }
+  }
+}
+
+TEST_CASE("the hybrid default switches strategy as the serial solver does",
+          "[petsc][mpi]") {
+  // min from "ones" on the two-sided box MCP makes slow progress (gradient steps only)
+  // and is left for penalized FB; the default options (hybrid on) throughout.
+  TestProblem problem = RandomBoxMcp(300, true);
+  Options options;
+  options.ncp_function = NcpFunction::kMin;
+  const Both r = SolveBoth(problem, problem.starts.back().x, options);
+  REQUIRE(problem.starts.back().label == "ones");
+  CheckSameAnswer(problem, r);
+  REQUIRE(r.serial.strategy_switches.size() == 1);
+  REQUIRE(r.parallel.strategy_switches.size() == 1);
+  const ncp::StrategySwitch &a = r.serial.strategy_switches[0],
+                            &b = r.parallel.strategy_switches[0];
+  CHECK(b.iteration == a.iteration);
+  CHECK(b.best_iteration == a.best_iteration);
+  CHECK(b.reason == a.reason);
+  CHECK(b.to_strategy.ncp_function == a.to_strategy.ncp_function);
+  CHECK(std::abs(b.best_psi - a.best_psi) <= 1e-10 * a.best_psi);
 }
 
 TEST_CASE("any KSP from the options database under the solver's prefix", "[petsc][mpi]") {
@@ -425,10 +478,6 @@ TEST_CASE("bad input is rejected on every rank with the same message", "[petsc][
 
 TEST_CASE("invalid options are rejected before any work", "[petsc][mpi]") {
   Options options;
-  options.regularized_direction = true;
-  CHECK_THROWS_WITH(ncp::petsc::Solver(PETSC_COMM_WORLD, options),
-                    Catch::Contains("regularized_direction"));
-  options = Options();
   options.linear_solver = ncp::LinearSolverType::kUmfpack;
   CHECK_THROWS_WITH(ncp::petsc::Solver(PETSC_COMM_WORLD, options),
                     Catch::Contains("KSP"));

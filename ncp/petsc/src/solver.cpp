@@ -43,6 +43,7 @@
 
 #include "globalization.hpp"
 #include "ncp_function_internal.hpp"
+#include "strategy.hpp"
 
 namespace ncp::petsc {
 namespace {
@@ -421,13 +422,29 @@ struct Solver::Impl {
   // With two-sided bounds: G of the file comment for the layout `layout_rows`.
   SlackMatrix slack;
   std::vector<Row> layout_rows;
+  // The Levenberg-Marquardt system J'J + mu I (Options::regularized_direction and the
+  // hybrid's "+lm" strategies) and its own KSP, options prefix <prefix>lm_.
+  KSP lm_ksp = nullptr;
+  Mat normal = nullptr;
 
   ~Impl() {
     DestroyMat(&newton);
     DestroyMat(&symmetric);
     DestroyMat(&abs_source);
     DestroyMat(&abs_newton);
+    DestroyMat(&normal);
     if (ksp) KSPDestroy(&ksp);
+    if (lm_ksp) KSPDestroy(&lm_ksp);
+  }
+
+  // N = J'J + mu I for the J of the current iterate, on lm_ksp; the product's structure
+  // is kept while J's is.
+  void PrepareNormalMatrix(double mu) {
+    NCP_PETSC_CHECK(MatTransposeMatMult(newton, newton,
+                                        normal ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX,
+                                        PETSC_DEFAULT, &normal));
+    NCP_PETSC_CHECK(MatShift(normal, mu));
+    NCP_PETSC_CHECK(KSPSetOperators(lm_ksp, normal, normal));
   }
 
   // The matrix G of the file comment: F' itself without slacks.
@@ -444,6 +461,7 @@ struct Solver::Impl {
     DestroyMat(&symmetric);
     DestroyMat(&abs_source);
     DestroyMat(&abs_newton);
+    DestroyMat(&normal);
     layout_rows = layout.rows;
     if (layout.total_slacks > 0)
       slack.Build(comm, F, layout);
@@ -481,6 +499,7 @@ struct Solver::Impl {
   void Configure() {
     if (ksp_configured) return;
     NCP_PETSC_CHECK(KSPSetFromOptions(ksp));
+    NCP_PETSC_CHECK(KSPSetFromOptions(lm_ksp));
     PC pc = nullptr;
     NCP_PETSC_CHECK(KSPGetPC(ksp, &pc));
     PetscBool symmetric_ksp = PETSC_FALSE, symmetric_pc = PETSC_FALSE;
@@ -610,6 +629,8 @@ class Iteration {
         upper_(layout.upper),
         local_(layout.LocalRows()) {}
 
+  enum class Direction { kNewton, kRegularized, kGradient };
+
   // The solve; x holds the x part of the last iterate afterwards.
   void Run() {
     RunIterations();
@@ -632,16 +653,20 @@ class Iteration {
         converged_ = roundoff_limited_ = WithinRoundoffFloor();
       if (!Report(k)) return;
       if (TestStop(k)) {
-        if (Restart(k)) continue;
+        if (Restart(k) || SwitchStrategy(k, SwitchReason::kStuck)) continue;
         return;
       }
-      const bool gradient = ChooseDirection(k);
-      if (finished_) return;
-      if (!LineSearch(k, gradient)) {
-        if (Restart(k)) continue;
+      if (LeaveStrategy(k)) continue;
+      const Direction direction = ChooseDirection(k);
+      if (finished_) {
+        if (SwitchStrategy(k, SwitchReason::kStuck)) continue;
         return;
       }
-      Accept(gradient);
+      if (!LineSearch(k, direction)) {
+        if (Restart(k) || SwitchStrategy(k, SwitchReason::kStuck)) continue;
+        return;
+      }
+      Accept(direction);
       ++k;
     }
   }
@@ -668,6 +693,11 @@ class Iteration {
     function_ = o_.ncp_function;
     restarts_left_ = o_.merit_restarts;
     first_k_ = 0;
+    regularized_ = o_.regularized_direction;
+    strategy_start_ = 0;
+    schedule_.Reset(o_);
+    progress_.ResetRecord(o_, s_.num_variables);
+    if (o_.hybrid) best_y_.DuplicateOf(y_);
     impl_.report.linear_iterations = 0;
     if (layout_.total_slacks > 0) {
       CopyXPart(x_, y_);
@@ -936,7 +966,10 @@ class Iteration {
     if (o_.log_to_stderr)
       PetscFPrintf(comm_, PETSC_STDERR, "%5d %12.4e %12.4e %12.4e %10.3e %4d %4s %5d\n",
                    k, phi_inf_, psi_, record_.grad_psi_inf, record_.step_length,
-                   record_.backtracks, record_.gradient_step ? "grad" : "newt",
+                   record_.backtracks,
+                   record_.gradient_step      ? "grad"
+                   : record_.regularized_step ? "reg"
+                                              : "newt",
                    degenerate_count_);
     if (o_.callback && AnyRank(comm_, !o_.callback(record_))) {
       Finish(
@@ -991,17 +1024,15 @@ class Iteration {
 
   // ---- step 2: the direction d and slope_ = grad psi' d; true for d = -grad psi
   // --------
-  bool ChooseDirection(int k) {
+  // Newton J d = -Phi (eq. 21) kept if it passes the descent test (eq. 22); else, with
+  // Options::regularized_direction, the Levenberg-Marquardt direction; else -grad psi.
+  Direction ChooseDirection(int k) {
     const bool newton_solved = NewtonDirection();
-    if (newton_solved) {
-      slope_ = Dot(grad_, d_);
-      PetscReal norm = 0.0;
-      NCP_PETSC_CHECK(VecNorm(d_, NORM_2, &norm));
-      if (internal::PassesDescentTest(slope_, norm, o_)) return false;
+    if (newton_solved && PassesDescentTest()) return Direction::kNewton;
+    if (newton_solved)
       ++s_.descent_test_failures;
-    } else {
+    else
       ++s_.linear_solver_failures;
-    }
     if (!o_.gradient_fallback) {
       if (!newton_solved)
         Finish(TerminationType::kLinearSolverFailure,
@@ -1009,13 +1040,60 @@ class Iteration {
                    impl_.report.ksp_type + " + " + impl_.report.pc_type +
                    ") failed at iteration " + std::to_string(k) +
                    " and gradient_fallback is off");
-      return false;
+      return Direction::kNewton;  // Algorithm 1 without step 2's fallback
+    }
+    if (regularized_ && RegularizedDirection() && PassesDescentTest()) {
+      ++s_.regularized_steps;
+      return Direction::kRegularized;
     }
     NCP_PETSC_CHECK(VecCopy(grad_, d_));
     NCP_PETSC_CHECK(VecScale(d_, -1.0));
     slope_ = -Dot(grad_, grad_);
     ++s_.gradient_steps;
-    return true;
+    return Direction::kGradient;
+  }
+
+  // grad psi' d <= -rho ||d||^p (eq. 22); sets the slope.
+  bool PassesDescentTest() {
+    slope_ = Dot(grad_, d_);
+    PetscReal norm = 0.0;
+    NCP_PETSC_CHECK(VecNorm(d_, NORM_2, &norm));
+    return internal::PassesDescentTest(slope_, norm, o_);
+  }
+
+  // Levenberg-Marquardt direction (J'J + mu I) d = -J' Phi with mu = ||Phi||_2 (Fan and
+  // Yuan 2005), the serial solver's, by the KSP lm_ksp (default MUMPS LU); false when the
+  // KSP failed or d is not finite.
+  bool RegularizedDirection() {
+    const auto t0 = Clock::now();
+    impl_.PrepareNormalMatrix(std::sqrt(2.0 * psi_));
+    NCP_PETSC_CHECK(VecCopy(grad_, work_));
+    NCP_PETSC_CHECK(VecScale(work_, -1.0));
+    const bool solved = KspSolve(impl_.lm_ksp, impl_.normal, work_, d_);
+    s_.linear_solver_time_s += Seconds(t0);
+    return solved;
+  }
+
+  // out = op^-1 rhs by ksp; false (on every rank) when the KSP failed or out is not
+  // finite. A failed factorization is set up afresh at the next solve: MUMPS skips every
+  // numeric factorization after a failed one (its INFOG(1) stays < 0), while the serial
+  // backends factorize each Newton matrix anew.
+  bool KspSolve(KSP ksp, Mat op, Vec rhs, Vec out) {
+    const PetscErrorCode code = KSPSolve(ksp, rhs, out);
+    KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
+    if (code == 0) {
+      PetscInt its = 0;
+      NCP_PETSC_CHECK(KSPGetConvergedReason(ksp, &reason));
+      NCP_PETSC_CHECK(KSPGetIterationNumber(ksp, &its));
+      impl_.report.linear_iterations += static_cast<int>(its);
+    }
+    if (AnyRank(comm_, code != 0 || reason == KSP_DIVERGED_PC_FAILED)) {
+      PC pc = nullptr;
+      NCP_PETSC_CHECK(KSPGetPC(ksp, &pc));
+      NCP_PETSC_CHECK(PCReset(pc));
+      NCP_PETSC_CHECK(KSPSetOperators(ksp, op, op));
+    }
+    return !AnyRank(comm_, code != 0 || reason <= 0) && AllFinite(comm_, out);
   }
 
   // J d = -Phi (eq. 21) by the KSP; false when the KSP diverged, d is not finite or fails
@@ -1028,15 +1106,8 @@ class Iteration {
       s_.linear_solver_time_s += Seconds(t0);
       return false;
     }
-    const PetscErrorCode code = KSPSolve(impl_.ksp, work_, d_);
-    KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
-    PetscInt its = 0;
-    if (code == 0) {
-      NCP_PETSC_CHECK(KSPGetConvergedReason(impl_.ksp, &reason));
-      NCP_PETSC_CHECK(KSPGetIterationNumber(impl_.ksp, &its));
-      impl_.report.linear_iterations += static_cast<int>(its);
-    }
-    bool solved = !AnyRank(comm_, code != 0 || reason <= 0) && AllFinite(comm_, d_);
+    bool solved = KspSolve(
+        impl_.ksp, impl_.symmetric_newton ? impl_.symmetric : impl_.newton, work_, d_);
     if (solved) {
       NCP_PETSC_CHECK(MatMult(impl_.newton, d_, work_));  // J d + Phi
       NCP_PETSC_CHECK(VecAXPY(work_, 1.0, phi_));
@@ -1093,7 +1164,7 @@ class Iteration {
 
   // ---- step 3: Armijo line search (internal::ArmijoLineSearch)
   // ----------------------------
-  bool LineSearch(int k, bool gradient) {
+  bool LineSearch(int k, Direction direction) {
     const double reference =
         armijo_reference_.Update(static_cast<size_t>(k - first_k_), psi_);
     using Trial = internal::LineSearchTrial;
@@ -1119,10 +1190,86 @@ class Iteration {
     backtracks_ = r.backtracks;
     if (!r.accepted) {
       const internal::Ending ending = internal::LineSearchFailure(
-          o_, r, gradient ? "gradient" : "Newton", k, phi_inf_, grad_inf_);
+          o_, r,
+          direction == Direction::kGradient      ? "gradient"
+          : direction == Direction::kRegularized ? "regularized"
+                                                 : "Newton",
+          k, phi_inf_, grad_inf_);
       Finish(ending.termination, ending.message);
     }
     return r.accepted;
+  }
+
+  // The point a restart or a new strategy continues from (box_mcp.cpp's RestartPoint): x
+  // projected onto [l, u], the slacks recomputed from F there; false when F cannot be
+  // evaluated there.
+  bool RestartPoint(Vec y) {
+    ProjectOntoBox(lower_, upper_, y);
+    return layout_.total_slacks == 0 || SetSlacks(y);
+  }
+
+  // ---- the hybrid default (Options::hybrid, strategy.hpp) -----------------------------
+  // Records iterate k; true when the strategy was left for slow progress or its budget
+  // and the next one continues from its best point.
+  bool LeaveStrategy(int k) {
+    if (!o_.hybrid) return false;
+    const auto kk = static_cast<size_t>(k - first_k_);
+    Observe(kk, k);
+    SwitchReason reason = SwitchReason::kStuck;
+    return progress_.ShouldLeave(kk, k - strategy_start_, o_, &reason) &&
+           SwitchStrategy(k, reason);
+  }
+
+  // psi(x^k) to the progress record, x^k kept when it is the strategy's best point.
+  void Observe(size_t kk, int k) {
+    if (progress_.Record(kk, psi_, k)) NCP_PETSC_CHECK(VecCopy(y_, best_y_));
+  }
+
+  // The next strategy of the schedule continues from the smallest-psi point of this one
+  // (its RestartPoint), at iterate k (ncp::Solver's SwitchStrategy, step by step); false
+  // (nothing changed) when no strategy is left or the point cannot be evaluated. kStuck
+  // applies to a solve that ended at a non-solution stationary point, in a failed line
+  // search or a failed Newton solve.
+  bool SwitchStrategy(int k, SwitchReason reason) {
+    if (!o_.hybrid) return false;
+    const bool stuck = s_.termination == TerminationType::kStationaryPoint ||
+                       s_.termination == TerminationType::kLineSearchFailure ||
+                       s_.termination == TerminationType::kLinearSolverFailure;
+    if (reason == SwitchReason::kStuck && !(finished_ && stuck)) return false;
+    const Strategy from{function_, regularized_};
+    if (!schedule_.Advance(from)) return false;
+    const Strategy& to = schedule_.current();
+    Observe(static_cast<size_t>(k - first_k_), k);  // (TestStop may have come first)
+    NCP_PETSC_CHECK(VecCopy(best_y_, x_trial_));
+    function_ = to.ncp_function;  // Evaluate() uses function_
+    if (!RestartPoint(x_trial_) || !Evaluate(x_trial_, f_trial_, phi_trial_) ||
+        !AllFinite(comm_, phi_trial_)) {
+      function_ = from.ncp_function;
+      return false;
+    }
+    StrategySwitch record;
+    record.iteration = k;
+    record.from_strategy = from;
+    record.to_strategy = to;
+    record.reason = reason;
+    record.best_iteration = progress_.best_iteration();
+    record.best_psi = progress_.best_psi();
+    s_.strategy_switches.push_back(record);
+    NCP_PETSC_CHECK(VecCopy(x_trial_, y_));
+    f_.Swap(f_trial_);
+    phi_.Swap(phi_trial_);
+    regularized_ = to.regularized_direction;
+    if (o_.keep_trace && !s_.trace.empty()) s_.trace.pop_back();  // iterate k anew
+    finished_ = false;
+    s_.termination = TerminationType::kNotSolved;
+    first_k_ = strategy_start_ = k;
+    if (o_.log_to_stderr)
+      PetscFPrintf(comm_, PETSC_STDERR,
+                   "strategy %s -> %s at iteration %d (%s), from iteration %d\n",
+                   internal::StrategyName(from).c_str(),
+                   internal::StrategyName(to).c_str(), k, ToString(reason),
+                   record.best_iteration);
+    return true;
   }
 
   // ---- restart strategy (Options::merit_restarts): continue from mid(l, u, x^k), the
@@ -1133,9 +1280,8 @@ class Iteration {
     const NcpFunction stuck_function = function_;
     function_ = internal::OtherMeritFunction(function_);
     NCP_PETSC_CHECK(VecCopy(y_, x_trial_));
-    ProjectOntoBox(lower_, upper_, x_trial_);
-    if ((layout_.total_slacks > 0 && !SetSlacks(x_trial_)) ||
-        !Evaluate(x_trial_, f_trial_, phi_trial_) || !AllFinite(comm_, phi_trial_)) {
+    if (!RestartPoint(x_trial_) || !Evaluate(x_trial_, f_trial_, phi_trial_) ||
+        !AllFinite(comm_, phi_trial_)) {
       function_ = stuck_function;
       return false;
     }
@@ -1157,7 +1303,7 @@ class Iteration {
 
   // ---- step 4: x^{k+1} = x^k + t d
   // -------------------------------------------------------
-  void Accept(bool gradient) {
+  void Accept(Direction direction) {
     NCP_PETSC_CHECK(VecCopy(x_trial_, y_));
     f_.Swap(f_trial_);
     phi_.Swap(phi_trial_);
@@ -1167,8 +1313,8 @@ class Iteration {
     record_.step_length = step_;
     record_.direction_norm = norm;
     record_.backtracks = backtracks_;
-    record_.gradient_step = gradient;
-    record_.regularized_step = false;
+    record_.gradient_step = direction == Direction::kGradient;
+    record_.regularized_step = direction == Direction::kRegularized;
   }
 
   void Finish(TerminationType type, const std::string& message) {
@@ -1176,6 +1322,7 @@ class Iteration {
     s_.termination = type;
     s_.message = message;
     if (s_.merit_restarts > 0) s_.message += internal::RestartSuffix(s_.merit_restarts);
+    s_.message += internal::StrategySwitchSuffix(s_.strategy_switches);
     s_.final_phi_inf = NormInf(phi_);
     s_.final_psi = 0.5 * Dot(phi_, phi_);
     s_.total_time_s = Seconds(start_);
@@ -1200,7 +1347,12 @@ class Iteration {
   OwnedVec fixed_values_;  // d_i of the rows the symmetrized system eliminates
   Clock::time_point start_;
   NcpFunction function_ = NcpFunction::kFischerBurmeister;
-  int restarts_left_ = 0, first_k_ = 0;
+  int restarts_left_ = 0, first_k_ = 0;  // first_k_: iterate of the last (re)start
+  bool regularized_ = false;             // the current strategy tries the LM direction
+  int strategy_start_ = 0;  // iterate the current strategy of the hybrid began at
+  internal::StrategySchedule schedule_;
+  internal::StrategyProgress progress_;
+  OwnedVec best_y_;  // the current strategy's smallest-psi point (Options::hybrid)
   internal::StagnationTest stagnation_;
   internal::NonmonotoneReference armijo_reference_;
   IterationRecord record_;
@@ -1227,6 +1379,25 @@ BoxMcp BoxMcp::FromFunctionPointers(ResidualFunctionPointer residual,
   return p;
 }
 
+namespace {
+
+// A KSP with the options prefix `prefix` and the default of both linear systems: one
+// direct solve by MUMPS' LU (Amestoy et al. 2001), exact up to round-off like the serial
+// backends, so that the iterates are the serial solver's.
+KSP DirectKsp(MPI_Comm comm, const std::string& prefix) {
+  KSP ksp = nullptr;
+  NCP_PETSC_CHECK(KSPCreate(comm, &ksp));
+  NCP_PETSC_CHECK(KSPSetOptionsPrefix(ksp, prefix.c_str()));
+  NCP_PETSC_CHECK(KSPSetType(ksp, KSPPREONLY));
+  PC pc = nullptr;
+  NCP_PETSC_CHECK(KSPGetPC(ksp, &pc));
+  NCP_PETSC_CHECK(PCSetType(pc, PCLU));
+  NCP_PETSC_CHECK(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+  return ksp;
+}
+
+}  // namespace
+
 Solver::Solver(MPI_Comm comm, const Options& options, const std::string& options_prefix)
     : impl_(new Impl) {
   PetscBool initialized = PETSC_FALSE;
@@ -1238,10 +1409,6 @@ Solver::Solver(MPI_Comm comm, const Options& options, const std::string& options
   std::string error;
   if (!options.IsValid(&error))
     throw std::invalid_argument("ncp::petsc::Solver: " + error);
-  if (options.regularized_direction)
-    throw std::invalid_argument(
-        "ncp::petsc::Solver: Options::regularized_direction = true is not "
-        "available over PETSc (only the Newton and -grad psi directions)");
   if (options.linear_solver != LinearSolverType::kAuto)
     throw std::invalid_argument(
         std::string("ncp::petsc::Solver: Options::linear_solver = ") +
@@ -1252,15 +1419,8 @@ Solver::Solver(MPI_Comm comm, const Options& options, const std::string& options
   impl_->comm = comm;
   impl_->options = options;
   impl_->prefix = options_prefix;
-  NCP_PETSC_CHECK(KSPCreate(comm, &impl_->ksp));
-  NCP_PETSC_CHECK(KSPSetOptionsPrefix(impl_->ksp, options_prefix.c_str()));
-  // Default: one direct solve by MUMPS' LU (Amestoy et al. 2001), exact up to round-off
-  // like the serial backends, so that the iterates are the serial solver's.
-  NCP_PETSC_CHECK(KSPSetType(impl_->ksp, KSPPREONLY));
-  PC pc = nullptr;
-  NCP_PETSC_CHECK(KSPGetPC(impl_->ksp, &pc));
-  NCP_PETSC_CHECK(PCSetType(pc, PCLU));
-  NCP_PETSC_CHECK(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+  impl_->ksp = DirectKsp(comm, options_prefix);
+  impl_->lm_ksp = DirectKsp(comm, options_prefix + "lm_");
   int size = 0;
   MPI_Comm_size(comm, &size);
   impl_->report.ranks = size;
