@@ -269,6 +269,25 @@ TEST_CASE("Levenberg-Marquardt directions (regularized_direction): the serial it
   }
 }
 
+TEST_CASE("2D two-sided obstacle band: every component split, MUMPS given workspace",
+          "[petsc][mpi]") {
+  // 900 two-sided components, 1800 slacks. The zero entries of the slack rows delay
+  // MUMPS' pivots beyond its workspace estimate (INFOG(1) = -9 at the first Newton
+  // system); the solver factorizes again with a larger ICNTL(14), so no Newton system
+  // fails and the iterates stay the serial ones.
+  TestProblem problem =
+      Obstacle2D(30, ObstacleKind::kTwoSidedBand, ObstacleVariable::kGap);
+  const StartPoint& start = problem.starts.front();
+  REQUIRE(start.label == "zero");
+  const Both r = SolveBoth(problem, start.x, Options());
+  CheckSameAnswer(problem, r);
+  CHECK(r.parallel.num_variables == 3 * 900);
+  CHECK(r.parallel.linear_solver_failures == 0);
+  CHECK(r.serial.linear_solver_failures == 0);
+  CHECK(BoxConditionsViolation(*problem.F, problem.lower, problem.upper, r.x_parallel) <=
+        kNaturalResidual);
+}
+
 TEST_CASE("the hybrid default switches strategy as the serial solver does",
           "[petsc][mpi]") {
   // min from "ones" on the two-sided box MCP makes slow progress (gradient steps only)

@@ -426,6 +426,8 @@ struct Solver::Impl {
   // hybrid's "+lm" strategies) and its own KSP, options prefix <prefix>lm_.
   KSP lm_ksp = nullptr;
   Mat normal = nullptr;
+  // MUMPS' ICNTL(14) after a factorization ran out of workspace (KspSolve), 0: default.
+  int newton_workspace_percent = 0, lm_workspace_percent = 0;
 
   ~Impl() {
     DestroyMat(&newton);
@@ -1069,31 +1071,87 @@ class Iteration {
     impl_.PrepareNormalMatrix(std::sqrt(2.0 * psi_));
     NCP_PETSC_CHECK(VecCopy(grad_, work_));
     NCP_PETSC_CHECK(VecScale(work_, -1.0));
-    const bool solved = KspSolve(impl_.lm_ksp, impl_.normal, work_, d_);
+    const bool solved =
+        KspSolve(impl_.lm_ksp, impl_.normal, &impl_.lm_workspace_percent, work_, d_);
     s_.linear_solver_time_s += Seconds(t0);
     return solved;
   }
 
   // out = op^-1 rhs by ksp; false (on every rank) when the KSP failed or out is not
-  // finite. A failed factorization is set up afresh at the next solve: MUMPS skips every
-  // numeric factorization after a failed one (its INFOG(1) stays < 0), while the serial
-  // backends factorize each Newton matrix anew.
-  bool KspSolve(KSP ksp, Mat op, Vec rhs, Vec out) {
-    const PetscErrorCode code = KSPSolve(ksp, rhs, out);
-    KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
-    if (code == 0) {
-      PetscInt its = 0;
-      NCP_PETSC_CHECK(KSPGetConvergedReason(ksp, &reason));
-      NCP_PETSC_CHECK(KSPGetIterationNumber(ksp, &its));
-      impl_.report.linear_iterations += static_cast<int>(its);
+  // finite. A failed factorization is set up afresh (ResetFactorization): MUMPS skips
+  // every numeric factorization after a failed one (its INFOG(1) stays < 0), while the
+  // serial backends factorize each Newton matrix anew. When MUMPS ran out of its
+  // estimated workspace (pivots delayed by the zero entries of slack rows, for one) the
+  // same system is factorized again with ICNTL(14) doubled, kept in *workspace_percent
+  // for the later factorizations of this KSP.
+  bool KspSolve(KSP ksp, Mat op, int* workspace_percent, Vec rhs, Vec out) {
+    constexpr int kWorkspaceRetries = 4;  // up to 2^4 times the first estimate's margin
+    for (int attempt = 0;; ++attempt) {
+      const PetscErrorCode code = KSPSolve(ksp, rhs, out);
+      KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
+      if (code == 0) {
+        PetscInt its = 0;
+        NCP_PETSC_CHECK(KSPGetConvergedReason(ksp, &reason));
+        NCP_PETSC_CHECK(KSPGetIterationNumber(ksp, &its));
+        impl_.report.linear_iterations += static_cast<int>(its);
+      }
+      if (!AnyRank(comm_, code != 0 || reason == KSP_DIVERGED_PC_FAILED))
+        return !AnyRank(comm_, reason <= 0) && AllFinite(comm_, out);
+      const int more = MumpsWorkspaceToRetry(ksp);
+      if (more > 0) *workspace_percent = more;
+      ResetFactorization(ksp, op, *workspace_percent);
+      if (more == 0 || attempt == kWorkspaceRetries) return false;
     }
-    if (AnyRank(comm_, code != 0 || reason == KSP_DIVERGED_PC_FAILED)) {
-      PC pc = nullptr;
-      NCP_PETSC_CHECK(KSPGetPC(ksp, &pc));
-      NCP_PETSC_CHECK(PCReset(pc));
-      NCP_PETSC_CHECK(KSPSetOperators(ksp, op, op));
+  }
+
+  // ICNTL(14) to factorize again with when ksp's PC is a MUMPS factorization that failed
+  // for want of workspace (INFOG(1) = -8, -9, -11, -12, -14, -15, -17: MUMPS' "increase
+  // ICNTL(14)" errors), else 0. The same answer on every rank.
+  int MumpsWorkspaceToRetry(KSP ksp) {
+    Mat F = MumpsFactor(ksp);
+    PetscInt info = 0, percent = 0;
+    if (F) {
+      NCP_PETSC_CHECK(MatMumpsGetInfog(F, 1, &info));
+      NCP_PETSC_CHECK(MatMumpsGetIcntl(F, 14, &percent));
     }
-    return !AnyRank(comm_, code != 0 || reason <= 0) && AllFinite(comm_, out);
+    const bool short_of_workspace = info == -8 || info == -9 || info == -11 ||
+                                    info == -12 || info == -14 || info == -15 ||
+                                    info == -17;
+    if (!AnyRank(comm_, short_of_workspace)) return 0;
+    return static_cast<int>(
+        std::max<long long>(50, 2 * -MinRanks(comm_, -static_cast<long long>(percent))));
+  }
+
+  // The factorization of ksp's PC from scratch at the next solve, with MUMPS' ICNTL(14)
+  // = workspace_percent when that is > 0.
+  void ResetFactorization(KSP ksp, Mat op, int workspace_percent) {
+    PC pc = nullptr;
+    NCP_PETSC_CHECK(KSPGetPC(ksp, &pc));
+    NCP_PETSC_CHECK(PCReset(pc));
+    NCP_PETSC_CHECK(KSPSetOperators(ksp, op, op));
+    if (workspace_percent <= 0 || !UsesMumps(pc)) return;
+    NCP_PETSC_CHECK(PCFactorSetUpMatSolverType(pc));
+    Mat F = nullptr;
+    NCP_PETSC_CHECK(PCFactorGetMatrix(pc, &F));
+    NCP_PETSC_CHECK(MatMumpsSetIcntl(F, 14, workspace_percent));
+  }
+
+  static bool UsesMumps(PC pc) {
+    PetscBool factor = PETSC_FALSE;
+    NCP_PETSC_CHECK(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &factor,
+                                              PCLU, PCCHOLESKY, ""));
+    MatSolverType type = nullptr;
+    if (factor) NCP_PETSC_CHECK(PCFactorGetMatSolverType(pc, &type));
+    return type && std::string(type) == MATSOLVERMUMPS;
+  }
+  // MUMPS' factor matrix of ksp's PC (after a solve), or nullptr for another PC.
+  static Mat MumpsFactor(KSP ksp) {
+    PC pc = nullptr;
+    NCP_PETSC_CHECK(KSPGetPC(ksp, &pc));
+    if (!UsesMumps(pc)) return nullptr;
+    Mat F = nullptr;
+    NCP_PETSC_CHECK(PCFactorGetMatrix(pc, &F));
+    return F;
   }
 
   // J d = -Phi (eq. 21) by the KSP; false when the KSP diverged, d is not finite or fails
@@ -1106,8 +1164,9 @@ class Iteration {
       s_.linear_solver_time_s += Seconds(t0);
       return false;
     }
-    bool solved = KspSolve(
-        impl_.ksp, impl_.symmetric_newton ? impl_.symmetric : impl_.newton, work_, d_);
+    bool solved =
+        KspSolve(impl_.ksp, impl_.symmetric_newton ? impl_.symmetric : impl_.newton,
+                 &impl_.newton_workspace_percent, work_, d_);
     if (solved) {
       NCP_PETSC_CHECK(MatMult(impl_.newton, d_, work_));  // J d + Phi
       NCP_PETSC_CHECK(VecAXPY(work_, 1.0, phi_));
