@@ -206,24 +206,22 @@ struct Solver::Impl {
   KSP ksp = nullptr;
   bool ksp_configured = false;
   KspReport report;
-  // J = diag(c_F) F' + diag(c_I) on the pattern of F' (plus its diagonal), built for the
-  // user's matrix `source` in the nonzero state `source_state`.
+  // The KSP's operator on the pattern of F' (plus its diagonal), built for the user's
+  // matrix `source` in the nonzero state `source_state`: J = diag(c_F) F' + diag(c_I),
+  // or with symmetric_newton the reduced symmetric system (Iteration::Symmetrize: rows
+  // with c_F != 0 divided by c_F, the others eliminated; KspReport::symmetric_newton).
+  // Products with J itself (gradient, backward error) are formed from F' and c_F, c_I,
+  // so the symmetric mode keeps no second matrix.
   Mat newton = nullptr;
   Mat source = nullptr;
   PetscObjectState source_state = -1;
-  bool same_pattern = true;  // J's pattern is F''s (no diagonal entry was added)
-  Mat abs_source = nullptr,
-      abs_newton = nullptr;  // |F'|, |J| (round-off floor, backward error)
-  // The symmetrized Newton system (symmetric_newton): rows with c_F != 0 divided by c_F,
-  // the others eliminated (KspReport::symmetric_newton).
+  bool same_pattern = true;  // the operator's pattern is F''s (no diagonal entry added)
+  Mat abs_source = nullptr;  // |F'| (round-off floor, backward error)
   bool symmetric_newton = false;
-  Mat symmetric = nullptr;
 
   ~Impl() {
     DestroyMat(&newton);
-    DestroyMat(&symmetric);
     DestroyMat(&abs_source);
-    DestroyMat(&abs_newton);
     if (ksp) KSPDestroy(&ksp);
   }
 
@@ -234,9 +232,7 @@ struct Solver::Impl {
     NCP_PETSC_CHECK(MatGetNonzeroState(F, &state));
     if (newton && source == F && state == source_state) return false;
     DestroyMat(&newton);
-    DestroyMat(&symmetric);
     DestroyMat(&abs_source);
-    DestroyMat(&abs_newton);
     NCP_PETSC_CHECK(MatDuplicate(F, MAT_COPY_VALUES, &newton));
     PetscBool missing = PETSC_FALSE;
     PetscInt row = 0;
@@ -252,14 +248,11 @@ struct Solver::Impl {
     }
     source = F;
     source_state = state;
-    if (symmetric_newton) {
-      NCP_PETSC_CHECK(MatDuplicate(newton, MAT_DO_NOT_COPY_VALUES, &symmetric));
-      NCP_PETSC_CHECK(MatSetOption(symmetric, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
-      NCP_PETSC_CHECK(
-          MatSetOption(symmetric, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
+    if (symmetric_newton) {  // MatZeroRowsColumns keeps the pattern for the next MatCopy
+      NCP_PETSC_CHECK(MatSetOption(newton, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
+      NCP_PETSC_CHECK(MatSetOption(newton, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
     }
-    Mat op = symmetric_newton ? symmetric : newton;
-    NCP_PETSC_CHECK(KSPSetOperators(ksp, op, op));
+    NCP_PETSC_CHECK(KSPSetOperators(ksp, newton, newton));
     return true;
   }
 
@@ -436,7 +429,7 @@ class Iteration {
     start_ = Clock::now();
     InitializeSummary();
     for (OwnedVec* v : {&f_, &f_trial_, &phi_, &phi_trial_, &grad_, &d_, &x_trial_, &c_f_,
-                        &c_i_, &z_, &f_z_, &work_, &work2_, &fixed_values_})
+                        &c_i_, &z_, &f_z_, &work_, &work2_, &fixed_values_, &diag_f_})
       v->DuplicateOf(x_);
     impl_.Configure();
     const bool new_matrix = impl_.PrepareNewtonMatrix(p_.jacobian_matrix);
@@ -532,9 +525,15 @@ class Iteration {
              "the Jacobian has NaN or Inf entries at iteration " + std::to_string(k));
       return false;
     }
+    abs_source_current_ = false;
+    NCP_PETSC_CHECK(MatGetDiagonal(p_.jacobian_matrix, diag_f_));
     PhiPartials();
-    FillNewtonMatrix();
-    NCP_PETSC_CHECK(MatMultTranspose(impl_.newton, phi_, grad_));  // grad psi = J' Phi
+    if (!impl_.symmetric_newton) FillNewtonMatrix();  // else built by Symmetrize
+    // grad psi = J' Phi = F'^T (c_F Phi) + c_I Phi
+    NCP_PETSC_CHECK(VecPointwiseMult(work_, c_f_, phi_));
+    NCP_PETSC_CHECK(MatMultTranspose(p_.jacobian_matrix, work_, grad_));
+    NCP_PETSC_CHECK(VecPointwiseMult(work_, c_i_, phi_));
+    NCP_PETSC_CHECK(VecAXPY(grad_, 1.0, work_));
     return true;
   }
 
@@ -596,6 +595,38 @@ class Iteration {
     return false;
   }
 
+  // out = J v = c_F (F' v) + c_I v (v and out distinct, neither work2_).
+  void MultNewton(Vec v, Vec out) {
+    NCP_PETSC_CHECK(MatMult(p_.jacobian_matrix, v, out));
+    NCP_PETSC_CHECK(VecPointwiseMult(out, c_f_, out));
+    NCP_PETSC_CHECK(VecPointwiseMult(work2_, c_i_, v));
+    NCP_PETSC_CHECK(VecAXPY(out, 1.0, work2_));
+  }
+
+  // out = |J| |v| = |c_F| (|F'||v|) + (|c_F F'_ii + c_I| - |c_F F'_ii|) |v|: the
+  // off-diagonal entries of row i of J are c_F,i F'_ij, the diagonal c_F,i F'_ii + c_I,i
+  // (v and out distinct, neither work2_).
+  void MultAbsNewton(Vec v, Vec out) {
+    UpdateAbsoluteSource();
+    NCP_PETSC_CHECK(VecCopy(v, work2_));
+    NCP_PETSC_CHECK(VecAbs(work2_));
+    NCP_PETSC_CHECK(MatMult(impl_.abs_source, work2_, out));
+    LocalRead abs_v(work2_), c_f(c_f_), c_i(c_i_), diag(diag_f_);
+    LocalWrite o(out);
+    for (PetscInt i = 0; i < local_; ++i) {
+      const double cfd = c_f[i] * diag[i];
+      o[i] = std::abs(c_f[i]) * PetscRealPart(o[i]) +
+             (std::abs(cfd + c_i[i]) - std::abs(cfd)) * abs_v[i];
+    }
+  }
+
+  // |F'| for the Jacobian of this iterate (once per Jacobian evaluation).
+  void UpdateAbsoluteSource() {
+    if (abs_source_current_) return;
+    AbsoluteCopy(p_.jacobian_matrix, &impl_.abs_source);
+    abs_source_current_ = true;
+  }
+
   // J = diag(c_F) F' + diag(c_I).
   void FillNewtonMatrix() {
     Mat J = impl_.newton;
@@ -611,7 +642,7 @@ class Iteration {
   // solver's |da| |J_A||x| + |db| |J_B||x| (and |J_E||x| for equations) for these rows.
   bool WithinRoundoffFloor() {
     if (o_.roundoff_ulps == 0.0) return false;
-    AbsoluteCopy(p_.jacobian_matrix, &impl_.abs_source);
+    UpdateAbsoluteSource();
     NCP_PETSC_CHECK(VecCopy(x_, work2_));
     NCP_PETSC_CHECK(VecAbs(work2_));
     NCP_PETSC_CHECK(MatMult(impl_.abs_source, work2_, work_));  // |F'||x|
@@ -742,13 +773,10 @@ class Iteration {
     }
     bool solved = !AnyRank(comm_, code != 0 || reason <= 0) && AllFinite(comm_, d_);
     if (solved) {
-      NCP_PETSC_CHECK(MatMult(impl_.newton, d_, work_));  // J d + Phi
+      MultNewton(d_, work_);  // J d + Phi
       NCP_PETSC_CHECK(VecAXPY(work_, 1.0, phi_));
       const double residual_inf = NormInf(work_);
-      AbsoluteCopy(impl_.newton, &impl_.abs_newton);
-      NCP_PETSC_CHECK(VecCopy(d_, work2_));
-      NCP_PETSC_CHECK(VecAbs(work2_));
-      NCP_PETSC_CHECK(MatMult(impl_.abs_newton, work2_, work_));  // |J||d|
+      MultAbsNewton(d_, work_);  // |J||d|
       solved = internal::NewtonSolutionAccurate(residual_inf, phi_inf_, NormInf(work_));
     }
     s_.linear_solver_time_s += Seconds(t0);
@@ -764,7 +792,7 @@ class Iteration {
   // symmetric system's right-hand side; false when a row is zero (c_F = c_I = 0) on some
   // rank.
   bool Symmetrize(Vec rhs) {
-    Mat S = impl_.symmetric;
+    Mat S = impl_.newton;
     NCP_PETSC_CHECK(
         MatCopy(p_.jacobian_matrix, S,
                 impl_.same_pattern ? SAME_NONZERO_PATTERN : DIFFERENT_NONZERO_PATTERN));
@@ -903,6 +931,7 @@ class Iteration {
   OwnedVec f_, f_trial_, phi_, phi_trial_, grad_, d_, x_trial_, c_f_, c_i_, z_, f_z_,
       work_, work2_;
   OwnedVec fixed_values_;  // d_i of the rows the symmetrized system eliminates
+  OwnedVec diag_f_;        // the diagonal of F' (0 where F' stores none)
   Clock::time_point start_;
   NcpFunction function_ = NcpFunction::kFischerBurmeister;
   int restarts_left_ = 0, first_k_ = 0;
@@ -913,6 +942,7 @@ class Iteration {
   int backtracks_ = 0, degenerate_count_ = 0;
   bool converged_ = false, have_jacobian_ = false, jacobian_ok_ = true;
   bool roundoff_limited_ = false, finished_ = false;
+  bool abs_source_current_ = false;  // impl_.abs_source is |F'| of this iterate
 };
 
 // ---------------------------------------------------------------------------------------
