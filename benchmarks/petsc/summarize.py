@@ -62,6 +62,10 @@ def main(path):
                   f"| {fmt(o['cpu_seconds'])} | | |")
             continue
         b = min(peers, key=lambda r: float(r["seconds"]))
+        if o["status"] != "converged":  # e.g. time_limit: no CPU time, no ratio
+            print(f"| {ranks} | {n} | {fmt(o['seconds'])} ({o['status']}) | | {b['solver']} | "
+                  f"{fmt(b['seconds'])} | {b['newton_iterations']} | | | {fmt(b['cpu_seconds'])} | |")
+            continue
         print(f"| {ranks} | {n} | {fmt(o['seconds'])} ({o['status']}) | {o['newton_iterations']} | {b['solver']} | "
               f"{fmt(b['seconds'])} | {b['newton_iterations']} | {float(o['seconds']) / float(b['seconds']):.2f} | "
               f"{fmt(o['cpu_seconds'])} | {fmt(b['cpu_seconds'])} | "
