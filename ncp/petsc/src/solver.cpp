@@ -407,44 +407,44 @@ struct Solver::Impl {
   KSP ksp = nullptr;
   bool ksp_configured = false;
   KspReport report;
-  // J = diag(c_F) F' + diag(c_I) on the pattern of F' (plus its diagonal), built for the
-  // user's matrix `source` in the nonzero state `source_state`.
+  // The KSP's operator on the pattern of G (plus its diagonal; G = F' without slacks),
+  // built for the user's matrix `source` in the nonzero state `source_state`: J of the
+  // file comment, or with symmetric_newton the reduced symmetric system
+  // (Iteration::Symmetrize: rows with c_F != 0 divided by c_F, the others eliminated;
+  // KspReport::symmetric_newton). Products with J itself (gradient, backward error) are
+  // formed from G and c_F, c_I (Iteration::MultNewton), so the symmetric mode keeps a
+  // second matrix only for the LM direction (lm_jacobian).
   Mat newton = nullptr;
   Mat source = nullptr;
   PetscObjectState source_state = -1;
-  bool same_pattern = true;  // J's pattern is F''s (no diagonal entry was added)
-  Mat abs_source = nullptr,
-      abs_newton = nullptr;  // |F'|, |J| (round-off floor, backward error)
-  // The symmetrized Newton system (symmetric_newton): rows with c_F != 0 divided by c_F,
-  // the others eliminated (KspReport::symmetric_newton).
+  bool same_pattern = true;  // the operator's pattern is F''s (no diagonal entry added)
+  Mat abs_source = nullptr;  // |G| (round-off floor, backward error)
   bool symmetric_newton = false;
-  Mat symmetric = nullptr;
   // With two-sided bounds: G of the file comment for the layout `layout_rows`.
   SlackMatrix slack;
   std::vector<Row> layout_rows;
   // The Levenberg-Marquardt system J'J + mu I (Options::regularized_direction and the
   // hybrid's "+lm" strategies) and its own KSP, options prefix <prefix>lm_.
+  // With symmetric_newton J is not `newton`: lm_jacobian holds it, built on demand.
   KSP lm_ksp = nullptr;
-  Mat normal = nullptr;
+  Mat normal = nullptr, lm_jacobian = nullptr;
   // MUMPS' ICNTL(14) after a factorization ran out of workspace (KspSolve), 0: default.
   int newton_workspace_percent = 0, lm_workspace_percent = 0;
 
   ~Impl() {
     DestroyMat(&newton);
-    DestroyMat(&symmetric);
     DestroyMat(&abs_source);
-    DestroyMat(&abs_newton);
     DestroyMat(&normal);
+    DestroyMat(&lm_jacobian);
     if (ksp) KSPDestroy(&ksp);
     if (lm_ksp) KSPDestroy(&lm_ksp);
   }
 
-  // N = J'J + mu I for the J of the current iterate, on lm_ksp; the product's structure
-  // is kept while J's is.
-  void PrepareNormalMatrix(double mu) {
-    NCP_PETSC_CHECK(MatTransposeMatMult(newton, newton,
-                                        normal ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX,
-                                        PETSC_DEFAULT, &normal));
+  // N = J'J + mu I for the J of the current iterate (the matrix J), on lm_ksp; the
+  // product's structure is kept while J's is.
+  void PrepareNormalMatrix(Mat J, double mu) {
+    NCP_PETSC_CHECK(MatTransposeMatMult(
+        J, J, normal ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, PETSC_DEFAULT, &normal));
     NCP_PETSC_CHECK(MatShift(normal, mu));
     NCP_PETSC_CHECK(KSPSetOperators(lm_ksp, normal, normal));
   }
@@ -460,10 +460,9 @@ struct Solver::Impl {
     const bool same_layout = !AnyRank(comm, layout.rows != layout_rows);
     if (newton && source == F && state == source_state && same_layout) return false;
     DestroyMat(&newton);
-    DestroyMat(&symmetric);
     DestroyMat(&abs_source);
-    DestroyMat(&abs_newton);
     DestroyMat(&normal);
+    DestroyMat(&lm_jacobian);
     layout_rows = layout.rows;
     if (layout.total_slacks > 0)
       slack.Build(comm, F, layout);
@@ -484,14 +483,11 @@ struct Solver::Impl {
     }
     source = F;
     source_state = state;
-    if (symmetric_newton) {
-      NCP_PETSC_CHECK(MatDuplicate(newton, MAT_DO_NOT_COPY_VALUES, &symmetric));
-      NCP_PETSC_CHECK(MatSetOption(symmetric, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
-      NCP_PETSC_CHECK(
-          MatSetOption(symmetric, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
+    if (symmetric_newton) {  // MatZeroRowsColumns keeps the pattern for the next MatCopy
+      NCP_PETSC_CHECK(MatSetOption(newton, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
+      NCP_PETSC_CHECK(MatSetOption(newton, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
     }
-    Mat op = symmetric_newton ? symmetric : newton;
-    NCP_PETSC_CHECK(KSPSetOperators(ksp, op, op));
+    NCP_PETSC_CHECK(KSPSetOperators(ksp, newton, newton));
     return true;
   }
 
@@ -685,7 +681,7 @@ class Iteration {
       y_ = y_owned_;
     }
     for (OwnedVec* v : {&phi_, &phi_trial_, &grad_, &d_, &x_trial_, &c_f_, &c_i_, &z_,
-                        &f_z_, &work_, &work2_, &fixed_values_})
+                        &f_z_, &work_, &work2_, &fixed_values_, &diag_g_})
       v->DuplicateOf(y_);
     impl_.Configure();
     const bool new_matrix = impl_.PrepareNewtonMatrix(p_.jacobian_matrix, layout_);
@@ -825,10 +821,28 @@ class Iteration {
       return false;
     }
     if (layout_.total_slacks > 0) impl_.slack.Refresh(p_.jacobian_matrix, layout_);
+    abs_source_current_ = false;
+    GDiagonalAtA();
     PhiPartials();
-    FillNewtonMatrix();
-    NCP_PETSC_CHECK(MatMultTranspose(impl_.newton, phi_, grad_));  // grad psi = J' Phi
+    if (!impl_.symmetric_newton) FillNewtonMatrix(impl_.newton);  // else by Symmetrize
+    // grad psi = J' Phi = G' (c_F Phi) + c_I,r Phi_r added at y_AColumn(r)
+    NCP_PETSC_CHECK(VecPointwiseMult(work_, c_f_, phi_));
+    NCP_PETSC_CHECK(MatMultTranspose(G_, work_, grad_));
+    {
+      LocalRead c_i(c_i_), phi(phi_);
+      LocalWrite grad(grad_);
+      for (PetscInt r = 0; r < local_; ++r)
+        grad[layout_.AColumn(r)] += c_i[r] * PetscRealPart(phi[r]);
+    }
     return true;
+  }
+
+  // diag_g_ = G_{r, AColumn(r)}: the diagonal of G (of F') on the rows of x, 0 on the
+  // slack rows (G's stored zeros at (w, i) and (v, i)).
+  void GDiagonalAtA() {
+    NCP_PETSC_CHECK(MatGetDiagonal(G_, diag_g_));
+    LocalWrite diag(diag_g_);
+    for (PetscInt r = layout_.components; r < local_; ++r) diag[r] = 0.0;
   }
 
   // c_F, c_I of every row (c_I: the coefficient of the A side, c_A of the file comment on
@@ -904,9 +918,44 @@ class Iteration {
     }
   }
 
-  // J = diag(c_F) G + diag(c_I) on the rows of x, c_I at (r, AColumn(r)) on slack rows.
-  void FillNewtonMatrix() {
-    Mat J = impl_.newton;
+  // out = J v: out_r = c_F,r (G v)_r + c_I,r v_a with a = AColumn(r) (r itself on the
+  // rows of x; FillNewtonMatrix's J without forming it; v and out distinct).
+  void MultNewton(Vec v, Vec out) {
+    NCP_PETSC_CHECK(MatMult(G_, v, out));
+    LocalRead vv(v), c_f(c_f_), c_i(c_i_);
+    LocalWrite o(out);
+    for (PetscInt r = 0; r < local_; ++r)
+      o[r] =
+          c_f[r] * PetscRealPart(o[r]) + c_i[r] * PetscRealPart(vv[layout_.AColumn(r)]);
+  }
+
+  // out = |J| |v|: row r of J is c_F,r G_r plus c_I,r at a = AColumn(r), so
+  // out_r = |c_F,r| (|G||v|)_r + (|c_F,r G_ra + c_I,r| - |c_F,r G_ra|) |v_a| with
+  // G_ra = diag_g_ (v and out distinct, neither work2_).
+  void MultAbsNewton(Vec v, Vec out) {
+    UpdateAbsoluteSource();
+    NCP_PETSC_CHECK(VecCopy(v, work2_));
+    NCP_PETSC_CHECK(VecAbs(work2_));
+    NCP_PETSC_CHECK(MatMult(impl_.abs_source, work2_, out));
+    LocalRead abs_v(work2_), c_f(c_f_), c_i(c_i_), diag(diag_g_);
+    LocalWrite o(out);
+    for (PetscInt r = 0; r < local_; ++r) {
+      const double cfd = c_f[r] * diag[r];
+      o[r] = std::abs(c_f[r]) * PetscRealPart(o[r]) +
+             (std::abs(cfd + c_i[r]) - std::abs(cfd)) * abs_v[layout_.AColumn(r)];
+    }
+  }
+
+  // |G| for the Jacobian of this iterate (once per Jacobian evaluation).
+  void UpdateAbsoluteSource() {
+    if (abs_source_current_) return;
+    AbsoluteCopy(G_, &impl_.abs_source);
+    abs_source_current_ = true;
+  }
+
+  // J = diag(c_F) G + diag(c_I) on the rows of x, c_I at (r, AColumn(r)) on slack rows,
+  // into the matrix J (impl_.newton or impl_.lm_jacobian, both on newton's pattern).
+  void FillNewtonMatrix(Mat J) {
     NCP_PETSC_CHECK(MatCopy(
         G_, J, impl_.same_pattern ? SAME_NONZERO_PATTERN : DIFFERENT_NONZERO_PATTERN));
     NCP_PETSC_CHECK(MatDiagonalScale(J, c_f_, nullptr));
@@ -938,7 +987,7 @@ class Iteration {
   // rows.
   bool WithinRoundoffFloor() {
     if (o_.roundoff_ulps == 0.0) return false;
-    AbsoluteCopy(G_, &impl_.abs_source);
+    UpdateAbsoluteSource();
     NCP_PETSC_CHECK(VecCopy(y_, work2_));
     NCP_PETSC_CHECK(VecAbs(work2_));
     NCP_PETSC_CHECK(MatMult(impl_.abs_source, work2_, work_));  // |G||y|
@@ -1068,13 +1117,24 @@ class Iteration {
   // KSP failed or d is not finite.
   bool RegularizedDirection() {
     const auto t0 = Clock::now();
-    impl_.PrepareNormalMatrix(std::sqrt(2.0 * psi_));
+    impl_.PrepareNormalMatrix(ExplicitJacobian(), std::sqrt(2.0 * psi_));
     NCP_PETSC_CHECK(VecCopy(grad_, work_));
     NCP_PETSC_CHECK(VecScale(work_, -1.0));
     const bool solved =
         KspSolve(impl_.lm_ksp, impl_.normal, &impl_.lm_workspace_percent, work_, d_);
     s_.linear_solver_time_s += Seconds(t0);
     return solved;
+  }
+
+  // J as a matrix: impl_.newton, or with symmetric_newton (where newton holds the
+  // symmetrized system) impl_.lm_jacobian, created on first use and filled here.
+  Mat ExplicitJacobian() {
+    if (!impl_.symmetric_newton) return impl_.newton;
+    if (!impl_.lm_jacobian)
+      NCP_PETSC_CHECK(
+          MatDuplicate(impl_.newton, MAT_DO_NOT_COPY_VALUES, &impl_.lm_jacobian));
+    FillNewtonMatrix(impl_.lm_jacobian);
+    return impl_.lm_jacobian;
   }
 
   // out = op^-1 rhs by ksp; false (on every rank) when the KSP failed or out is not
@@ -1165,16 +1225,12 @@ class Iteration {
       return false;
     }
     bool solved =
-        KspSolve(impl_.ksp, impl_.symmetric_newton ? impl_.symmetric : impl_.newton,
-                 &impl_.newton_workspace_percent, work_, d_);
+        KspSolve(impl_.ksp, impl_.newton, &impl_.newton_workspace_percent, work_, d_);
     if (solved) {
-      NCP_PETSC_CHECK(MatMult(impl_.newton, d_, work_));  // J d + Phi
+      MultNewton(d_, work_);  // J d + Phi
       NCP_PETSC_CHECK(VecAXPY(work_, 1.0, phi_));
       const double residual_inf = NormInf(work_);
-      AbsoluteCopy(impl_.newton, &impl_.abs_newton);
-      NCP_PETSC_CHECK(VecCopy(d_, work2_));
-      NCP_PETSC_CHECK(VecAbs(work2_));
-      NCP_PETSC_CHECK(MatMult(impl_.abs_newton, work2_, work_));  // |J||d|
+      MultAbsNewton(d_, work_);  // |J||d|
       solved = internal::NewtonSolutionAccurate(residual_inf, phi_inf_, NormInf(work_));
     }
     s_.linear_solver_time_s += Seconds(t0);
@@ -1190,7 +1246,7 @@ class Iteration {
   // symmetric system's right-hand side; false when a row is zero (c_F = c_I = 0) on some
   // rank.
   bool Symmetrize(Vec rhs) {
-    Mat S = impl_.symmetric;
+    Mat S = impl_.newton;
     NCP_PETSC_CHECK(MatCopy(
         G_, S, impl_.same_pattern ? SAME_NONZERO_PATTERN : DIFFERENT_NONZERO_PATTERN));
     PetscInt first = 0, last = 0;
@@ -1404,6 +1460,7 @@ class Iteration {
   OwnedVec f_, f_trial_, phi_, phi_trial_, grad_, d_, x_trial_, c_f_, c_i_, z_, f_z_,
       work_, work2_;
   OwnedVec fixed_values_;  // d_i of the rows the symmetrized system eliminates
+  OwnedVec diag_g_;        // G_{r, AColumn(r)} (GDiagonalAtA)
   Clock::time_point start_;
   NcpFunction function_ = NcpFunction::kFischerBurmeister;
   int restarts_left_ = 0, first_k_ = 0;  // first_k_: iterate of the last (re)start
@@ -1419,6 +1476,7 @@ class Iteration {
   int backtracks_ = 0, degenerate_count_ = 0;
   bool converged_ = false, have_jacobian_ = false, jacobian_ok_ = true;
   bool roundoff_limited_ = false, finished_ = false;
+  bool abs_source_current_ = false;  // impl_.abs_source is |G| of this iterate
 };
 
 // ---------------------------------------------------------------------------------------
