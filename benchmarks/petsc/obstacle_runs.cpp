@@ -13,7 +13,9 @@
 
 namespace ncp_petsc_bench {
 
-bool HasSymmetricNewtonMatrix(SolverKind kind) { return kind == SolverKind::kSnesViRsls; }
+bool HasSymmetricNewtonMatrix(SolverKind kind) {
+  return kind == SolverKind::kSnesViRsls || kind == SolverKind::kNcpMin;
+}
 
 std::string KspDescription(LinearFamily linear, SolverKind kind) {
   const std::string krylov = HasSymmetricNewtonMatrix(kind) ? "cg" : "gmres";

@@ -25,8 +25,11 @@ enum class LinearFamily {
   kGamg,       ///< Krylov + PETSc's GAMG
 };
 /// The Krylov method of the iterative families follows the Newton matrix: CG where it is
-/// symmetric (RSLS: the Laplacian restricted to the inactive set), GMRES where it is not
-/// (SSLS and ncp: diag(c_F) F' + diag(c_I), rows scaled differently).
+/// symmetric positive definite - RSLS: the Laplacian restricted to the inactive set; ncp
+/// with the min function: the same reduced system, since its Newton row is e_i' on the
+/// active set (d_i eliminated exactly) and F'_i on the inactive set (ncp::petsc's
+/// symmetric mode, on for CG) - GMRES where it is not (SSLS and ncp with FB:
+/// diag(c_F) F' + diag(c_I), rows scaled differently).
 bool HasSymmetricNewtonMatrix(SolverKind kind);
 /// "preonly+lu", "cg+mg", "gmres+hypre", ...: the KSP and PC a configuration runs with.
 std::string KspDescription(LinearFamily linear, SolverKind kind);

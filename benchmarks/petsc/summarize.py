@@ -43,8 +43,9 @@ def main(path):
     print()
     print(f"Ours ({OURS}) against the fastest converged SNESVI row with error_vs_exact <= ours * 1.01:")
     print()
-    print("| ranks | n | ours s | ours Newton (finest) | best SNESVI | its s | its Newton | ours / best |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("| ranks | n | ours s | ours Newton (finest) | best SNESVI | its s | its Newton | ours / best "
+          "| ours CPU s | its CPU s | CPU ours / its |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     by = defaultdict(list)
     for r in rows:
         by[(int(r["ranks"]), int(r["n"]))].append(r)
@@ -57,11 +58,18 @@ def main(path):
         peers = [r for r in group if not r["solver"].startswith("ncp") and r["status"] == "converged"
                  and float(r["error_vs_exact"]) <= oerr * 1.01]
         if not peers:
-            print(f"| {ranks} | {n} | {fmt(o['seconds'])} | {o['newton_iterations']} | none converged | | | |")
+            print(f"| {ranks} | {n} | {fmt(o['seconds'])} | {o['newton_iterations']} | none converged | | | "
+                  f"| {fmt(o['cpu_seconds'])} | | |")
             continue
         b = min(peers, key=lambda r: float(r["seconds"]))
+        if o["status"] != "converged":  # e.g. time_limit: no CPU time, no ratio
+            print(f"| {ranks} | {n} | {fmt(o['seconds'])} ({o['status']}) | | {b['solver']} | "
+                  f"{fmt(b['seconds'])} | {b['newton_iterations']} | | | {fmt(b['cpu_seconds'])} | |")
+            continue
         print(f"| {ranks} | {n} | {fmt(o['seconds'])} ({o['status']}) | {o['newton_iterations']} | {b['solver']} | "
-              f"{fmt(b['seconds'])} | {b['newton_iterations']} | {float(o['seconds']) / float(b['seconds']):.2f} |")
+              f"{fmt(b['seconds'])} | {b['newton_iterations']} | {float(o['seconds']) / float(b['seconds']):.2f} | "
+              f"{fmt(o['cpu_seconds'])} | {fmt(b['cpu_seconds'])} | "
+              f"{float(o['cpu_seconds']) / float(b['cpu_seconds']):.2f} |")
     print()
     print("Slopes (least squares, converged rows, n >= 10^5 for time):")
     print()

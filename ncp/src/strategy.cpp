@@ -48,8 +48,12 @@ bool StrategySchedule::Advance(const Strategy& now) {
 }
 
 void StrategyProgress::Reset(const Options& o, int n) {
-  ring_.assign(static_cast<size_t>(o.hybrid_window) + 1, 0.0);
+  ResetRecord(o, n);
   best_x_.resize(n);
+}
+
+void StrategyProgress::ResetRecord(const Options& o, int n) {
+  ring_.assign(static_cast<size_t>(o.hybrid_window) + 1, 0.0);
   const double budget = std::max(static_cast<double>(o.hybrid_window),
                                  std::ceil(o.hybrid_budget_per_unknown * n));
   budget_ = budget >= static_cast<double>(std::numeric_limits<int>::max())
@@ -58,12 +62,17 @@ void StrategyProgress::Reset(const Options& o, int n) {
 }
 
 void StrategyProgress::Observe(size_t kk, double psi, const Vector& x, int k) {
-  if (kk == 0 || psi < best_psi_) {
+  if (Record(kk, psi, k)) best_x_ = x;
+}
+
+bool StrategyProgress::Record(size_t kk, double psi, int k) {
+  const bool best = kk == 0 || psi < best_psi_;
+  if (best) {
     best_psi_ = psi;
-    best_x_ = x;
     best_k_ = k;
   }
   ring_[kk % ring_.size()] = best_psi_;
+  return best;
 }
 
 bool StrategyProgress::ShouldLeave(size_t kk, int spent, const Options& o,

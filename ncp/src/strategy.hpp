@@ -38,9 +38,14 @@ class StrategyProgress {
  public:
   /// Sizes the window and the best point for n unknowns (no allocation when they fit).
   void Reset(const Options& o, int n);
-  /// Records psi(x^k) at kk iterations since the merit function was last changed (kk = 0
-  /// starts a new record).
+  /// Records psi(x^k) and x^k at kk iterations since the merit function was last changed
+  /// (kk = 0 starts a new record).
   void Observe(size_t kk, double psi, const Vector& x, int k);
+  /// For a caller that keeps the best point itself (ncp::petsc, distributed x): Reset
+  /// without the best point, and Observe without x, returning true when x^k is the new
+  /// best point (the caller then keeps a copy of x^k).
+  void ResetRecord(const Options& o, int n);
+  bool Record(size_t kk, double psi, int k);
   /// Slow progress (Options::hybrid_window, hybrid_decrease) at kk iterations since the
   /// merit function changed, or the budget used at `spent` iterations since the strategy
   /// began; false when neither (then *reason is untouched).

@@ -6,15 +6,18 @@
 #define CATCH_CONFIG_RUNNER
 #include <petscsys.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "ncp/petsc/solver.hpp"
 #include "ncp/solver.hpp"
 #include "ncp_collection/affine_function.hpp"
 #include "ncp_collection/checks.hpp"
+#include "ncp_collection/mcplib_nlp.hpp"
 #include "ncp_collection/obstacle.hpp"
 #include "ncp_collection/random_lcp.hpp"
 #include "petsc_support.hpp"
@@ -38,6 +41,7 @@ constexpr double kNaturalResidual = 1e-8;
 struct Both {
   Summary serial, parallel;
   Vector x_serial, x_parallel;
+  bool symmetric_newton = false;  // the PETSc solve's KspReport::symmetric_newton
 };
 
 // The box MCP solved by ncp::Solver and by ncp::petsc::Solver on PETSC_COMM_WORLD.
@@ -55,6 +59,7 @@ Both SolveBoth(TestProblem& problem, const Vector& x0, const Options& options,
     DistributedFunction F(*problem.F, x, x0);
     ncp::petsc::Solver solver(PETSC_COMM_WORLD, options, prefix);
     solver.Solve(F.Problem(lower, upper), x, &out.parallel);
+    out.symmetric_newton = solver.ksp_report().symmetric_newton;
     out.x_parallel = F.Gather(x);
   }
   VecDestroy(&x);
@@ -77,11 +82,24 @@ void CheckSameAnswer(TestProblem& problem, const Both& r) {
         kNaturalResidual);
 }
 
+// A solve that fails the same way: same status, iteration and gradient-step counts, and
+// the same ||Phi||_inf at the end to 1e-6 relative.
+void CheckSameFailure(const Both& r) {
+  INFO("serial:   " << r.serial.BriefReport() << " - " << r.serial.message);
+  INFO("parallel: " << r.parallel.BriefReport() << " - " << r.parallel.message);
+  CHECK(r.parallel.termination == r.serial.termination);
+  CHECK(r.parallel.iterations == r.serial.iterations);
+  CHECK(r.parallel.gradient_steps == r.serial.gradient_steps);
+  CHECK(std::abs(r.parallel.final_phi_inf - r.serial.final_phi_inf) <=
+        1e-6 * r.serial.final_phi_inf);
+}
+
 // The random P-LCP of the collection with bounds of every kind: component i is
 // lower-bounded (i mod 5 = 0, 4; at 0 and -0.3), upper-bounded (1: u = 0.5), free (2,
-// with +-1e20) or fixed (3: l = u = 0.25). F is a P-function, so the box MCP has one
-// solution.
-TestProblem RandomBoxMcp(int n) {
+// with +-1e20) or fixed (3: l = u = 0.25); with two_sided, the components i mod 5 = 4
+// have [-0.3, 0.1] instead (and n = 300 then has solutions at both bounds and between).
+// F is a P-function, so the box MCP has one solution.
+TestProblem RandomBoxMcp(int n, bool two_sided = false) {
   RandomLcpOptions options;
   options.seed = 26;
   TestProblem p = RandomPLcp(n, options);
@@ -104,11 +122,48 @@ TestProblem RandomBoxMcp(int n) {
         break;
       default:
         p.lower(i) = -0.3;
-        p.upper(i) = kInf;
+        p.upper(i) = two_sided ? 0.1 : kInf;
         break;
     }
   }
   return p;
+}
+
+// The box MCP's conditions recomputed from F at x, independently of both solvers and of
+// the natural residual: l <= x <= u, F_i > 0 only where x_i = l_i and F_i < 0 only where
+// x_i = u_i. Returns the largest violation
+//   max_i max(l_i - x_i, x_i - u_i, min(x_i - l_i, F_i^+), min(u_i - x_i, F_i^-)).
+double BoxConditionsViolation(ncp::SquareFunction& F, const Vector& lower,
+                              const Vector& upper, const Vector& x) {
+  Vector Fx(x.size());
+  REQUIRE(F.Evaluate(x, &Fx));
+  double worst = 0.0;
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    const double l = lower(i) <= -1e20 ? -kInf : lower(i);
+    const double u = upper(i) >= 1e20 ? kInf : upper(i);
+    worst = std::max({worst, l - x(i), x(i) - u, std::min(x(i) - l, std::max(Fx(i), 0.0)),
+                      std::min(u - x(i), std::max(-Fx(i), 0.0))});
+  }
+  return worst;
+}
+
+// How many two-sided components of a solution x sit at l, at u and strictly between.
+struct TwoSidedCounts {
+  int at_lower = 0, at_upper = 0, between = 0;
+};
+TwoSidedCounts CountTwoSided(const TestProblem& p, const Vector& x) {
+  TwoSidedCounts c;
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    const double l = p.lower(i), u = p.upper(i);
+    if (!(std::isfinite(l) && std::isfinite(u) && l < u)) continue;
+    if (x(i) <= l + 1e-9)
+      ++c.at_lower;
+    else if (x(i) >= u - 1e-9)
+      ++c.at_upper;
+    else
+      ++c.between;
+  }
+  return c;
 }
 
 int Rank() {
@@ -152,6 +207,122 @@ TEST_CASE("random sparse box MCP: the serial iterates on any rank count",
   }
 }
 
+TEST_CASE("random sparse box MCP with two-sided bounds: the serial iterates",
+          "[petsc][mpi]") {
+  const NcpFunction function =
+      GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin,
+               NcpFunction::kPenalizedFischerBurmeister);
+  TestProblem problem = RandomBoxMcp(300, true);
+  Options options;
+  options.ncp_function = function;
+  for (const StartPoint& start : problem.starts) {
+    INFO(problem.name << " (two-sided box) from " << start.label << " with "
+                      << ncp::ToString(function));
+    const Both r = SolveBoth(problem, start.x, options);
+    if (r.serial.termination != TerminationType::kConverged) {
+      // (min from "ones": both stop at max_iterations on the same path.)
+      CheckSameFailure(r);
+      continue;
+    }
+    CheckSameAnswer(problem, r);
+    // The slack form of both: 60 two-sided components, 2 slacks each.
+    CHECK(r.parallel.num_variables == 300 + 2 * 60);
+    CHECK(r.parallel.num_variables == r.serial.num_variables);
+    CHECK(r.parallel.num_equations == r.serial.num_equations);
+    CHECK(BoxConditionsViolation(*problem.F, problem.lower, problem.upper,
+                                 r.x_parallel) <= kNaturalResidual);
+    const TwoSidedCounts c = CountTwoSided(problem, r.x_parallel);
+    INFO("two-sided at l: " << c.at_lower << ", at u: " << c.at_upper
+                            << ", between: " << c.between);
+    CHECK(c.at_lower > 0);
+    CHECK(c.at_upper > 0);
+    CHECK(c.between > 0);
+  }
+}
+
+TEST_CASE("Levenberg-Marquardt directions (regularized_direction): the serial iterates",
+          "[petsc][mpi]") {
+  // Problems and starts where the Newton direction fails the descent test and
+  // (J'J + mu I) d = -J' Phi is taken instead; obstacle-band has two-sided bounds.
+  // Under the prefix symlm_ the Newton systems are symmetrized (solved exactly by the
+  // default LU), so the KSP's matrix is not J and the LM step needs J built apart;
+  // two-sided bounds are refused there and skipped.
+  PetscOptionsSetValue(nullptr, "-symlm_symmetric_newton", "true");
+  const std::string prefix = GENERATE(std::string("ncp_"), std::string("symlm_"));
+  const bool symmetric = prefix == "symlm_";
+  struct Case {
+    TestProblem problem;
+    std::string start;
+    NcpFunction function;
+  };
+  std::vector<Case> cases;
+  cases.push_back({HarkMcp(), "zero", NcpFunction::kFischerBurmeister});
+  cases.push_back({HarkMcp(), "gams", NcpFunction::kPenalizedFischerBurmeister});
+  cases.push_back({Obstacle1D(100, ObstacleKind::kTwoSidedBand), "ceiling",
+                   NcpFunction::kFischerBurmeister});
+  for (Case& c : cases) {
+    const Eigen::Index two_sided =
+        (c.problem.lower.array().isFinite() && c.problem.upper.array().isFinite() &&
+         c.problem.lower.array() < c.problem.upper.array())
+            .count();
+    if (symmetric && two_sided > 0) continue;
+    Options options;
+    options.hybrid = false;
+    options.regularized_direction = true;
+    options.ncp_function = c.function;
+    for (const StartPoint& start : c.problem.starts) {
+      if (start.label != c.start) continue;
+      INFO(c.problem.name << " from " << start.label << " with "
+                          << ncp::ToString(c.function) << " under " << prefix);
+      const Both r = SolveBoth(c.problem, start.x, options, prefix);
+      CHECK(r.symmetric_newton == symmetric);
+      CheckSameAnswer(c.problem, r);
+      CHECK(r.serial.regularized_steps > 0);
+      CHECK(r.parallel.regularized_steps == r.serial.regularized_steps);
+    }
+  }
+}
+
+TEST_CASE("2D two-sided obstacle band: every component split, MUMPS given workspace",
+          "[petsc][mpi]") {
+  // 900 two-sided components, 1800 slacks. The zero entries of the slack rows delay
+  // MUMPS' pivots beyond its workspace estimate (INFOG(1) = -9 at the first Newton
+  // system); the solver factorizes again with a larger ICNTL(14), so no Newton system
+  // fails and the iterates stay the serial ones.
+  TestProblem problem =
+      Obstacle2D(30, ObstacleKind::kTwoSidedBand, ObstacleVariable::kGap);
+  const StartPoint& start = problem.starts.front();
+  REQUIRE(start.label == "zero");
+  const Both r = SolveBoth(problem, start.x, Options());
+  CheckSameAnswer(problem, r);
+  CHECK(r.parallel.num_variables == 3 * 900);
+  CHECK(r.parallel.linear_solver_failures == 0);
+  CHECK(r.serial.linear_solver_failures == 0);
+  CHECK(BoxConditionsViolation(*problem.F, problem.lower, problem.upper, r.x_parallel) <=
+        kNaturalResidual);
+}
+
+TEST_CASE("the hybrid default switches strategy as the serial solver does",
+          "[petsc][mpi]") {
+  // min from "ones" on the two-sided box MCP makes slow progress (gradient steps only)
+  // and is left for penalized FB; the default options (hybrid on) throughout.
+  TestProblem problem = RandomBoxMcp(300, true);
+  Options options;
+  options.ncp_function = NcpFunction::kMin;
+  const Both r = SolveBoth(problem, problem.starts.back().x, options);
+  REQUIRE(problem.starts.back().label == "ones");
+  CheckSameAnswer(problem, r);
+  REQUIRE(r.serial.strategy_switches.size() == 1);
+  REQUIRE(r.parallel.strategy_switches.size() == 1);
+  const ncp::StrategySwitch &a = r.serial.strategy_switches[0],
+                            &b = r.parallel.strategy_switches[0];
+  CHECK(b.iteration == a.iteration);
+  CHECK(b.best_iteration == a.best_iteration);
+  CHECK(b.reason == a.reason);
+  CHECK(b.to_strategy.ncp_function == a.to_strategy.ncp_function);
+  CHECK(std::abs(b.best_psi - a.best_psi) <= 1e-10 * a.best_psi);
+}
+
 TEST_CASE("any KSP from the options database under the solver's prefix", "[petsc][mpi]") {
   // GMRES + block Jacobi solved tightly: the Newton directions agree with the direct
   // solver's to about the KSP tolerance, so the iterates do too.
@@ -168,14 +339,23 @@ TEST_CASE("any KSP from the options database under the solver's prefix", "[petsc
 TEST_CASE("CG + BoomerAMG on the symmetrized Newton system: the serial iterates",
           "[petsc][mpi]") {
   // -cg_ksp_type cg switches the symmetrized system on (KspReport::symmetric_newton).
+  // With the min function it is the reduced-space system F'_II d_I = -Phi_I - F'_IA d_A
+  // (active rows eliminated exactly); the Newton matrix J itself is then never formed,
+  // so the gradient and the backward-error guard come from F' (solver.cpp).
   PetscOptionsSetValue(nullptr, "-cg_ksp_type", "cg");
   PetscOptionsSetValue(nullptr, "-cg_pc_type", "hypre");
   PetscOptionsSetValue(nullptr, "-cg_ksp_rtol", "1e-13");
   PetscOptionsSetValue(nullptr, "-cg_ksp_norm_type", "unpreconditioned");
-  TestProblem problem = Obstacle2D(16, ObstacleKind::kLowerBump, ObstacleVariable::kGap);
+  const NcpFunction function =
+      GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin);
+  const ObstacleVariable variable =
+      GENERATE(ObstacleVariable::kGap, ObstacleVariable::kHeight);
+  TestProblem problem = Obstacle2D(16, ObstacleKind::kLowerBump, variable);
+  Options options;
+  options.ncp_function = function;
   for (const StartPoint& start : problem.starts) {
-    INFO(problem.name << " from " << start.label);
-    CheckSameAnswer(problem, SolveBoth(problem, start.x, Options(), "cg_"));
+    INFO(problem.name << " from " << start.label << " with " << ncp::ToString(function));
+    CheckSameAnswer(problem, SolveBoth(problem, start.x, options, "cg_"));
   }
 }
 
@@ -269,10 +449,27 @@ TEST_CASE("bad input is rejected on every rank with the same message", "[petsc][
     CHECK_THAT(SolveMessage(s, s.F.Problem(s.lower, s.upper)),
                Catch::Contains("start point x[9] = nan is not finite"));
   }
-  SECTION("two finite bounds (not supported yet)") {
-    SmallProblem::Set(s.lower, 1, -1.0);  // component 1 has u = 0.5
+  SECTION("lower > upper on a two-sided component") {
+    SmallProblem::Set(s.lower, 1, 0.75);  // component 1 has u = 0.5
     CHECK_THAT(SolveMessage(s, s.F.Problem(s.lower, s.upper)),
-               Catch::Contains("x[1] has two finite bounds"));
+               Catch::Contains("lower[1] = 0.75 > upper[1] = 0.5"));
+  }
+  SECTION("NaN in a bound of a two-sided component") {
+    SmallProblem::Set(s.lower, 1, -1.0);  // component 1 has u = 0.5
+    SmallProblem::Set(s.lower, 6, std::nan(""));
+    CHECK_THAT(SolveMessage(s, s.F.Problem(s.lower, s.upper)),
+               Catch::Contains("bound[6] is NaN"));
+  }
+  SECTION("two finite bounds with a CG KSP (symmetrized system): refused") {
+    PetscOptionsSetValue(nullptr, "-sym_ksp_type", "cg");
+    SmallProblem::Set(s.lower, 1, -1.0);  // component 1 has u = 0.5
+    ncp::petsc::Solver solver(PETSC_COMM_WORLD, Options(), "sym_");
+    Summary summary;
+    CHECK_THROWS_WITH(
+        solver.Solve(s.F.Problem(s.lower, s.upper), s.x, &summary),
+        Catch::Contains("two-sided bounds (l < u, both finite) at 1 components") &&
+            Catch::Contains("-sym_symmetric_newton false"));
+    PetscOptionsClearValue(nullptr, "-sym_ksp_type");
   }
   SECTION("a Jacobian matrix of another size") {
     Mat wrong = nullptr;
@@ -323,10 +520,6 @@ TEST_CASE("bad input is rejected on every rank with the same message", "[petsc][
 
 TEST_CASE("invalid options are rejected before any work", "[petsc][mpi]") {
   Options options;
-  options.regularized_direction = true;
-  CHECK_THROWS_WITH(ncp::petsc::Solver(PETSC_COMM_WORLD, options),
-                    Catch::Contains("regularized_direction"));
-  options = Options();
   options.linear_solver = ncp::LinearSolverType::kUmfpack;
   CHECK_THROWS_WITH(ncp::petsc::Solver(PETSC_COMM_WORLD, options),
                     Catch::Contains("KSP"));

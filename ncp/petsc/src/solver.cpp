@@ -2,16 +2,28 @@
 // Newton method of De Luca, Facchinei and Kanzow (1996), over distributed PETSc Vec/Mat.
 //
 // The box MCP l <= x <= u perp F(x) is written row by row as the serial solver's mixed
-// form (ncp/src/box_mcp.cpp) without reordering:
+// form (ncp/src/box_mcp.cpp):
 //
-//   free  (l = -inf, u = +inf):  Phi_i = F_i(x)                  J_i = F'_i
-//   fixed (l = u):               Phi_i = x_i - l_i               J_i = e_i'
-//   lower (l finite, u = +inf):  Phi_i = phi(x_i - l_i,  F_i)     J_i = da e_i' + db F'_i
-//   upper (l = -inf, u finite):  Phi_i = phi(u_i - x_i, -F_i)     J_i = -da e_i' - db
-//   F'_i
+//   free  (l = -inf, u = +inf): Phi_i = F_i(x)                J_i = F'_i
+//   fixed (l = u):              Phi_i = x_i - l_i             J_i = e_i'
+//   lower (l finite, u = +inf): Phi_i = phi(x_i - l_i, F_i)   J_i = da e_i' + db F'_i
+//   upper (l = -inf, u finite): Phi_i = phi(u_i - x_i, -F_i)  J_i = -da e_i' - db F'_i
+//   two-sided (l < u finite):   Phi_i = F_i(x) - w_k + v_k    J_i = F'_i - e_w' + e_v'
+//                               Phi_w = phi(x_i - l_i, w_k)   J_w = da e_i' + db e_w'
+//                               Phi_v = phi(u_i - x_i, v_k)   J_v = -da e_i' + db e_v'
 //
-// so the Newton matrix is J = diag(c_F) F' + diag(c_I) with per-row coefficients c_F,
-// c_I, assembled by MatCopy + MatDiagonalScale + MatDiagonalSet on the pattern of F'.
+// with the slack unknowns w_k, v_k (the positive and negative parts of F_i at a solution)
+// of box_mcp.cpp. The unknowns are y = [x; w; v] rank by rank: each rank owns its rows of
+// x followed by the slacks of its two-sided components, so the pair variable of every
+// pair row is the row's own unknown and all rows of a component live on one rank. Without
+// two-sided bounds y is x itself. The Newton matrix is
+//
+//   J = diag(c_F) G + diag(c_I) + (c_A at (w, i) and (v, i))
+//
+// with G = F' (columns renumbered for y, plus the constant -1, +1 of the split rows and 1
+// at (w, w), (v, v)), assembled by MatCopy + MatDiagonalScale + MatDiagonalSet on the
+// pattern of G.
+//
 // Every decision (z-vector rule, descent test, Armijo, restarts, stopping tests) is taken
 // by the functions of ncp/src/globalization.hpp and ncp_function_internal.hpp, the serial
 // solver's own, from norms and dot products reduced over the communicator: every rank
@@ -31,6 +43,7 @@
 
 #include "globalization.hpp"
 #include "ncp_function_internal.hpp"
+#include "strategy.hpp"
 
 namespace ncp::petsc {
 namespace {
@@ -79,6 +92,11 @@ class OwnedVec {
   OwnedVec(const OwnedVec&) = delete;
   OwnedVec& operator=(const OwnedVec&) = delete;
   void DuplicateOf(Vec layout) { NCP_PETSC_CHECK(VecDuplicate(layout, &v_)); }
+  void Create(MPI_Comm comm, PetscInt local_size) {
+    NCP_PETSC_CHECK(VecCreate(comm, &v_));
+    NCP_PETSC_CHECK(VecSetSizes(v_, local_size, PETSC_DETERMINE));
+    NCP_PETSC_CHECK(VecSetType(v_, VECSTANDARD));
+  }
   operator Vec() const { return v_; }
   void Swap(OwnedVec& other) { std::swap(v_, other.v_); }
 
@@ -185,13 +203,196 @@ void DestroyMat(Mat* M) {
   *M = nullptr;
 }
 
-// The kind of row i of the mixed form (file comment).
-enum class Row : char { kFree, kFixed, kLower, kUpper };
+// The kind of row r of the mixed form (file comment): kSplit is the equation F_i - w + v
+// of a two-sided component, kLowerSlack / kUpperSlack its pairs (x_i - l_i, w) and
+// (u_i - x_i, v).
+enum class Row : char { kFree, kFixed, kLower, kUpper, kSplit, kLowerSlack, kUpperSlack };
+
+bool IsSlackRow(Row row) { return row == Row::kLowerSlack || row == Row::kUpperSlack; }
 
 double NormalizeBound(double bound, double infinite_bound) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   return bound >= infinite_bound ? kInf : bound <= -infinite_bound ? -kInf : bound;
 }
+
+// The first lower.size() local entries x of v <- mid(l, u, x), the projection onto the
+// box; returns how many moved on this rank and (in *largest) by how much at most.
+long long ProjectOntoBox(const std::vector<double>& lower,
+                         const std::vector<double>& upper, Vec v,
+                         double* largest = nullptr) {
+  long long moved = 0;
+  double most = 0.0;
+  LocalWrite a(v);
+  for (size_t i = 0; i < lower.size(); ++i) {
+    const auto ii = static_cast<PetscInt>(i);
+    const double value = PetscRealPart(a[ii]);
+    const double projected = std::max(lower[i], std::min(upper[i], value));
+    if (projected == value) continue;
+    ++moved;
+    most = std::max(most, std::abs(projected - value));
+    a[ii] = projected;
+  }
+  if (largest) *largest = most;
+  return moved;
+}
+
+// The rows of the mixed form owned by this rank, in the order of its unknowns y: its
+// `components` rows of x, then the slacks w of its two-sided components, then their v.
+struct MixedLayout {
+  std::vector<Row> rows;  // kind of row r of y and of Phi
+  // kSplit: its slack k; kLowerSlack, kUpperSlack: its component i; otherwise r itself.
+  std::vector<PetscInt> link;
+  std::vector<double> lower, upper;  // bounds of the rank's components, normalized
+  PetscInt components = 0, slacks = 0;
+  PetscInt total_slacks = 0;  // over all ranks
+
+  // The rows of components with the (normalized) bounds lower, upper.
+  MixedLayout(MPI_Comm comm, std::vector<double> lower_bounds,
+              std::vector<double> upper_bounds)
+      : lower(std::move(lower_bounds)), upper(std::move(upper_bounds)) {
+    components = static_cast<PetscInt>(lower.size());
+    std::vector<PetscInt> two_sided;
+    for (PetscInt i = 0; i < components; ++i) {
+      const auto ii = static_cast<size_t>(i);
+      const bool lo = std::isfinite(lower[ii]), up = std::isfinite(upper[ii]);
+      Row row = !lo && !up ? Row::kFree
+                : lo && up ? (lower[ii] == upper[ii] ? Row::kFixed : Row::kSplit)
+                : lo       ? Row::kLower
+                           : Row::kUpper;
+      rows.push_back(row);
+      link.push_back(row == Row::kSplit ? static_cast<PetscInt>(two_sided.size()) : i);
+      if (row == Row::kSplit) two_sided.push_back(i);
+    }
+    slacks = static_cast<PetscInt>(two_sided.size());
+    for (Row slack_row : {Row::kLowerSlack, Row::kUpperSlack})
+      for (PetscInt i : two_sided) {
+        rows.push_back(slack_row);
+        link.push_back(i);
+      }
+    total_slacks = static_cast<PetscInt>(SumRanks(comm, slacks));
+  }
+
+  PetscInt LocalRows() const { return components + 2 * slacks; }
+  Row row(PetscInt r) const { return rows[static_cast<size_t>(r)]; }
+  PetscInt Link(PetscInt r) const { return link[static_cast<size_t>(r)]; }
+  PetscInt WRow(PetscInt k) const { return components + k; }
+  PetscInt VRow(PetscInt k) const { return components + slacks + k; }
+  // The unknown of the A side of row r (x_i - l_i or u_i - x_i): r, or the component of a
+  // slack row.
+  PetscInt AColumn(PetscInt r) const { return IsSlackRow(row(r)) ? Link(r) : r; }
+};
+
+// G of the file comment for a layout with slacks: F' with its columns renumbered from x
+// to y, the split rows' -1 at w and +1 at v, 1 at (w, w) and (v, v), and zeros at (w, i),
+// (v, i) and on a diagonal F' lacks (the positions J needs). Refresh copies the values of
+// F' into it; the rest is constant.
+class SlackMatrix {
+ public:
+  ~SlackMatrix() { DestroyMat(&G_); }
+  Mat matrix() const { return G_; }
+  void Clear() { DestroyMat(&G_); }
+
+  void Build(MPI_Comm comm, Mat F, const MixedLayout& layout) {
+    DestroyMat(&G_);
+    int size = 0;
+    MPI_Comm_size(comm, &size);
+    const PetscInt* x_ranges = nullptr;  // size + 1 entries
+    NCP_PETSC_CHECK(MatGetOwnershipRangesColumn(F, &x_ranges));
+    PetscInt local_y = layout.LocalRows();
+    std::vector<PetscInt> y_ranges(static_cast<size_t>(size) + 1, 0);
+    MPI_Allgather(&local_y, 1, MPIU_INT, y_ranges.data() + 1, 1, MPIU_INT, comm);
+    for (size_t p = 1; p < y_ranges.size(); ++p) y_ranges[p] += y_ranges[p - 1];
+    auto to_y = [&](PetscInt j) {  // column j of x -> column of y (same owner)
+      const auto p = std::upper_bound(x_ranges, x_ranges + size + 1, j) - x_ranges - 1;
+      return y_ranges[static_cast<size_t>(p)] + (j - x_ranges[p]);
+    };
+    PetscInt first_x = 0, last_x = 0;
+    NCP_PETSC_CHECK(MatGetOwnershipRange(F, &first_x, &last_x));
+    int rank = 0;
+    MPI_Comm_rank(comm, &rank);
+    first_y_ = y_ranges[static_cast<size_t>(rank)];
+    const PetscInt last_y = first_y_ + local_y;
+
+    // Columns of F''s rows in y and the preallocation of every row of G.
+    row_start_.assign(1, 0);
+    columns_.clear();
+    has_diagonal_.clear();
+    std::vector<PetscInt> diagonal(static_cast<size_t>(local_y), 0),
+        off_diagonal(static_cast<size_t>(local_y), 0);
+    for (PetscInt r = 0; r < layout.components; ++r) {
+      PetscInt count = 0;
+      const PetscInt* cols = nullptr;
+      NCP_PETSC_CHECK(MatGetRow(F, first_x + r, &count, &cols, nullptr));
+      bool diagonal_present = false;
+      for (PetscInt e = 0; e < count; ++e) {
+        const PetscInt c = to_y(cols[e]);
+        columns_.push_back(c);
+        diagonal_present = diagonal_present || c == first_y_ + r;
+        ++(c >= first_y_ && c < last_y ? diagonal : off_diagonal)[static_cast<size_t>(r)];
+      }
+      NCP_PETSC_CHECK(MatRestoreRow(F, first_x + r, &count, &cols, nullptr));
+      row_start_.push_back(static_cast<PetscInt>(columns_.size()));
+      has_diagonal_.push_back(diagonal_present);
+      diagonal[static_cast<size_t>(r)] +=
+          (diagonal_present ? 0 : 1) + (layout.row(r) == Row::kSplit ? 2 : 0);
+    }
+    for (PetscInt r = layout.components; r < local_y; ++r)
+      diagonal[static_cast<size_t>(r)] = 2;
+    const PetscInt total = y_ranges.back();
+    NCP_PETSC_CHECK(MatCreateAIJ(comm, local_y, local_y, total, total, 0, diagonal.data(),
+                                 0, off_diagonal.data(), &G_));
+    NCP_PETSC_CHECK(MatSetOption(G_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+
+    // The constant entries; F''s are set by Refresh.
+    for (PetscInt r = 0; r < local_y; ++r) {
+      const PetscInt row = first_y_ + r;
+      if (r < layout.components && !has_diagonal_[static_cast<size_t>(r)])
+        Set(row, row, 0.0);
+      if (layout.row(r) == Row::kSplit) {
+        Set(row, first_y_ + layout.WRow(layout.Link(r)), -1.0);
+        Set(row, first_y_ + layout.VRow(layout.Link(r)), 1.0);
+      }
+      if (IsSlackRow(layout.row(r))) {
+        Set(row, first_y_ + layout.Link(r), 0.0);
+        Set(row, row, 1.0);
+      }
+    }
+    Refresh(F, layout);
+  }
+
+  // The values of F' (same pattern as at Build) into G.
+  void Refresh(Mat F, const MixedLayout& layout) {
+    PetscInt first_x = 0, last_x = 0;
+    NCP_PETSC_CHECK(MatGetOwnershipRange(F, &first_x, &last_x));
+    for (PetscInt r = 0; r < layout.components; ++r) {
+      PetscInt count = 0;
+      const PetscScalar* values = nullptr;
+      NCP_PETSC_CHECK(MatGetRow(F, first_x + r, &count, nullptr, &values));
+      const auto start = static_cast<size_t>(row_start_[static_cast<size_t>(r)]);
+      const PetscInt row = first_y_ + r;
+      if (count !=
+          row_start_[static_cast<size_t>(r) + 1] - row_start_[static_cast<size_t>(r)])
+        throw std::runtime_error(
+            "ncp::petsc::Solver: the Jacobian matrix changed its pattern without "
+            "changing its nonzero state");
+      NCP_PETSC_CHECK(MatSetValues(G_, 1, &row, count, columns_.data() + start, values,
+                                   INSERT_VALUES));
+      NCP_PETSC_CHECK(MatRestoreRow(F, first_x + r, &count, nullptr, &values));
+    }
+    NCP_PETSC_CHECK(MatAssemblyBegin(G_, MAT_FINAL_ASSEMBLY));
+    NCP_PETSC_CHECK(MatAssemblyEnd(G_, MAT_FINAL_ASSEMBLY));
+  }
+
+ private:
+  void Set(PetscInt row, PetscInt col, double value) {
+    NCP_PETSC_CHECK(MatSetValue(G_, row, col, value, INSERT_VALUES));
+  }
+
+  Mat G_ = nullptr;
+  PetscInt first_y_ = 0;
+  std::vector<PetscInt> row_start_, columns_;  // F''s local rows: their columns in y
+  std::vector<bool> has_diagonal_;
+};
 
 }  // namespace
 
@@ -206,38 +407,68 @@ struct Solver::Impl {
   KSP ksp = nullptr;
   bool ksp_configured = false;
   KspReport report;
-  // J = diag(c_F) F' + diag(c_I) on the pattern of F' (plus its diagonal), built for the
-  // user's matrix `source` in the nonzero state `source_state`.
+  // The KSP's operator on the pattern of G (plus its diagonal; G = F' without slacks),
+  // built for the user's matrix `source` in the nonzero state `source_state`: J of the
+  // file comment, or with symmetric_newton the reduced symmetric system
+  // (Iteration::Symmetrize: rows with c_F != 0 divided by c_F, the others eliminated;
+  // KspReport::symmetric_newton). Products with J itself (gradient, backward error) are
+  // formed from G and c_F, c_I (Iteration::MultNewton), so the symmetric mode keeps a
+  // second matrix only for the LM direction (lm_jacobian).
   Mat newton = nullptr;
   Mat source = nullptr;
   PetscObjectState source_state = -1;
-  bool same_pattern = true;  // J's pattern is F''s (no diagonal entry was added)
-  Mat abs_source = nullptr,
-      abs_newton = nullptr;  // |F'|, |J| (round-off floor, backward error)
-  // The symmetrized Newton system (symmetric_newton): rows with c_F != 0 divided by c_F,
-  // the others eliminated (KspReport::symmetric_newton).
+  bool same_pattern = true;  // the operator's pattern is F''s (no diagonal entry added)
+  Mat abs_source = nullptr;  // |G| (round-off floor, backward error)
   bool symmetric_newton = false;
-  Mat symmetric = nullptr;
+  // With two-sided bounds: G of the file comment for the layout `layout_rows`.
+  SlackMatrix slack;
+  std::vector<Row> layout_rows;
+  // The Levenberg-Marquardt system J'J + mu I (Options::regularized_direction and the
+  // hybrid's "+lm" strategies) and its own KSP, options prefix <prefix>lm_.
+  // With symmetric_newton J is not `newton`: lm_jacobian holds it, built on demand.
+  KSP lm_ksp = nullptr;
+  Mat normal = nullptr, lm_jacobian = nullptr;
+  // MUMPS' ICNTL(14) after a factorization ran out of workspace (KspSolve), 0: default.
+  int newton_workspace_percent = 0, lm_workspace_percent = 0;
 
   ~Impl() {
     DestroyMat(&newton);
-    DestroyMat(&symmetric);
     DestroyMat(&abs_source);
-    DestroyMat(&abs_newton);
+    DestroyMat(&normal);
+    DestroyMat(&lm_jacobian);
     if (ksp) KSPDestroy(&ksp);
+    if (lm_ksp) KSPDestroy(&lm_ksp);
   }
 
-  // J's structure for the matrix F' (again when F' is another matrix or changed pattern).
-  // Returns true when J was (re)built.
-  bool PrepareNewtonMatrix(Mat F) {
+  // N = J'J + mu I for the J of the current iterate (the matrix J), on lm_ksp; the
+  // product's structure is kept while J's is.
+  void PrepareNormalMatrix(Mat J, double mu) {
+    NCP_PETSC_CHECK(MatTransposeMatMult(
+        J, J, normal ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, PETSC_DEFAULT, &normal));
+    NCP_PETSC_CHECK(MatShift(normal, mu));
+    NCP_PETSC_CHECK(KSPSetOperators(lm_ksp, normal, normal));
+  }
+
+  // The matrix G of the file comment: F' itself without slacks.
+  Mat SourceMatrix(Mat F) const { return slack.matrix() ? slack.matrix() : F; }
+
+  // J's structure for the matrix F' and the layout (again when F' is another matrix or
+  // changed pattern, or the bounds another layout). Returns true when J was (re)built.
+  bool PrepareNewtonMatrix(Mat F, const MixedLayout& layout) {
     PetscObjectState state = 0;
     NCP_PETSC_CHECK(MatGetNonzeroState(F, &state));
-    if (newton && source == F && state == source_state) return false;
+    const bool same_layout = !AnyRank(comm, layout.rows != layout_rows);
+    if (newton && source == F && state == source_state && same_layout) return false;
     DestroyMat(&newton);
-    DestroyMat(&symmetric);
     DestroyMat(&abs_source);
-    DestroyMat(&abs_newton);
-    NCP_PETSC_CHECK(MatDuplicate(F, MAT_COPY_VALUES, &newton));
+    DestroyMat(&normal);
+    DestroyMat(&lm_jacobian);
+    layout_rows = layout.rows;
+    if (layout.total_slacks > 0)
+      slack.Build(comm, F, layout);
+    else
+      slack.Clear();
+    NCP_PETSC_CHECK(MatDuplicate(SourceMatrix(F), MAT_COPY_VALUES, &newton));
     PetscBool missing = PETSC_FALSE;
     PetscInt row = 0;
     NCP_PETSC_CHECK(MatMissingDiagonal(newton, &missing, &row));
@@ -252,14 +483,11 @@ struct Solver::Impl {
     }
     source = F;
     source_state = state;
-    if (symmetric_newton) {
-      NCP_PETSC_CHECK(MatDuplicate(newton, MAT_DO_NOT_COPY_VALUES, &symmetric));
-      NCP_PETSC_CHECK(MatSetOption(symmetric, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
-      NCP_PETSC_CHECK(
-          MatSetOption(symmetric, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
+    if (symmetric_newton) {  // MatZeroRowsColumns keeps the pattern for the next MatCopy
+      NCP_PETSC_CHECK(MatSetOption(newton, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
+      NCP_PETSC_CHECK(MatSetOption(newton, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
     }
-    Mat op = symmetric_newton ? symmetric : newton;
-    NCP_PETSC_CHECK(KSPSetOperators(ksp, op, op));
+    NCP_PETSC_CHECK(KSPSetOperators(ksp, newton, newton));
     return true;
   }
 
@@ -269,6 +497,7 @@ struct Solver::Impl {
   void Configure() {
     if (ksp_configured) return;
     NCP_PETSC_CHECK(KSPSetFromOptions(ksp));
+    NCP_PETSC_CHECK(KSPSetFromOptions(lm_ksp));
     PC pc = nullptr;
     NCP_PETSC_CHECK(KSPGetPC(ksp, &pc));
     PetscBool symmetric_ksp = PETSC_FALSE, symmetric_pc = PETSC_FALSE;
@@ -386,21 +615,28 @@ void CheckBoundsAndStart(MPI_Comm comm, PetscInt first, const std::vector<double
 class Iteration {
  public:
   Iteration(Solver::Impl& impl, const BoxMcp& problem, Vec x, Summary& summary,
-            std::vector<Row> rows, std::vector<double> lower, std::vector<double> upper,
-            PetscInt n)
+            const MixedLayout& layout)
       : impl_(impl),
         o_(impl.options),
         comm_(impl.comm),
         p_(problem),
         x_(x),
         s_(summary),
-        rows_(std::move(rows)),
-        lower_(std::move(lower)),
-        upper_(std::move(upper)),
-        local_(static_cast<PetscInt>(rows_.size())),
-        n_(n) {}
+        layout_(layout),
+        lower_(layout.lower),
+        upper_(layout.upper),
+        local_(layout.LocalRows()) {}
 
+  enum class Direction { kNewton, kRegularized, kGradient };
+
+  // The solve; x holds the x part of the last iterate afterwards.
   void Run() {
+    RunIterations();
+    if (layout_.total_slacks > 0) CopyXPart(y_, x_);
+  }
+
+ private:
+  void RunIterations() {
     if (!Start()) return;
     for (int k = 0;;) {
       phi_inf_ = NormInf(phi_);
@@ -415,38 +651,62 @@ class Iteration {
         converged_ = roundoff_limited_ = WithinRoundoffFloor();
       if (!Report(k)) return;
       if (TestStop(k)) {
-        if (Restart(k)) continue;
+        if (Restart(k) || SwitchStrategy(k, SwitchReason::kStuck)) continue;
         return;
       }
-      const bool gradient = ChooseDirection(k);
-      if (finished_) return;
-      if (!LineSearch(k, gradient)) {
-        if (Restart(k)) continue;
+      if (LeaveStrategy(k)) continue;
+      const Direction direction = ChooseDirection(k);
+      if (finished_) {
+        if (SwitchStrategy(k, SwitchReason::kStuck)) continue;
         return;
       }
-      Accept(gradient);
+      if (!LineSearch(k, direction)) {
+        if (Restart(k) || SwitchStrategy(k, SwitchReason::kStuck)) continue;
+        return;
+      }
+      Accept(direction);
       ++k;
     }
   }
 
- private:
   // ---- Start: work vectors, Phi(x^0)
   // -----------------------------------------------------
   bool Start() {
     start_ = Clock::now();
     InitializeSummary();
-    for (OwnedVec* v : {&f_, &f_trial_, &phi_, &phi_trial_, &grad_, &d_, &x_trial_, &c_f_,
-                        &c_i_, &z_, &f_z_, &work_, &work2_, &fixed_values_})
-      v->DuplicateOf(x_);
+    for (OwnedVec* v : {&f_, &f_trial_, &x_part_}) v->DuplicateOf(x_);
+    y_ = x_;
+    if (layout_.total_slacks > 0) {
+      y_owned_.Create(comm_, local_);
+      y_ = y_owned_;
+    }
+    for (OwnedVec* v : {&phi_, &phi_trial_, &grad_, &d_, &x_trial_, &c_f_, &c_i_, &z_,
+                        &f_z_, &work_, &work2_, &fixed_values_, &diag_g_})
+      v->DuplicateOf(y_);
     impl_.Configure();
-    const bool new_matrix = impl_.PrepareNewtonMatrix(p_.jacobian_matrix);
+    const bool new_matrix = impl_.PrepareNewtonMatrix(p_.jacobian_matrix, layout_);
+    G_ = impl_.SourceMatrix(p_.jacobian_matrix);
     s_.symbolic_factorizations = new_matrix ? 1 : 0;
     impl_.DescribeKsp();
     function_ = o_.ncp_function;
     restarts_left_ = o_.merit_restarts;
     first_k_ = 0;
+    regularized_ = o_.regularized_direction;
+    strategy_start_ = 0;
+    schedule_.Reset(o_);
+    progress_.ResetRecord(o_, s_.num_variables);
+    if (o_.hybrid) best_y_.DuplicateOf(y_);
     impl_.report.linear_iterations = 0;
-    if (!Evaluate(x_, f_, phi_)) {
+    if (layout_.total_slacks > 0) {
+      CopyXPart(x_, y_);
+      if (!SetSlacks(y_)) {
+        NCP_PETSC_CHECK(VecSet(phi_, std::numeric_limits<double>::quiet_NaN()));
+        Finish(TerminationType::kEvaluationFailure,
+               "F cannot be evaluated (or is not finite) at the start point");
+        return false;
+      }
+    }
+    if (!Evaluate(y_, f_, phi_)) {
       NCP_PETSC_CHECK(VecSet(phi_, std::numeric_limits<double>::quiet_NaN()));
       Finish(TerminationType::kEvaluationFailure,
              "the problem cannot be evaluated at the start point");
@@ -467,9 +727,10 @@ class Iteration {
 
   void InitializeSummary() {
     s_ = Summary();
-    s_.num_variables = static_cast<int>(n_);
+    s_.num_variables = static_cast<int>(SumRanks(comm_, local_));
     long long equations = 0;
-    for (Row r : rows_) equations += r == Row::kFree || r == Row::kFixed;
+    for (Row r : layout_.rows)
+      equations += r == Row::kFree || r == Row::kFixed || r == Row::kSplit;
     s_.num_equations = static_cast<int>(SumRanks(comm_, equations));
     s_.num_pairs = s_.num_variables - s_.num_equations;
     s_.ncp_function = o_.ncp_function;
@@ -488,29 +749,56 @@ class Iteration {
   bool Evaluate(Vec point, Vec f, Vec phi) {
     ++s_.residual_evaluations;
     const auto t0 = Clock::now();
-    const PetscErrorCode code = p_.residual(point, f);
+    const PetscErrorCode code = p_.residual(XPart(point), f);
     s_.evaluation_time_s += Seconds(t0);
     if (AnyRank(comm_, code != 0)) return false;
-    LocalRead xa(point), fa(f);
+    LocalRead ya(point), fa(f);
     LocalWrite out(phi);
-    for (PetscInt i = 0; i < local_; ++i) {
-      const auto ii = static_cast<size_t>(i);
-      switch (rows_[ii]) {
-        case Row::kFree:
-          out[i] = fa[i];
-          break;
-        case Row::kFixed:
-          out[i] = xa[i] - lower_[ii];
-          break;
-        case Row::kLower:
-          out[i] = internal::PhiValue(function_, o_.penalized_fb_lambda,
-                                      xa[i] - lower_[ii], fa[i]);
-          break;
-        case Row::kUpper:
-          out[i] = internal::PhiValue(function_, o_.penalized_fb_lambda,
-                                      upper_[ii] - xa[i], -fa[i]);
-          break;
+    for (PetscInt r = 0; r < local_; ++r) {
+      const auto rr = static_cast<size_t>(r);
+      double a = 0.0, b = 0.0;
+      if (PairValues(r, ya, fa, &a, &b)) {
+        out[r] = internal::PhiValue(function_, o_.penalized_fb_lambda, a, b);
+        continue;
       }
+      const Row row = layout_.row(r);
+      if (row == Row::kFree) out[r] = fa[r];
+      if (row == Row::kFixed) out[r] = ya[r] - lower_[rr];
+      if (row == Row::kSplit) {
+        const PetscInt k = layout_.Link(r);
+        out[r] = fa[r] - ya[layout_.WRow(k)] + ya[layout_.VRow(k)];
+      }
+    }
+    return true;
+  }
+
+  // The x part of the unknowns y (y itself without slacks; else a copy in x_part_).
+  Vec XPart(Vec y) {
+    if (layout_.total_slacks == 0) return y;
+    CopyXPart(y, x_part_);
+    return x_part_;
+  }
+  // The local x entries from one layout to the other (y -> x or x -> y).
+  void CopyXPart(Vec from, Vec to) {
+    LocalRead a(from);
+    LocalWrite b(to);
+    for (PetscInt i = 0; i < layout_.components; ++i) b[i] = a[i];
+  }
+
+  // The slacks of y from F at its x part: w = max(F_i, 0), v = max(-F_i, 0)
+  // (box_mcp.cpp's InitialSlacks, an evaluation not counted in the Summary); false when F
+  // cannot be evaluated or is not finite there.
+  bool SetSlacks(Vec y) {
+    if (AnyRank(comm_, p_.residual(XPart(y), f_trial_) != 0) ||
+        !AllFinite(comm_, f_trial_))
+      return false;
+    LocalRead fa(f_trial_);
+    LocalWrite ya(y);
+    for (PetscInt r = 0; r < layout_.components; ++r) {
+      if (layout_.row(r) != Row::kSplit) continue;
+      const PetscInt k = layout_.Link(r);
+      ya[layout_.WRow(k)] = std::max(fa[r], 0.0);
+      ya[layout_.VRow(k)] = std::max(-fa[r], 0.0);
     }
     return true;
   }
@@ -520,7 +808,7 @@ class Iteration {
   bool EvaluateJacobian(int k) {
     ++s_.jacobian_evaluations;
     const auto t0 = Clock::now();
-    jacobian_ok_ = !AnyRank(comm_, p_.jacobian(x_, p_.jacobian_matrix) != 0);
+    jacobian_ok_ = !AnyRank(comm_, p_.jacobian(XPart(y_), p_.jacobian_matrix) != 0);
     s_.evaluation_time_s += Seconds(t0);
     if (!jacobian_ok_) return true;
     bool finite = true;
@@ -532,96 +820,185 @@ class Iteration {
              "the Jacobian has NaN or Inf entries at iteration " + std::to_string(k));
       return false;
     }
+    if (layout_.total_slacks > 0) impl_.slack.Refresh(p_.jacobian_matrix, layout_);
+    abs_source_current_ = false;
+    GDiagonalAtA();
     PhiPartials();
-    FillNewtonMatrix();
-    NCP_PETSC_CHECK(MatMultTranspose(impl_.newton, phi_, grad_));  // grad psi = J' Phi
+    if (!impl_.symmetric_newton) FillNewtonMatrix(impl_.newton);  // else by Symmetrize
+    // grad psi = J' Phi = G' (c_F Phi) + c_I,r Phi_r added at y_AColumn(r)
+    NCP_PETSC_CHECK(VecPointwiseMult(work_, c_f_, phi_));
+    NCP_PETSC_CHECK(MatMultTranspose(G_, work_, grad_));
+    {
+      LocalRead c_i(c_i_), phi(phi_);
+      LocalWrite grad(grad_);
+      for (PetscInt r = 0; r < local_; ++r)
+        grad[layout_.AColumn(r)] += c_i[r] * PetscRealPart(phi[r]);
+    }
     return true;
   }
 
-  // c_F, c_I of every row: the partials (da, db) of phi at (A_i, B_i), the z-vector rule
-  // on the degenerate set (z = 1 at the variable of every degenerate pair; DFK 1996, eq.
-  // 27): za = A' z = +-z_i, zb = B' z = +-(F' z)_i.
+  // diag_g_ = G_{r, AColumn(r)}: the diagonal of G (of F') on the rows of x, 0 on the
+  // slack rows (G's stored zeros at (w, i) and (v, i)).
+  void GDiagonalAtA() {
+    NCP_PETSC_CHECK(MatGetDiagonal(G_, diag_g_));
+    LocalWrite diag(diag_g_);
+    for (PetscInt r = layout_.components; r < local_; ++r) diag[r] = 0.0;
+  }
+
+  // c_F, c_I of every row (c_I: the coefficient of the A side, c_A of the file comment on
+  // a slack row): the partials (da, db) of phi at (A_r, B_r) with the signs of A and B,
+  // the z-vector rule on the degenerate set (z = 1 at the variable of every degenerate
+  // pair, the row's own unknown; DFK 1996, eq. 27): za = A' z = +-z_AColumn(r),
+  // zb = B' z = +-(G z)_r.
   void PhiPartials() {
     long long degenerate = 0;
     {
-      LocalRead xa(x_), fa(f_);
+      LocalRead ya(y_), fa(f_);
       LocalWrite z(z_);
-      for (PetscInt i = 0; i < local_; ++i) {
-        z[i] = 0.0;
+      for (PetscInt r = 0; r < local_; ++r) {
+        z[r] = 0.0;
         double a = 0.0, b = 0.0;
-        if (!PairValues(i, xa, fa, &a, &b)) continue;
+        if (!PairValues(r, ya, fa, &a, &b)) continue;
         if (internal::InDegenerateSet(function_, o_.degenerate_tolerance, a, b)) {
-          z[i] = 1.0;
+          z[r] = 1.0;
           ++degenerate;
         }
       }
     }
     degenerate_count_ = static_cast<int>(SumRanks(comm_, degenerate));
-    if (degenerate_count_ > 0) NCP_PETSC_CHECK(MatMult(p_.jacobian_matrix, z_, f_z_));
-    LocalRead xa(x_), fa(f_), z(z_);
+    if (degenerate_count_ > 0) NCP_PETSC_CHECK(MatMult(G_, z_, f_z_));
+    LocalRead ya(y_), fa(f_), z(z_);
     std::unique_ptr<LocalRead> fz(degenerate_count_ > 0 ? new LocalRead(f_z_) : nullptr);
     LocalWrite c_f(c_f_), c_i(c_i_);
-    for (PetscInt i = 0; i < local_; ++i) {
-      const Row row = rows_[static_cast<size_t>(i)];
+    for (PetscInt r = 0; r < local_; ++r) {
+      const Row row = layout_.row(r);
       double a = 0.0, b = 0.0;
-      if (!PairValues(i, xa, fa, &a, &b)) {
-        c_f[i] = row == Row::kFree ? 1.0 : 0.0;
-        c_i[i] = row == Row::kFixed ? 1.0 : 0.0;
+      if (!PairValues(r, ya, fa, &a, &b)) {
+        c_f[r] = row == Row::kFixed ? 0.0 : 1.0;
+        c_i[r] = row == Row::kFixed ? 1.0 : 0.0;
         continue;
       }
-      const double sign = row == Row::kLower ? 1.0 : -1.0;  // A = +-(x - bound), B = +-F
-      const bool gamma = z[i] == 1.0;
-      const internal::PhiPartials dp = internal::PhiDerivatives(
-          function_, o_.penalized_fb_lambda, a, b, gamma, gamma ? sign * z[i] : 0.0,
-          gamma ? sign * (*fz)[i] : 0.0, o_.min_tie_takes_b);
-      c_i[i] = sign * dp.da;
-      c_f[i] = sign * dp.db;
+      // A = +-(x_i - bound), B = +-F_i or the slack.
+      const double sign_a = row == Row::kLower || row == Row::kLowerSlack ? 1.0 : -1.0;
+      const double sign_b = row == Row::kUpper ? -1.0 : 1.0;
+      const bool gamma = z[r] == 1.0;
+      const internal::PhiPartials dp =
+          internal::PhiDerivatives(function_, o_.penalized_fb_lambda, a, b, gamma,
+                                   gamma ? sign_a * z[layout_.AColumn(r)] : 0.0,
+                                   gamma ? sign_b * (*fz)[r] : 0.0, o_.min_tie_takes_b);
+      c_i[r] = sign_a * dp.da;
+      c_f[r] = sign_b * dp.db;
     }
   }
 
-  // (A_i, B_i) of a pair row; false for an equation row.
-  bool PairValues(PetscInt i, const LocalRead& xa, const LocalRead& fa, double* a,
+  // (A_r, B_r) of a pair row; false for an equation row.
+  bool PairValues(PetscInt r, const LocalRead& ya, const LocalRead& fa, double* a,
                   double* b) const {
+    const PetscInt i = layout_.AColumn(r);  // the component
     const auto ii = static_cast<size_t>(i);
-    if (rows_[ii] == Row::kLower) {
-      *a = xa[i] - lower_[ii];
-      *b = fa[i];
-      return true;
+    switch (layout_.row(r)) {
+      case Row::kLower:
+        *a = ya[i] - lower_[ii];
+        *b = fa[i];
+        return true;
+      case Row::kUpper:
+        *a = upper_[ii] - ya[i];
+        *b = -fa[i];
+        return true;
+      case Row::kLowerSlack:
+        *a = ya[i] - lower_[ii];
+        *b = ya[r];
+        return true;
+      case Row::kUpperSlack:
+        *a = upper_[ii] - ya[i];
+        *b = ya[r];
+        return true;
+      default:
+        return false;
     }
-    if (rows_[ii] == Row::kUpper) {
-      *a = upper_[ii] - xa[i];
-      *b = -fa[i];
-      return true;
-    }
-    return false;
   }
 
-  // J = diag(c_F) F' + diag(c_I).
-  void FillNewtonMatrix() {
-    Mat J = impl_.newton;
-    NCP_PETSC_CHECK(
-        MatCopy(p_.jacobian_matrix, J,
-                impl_.same_pattern ? SAME_NONZERO_PATTERN : DIFFERENT_NONZERO_PATTERN));
+  // out = J v: out_r = c_F,r (G v)_r + c_I,r v_a with a = AColumn(r) (r itself on the
+  // rows of x; FillNewtonMatrix's J without forming it; v and out distinct).
+  void MultNewton(Vec v, Vec out) {
+    NCP_PETSC_CHECK(MatMult(G_, v, out));
+    LocalRead vv(v), c_f(c_f_), c_i(c_i_);
+    LocalWrite o(out);
+    for (PetscInt r = 0; r < local_; ++r)
+      o[r] =
+          c_f[r] * PetscRealPart(o[r]) + c_i[r] * PetscRealPart(vv[layout_.AColumn(r)]);
+  }
+
+  // out = |J| |v|: row r of J is c_F,r G_r plus c_I,r at a = AColumn(r), so
+  // out_r = |c_F,r| (|G||v|)_r + (|c_F,r G_ra + c_I,r| - |c_F,r G_ra|) |v_a| with
+  // G_ra = diag_g_ (v and out distinct, neither work2_).
+  void MultAbsNewton(Vec v, Vec out) {
+    UpdateAbsoluteSource();
+    NCP_PETSC_CHECK(VecCopy(v, work2_));
+    NCP_PETSC_CHECK(VecAbs(work2_));
+    NCP_PETSC_CHECK(MatMult(impl_.abs_source, work2_, out));
+    LocalRead abs_v(work2_), c_f(c_f_), c_i(c_i_), diag(diag_g_);
+    LocalWrite o(out);
+    for (PetscInt r = 0; r < local_; ++r) {
+      const double cfd = c_f[r] * diag[r];
+      o[r] = std::abs(c_f[r]) * PetscRealPart(o[r]) +
+             (std::abs(cfd + c_i[r]) - std::abs(cfd)) * abs_v[layout_.AColumn(r)];
+    }
+  }
+
+  // |G| for the Jacobian of this iterate (once per Jacobian evaluation).
+  void UpdateAbsoluteSource() {
+    if (abs_source_current_) return;
+    AbsoluteCopy(G_, &impl_.abs_source);
+    abs_source_current_ = true;
+  }
+
+  // J = diag(c_F) G + diag(c_I) on the rows of x, c_I at (r, AColumn(r)) on slack rows,
+  // into the matrix J (impl_.newton or impl_.lm_jacobian, both on newton's pattern).
+  void FillNewtonMatrix(Mat J) {
+    NCP_PETSC_CHECK(MatCopy(
+        G_, J, impl_.same_pattern ? SAME_NONZERO_PATTERN : DIFFERENT_NONZERO_PATTERN));
     NCP_PETSC_CHECK(MatDiagonalScale(J, c_f_, nullptr));
-    NCP_PETSC_CHECK(MatDiagonalSet(J, c_i_, ADD_VALUES));
+    if (layout_.total_slacks == 0) {
+      NCP_PETSC_CHECK(MatDiagonalSet(J, c_i_, ADD_VALUES));
+      return;
+    }
+    PetscInt first = 0, last = 0;
+    NCP_PETSC_CHECK(VecGetOwnershipRange(y_, &first, &last));
+    NCP_PETSC_CHECK(VecCopy(c_i_, work_));
+    {
+      LocalRead c_i(c_i_);
+      LocalWrite diagonal(work_);
+      for (PetscInt r = layout_.components; r < local_; ++r) {
+        diagonal[r] = 0.0;
+        const PetscInt row = first + r, col = first + layout_.AColumn(r);
+        const PetscScalar value = c_i[r];
+        NCP_PETSC_CHECK(MatSetValues(J, 1, &row, 1, &col, &value, INSERT_VALUES));
+      }
+    }
+    NCP_PETSC_CHECK(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+    NCP_PETSC_CHECK(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+    NCP_PETSC_CHECK(MatDiagonalSet(J, work_, ADD_VALUES));
   }
 
   // ---- the round-off floor of the test (Options::roundoff_ulps)
-  // ------------------------- r_i = |c_F,i| (|F'||x|)_i + |c_I,i| |x_i|, the serial
-  // solver's |da| |J_A||x| + |db| |J_B||x| (and |J_E||x| for equations) for these rows.
+  // ------------------------- r_r = |c_F,r| (|G||y|)_r + |c_I,r| |y_AColumn(r)|, the
+  // serial solver's |da| |J_A||x| + |db| |J_B||x| (and |J_E||x| for equations) for these
+  // rows.
   bool WithinRoundoffFloor() {
     if (o_.roundoff_ulps == 0.0) return false;
-    AbsoluteCopy(p_.jacobian_matrix, &impl_.abs_source);
-    NCP_PETSC_CHECK(VecCopy(x_, work2_));
+    UpdateAbsoluteSource();
+    NCP_PETSC_CHECK(VecCopy(y_, work2_));
     NCP_PETSC_CHECK(VecAbs(work2_));
-    NCP_PETSC_CHECK(MatMult(impl_.abs_source, work2_, work_));  // |F'||x|
+    NCP_PETSC_CHECK(MatMult(impl_.abs_source, work2_, work_));  // |G||y|
     bool within = true;
     {
-      LocalRead phi(phi_), abs_fx(work_), abs_x(work2_), c_f(c_f_), c_i(c_i_);
-      for (PetscInt i = 0; i < local_ && within; ++i) {
-        const double r = std::abs(c_f[i]) * abs_fx[i] + std::abs(c_i[i]) * abs_x[i];
-        within =
-            internal::RowWithinRoundoffFloor(phi[i], o_.tolerance, o_.roundoff_ulps, r);
+      LocalRead phi(phi_), abs_gy(work_), abs_y(work2_), c_f(c_f_), c_i(c_i_);
+      for (PetscInt r = 0; r < local_ && within; ++r) {
+        const double sensitivity =
+            std::abs(c_f[r]) * abs_gy[r] + std::abs(c_i[r]) * abs_y[layout_.AColumn(r)];
+        within = internal::RowWithinRoundoffFloor(phi[r], o_.tolerance, o_.roundoff_ulps,
+                                                  sensitivity);
       }
     }
     return !AnyRank(comm_, !within);
@@ -640,7 +1017,10 @@ class Iteration {
     if (o_.log_to_stderr)
       PetscFPrintf(comm_, PETSC_STDERR, "%5d %12.4e %12.4e %12.4e %10.3e %4d %4s %5d\n",
                    k, phi_inf_, psi_, record_.grad_psi_inf, record_.step_length,
-                   record_.backtracks, record_.gradient_step ? "grad" : "newt",
+                   record_.backtracks,
+                   record_.gradient_step      ? "grad"
+                   : record_.regularized_step ? "reg"
+                                              : "newt",
                    degenerate_count_);
     if (o_.callback && AnyRank(comm_, !o_.callback(record_))) {
       Finish(
@@ -695,17 +1075,15 @@ class Iteration {
 
   // ---- step 2: the direction d and slope_ = grad psi' d; true for d = -grad psi
   // --------
-  bool ChooseDirection(int k) {
+  // Newton J d = -Phi (eq. 21) kept if it passes the descent test (eq. 22); else, with
+  // Options::regularized_direction, the Levenberg-Marquardt direction; else -grad psi.
+  Direction ChooseDirection(int k) {
     const bool newton_solved = NewtonDirection();
-    if (newton_solved) {
-      slope_ = Dot(grad_, d_);
-      PetscReal norm = 0.0;
-      NCP_PETSC_CHECK(VecNorm(d_, NORM_2, &norm));
-      if (internal::PassesDescentTest(slope_, norm, o_)) return false;
+    if (newton_solved && PassesDescentTest()) return Direction::kNewton;
+    if (newton_solved)
       ++s_.descent_test_failures;
-    } else {
+    else
       ++s_.linear_solver_failures;
-    }
     if (!o_.gradient_fallback) {
       if (!newton_solved)
         Finish(TerminationType::kLinearSolverFailure,
@@ -713,13 +1091,127 @@ class Iteration {
                    impl_.report.ksp_type + " + " + impl_.report.pc_type +
                    ") failed at iteration " + std::to_string(k) +
                    " and gradient_fallback is off");
-      return false;
+      return Direction::kNewton;  // Algorithm 1 without step 2's fallback
+    }
+    if (regularized_ && RegularizedDirection() && PassesDescentTest()) {
+      ++s_.regularized_steps;
+      return Direction::kRegularized;
     }
     NCP_PETSC_CHECK(VecCopy(grad_, d_));
     NCP_PETSC_CHECK(VecScale(d_, -1.0));
     slope_ = -Dot(grad_, grad_);
     ++s_.gradient_steps;
-    return true;
+    return Direction::kGradient;
+  }
+
+  // grad psi' d <= -rho ||d||^p (eq. 22); sets the slope.
+  bool PassesDescentTest() {
+    slope_ = Dot(grad_, d_);
+    PetscReal norm = 0.0;
+    NCP_PETSC_CHECK(VecNorm(d_, NORM_2, &norm));
+    return internal::PassesDescentTest(slope_, norm, o_);
+  }
+
+  // Levenberg-Marquardt direction (J'J + mu I) d = -J' Phi with mu = ||Phi||_2 (Fan and
+  // Yuan 2005), the serial solver's, by the KSP lm_ksp (default MUMPS LU); false when the
+  // KSP failed or d is not finite.
+  bool RegularizedDirection() {
+    const auto t0 = Clock::now();
+    impl_.PrepareNormalMatrix(ExplicitJacobian(), std::sqrt(2.0 * psi_));
+    NCP_PETSC_CHECK(VecCopy(grad_, work_));
+    NCP_PETSC_CHECK(VecScale(work_, -1.0));
+    const bool solved =
+        KspSolve(impl_.lm_ksp, impl_.normal, &impl_.lm_workspace_percent, work_, d_);
+    s_.linear_solver_time_s += Seconds(t0);
+    return solved;
+  }
+
+  // J as a matrix: impl_.newton, or with symmetric_newton (where newton holds the
+  // symmetrized system) impl_.lm_jacobian, created on first use and filled here.
+  Mat ExplicitJacobian() {
+    if (!impl_.symmetric_newton) return impl_.newton;
+    if (!impl_.lm_jacobian)
+      NCP_PETSC_CHECK(
+          MatDuplicate(impl_.newton, MAT_DO_NOT_COPY_VALUES, &impl_.lm_jacobian));
+    FillNewtonMatrix(impl_.lm_jacobian);
+    return impl_.lm_jacobian;
+  }
+
+  // out = op^-1 rhs by ksp; false (on every rank) when the KSP failed or out is not
+  // finite. A failed factorization is set up afresh (ResetFactorization): MUMPS skips
+  // every numeric factorization after a failed one (its INFOG(1) stays < 0), while the
+  // serial backends factorize each Newton matrix anew. When MUMPS ran out of its
+  // estimated workspace (pivots delayed by the zero entries of slack rows, for one) the
+  // same system is factorized again with ICNTL(14) doubled, kept in *workspace_percent
+  // for the later factorizations of this KSP.
+  bool KspSolve(KSP ksp, Mat op, int* workspace_percent, Vec rhs, Vec out) {
+    constexpr int kWorkspaceRetries = 4;  // up to 2^4 times the first estimate's margin
+    for (int attempt = 0;; ++attempt) {
+      const PetscErrorCode code = KSPSolve(ksp, rhs, out);
+      KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
+      if (code == 0) {
+        PetscInt its = 0;
+        NCP_PETSC_CHECK(KSPGetConvergedReason(ksp, &reason));
+        NCP_PETSC_CHECK(KSPGetIterationNumber(ksp, &its));
+        impl_.report.linear_iterations += static_cast<int>(its);
+      }
+      if (!AnyRank(comm_, code != 0 || reason == KSP_DIVERGED_PC_FAILED))
+        return !AnyRank(comm_, reason <= 0) && AllFinite(comm_, out);
+      const int more = MumpsWorkspaceToRetry(ksp);
+      if (more > 0) *workspace_percent = more;
+      ResetFactorization(ksp, op, *workspace_percent);
+      if (more == 0 || attempt == kWorkspaceRetries) return false;
+    }
+  }
+
+  // ICNTL(14) to factorize again with when ksp's PC is a MUMPS factorization that failed
+  // for want of workspace (INFOG(1) = -8, -9, -11, -12, -14, -15, -17: MUMPS' "increase
+  // ICNTL(14)" errors), else 0. The same answer on every rank.
+  int MumpsWorkspaceToRetry(KSP ksp) {
+    Mat F = MumpsFactor(ksp);
+    PetscInt info = 0, percent = 0;
+    if (F) {
+      NCP_PETSC_CHECK(MatMumpsGetInfog(F, 1, &info));
+      NCP_PETSC_CHECK(MatMumpsGetIcntl(F, 14, &percent));
+    }
+    const bool short_of_workspace = info == -8 || info == -9 || info == -11 ||
+                                    info == -12 || info == -14 || info == -15 ||
+                                    info == -17;
+    if (!AnyRank(comm_, short_of_workspace)) return 0;
+    return static_cast<int>(
+        std::max<long long>(50, 2 * -MinRanks(comm_, -static_cast<long long>(percent))));
+  }
+
+  // The factorization of ksp's PC from scratch at the next solve, with MUMPS' ICNTL(14)
+  // = workspace_percent when that is > 0.
+  void ResetFactorization(KSP ksp, Mat op, int workspace_percent) {
+    PC pc = nullptr;
+    NCP_PETSC_CHECK(KSPGetPC(ksp, &pc));
+    NCP_PETSC_CHECK(PCReset(pc));
+    NCP_PETSC_CHECK(KSPSetOperators(ksp, op, op));
+    if (workspace_percent <= 0 || !UsesMumps(pc)) return;
+    NCP_PETSC_CHECK(PCFactorSetUpMatSolverType(pc));
+    Mat F = nullptr;
+    NCP_PETSC_CHECK(PCFactorGetMatrix(pc, &F));
+    NCP_PETSC_CHECK(MatMumpsSetIcntl(F, 14, workspace_percent));
+  }
+
+  static bool UsesMumps(PC pc) {
+    PetscBool factor = PETSC_FALSE;
+    NCP_PETSC_CHECK(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &factor,
+                                              PCLU, PCCHOLESKY, ""));
+    MatSolverType type = nullptr;
+    if (factor) NCP_PETSC_CHECK(PCFactorGetMatSolverType(pc, &type));
+    return type && std::string(type) == MATSOLVERMUMPS;
+  }
+  // MUMPS' factor matrix of ksp's PC (after a solve), or nullptr for another PC.
+  static Mat MumpsFactor(KSP ksp) {
+    PC pc = nullptr;
+    NCP_PETSC_CHECK(KSPGetPC(ksp, &pc));
+    if (!UsesMumps(pc)) return nullptr;
+    Mat F = nullptr;
+    NCP_PETSC_CHECK(PCFactorGetMatrix(pc, &F));
+    return F;
   }
 
   // J d = -Phi (eq. 21) by the KSP; false when the KSP diverged, d is not finite or fails
@@ -732,23 +1224,13 @@ class Iteration {
       s_.linear_solver_time_s += Seconds(t0);
       return false;
     }
-    const PetscErrorCode code = KSPSolve(impl_.ksp, work_, d_);
-    KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
-    PetscInt its = 0;
-    if (code == 0) {
-      NCP_PETSC_CHECK(KSPGetConvergedReason(impl_.ksp, &reason));
-      NCP_PETSC_CHECK(KSPGetIterationNumber(impl_.ksp, &its));
-      impl_.report.linear_iterations += static_cast<int>(its);
-    }
-    bool solved = !AnyRank(comm_, code != 0 || reason <= 0) && AllFinite(comm_, d_);
+    bool solved =
+        KspSolve(impl_.ksp, impl_.newton, &impl_.newton_workspace_percent, work_, d_);
     if (solved) {
-      NCP_PETSC_CHECK(MatMult(impl_.newton, d_, work_));  // J d + Phi
+      MultNewton(d_, work_);  // J d + Phi
       NCP_PETSC_CHECK(VecAXPY(work_, 1.0, phi_));
       const double residual_inf = NormInf(work_);
-      AbsoluteCopy(impl_.newton, &impl_.abs_newton);
-      NCP_PETSC_CHECK(VecCopy(d_, work2_));
-      NCP_PETSC_CHECK(VecAbs(work2_));
-      NCP_PETSC_CHECK(MatMult(impl_.abs_newton, work2_, work_));  // |J||d|
+      MultAbsNewton(d_, work_);  // |J||d|
       solved = internal::NewtonSolutionAccurate(residual_inf, phi_inf_, NormInf(work_));
     }
     s_.linear_solver_time_s += Seconds(t0);
@@ -764,12 +1246,11 @@ class Iteration {
   // symmetric system's right-hand side; false when a row is zero (c_F = c_I = 0) on some
   // rank.
   bool Symmetrize(Vec rhs) {
-    Mat S = impl_.symmetric;
-    NCP_PETSC_CHECK(
-        MatCopy(p_.jacobian_matrix, S,
-                impl_.same_pattern ? SAME_NONZERO_PATTERN : DIFFERENT_NONZERO_PATTERN));
+    Mat S = impl_.newton;
+    NCP_PETSC_CHECK(MatCopy(
+        G_, S, impl_.same_pattern ? SAME_NONZERO_PATTERN : DIFFERENT_NONZERO_PATTERN));
     PetscInt first = 0, last = 0;
-    NCP_PETSC_CHECK(VecGetOwnershipRange(x_, &first, &last));
+    NCP_PETSC_CHECK(VecGetOwnershipRange(y_, &first, &last));
     std::vector<PetscInt> fixed_rows;
     bool zero_row = false;
     {
@@ -798,7 +1279,7 @@ class Iteration {
 
   // ---- step 3: Armijo line search (internal::ArmijoLineSearch)
   // ----------------------------
-  bool LineSearch(int k, bool gradient) {
+  bool LineSearch(int k, Direction direction) {
     const double reference =
         armijo_reference_.Update(static_cast<size_t>(k - first_k_), psi_);
     using Trial = internal::LineSearchTrial;
@@ -806,9 +1287,9 @@ class Iteration {
         o_, reference, slope_,
         [&] { return OutOfTime("in the line search of iteration ", k); },
         [&](double t) {
-          NCP_PETSC_CHECK(VecWAXPY(x_trial_, t, d_, x_));
+          NCP_PETSC_CHECK(VecWAXPY(x_trial_, t, d_, y_));
           PetscBool unchanged = PETSC_FALSE;
-          NCP_PETSC_CHECK(VecEqual(x_trial_, x_, &unchanged));
+          NCP_PETSC_CHECK(VecEqual(x_trial_, y_, &unchanged));
           if (unchanged) return Trial{Trial::kUnchanged, 0.0};
           if (!Evaluate(x_trial_, f_trial_, phi_trial_))
             return Trial{Trial::kNotEvaluable, 0.0};
@@ -824,32 +1305,102 @@ class Iteration {
     backtracks_ = r.backtracks;
     if (!r.accepted) {
       const internal::Ending ending = internal::LineSearchFailure(
-          o_, r, gradient ? "gradient" : "Newton", k, phi_inf_, grad_inf_);
+          o_, r,
+          direction == Direction::kGradient      ? "gradient"
+          : direction == Direction::kRegularized ? "regularized"
+                                                 : "Newton",
+          k, phi_inf_, grad_inf_);
       Finish(ending.termination, ending.message);
     }
     return r.accepted;
   }
 
-  // ---- restart strategy (Options::merit_restarts): continue from mid(l, u, x^k)
-  // --------
+  // The point a restart or a new strategy continues from (box_mcp.cpp's RestartPoint): x
+  // projected onto [l, u], the slacks recomputed from F there; false when F cannot be
+  // evaluated there.
+  bool RestartPoint(Vec y) {
+    ProjectOntoBox(lower_, upper_, y);
+    return layout_.total_slacks == 0 || SetSlacks(y);
+  }
+
+  // ---- the hybrid default (Options::hybrid, strategy.hpp) -----------------------------
+  // Records iterate k; true when the strategy was left for slow progress or its budget
+  // and the next one continues from its best point.
+  bool LeaveStrategy(int k) {
+    if (!o_.hybrid) return false;
+    const auto kk = static_cast<size_t>(k - first_k_);
+    Observe(kk, k);
+    SwitchReason reason = SwitchReason::kStuck;
+    return progress_.ShouldLeave(kk, k - strategy_start_, o_, &reason) &&
+           SwitchStrategy(k, reason);
+  }
+
+  // psi(x^k) to the progress record, x^k kept when it is the strategy's best point.
+  void Observe(size_t kk, int k) {
+    if (progress_.Record(kk, psi_, k)) NCP_PETSC_CHECK(VecCopy(y_, best_y_));
+  }
+
+  // The next strategy of the schedule continues from the smallest-psi point of this one
+  // (its RestartPoint), at iterate k (ncp::Solver's SwitchStrategy, step by step); false
+  // (nothing changed) when no strategy is left or the point cannot be evaluated. kStuck
+  // applies to a solve that ended at a non-solution stationary point, in a failed line
+  // search or a failed Newton solve.
+  bool SwitchStrategy(int k, SwitchReason reason) {
+    if (!o_.hybrid) return false;
+    const bool stuck = s_.termination == TerminationType::kStationaryPoint ||
+                       s_.termination == TerminationType::kLineSearchFailure ||
+                       s_.termination == TerminationType::kLinearSolverFailure;
+    if (reason == SwitchReason::kStuck && !(finished_ && stuck)) return false;
+    const Strategy from{function_, regularized_};
+    if (!schedule_.Advance(from)) return false;
+    const Strategy& to = schedule_.current();
+    Observe(static_cast<size_t>(k - first_k_), k);  // (TestStop may have come first)
+    NCP_PETSC_CHECK(VecCopy(best_y_, x_trial_));
+    function_ = to.ncp_function;  // Evaluate() uses function_
+    if (!RestartPoint(x_trial_) || !Evaluate(x_trial_, f_trial_, phi_trial_) ||
+        !AllFinite(comm_, phi_trial_)) {
+      function_ = from.ncp_function;
+      return false;
+    }
+    StrategySwitch record;
+    record.iteration = k;
+    record.from_strategy = from;
+    record.to_strategy = to;
+    record.reason = reason;
+    record.best_iteration = progress_.best_iteration();
+    record.best_psi = progress_.best_psi();
+    s_.strategy_switches.push_back(record);
+    NCP_PETSC_CHECK(VecCopy(x_trial_, y_));
+    f_.Swap(f_trial_);
+    phi_.Swap(phi_trial_);
+    regularized_ = to.regularized_direction;
+    if (o_.keep_trace && !s_.trace.empty()) s_.trace.pop_back();  // iterate k anew
+    finished_ = false;
+    s_.termination = TerminationType::kNotSolved;
+    first_k_ = strategy_start_ = k;
+    if (o_.log_to_stderr)
+      PetscFPrintf(comm_, PETSC_STDERR,
+                   "strategy %s -> %s at iteration %d (%s), from iteration %d\n",
+                   internal::StrategyName(from).c_str(),
+                   internal::StrategyName(to).c_str(), k, ToString(reason),
+                   record.best_iteration);
+    return true;
+  }
+
+  // ---- restart strategy (Options::merit_restarts): continue from mid(l, u, x^k), the
+  // slacks recomputed (box_mcp.cpp's RestartPoint)
   bool Restart(int k) {
     if (!internal::MeritRestartApplies(s_.termination, restarts_left_, function_))
       return false;
     const NcpFunction stuck_function = function_;
     function_ = internal::OtherMeritFunction(function_);
-    NCP_PETSC_CHECK(VecCopy(x_, x_trial_));
-    {
-      LocalWrite y(x_trial_);
-      for (PetscInt i = 0; i < local_; ++i) {
-        const auto ii = static_cast<size_t>(i);
-        y[i] = std::max(lower_[ii], std::min(upper_[ii], PetscRealPart(y[i])));
-      }
-    }
-    if (!Evaluate(x_trial_, f_trial_, phi_trial_) || !AllFinite(comm_, phi_trial_)) {
+    NCP_PETSC_CHECK(VecCopy(y_, x_trial_));
+    if (!RestartPoint(x_trial_) || !Evaluate(x_trial_, f_trial_, phi_trial_) ||
+        !AllFinite(comm_, phi_trial_)) {
       function_ = stuck_function;
       return false;
     }
-    NCP_PETSC_CHECK(VecCopy(x_trial_, x_));
+    NCP_PETSC_CHECK(VecCopy(x_trial_, y_));
     f_.Swap(f_trial_);
     phi_.Swap(phi_trial_);
     --restarts_left_;
@@ -867,8 +1418,8 @@ class Iteration {
 
   // ---- step 4: x^{k+1} = x^k + t d
   // -------------------------------------------------------
-  void Accept(bool gradient) {
-    NCP_PETSC_CHECK(VecCopy(x_trial_, x_));
+  void Accept(Direction direction) {
+    NCP_PETSC_CHECK(VecCopy(x_trial_, y_));
     f_.Swap(f_trial_);
     phi_.Swap(phi_trial_);
     ++s_.iterations;
@@ -877,8 +1428,8 @@ class Iteration {
     record_.step_length = step_;
     record_.direction_norm = norm;
     record_.backtracks = backtracks_;
-    record_.gradient_step = gradient;
-    record_.regularized_step = false;
+    record_.gradient_step = direction == Direction::kGradient;
+    record_.regularized_step = direction == Direction::kRegularized;
   }
 
   void Finish(TerminationType type, const std::string& message) {
@@ -886,6 +1437,7 @@ class Iteration {
     s_.termination = type;
     s_.message = message;
     if (s_.merit_restarts > 0) s_.message += internal::RestartSuffix(s_.merit_restarts);
+    s_.message += internal::StrategySwitchSuffix(s_.strategy_switches);
     s_.final_phi_inf = NormInf(phi_);
     s_.final_psi = 0.5 * Dot(phi_, phi_);
     s_.total_time_s = Seconds(start_);
@@ -895,17 +1447,28 @@ class Iteration {
   const Options& o_;
   MPI_Comm comm_;
   const BoxMcp& p_;
-  Vec x_;
+  Vec x_;  // the caller's x (layout of F)
   Summary& s_;
-  const std::vector<Row> rows_;
-  const std::vector<double> lower_, upper_;  // local, normalized (+-inf = no bound)
-  const PetscInt local_, n_;
+  const MixedLayout& layout_;
+  const std::vector<double>& lower_;  // of the rank's components, normalized
+  const std::vector<double>& upper_;  // (+-inf = no bound)
+  const PetscInt local_;              // rows of y on this rank
+  Vec y_ = nullptr;                   // the unknowns: x_ itself, or y_owned_ with slacks
+  OwnedVec y_owned_, x_part_;         // x_part_: the x part of a y (XPart)
+  Mat G_ = nullptr;                   // G of the file comment
+  // f_, f_trial_ laid out like x; x_trial_ (the trial y) and the others like y.
   OwnedVec f_, f_trial_, phi_, phi_trial_, grad_, d_, x_trial_, c_f_, c_i_, z_, f_z_,
       work_, work2_;
   OwnedVec fixed_values_;  // d_i of the rows the symmetrized system eliminates
+  OwnedVec diag_g_;        // G_{r, AColumn(r)} (GDiagonalAtA)
   Clock::time_point start_;
   NcpFunction function_ = NcpFunction::kFischerBurmeister;
-  int restarts_left_ = 0, first_k_ = 0;
+  int restarts_left_ = 0, first_k_ = 0;  // first_k_: iterate of the last (re)start
+  bool regularized_ = false;             // the current strategy tries the LM direction
+  int strategy_start_ = 0;  // iterate the current strategy of the hybrid began at
+  internal::StrategySchedule schedule_;
+  internal::StrategyProgress progress_;
+  OwnedVec best_y_;  // the current strategy's smallest-psi point (Options::hybrid)
   internal::StagnationTest stagnation_;
   internal::NonmonotoneReference armijo_reference_;
   IterationRecord record_;
@@ -913,6 +1476,7 @@ class Iteration {
   int backtracks_ = 0, degenerate_count_ = 0;
   bool converged_ = false, have_jacobian_ = false, jacobian_ok_ = true;
   bool roundoff_limited_ = false, finished_ = false;
+  bool abs_source_current_ = false;  // impl_.abs_source is |G| of this iterate
 };
 
 // ---------------------------------------------------------------------------------------
@@ -932,6 +1496,25 @@ BoxMcp BoxMcp::FromFunctionPointers(ResidualFunctionPointer residual,
   return p;
 }
 
+namespace {
+
+// A KSP with the options prefix `prefix` and the default of both linear systems: one
+// direct solve by MUMPS' LU (Amestoy et al. 2001), exact up to round-off like the serial
+// backends, so that the iterates are the serial solver's.
+KSP DirectKsp(MPI_Comm comm, const std::string& prefix) {
+  KSP ksp = nullptr;
+  NCP_PETSC_CHECK(KSPCreate(comm, &ksp));
+  NCP_PETSC_CHECK(KSPSetOptionsPrefix(ksp, prefix.c_str()));
+  NCP_PETSC_CHECK(KSPSetType(ksp, KSPPREONLY));
+  PC pc = nullptr;
+  NCP_PETSC_CHECK(KSPGetPC(ksp, &pc));
+  NCP_PETSC_CHECK(PCSetType(pc, PCLU));
+  NCP_PETSC_CHECK(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+  return ksp;
+}
+
+}  // namespace
+
 Solver::Solver(MPI_Comm comm, const Options& options, const std::string& options_prefix)
     : impl_(new Impl) {
   PetscBool initialized = PETSC_FALSE;
@@ -943,10 +1526,6 @@ Solver::Solver(MPI_Comm comm, const Options& options, const std::string& options
   std::string error;
   if (!options.IsValid(&error))
     throw std::invalid_argument("ncp::petsc::Solver: " + error);
-  if (options.regularized_direction)
-    throw std::invalid_argument(
-        "ncp::petsc::Solver: Options::regularized_direction = true is not "
-        "available over PETSc (only the Newton and -grad psi directions)");
   if (options.linear_solver != LinearSolverType::kAuto)
     throw std::invalid_argument(
         std::string("ncp::petsc::Solver: Options::linear_solver = ") +
@@ -957,15 +1536,8 @@ Solver::Solver(MPI_Comm comm, const Options& options, const std::string& options
   impl_->comm = comm;
   impl_->options = options;
   impl_->prefix = options_prefix;
-  NCP_PETSC_CHECK(KSPCreate(comm, &impl_->ksp));
-  NCP_PETSC_CHECK(KSPSetOptionsPrefix(impl_->ksp, options_prefix.c_str()));
-  // Default: one direct solve by MUMPS' LU (Amestoy et al. 2001), exact up to round-off
-  // like the serial backends, so that the iterates are the serial solver's.
-  NCP_PETSC_CHECK(KSPSetType(impl_->ksp, KSPPREONLY));
-  PC pc = nullptr;
-  NCP_PETSC_CHECK(KSPGetPC(impl_->ksp, &pc));
-  NCP_PETSC_CHECK(PCSetType(pc, PCLU));
-  NCP_PETSC_CHECK(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+  impl_->ksp = DirectKsp(comm, options_prefix);
+  impl_->lm_ksp = DirectKsp(comm, options_prefix + "lm_");
   int size = 0;
   MPI_Comm_size(comm, &size);
   impl_->report.ranks = size;
@@ -995,9 +1567,8 @@ void Solver::Solve(const BoxMcp& problem, Vec x, Summary* summary) {
   if (AnyRank(impl.comm, !IsAij(problem.jacobian_matrix, &parallel)))
     Misuse("the Jacobian matrix must be of type AIJ (MATSEQAIJ or MATMPIAIJ)");
 
-  // Local bounds, normalized (|b| >= infinite_bound is no bound), and the row kinds.
-  PetscInt n = 0, local = 0, first = 0, last = 0;
-  NCP_PETSC_CHECK(VecGetSize(x, &n));
+  // Local bounds, normalized (|b| >= infinite_bound is no bound), and the rows.
+  PetscInt local = 0, first = 0, last = 0;
   NCP_PETSC_CHECK(VecGetLocalSize(x, &local));
   NCP_PETSC_CHECK(VecGetOwnershipRange(x, &first, &last));
   constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -1012,48 +1583,45 @@ void Solver::Solve(const BoxMcp& problem, Vec x, Summary* summary) {
       (*out)[static_cast<size_t>(i)] = NormalizeBound(a[i], o.infinite_bound);
   }
   CheckBoundsAndStart(impl.comm, first, lower, upper, x);
-  std::vector<Row> rows(static_cast<size_t>(local));
-  long long two_sided = LLONG_MAX;
-  for (size_t i = 0; i < rows.size(); ++i) {
-    const bool lo = std::isfinite(lower[i]), up = std::isfinite(upper[i]);
-    rows[i] = !lo && !up                         ? Row::kFree
-              : lo && up && lower[i] == upper[i] ? Row::kFixed
-              : lo && up                         ? Row::kFree /* rejected below */
-              : lo                               ? Row::kLower
-                                                 : Row::kUpper;
-    if (lo && up && lower[i] != upper[i] && two_sided == LLONG_MAX)
-      two_sided = first + static_cast<long long>(i);
-  }
-  const long long first_two_sided = MinRanks(impl.comm, two_sided);
-  if (first_two_sided != LLONG_MAX)
-    Misuse("x[" + std::to_string(first_two_sided) +
-           "] has two finite bounds l < u; the PETSc solver supports free, fixed, "
-           "lower-bounded and "
-           "upper-bounded components only (ncp::Solver handles two-sided bounds)");
+  const MixedLayout layout(impl.comm, std::move(lower), std::move(upper));
+  impl.Configure();
+  if (impl.symmetric_newton && layout.total_slacks > 0)
+    Misuse(
+        "two-sided bounds (l < u, both finite) at " +
+        std::to_string(layout.total_slacks) +
+        " components make the Newton matrix of the slack form unsymmetric, and the "
+        "KSP asks for the symmetrized Newton system (a CG-like KSP, Cholesky/ICC or -" +
+        impl.prefix +
+        "symmetric_newton true): use a KSP for unsymmetric systems (the default LU, "
+        "GMRES) and -" +
+        impl.prefix + "symmetric_newton false");
 
   // Options::project_start_point: x0 <- mid(l, u, x0).
-  long long moved = 0;
-  if (o.project_start_point) {
-    LocalWrite xa(x);
-    for (PetscInt i = 0; i < local; ++i) {
-      const auto ii = static_cast<size_t>(i);
-      const double projected =
-          std::max(lower[ii], std::min(upper[ii], PetscRealPart(xa[i])));
-      if (projected != PetscRealPart(xa[i])) ++moved;
-      xa[i] = projected;
-    }
-  }
-  moved = SumRanks(impl.comm, moved);
+  const long long moved =
+      o.project_start_point
+          ? SumRanks(impl.comm, ProjectOntoBox(layout.lower, layout.upper, x))
+          : 0;
 
-  Iteration(impl, problem, x, *summary, std::move(rows), std::move(lower),
-            std::move(upper), n)
-      .Run();
+  Iteration(impl, problem, x, *summary, layout).Run();
 
   summary->projected_start_components = static_cast<int>(moved);
   if (moved > 0)
     summary->message +=
         " (" + std::to_string(moved) +
         " components of the start point were outside [l, u] and were projected onto it)";
+  // The returned x lies in [l, u] whatever the status (FB iterates may leave the box),
+  // as ncp::Solver's.
+  double largest = 0.0;
+  const long long outside =
+      SumRanks(impl.comm, ProjectOntoBox(layout.lower, layout.upper, x, &largest));
+  double largest_all = 0.0;
+  MPI_Allreduce(&largest, &largest_all, 1, MPI_DOUBLE, MPI_MAX, impl.comm);
+  summary->projected_final_components = static_cast<int>(outside);
+  if (outside > 0)
+    summary->message += " (" + std::to_string(outside) +
+                        " components of the last iterate were outside [l, u], by up to " +
+                        FormatNumber("%.3e", largest_all) +
+                        ", and were projected onto it)";
 }
 
 }  // namespace ncp::petsc

@@ -5,11 +5,16 @@
 ///     l <= x <= u  perp  F(x)       (x, l, u, F(x) distributed Vecs, F'(x) a Mat)
 ///
 /// on any number of MPI ranks. Every decision of the iteration (z-vector rule, descent
-/// test, nonmonotone Armijo, merit restarts, stopping tests) is the serial solver's own
-/// code (ncp/src/globalization.hpp); only the linear algebra is PETSc's. The Newton
+/// test, nonmonotone Armijo, merit restarts, the hybrid's strategy switches, stopping
+/// tests) is the serial solver's own code (ncp/src/globalization.hpp, strategy.hpp); only
+/// the linear algebra is PETSc's. Two-sided bounds are split with slack unknowns as the
+/// serial solver does (ncp/src/box_mcp.cpp), the slacks living on the rank of their
+/// component. The Newton
 /// systems J d = -Phi are solved by a KSP: by default a direct LU factorization by MUMPS
 /// (KSPPREONLY + PCLU + MATSOLVERMUMPS); any KSP/PC from PETSc's options database under
-/// the solver's prefix, e.g. -ncp_ksp_type cg -ncp_pc_type gamg (docs/petsc.md).
+/// the solver's prefix, e.g. -ncp_ksp_type cg -ncp_pc_type gamg (docs/petsc.md). The
+/// Levenberg-Marquardt systems (Options::regularized_direction and the hybrid's "+lm"
+/// strategies) have their own KSP under <prefix>lm_, by default MUMPS LU as well.
 ///
 /// The caller initializes PETSc (PetscInitialize) before constructing a Solver and
 /// finalizes it after destroying it; the library never does either.
@@ -72,7 +77,8 @@ struct KspReport {
   std::string ksp_type;            ///< e.g. "preonly"
   std::string pc_type;             ///< e.g. "lu"
   std::string factor_solver_type;  ///< e.g. "mumps" (empty without a factorization)
-  int linear_iterations = -1;      ///< KSP iterations summed over all Newton systems
+  /// KSP iterations summed over all Newton (and Levenberg-Marquardt) systems
+  int linear_iterations = -1;
   /// The KSP solved the symmetrized Newton system (rows scaled, fixed rows eliminated;
   /// docs/petsc.md): on by default for CG-like KSPs and Cholesky/ICC, else off;
   /// -<prefix>symmetric_newton true|false decides.
@@ -85,9 +91,9 @@ class Solver {
  public:
   /// comm: the communicator of every Vec and Mat of the problems solved. options_prefix:
   /// prefix of the KSP in PETSc's options database ("ncp_": -ncp_ksp_type, -ncp_pc_type,
-  /// ...). Throws std::invalid_argument (collectively) when PETSc is not initialized or
-  /// the options are invalid, or when they ask for what this solver does not provide
-  /// (Options::regularized_direction; Options::linear_solver other than kAuto).
+  /// ...; the LM systems' KSP: -ncp_lm_ksp_type, ...). Throws std::invalid_argument
+  /// (collectively) when PETSc is not initialized or the options are invalid, or when
+  /// they name a serial linear solver (Options::linear_solver other than kAuto).
   explicit Solver(MPI_Comm comm, const Options& options = Options(),
                   const std::string& options_prefix = "ncp_");
   ~Solver();
@@ -101,9 +107,11 @@ class Solver {
   KSP ksp() const;
 
   /// Solves the box MCP; x holds the start point on entry and the last iterate on return
-  /// (the solution when summary->IsSolutionUsable()). Collective on the communicator.
-  /// Bounds with two finite sides (l_i < u_i both finite) are not supported yet and are
-  /// rejected with std::invalid_argument.
+  /// (the solution when summary->IsSolutionUsable()), projected onto [l, u] like the
+  /// serial solver's. Collective on the communicator. Bounds with two finite sides
+  /// (l_i < u_i) add two slack unknowns each (Summary::num_variables counts them); they
+  /// make the Newton matrix unsymmetric, so a solver whose KSP asks for the symmetrized
+  /// system (CG-like, Cholesky/ICC) rejects them with std::invalid_argument.
   void Solve(const BoxMcp& problem, Vec x, Summary* summary);
 
   /// The KSP used by the last solve and its iteration count.
