@@ -737,6 +737,9 @@ class Iteration {
     s_.linear_solver_requested = s_.linear_solver_used = LinearSolverType::kAuto;
     s_.iterations = s_.jacobian_evaluations = s_.residual_evaluations = 0;
     s_.gradient_steps = s_.regularized_steps = s_.merit_restarts = 0;
+    // Options::minimum_norm_step and scale_newton_system act on the serial LU only
+    // (docs/petsc.md): a KSP that fails goes to the LM direction or -grad psi at once.
+    s_.minimum_norm_steps = s_.equilibrated_factorizations = 0;
     s_.linear_solver_failures = s_.descent_test_failures = s_.backtracks = 0;
     s_.cholesky_fallbacks = s_.projected_start_components = 0;
     s_.evaluation_time_s = s_.linear_solver_time_s = 0.0;
