@@ -10,9 +10,6 @@ StepScales ComputeStepScales(const Eigen::VectorXd& f, const Eigen::VectorXd& Ku
                              double contact_force_max, const Eigen::VectorXd& du_previous,
                              const std::vector<ContactNode>& nodes,
                              const Eigen::VectorXd& u, double m_max, double dt) {
-  StepScales out;
-  out.force = std::max(
-      {f.lpNorm<Eigen::Infinity>(), Ku.lpNorm<Eigen::Infinity>(), contact_force_max});
   double penetration = 0.0;
   for (const ContactNode& node : nodes) {
     double un = 0.0;
@@ -20,9 +17,18 @@ StepScales ComputeStepScales(const Eigen::VectorXd& f, const Eigen::VectorXd& Ku
       if (node.dofs[a] >= 0) un += node.normal(a) * u(node.dofs[a]);
     penetration = std::max(penetration, un - node.gap);
   }
+  return StepScalesFromMaxima(f.lpNorm<Eigen::Infinity>(), Ku.lpNorm<Eigen::Infinity>(),
+                              contact_force_max, du_previous.lpNorm<Eigen::Infinity>(),
+                              penetration, m_max, dt);
+}
+
+StepScales StepScalesFromMaxima(double f_max, double Ku_max, double contact_force_max,
+                                double du_max, double penetration, double m_max,
+                                double dt) {
+  StepScales out;
+  out.force = std::max({f_max, Ku_max, contact_force_max});
   const double step_of_force = out.force * dt * dt / m_max;
-  out.displacement =
-      std::max({du_previous.lpNorm<Eigen::Infinity>(), step_of_force, penetration});
+  out.displacement = std::max({du_max, step_of_force, std::max(penetration, 0.0)});
   if (out.force == 0.0) out.force = out.displacement * m_max / (dt * dt);
   if (out.force == 0.0)
     out.force = out.displacement = 1.0;  // nothing moves, loads or touches

@@ -25,6 +25,8 @@
 #include "contact/simulation.hpp"
 #include "contact/vtk_writer.hpp"
 #include "distributed_body.hpp"
+#include "distributed_implicit_step.hpp"
+#include "mass_inverse.hpp"
 #include "ncp/output_file.hpp"
 #include "petsc_check.hpp"
 #include "scene/scene_error.hpp"
@@ -35,6 +37,7 @@
 namespace contact::petsc {
 namespace {
 
+using internal::CondensedGatheredStep;
 using internal::DistributedBody;
 using internal::NodeData;
 using Clock = std::chrono::steady_clock;
@@ -60,6 +63,8 @@ struct StartInfo {
   int refused = 0;  // the serial set-up refused the run (summary says why)
   double critical_time_step = 0.0;  // [s]
   int num_dofs = 0, num_free_dofs = 0, num_contact_nodes = 0, num_elements = 0;
+  int method = static_cast<int>(StepMethod::kExplicit);  // the step on ranks
+  double m_max = 0.0;  // the largest entry of the serial M_FF [kg]
 };
 
 // Rank 0: the model, the critical step and the initial state of the serial run, and the
@@ -69,9 +74,16 @@ std::vector<double> SerialSetUp(const Scene& scene, SceneModel* built,
   *built = BuildSceneModel(scene);
   const Mesh& mesh = built->body->mesh();
   const int dim = mesh.dim;
+  const StepMethod method = internal::ResolveDistributedStep(scene, *built);
+  info->method = static_cast<int>(method);
+  info->m_max = ::contact::internal::MaxAbsEntry(built->model.M);
   DynamicOptions options = built->options;
   options.progress = false;
   options.on_step = nullptr;
+  // (The serial step is never taken here: for the condensed step on ranks the full
+  // step, whose set-up is cheapest, stands in, so that rank 0 does not form W.)
+  options.step_method =
+      method == StepMethod::kExplicit ? StepMethod::kExplicit : StepMethod::kFull;
   const Simulation initial(built->model,
                            options);  // checks dt against dt_crit, u^0, u^{-1}
   *summary = initial.summary();
@@ -532,12 +544,15 @@ void BroadcastString(MPI_Comm comm, std::string* s) {
 // Broadcasts rank 0's StartInfo and summary status/message.
 void ShareStart(MPI_Comm comm, StartInfo* info, DynamicSummary* summary) {
   MPI_Bcast(&info->refused, 1, MPI_INT, 0, comm);
-  MPI_Bcast(&info->critical_time_step, 1, MPI_DOUBLE, 0, comm);
-  int counts[4] = {info->num_dofs, info->num_free_dofs, info->num_contact_nodes,
-                   info->num_elements};
-  MPI_Bcast(counts, 4, MPI_INT, 0, comm);
+  double reals[2] = {info->critical_time_step, info->m_max};
+  MPI_Bcast(reals, 2, MPI_DOUBLE, 0, comm);
+  info->critical_time_step = reals[0], info->m_max = reals[1];
+  int counts[5] = {info->num_dofs, info->num_free_dofs, info->num_contact_nodes,
+                   info->num_elements, info->method};
+  MPI_Bcast(counts, 5, MPI_INT, 0, comm);
   info->num_dofs = counts[0], info->num_free_dofs = counts[1];
   info->num_contact_nodes = counts[2], info->num_elements = counts[3];
+  info->method = counts[4];
   int status = static_cast<int>(summary->status);
   MPI_Bcast(&status, 1, MPI_INT, 0, comm);
   summary->status = static_cast<DynamicStatus>(status);
@@ -548,16 +563,25 @@ void ShareStart(MPI_Comm comm, StartInfo* info, DynamicSummary* summary) {
 
 std::string WhyNotDistributed(const Scene& scene) {
   const std::string supported =
-      "on more than one MPI rank contact-sim runs the explicit step only (solver.step = "
-      "\"explicit\" "
-      "with mass = \"lumped\"; --step explicit)";
-  if (scene.dynamics.step_method != StepMethod::kExplicit)
-    return scene.source + ": the scene's step is '" +
-           ToString(scene.dynamics.step_method) + "'; " + supported;
-  if (scene.mass != MassKind::kLumped)
+      "on more than one MPI rank contact-sim runs the explicit step (solver.step = "
+      "\"explicit\" with mass = \"lumped\"), the condensed step with the contact set "
+      "gathered (solver.step = \"condensed\", friction \"coulomb-fc\") and \"auto\" "
+      "choosing between them";
+  const StepMethod method = scene.dynamics.step_method;
+  if (method != StepMethod::kExplicit && method != StepMethod::kCondensed &&
+      method != StepMethod::kAuto)
+    return scene.source + ": the scene's step is '" + ToString(method) + "'; " +
+           supported;
+  if (method == StepMethod::kExplicit && scene.mass != MassKind::kLumped)
     return scene.source +
            ": the explicit step needs mass = \"lumped\" (the scene's mass is "
            "consistent); " +
+           supported;
+  if (method == StepMethod::kCondensed && scene.friction_coefficient > 0.0 &&
+      scene.dynamics.friction_formulation == FrictionFormulation::kLaggedBound)
+    return scene.source +
+           ": the condensed step on MPI ranks poses friction as implicit Coulomb "
+           "(solver.friction = \"coulomb-fc\"), not with the lagged bound; " +
            supported;
   if (scene.dynamics.compare_with_ipopt)
     return scene.source + ": compare_with_ipopt is not available on MPI ranks; " +
@@ -600,12 +624,18 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   result.num_contact_nodes = info.num_contact_nodes,
   result.num_elements = info.num_elements;
   summary.critical_time_step = info.critical_time_step;
-  summary.step_method = StepMethod::kExplicit;
+  const auto method = static_cast<StepMethod>(info.method);
+  summary.step_method = method;
   if (info.refused) return result;
 
   const double setup_seconds = Seconds(start);
-  const DistributedBody body(comm, scene, built.get(), node_data);
+  const bool condensed = method == StepMethod::kCondensed;
+  const DistributedBody body(comm, scene, built.get(), node_data, condensed);
   node_data = {};
+  std::unique_ptr<CondensedGatheredStep> condensed_run;
+  if (condensed)
+    condensed_run = std::make_unique<CondensedGatheredStep>(
+        comm, scene, body, built ? &built->frames.nodes : nullptr, info.m_max);
   // Rank 0 keeps of the serial set-up only what the output needs (mesh, Dirichlet map).
   Mesh mesh;
   DofMap dofs;
@@ -621,13 +651,25 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
                  "(%s) %.3g s, section %.3g s, assembly of K and M %.3g s\n",
                  setup_seconds, body.partitioner().c_str(), body.distribute_seconds(),
                  body.section_seconds(), body.assemble_seconds());
+  if (progress && rank == 0 && condensed_run)
+    std::fprintf(stderr,
+                 "  condensed step on ranks: %d contact unknowns gathered on rank 0; "
+                 "solves with M by %s; factor %.3g s, W %.3g s\n",
+                 condensed_run->num_contact_unknowns(),
+                 condensed_run->mass_solver().c_str(), condensed_run->factor_seconds(),
+                 condensed_run->delassus_seconds());
   DistributedOutput output(comm, scene, &result.files_written);
-  ExplicitRun run(comm, scene, body, info.num_contact_nodes);
+  std::unique_ptr<ExplicitRun> explicit_run;
+  if (!condensed)
+    explicit_run =
+        std::make_unique<ExplicitRun>(comm, scene, body, info.num_contact_nodes);
   ContactGather gather(comm, scene.dim);
+  const Vec u_run =
+      condensed ? condensed_run->displacement() : explicit_run->displacement();
   const DynamicOptions& options = scene.dynamics;
   const long num_steps = static_cast<long>(
       std::ceil((options.end_time - options.start_time) / options.dt - 1e-3));
-  output.WriteSnapshot(body, run.displacement(), 0, options.start_time);
+  output.WriteSnapshot(body, u_run, 0, options.start_time);
   summary.max_penetration = 0.0;
   for (double* measure :
        {&summary.max_equilibrium_residual, &summary.max_complementarity_residual,
@@ -638,33 +680,39 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   summary.status = DynamicStatus::kCompleted;
   for (long k = 0; k < num_steps; ++k) {
     StepRecord rec;
-    if (!run.Step(k, &rec, &contact, &gather)) {
+    if (condensed ? !condensed_run->Step(k, &rec, &contact)
+                  : !explicit_run->Step(k, &rec, &contact, &gather)) {
       summary.status = DynamicStatus::kSolverFailure;
-      summary.message = "step " + std::to_string(k + 1) +
-                        " (t = " + std::to_string(rec.time) +
-                        " s): non-finite values in the explicit step";
+      summary.message =
+          "step " + std::to_string(k + 1) + " (t = " + std::to_string(rec.time) +
+          " s): " +
+          (condensed ? condensed_run->failure()
+                     : std::string("non-finite values in the explicit step"));
       break;
     }
     summary.steps = rec.step;
     output.WriteStepRow(rec);
     if ((scene.snapshot_every > 0 && rec.step % scene.snapshot_every == 0) ||
         k + 1 == num_steps)
-      output.WriteSnapshot(body, run.displacement(), rec.step, rec.time);
+      output.WriteSnapshot(body, u_run, rec.step, rec.time);
     if (rank == 0) {
       summary.max_penetration = std::max(summary.max_penetration, rec.max_penetration);
+      summary.newton_iterations += rec.newton_iterations;
+      summary.jacobian_evaluations += rec.jacobian_evaluations;
+      summary.residual_evaluations += rec.residual_evaluations;
       summary.records.push_back(rec);
       if (progress && Seconds(start) - last_progress > 1.0) {
         last_progress = Seconds(start);
-        std::fprintf(stderr, "  step %d / %ld, t = %.6g s (explicit, %d ranks)\n",
-                     rec.step, num_steps, rec.time, SizeOf(comm));
+        std::fprintf(stderr, "  step %d / %ld, t = %.6g s (%s, %d ranks)\n", rec.step,
+                     num_steps, rec.time, ToString(method), SizeOf(comm));
       }
     }
   }
   if (summary.status == DynamicStatus::kCompleted)
     summary.message = "completed " + std::to_string(summary.steps) + " steps on " +
-                      std::to_string(SizeOf(comm)) + " MPI ranks (partitioner " +
-                      body.partitioner() + ")";
-  const Eigen::VectorXd u = GatherFreeDofs(body, run.displacement(), info.num_free_dofs);
+                      std::to_string(SizeOf(comm)) + " MPI ranks (" + ToString(method) +
+                      " step, partitioner " + body.partitioner() + ")";
+  const Eigen::VectorXd u = GatherFreeDofs(body, u_run, info.num_free_dofs);
   if (rank == 0) summary.u = u;
   output.Finish(
       mesh, dofs,
