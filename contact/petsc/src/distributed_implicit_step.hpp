@@ -8,12 +8,13 @@
 //     x_free = -H S^-1 q,   gap0_c = s_c - n_c . u^k_c,
 //     F from the frictional contact problem (W, x_free, gap0) solved by ncp::fc,
 //     du = S^-1 (H' F - q).
-// The solves with M are distributed (PETSc KSP: MUMPS's Cholesky by default, or what the
-// options database says under the prefix "mass_", e.g. -mass_ksp_type cg -mass_pc_type
-// gamg); W is formed once from one distributed solve per contact unknown; x_free and
-// u^k_c are gathered onto rank 0 by one VecScatter, rank 0 solves the small contact
-// problem with the serial step's CoulombStep (the same code and the same data as one
-// process), and F is scattered back.
+// The solves with M are distributed (PETSc KSP: MUMPS's Cholesky by default - CG with
+// Jacobi on ranks of an executable where Ipopt's sequential MUMPS shadows the parallel
+// one - or what the options database says under the prefix "mass_", e.g.
+// -mass_ksp_type cg -mass_pc_type gamg); W is formed once from one distributed solve per
+// contact unknown; x_free and u^k_c are gathered onto rank 0 by one VecScatter, rank 0
+// solves the small contact problem with the serial step's CoulombStep (the same code and
+// the same data as one process), and F is scattered back.
 #pragma once
 
 #include <petscksp.h>
