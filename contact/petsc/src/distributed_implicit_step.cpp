@@ -169,8 +169,25 @@ void CondensedGatheredStep::CreateMassSolver() {
   // 1e-9).
   CONTACT_PETSC_CHECK(KSPSetTolerances(ksp_, 1e-12, 0.0, PETSC_DEFAULT, 10000));
   CONTACT_PETSC_CHECK(KSPSetFromOptions(ksp_));
-  CONTACT_PETSC_CHECK(KSPSetUp(ksp_));
   mass_solver_ = KspDescription(ksp_);
+  // preonly applies the preconditioner once: M^-1 only if it is a factorization (or the
+  // inverse of a diagonal M), never an approximation taken for the solve.
+  PetscBool preonly = PETSC_FALSE, exact = PETSC_FALSE;
+  CONTACT_PETSC_CHECK(
+      PetscObjectTypeCompare(reinterpret_cast<PetscObject>(ksp_), KSPPREONLY, &preonly));
+  CONTACT_PETSC_CHECK(KSPGetPC(ksp_, &pc));
+  CONTACT_PETSC_CHECK(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &exact,
+                                                PCCHOLESKY, PCLU, PCREDUNDANT, ""));
+  if (!exact && scene_.mass == MassKind::kLumped)
+    CONTACT_PETSC_CHECK(
+        PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCJACOBI, &exact));
+  if (preonly && !exact)
+    throw std::invalid_argument(
+        "contact::petsc: the solves with the mass matrix are set to " + mass_solver_ +
+        ", one application of a preconditioner that is not M^-1; with -mass_ksp_type "
+        "preonly use -mass_pc_type cholesky, lu or redundant (jacobi for a lumped "
+        "mass), or a Krylov method (-mass_ksp_type cg)");
+  CONTACT_PETSC_CHECK(KSPSetUp(ksp_));
 }
 
 bool CondensedGatheredStep::SolveS(Vec b, Vec x) {
