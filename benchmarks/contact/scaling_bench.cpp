@@ -25,9 +25,12 @@
 // RunDynamics set-up (dt_crit, factorization, Delassus operator), mean time per step over
 // steps 2..N (the first step includes one-off symbolic work and is reported apart) and of
 // it the complementarity solve (StepRecord::solve_seconds), Newton iterations per step,
+// GMRES iterations per Newton step and per step (sparse; StepRecord::krylov_iterations),
 // the time of one product y = K x (SymmetricMultiply, the product RunDynamics uses; the
-// fastest of 21 after the run), their ratio, and the peak memory. The summary fits time
-// per step = c dofs^p per series, method and friction (least squares in log-log).
+// fastest of 21 after the run), their ratio, the CPU time of RunDynamics (set-up and all
+// steps; run with OMP_NUM_THREADS=1 on a shared machine) and the peak memory. The summary
+// fits time per step = c dofs^p per series, method and friction (least squares in
+// log-log).
 //
 // Usage: contact-scaling-bench [--csv FILE] [--max-dofs N] [--steps N] [--quick] ...
 //        (--help lists all options)
@@ -65,6 +68,14 @@ double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// CPU time of this process so far, user + system, all threads [s].
+double CpuSeconds() {
+  struct rusage usage {};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
 struct Case {
   std::string series;  // "cube", "column" or "face"
   int n = 0, nz = 0;   // cells n x n x nz
@@ -79,7 +90,8 @@ struct Row {
   long long dofs = 0;
   int contact_nodes = 0, steps = 0;
   double build_s = 0, setup_s = 0, first_step_s = 0, step_s = 0, solve_s = 0,
-         newton_per_step = 0;
+         newton_per_step = 0, krylov_per_newton = 0, krylov_per_step = 0;
+  double run_cpu_s = 0;  // CPU time of RunDynamics (set-up and every step, all threads)
   double matvec_s = 0, ratio = 0, peak_mb = 0, dt = 0;
   double factor_s = 0, mass_solve_s = 0,
          step_over_factor = 0;  // Cholesky of M (face series)
@@ -151,7 +163,9 @@ Row RunCase(const Case& c, int steps, double tolerance) {
   row.contact_nodes = static_cast<int>(built.model.contact_nodes.size());
   row.dt = scene.dynamics.dt;
 
+  const double cpu_start = CpuSeconds();
   const contact::DynamicSummary s = contact::RunDynamics(built.model, built.options);
+  row.run_cpu_s = CpuSeconds() - cpu_start;
 
   // One K x, right after the run (same cache state as in the loop): the fastest of 21
   // products, so that the ratio step / K x errs on the high side.
@@ -167,10 +181,11 @@ Row RunCase(const Case& c, int steps, double tolerance) {
   row.message = s.message;
   row.steps = s.steps;
   double loop = 0.0, later = 0.0, later_solve = 0.0;
-  long newton = 0;
+  long newton = 0, krylov = 0;
   for (const contact::StepRecord& r : s.records) {
     loop += r.seconds;
     newton += r.newton_iterations;
+    krylov += r.krylov_iterations;
     if (r.step > 1) later += r.seconds, later_solve += r.solve_seconds;
   }
   row.setup_s = s.seconds - loop;
@@ -178,6 +193,8 @@ Row RunCase(const Case& c, int steps, double tolerance) {
   row.step_s = s.steps > 1 ? later / (s.steps - 1) : row.first_step_s;
   row.solve_s = s.steps > 1 ? later_solve / (s.steps - 1) : 0.0;
   row.newton_per_step = s.steps > 0 ? static_cast<double>(newton) / s.steps : 0.0;
+  row.krylov_per_newton = newton > 0 ? static_cast<double>(krylov) / newton : 0.0;
+  row.krylov_per_step = s.steps > 0 ? static_cast<double>(krylov) / s.steps : 0.0;
   row.ratio = row.step_s / row.matvec_s;
   if (c.series == "face") TimeMassFactorization(built.model.M, &row);
   return row;
@@ -193,7 +210,8 @@ std::string Csv(const std::string& text) {
 const char* kHeader =
     "series,n,nz,method,friction,dofs,contact_nodes,dt,status,steps,build_s,setup_s,"
     "first_step_s,step_s,solve_s,newton_per_step,matvec_s,step_over_matvec,peak_mb,"
-    "factor_s,mass_solve_s,step_over_factor,message";
+    "factor_s,mass_solve_s,step_over_factor,krylov_per_newton,krylov_per_step,run_cpu_s,"
+    "message";
 
 std::string ToCsv(const Row& r) {
   std::ostringstream o;
@@ -203,7 +221,8 @@ std::string ToCsv(const Row& r) {
     << r.status << ',' << r.steps << ',' << r.build_s << ',' << r.setup_s << ','
     << r.first_step_s << ',' << r.step_s << ',' << r.solve_s << ',' << r.newton_per_step
     << ',' << r.matvec_s << ',' << r.ratio << ',' << r.peak_mb << ',' << r.factor_s << ','
-    << r.mass_solve_s << ',' << r.step_over_factor << ',' << Csv(r.message);
+    << r.mass_solve_s << ',' << r.step_over_factor << ',' << r.krylov_per_newton << ','
+    << r.krylov_per_step << ',' << r.run_cpu_s << ',' << Csv(r.message);
   return o.str();
 }
 
@@ -264,7 +283,7 @@ Row RunIsolated(const Case& c, int steps, double tolerance, int time_limit) {
   std::vector<std::string> f;
   std::stringstream ss(text.substr(0, text.find('\n')));
   for (std::string item; std::getline(ss, item, ',');) f.push_back(item);
-  if (f.size() < 23) {
+  if (f.size() < 26) {
     row.status = "error";
     row.message = "malformed row from the child: " + text;
     return row;
@@ -285,7 +304,10 @@ Row RunIsolated(const Case& c, int steps, double tolerance, int time_limit) {
   row.factor_s = std::stod(f[19]);
   row.mass_solve_s = std::stod(f[20]);
   row.step_over_factor = std::stod(f[21]);
-  row.message = f[22];
+  row.krylov_per_newton = std::stod(f[22]);
+  row.krylov_per_step = std::stod(f[23]);
+  row.run_cpu_s = std::stod(f[24]);
+  row.message = f[25];
   row.peak_mb = peak_mb;
   return row;
 }
@@ -433,21 +455,22 @@ int RunBenchmark(int argc, char** argv) {
       cases.size(), steps, skipped.size());
   std::printf(
       "%-6s %4s %4s %-9s %4s %9s %6s %-10s %8s %8s %10s %10s %7s %10s %8s %8s %9s %9s "
-      "%9s\n",
+      "%9s %7s %7s %8s\n",
       "series", "n", "nz", "method", "f_c", "dofs", "nodes", "status", "build", "setup",
       "step", "solve", "newton", "K x", "step/Kx", "peak_MB", "chol(M)", "solve(M)",
-      "step/chol");
+      "step/chol", "kry/nwt", "kry/stp", "run_cpu");
   std::vector<Row> rows;
   for (const Case& c : cases) {
     const Row r = RunIsolated(c, steps, tolerance, time_limit);
     rows.push_back(r);
     std::printf(
         "%-6s %4d %4d %-9s %4.1f %9lld %6d %-10s %8.3f %8.3f %10.3e %10.3e %7.2f %10.3e "
-        "%8.2f %8.0f %9.3e %9.3e %9.3f\n",
+        "%8.2f %8.0f %9.3e %9.3e %9.3f %7.1f %7.1f %8.2f\n",
         c.series.c_str(), c.n, c.nz, c.method.c_str(), c.friction, r.dofs,
         r.contact_nodes, r.status.substr(0, 10).c_str(), r.build_s, r.setup_s, r.step_s,
         r.solve_s, r.newton_per_step, r.matvec_s, r.ratio, r.peak_mb, r.factor_s,
-        r.mass_solve_s, r.step_over_factor);
+        r.mass_solve_s, r.step_over_factor, r.krylov_per_newton, r.krylov_per_step,
+        r.run_cpu_s);
     if (r.status != "completed") std::printf("       %s\n", r.message.c_str());
     std::fflush(stdout);
     if (csv.is_open()) {

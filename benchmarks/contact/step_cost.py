@@ -5,10 +5,13 @@
 
 Runs `contact-sim SCENE --json --no-output --quiet --step M` for M in explicit (lumped mass
 only), condensed, sparse and auto, one after the other, and writes DIR/step_cost.csv (one row
-per scene and method: wall seconds of the run as contact-sim measures it, the phases, Newton
-iterations, solves with M, steps outside their accuracy, auto's prediction per step) and
-DIR/step_cost.md (the table: time of each method, auto's choice, auto / fastest among the
-methods that solve the same step). --table-only rewrites the table from the CSV.
+per scene and method: wall seconds of the run as contact-sim measures it, its CPU seconds
+(cpu_seconds: set-up included), the phases, Newton and GMRES iterations, solves with M, steps
+outside their accuracy, auto's prediction per step) and DIR/step_cost.md (the table: CPU time
+of each method, auto's choice, auto / fastest among the methods that solve the same step).
+Every run with OMP_NUM_THREADS=1: on a machine shared with other jobs the wall time counts the
+time they held the cores, the CPU time of one thread does not. --table-only rewrites the
+table from the CSV.
 A run that fails or exceeds --timeout seconds is recorded with its status."""
 import argparse
 import csv
@@ -24,7 +27,8 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 def run(sim, scene, method, timeout):
     command = [sim, scene, "--json", "--no-output", "--quiet", "--step", method]
     try:
-        done = subprocess.run(command, capture_output=True, text=True, timeout=timeout)
+        done = subprocess.run(command, capture_output=True, text=True, timeout=timeout,
+                              env=dict(os.environ, OMP_NUM_THREADS="1"))
     except subprocess.TimeoutExpired:
         return {"status": "timeout > %g s" % timeout}
     if not done.stdout.strip():
@@ -61,11 +65,13 @@ def main():
             row = {
                 "scene": os.path.basename(scene), "mass": mass, "method": method,
                 "ran": j.get("step_method", ""), "status": j.get("status", ""),
-                "seconds": j.get("seconds", ""), "steps": j.get("steps", ""),
+                "seconds": j.get("seconds", ""), "cpu_seconds": j.get("cpu_seconds", ""),
+                "steps": j.get("steps", ""),
                 "assembly_s": phases.get("assembly", ""), "mass_solves_s": phases.get("mass_solve", ""),
                 "contact_solve_s": phases.get("contact_solve", ""),
                 "accuracy_check_s": phases.get("accuracy_check", ""),
                 "mass_solves": j.get("mass_solves", ""), "newton_iterations": j.get("newton_iterations", ""),
+                "krylov_iterations": j.get("krylov_iterations", ""),
                 "inaccurate_steps": j.get("inaccurate_steps", ""), "dofs": j.get("free_dofs", ""),
                 "contact_nodes": j.get("contact_nodes", ""),
                 "predicted_explicit_s": predicted.get("explicit", ""),
@@ -76,7 +82,7 @@ def main():
                 "friction_formulation": j.get("friction_formulation", ""),
             }
             rows.append(row)
-            print(",".join(str(row[k]) for k in ("scene", "method", "ran", "status", "seconds",
+            print(",".join(str(row[k]) for k in ("scene", "method", "ran", "status", "seconds", "cpu_seconds",
                                                    "newton_iterations", "inaccurate_steps")), flush=True)
     with open(os.path.join(args.out, "step_cost.csv"), "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(rows[0]))
@@ -94,8 +100,10 @@ def same_step(row):
 
 
 def write_table(rows, path):
+    """The table of CPU seconds (wall seconds for a CSV without them)."""
     for r in rows:
-        r["seconds"] = float(r["seconds"]) if r["seconds"] not in ("", None) else ""
+        t = r.get("cpu_seconds") if r.get("cpu_seconds") not in ("", None) else r["seconds"]
+        r["seconds"] = float(t) if t not in ("", None) else ""
     with open(path, "w") as f:
         f.write("| scene | dofs | contact nodes | mass | explicit [s] | condensed [s] | sparse [s] | "
                 "auto [s] (ran) | auto / fastest | condensed / sparse |\n|---|---|---|---|---|---|---|---|---|---|\n")

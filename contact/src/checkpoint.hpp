@@ -27,7 +27,8 @@
 
 namespace contact::internal {
 
-inline constexpr std::uint32_t kCheckpointVersion = 1;
+// 2: StepRecord and DynamicSummary carry krylov_iterations.
+inline constexpr std::uint32_t kCheckpointVersion = 2;
 
 /// FNV-1a, 64 bit, of `bytes` (a change detector, not a cryptographic hash).
 std::uint64_t Fnv1a(std::string_view bytes, std::uint64_t hash = 0xcbf29ce484222325ULL);
@@ -44,15 +45,25 @@ struct CheckpointIdentity {
   std::int64_t step_method = 0;  ///< StepMethod that runs (auto resolved)
 };
 
+/// What the central-difference integrator carries from step k to step k+1 (the
+/// integrator's State extends it with f(t_k) and its step buffers; a checkpoint holds it
+/// as it is, so saving and restoring are one assignment each).
+///   Ku = K u^k,  Mdu_previous = M (u^k - u^{k-1}),  du = u^k - u^{k-1}.
+struct CarriedState {
+  Eigen::VectorXd u, u_previous;  ///< u^k, u^{k-1} [m]
+  Eigen::VectorXd lambda;  ///< lambda^k per contact node [N] (Tresca bounds of step k)
+  Eigen::VectorXd Ku, Mdu_previous;  ///< [N], [kg m]
+  Eigen::VectorXd du;                ///< the next step's start guess [m]
+  double contact_force_max = 0.0;    ///< |r^k|_inf of step k [N]
+  ContactSystem::Result contact;     ///< of step k (system units)
+};
+
 /// The state after step k (contact/simulation.hpp lists it).
 struct CheckpointData {
   CheckpointIdentity identity;
   std::int64_t k = 0;
-  Eigen::VectorXd u, u_previous, lambda, Ku, Mdu_previous,
-      du;                          // [m], [N], [N], [kg m], [m]
-  double contact_force_max = 0.0;  // [N]
-  ContactSystem::Result contact;   // of step k (system units)
-  Eigen::VectorXd gaps;            // s_c [m]
+  CarriedState carried;
+  Eigen::VectorXd gaps;  // s_c [m]
   EnergyBalance energy;
   Eigen::MatrixXd warm_start;  // StepAlgorithm::WarmStart
   StepRecord first_inaccurate;

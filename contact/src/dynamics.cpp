@@ -113,20 +113,14 @@ bool CheckCriticalStep(const DynamicModel& model, const DynamicOptions& options,
   return false;
 }
 
-// The state of the integrator between steps k-1 -> k and k -> k+1: displacements, the
-// products with K and M carried between steps so that none is formed twice (and nothing
-// is allocated in the loop), and what the next step starts from.
-//   Ku = K u^k,  Mdu_previous = M (u^k - u^{k-1}),  Mdu = M (u^{k+1} - u^k).
-struct State {
-  Eigen::VectorXd f;              // f(t_k) [N]
-  Eigen::VectorXd u, u_previous;  // u^k, u^{k-1} [m]
-  Eigen::VectorXd lambda;  // lambda^k per contact node [N] (Tresca bounds of step k)
-  Eigen::VectorXd Ku, Mdu_previous;  // [N], [kg m]
-  Eigen::VectorXd du;                // u^k - u^{k-1}: the start guess of step k [m]
-  double contact_force_max = 0.0;    // |r^k|_inf of the previous step [N]
+// The state of the integrator between steps k-1 -> k and k -> k+1: the carried part
+// (checkpoint.hpp: displacements, the products with K and M carried between steps so that
+// none is formed twice, and what the next step starts from) and the step's buffers, so
+// that nothing is allocated in the loop.  Mdu = M (u^{k+1} - u^k).
+struct State : internal::CarriedState {
+  Eigen::VectorXd f;  // f(t_k) [N]
   // Step k -> k+1 (buffers).
   Eigen::VectorXd Q, q, bound, u_next, Ku_next, Mdu, r, residual, lambda_next;
-  ContactSystem::Result contact;
 };
 
 // Initial state (thesis section 4.3): static frictionless equilibrium for f(t0) at rest,
@@ -286,6 +280,7 @@ class CentralDifferences {
     rec->newton_iterations = outcome.newton_iterations;
     rec->jacobian_evaluations = outcome.jacobian_evaluations;
     rec->residual_evaluations = outcome.residual_evaluations;
+    rec->krylov_iterations = outcome.krylov_iterations;
     summary_.friction_restarts += outcome.friction_restarts;
     // Implicit Coulomb: the bound the step was solved (and is measured) against is
     // f_c lambda^{k+1}, not the lagged f_c lambda^k.
@@ -295,6 +290,7 @@ class CentralDifferences {
     summary_.newton_iterations += rec->newton_iterations;
     summary_.jacobian_evaluations += rec->jacobian_evaluations;
     summary_.residual_evaluations += rec->residual_evaluations;
+    summary_.krylov_iterations += rec->krylov_iterations;
     if (outcome.ok) return true;
     summary_.status = DynamicStatus::kSolverFailure;
     summary_.message = "step " + std::to_string(k + 1) +
@@ -573,14 +569,7 @@ void Simulation::Impl::Save(internal::CheckpointData* data) const {
   id.num_steps = num_steps;
   id.step_method = static_cast<std::int64_t>(summary.step_method);
   data->k = k;
-  data->u = state.u;
-  data->u_previous = state.u_previous;
-  data->lambda = state.lambda;
-  data->Ku = state.Ku;
-  data->Mdu_previous = state.Mdu_previous;
-  data->du = state.du;
-  data->contact_force_max = state.contact_force_max;
-  data->contact = state.contact;
+  data->carried = state;  // the carried part of the state (slicing intended)
   integrator->Save(data);
   data->summary = summary;
 }
@@ -633,27 +622,28 @@ void Simulation::Impl::Check(const internal::CheckpointData& d) const {
     throw CheckpointError("its step index " + std::to_string(d.k) + " does not fit its " +
                           std::to_string(d.summary.records.size()) +
                           " step records and " + std::to_string(num_steps) + " steps");
-  for (const auto& [what, v] : {std::pair<const char*, const Eigen::VectorXd*>{"u", &d.u},
-                                {"u_previous", &d.u_previous},
-                                {"K u", &d.Ku},
-                                {"M du", &d.Mdu_previous},
-                                {"du", &d.du}})
+  const internal::CarriedState& c = d.carried;
+  for (const auto& [what, v] : {std::pair<const char*, const Eigen::VectorXd*>{"u", &c.u},
+                                {"u_previous", &c.u_previous},
+                                {"K u", &c.Ku},
+                                {"M du", &c.Mdu_previous},
+                                {"du", &c.du}})
     CheckSize(what, v->size(), n);
-  CheckSize("lambda", d.lambda.size(), N);
+  CheckSize("lambda", c.lambda.size(), N);
   CheckSize("the gaps", d.gaps.size(), N);
   CheckSize("the final displacement", d.summary.u.size(), n, true);
   const bool stepped = d.k > 0;  // (before the first step the contact result is empty)
-  CheckSize("the contact result's du", d.contact.x.size(), n, !stepped);
-  CheckSize("the contact result's normal forces", d.contact.normal_force.size(), N,
+  CheckSize("the contact result's du", c.contact.x.size(), n, !stepped);
+  CheckSize("the contact result's normal forces", c.contact.normal_force.size(), N,
             !stepped);
-  CheckSize("the contact result's gaps", d.contact.gap.size(), N, !stepped);
-  CheckSize("the contact result's friction forces", d.contact.tangent_force.size(),
+  CheckSize("the contact result's gaps", c.contact.gap.size(), N, !stepped);
+  CheckSize("the contact result's friction forces", c.contact.tangent_force.size(),
             (model.dim - 1) * N, !stepped);
-  CheckSize("the contact result's slips", d.contact.slip.size(), (model.dim - 1) * N,
+  CheckSize("the contact result's slips", c.contact.slip.size(), (model.dim - 1) * N,
             !stepped);
-  if (d.contact.tangent_force.size() && d.contact.tangent_force.rows() != model.dim - 1)
+  if (c.contact.tangent_force.size() && c.contact.tangent_force.rows() != model.dim - 1)
     throw CheckpointError("its friction forces have " +
-                          std::to_string(d.contact.tangent_force.rows()) +
+                          std::to_string(c.contact.tangent_force.rows()) +
                           " rows, this run " + std::to_string(model.dim - 1));
 }
 
@@ -664,14 +654,7 @@ void Simulation::Impl::Restore(const internal::CheckpointData& d) {
   } catch (const std::invalid_argument& e) {
     throw CheckpointError(std::string("it does not fit this run: ") + e.what());
   }
-  state.u = d.u;
-  state.u_previous = d.u_previous;
-  state.lambda = d.lambda;
-  state.Ku = d.Ku;
-  state.Mdu_previous = d.Mdu_previous;
-  state.du = d.du;
-  state.contact_force_max = d.contact_force_max;
-  state.contact = d.contact;
+  static_cast<internal::CarriedState&>(state) = d.carried;
   const double seconds = summary.seconds;
   summary = d.summary;
   summary.seconds += seconds;

@@ -132,6 +132,28 @@ TEST_CASE("CoulombStep: same step as the eq.-94 ContactSystem with the Coulomb b
   INFO("dim " << dim << " seed " << seed << " mu " << mu << ": " << sliding
               << " sliding, " << sticking << " sticking");
 
+  // The same step again starts at its solution: solved by the start-point check, no
+  // Newton step, the same result; a changed step (pushed further) needs Newton steps and
+  // is solved too.
+  {
+    CoulombStep::Outcome again;
+    REQUIRE(step.Solve(x_free, gap0, 1.0, 0.01, 1e-10, &again));
+    CHECK(again.summary.iterations == 0);
+    CHECK(again.summary.message == "start point");
+    CHECK(again.natural_map_residual <= out.natural_map_residual * (1.0 + 1e-12) + 1e-20);
+    CHECK((again.contact.x - out.contact.x).lpNorm<Eigen::Infinity>() <=
+          1e-14 * x_free.lpNorm<Eigen::Infinity>());
+    CHECK(again.contact.normal_force == out.contact.normal_force);
+    CoulombStep::Outcome pushed;
+    const Eigen::VectorXd x_pushed = 1.5 * x_free;
+    REQUIRE(step.Solve(x_pushed, gap0, 1.0, 0.01, 1e-10, &pushed));
+    CHECK(pushed.summary.iterations > 0);
+    ContactSystem::Result pushed_contact = pushed.contact;
+    CHECK(CoulombViolation(dim, W, nodes, x_pushed, gap0, mu, pushed_contact) <= 1e-9);
+    // (back to this test's step for the comparison below)
+    REQUIRE(step.Solve(x_free, gap0, 1.0, 0.01, 1e-10, &out));
+  }
+
   // eq. 94 on S_c = W^-1, q_c = -W^-1 x_free, Tresca bound g_c = mu lambda_c (Coulomb's).
   ContactSystem system(dim, Winv.sparseView(), nodes);
   system.Update(-Winv * x_free, Eigen::VectorXd::Zero(m), mu * out.contact.normal_force);

@@ -261,3 +261,34 @@ TEST_CASE("auto: the method of least predicted cost per step",
   options.step_method = StepMethod::kFull;  // an explicit choice stays
   CHECK(internal::ResolveStepMethod(model, options, mass) == StepMethod::kFull);
 }
+
+TEST_CASE("The sparse step counts its GMRES iterations per step and per run",
+          "[contact][dynamics][step_method]") {
+  // The block pressed onto the floor by gravity, sliding sideways (a prescribed start
+  // velocity) for 20 steps: the sparse step's Newton systems are solved by GMRES, whose
+  // iterations the records and the summary count (the records' sum is the summary's);
+  // the condensed step runs no GMRES.
+  const StepMethod method = GENERATE(StepMethod::kSparse, StepMethod::kCondensed);
+  CAPTURE(ToString(method));
+  Scene scene = testing::SteelBlockOnFloor(MassKind::kConsistent);
+  scene.dynamics.step_method = method;
+  scene.dynamics.end_time = 20 * scene.dynamics.dt;
+  scene.dynamics.initial_state = InitialState::kPrescribed;
+  scene.initial_velocity = Eigen::Vector2d(1.0, 0.0);
+  const SceneModel built = BuildSceneModel(scene);
+  const DynamicSummary s = RunDynamics(built.model, built.options);
+  INFO(s.message);
+  REQUIRE(s.status == DynamicStatus::kCompleted);
+  REQUIRE(s.newton_iterations > 0);
+  long krylov = 0;
+  for (const StepRecord& r : s.records) {
+    krylov += r.krylov_iterations;
+    // A Newton step needs at least one GMRES iteration (its direction is not zero).
+    if (method == StepMethod::kSparse) CHECK(r.krylov_iterations >= r.newton_iterations);
+  }
+  CHECK(krylov == s.krylov_iterations);
+  if (method == StepMethod::kSparse)
+    CHECK(s.krylov_iterations >= s.newton_iterations);
+  else
+    CHECK(s.krylov_iterations == 0);
+}

@@ -72,6 +72,9 @@ struct DynamicSummary {
   /// Steps whose Newton solve from the previous friction forces failed and that were
   /// solved again from the neutral friction start (see ContactSystem::StartPoint).
   int friction_restarts = 0;
+  /// GMRES iterations over the run (StepMethod::kSparse; 0 otherwise): the sparse step's
+  /// Newton systems, one solve with M's factor each (docs/contact.md "Cost per step").
+  long krylov_iterations = 0;
   double seconds = 0.0;
   /// Where the steps' time went, summed over the run [s] (docs/contact.md, "Cost per
   /// step"): assembly (the load f^k, Q^k, the step's scales and the products M du, K

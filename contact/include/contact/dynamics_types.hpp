@@ -108,6 +108,9 @@ struct StepRecord {
   int step = 0;       ///< k + 1
   double time = 0.0;  ///< t_{k+1} [s]
   int newton_iterations = 0, jacobian_evaluations = 0, residual_evaluations = 0;
+  /// GMRES iterations over the step's Newton systems (StepMethod::kSparse; 0 otherwise):
+  /// each is one solve with M's factor.
+  int krylov_iterations = 0;
   double seconds = 0.0;        ///< the whole step [s]
   double solve_seconds = 0.0;  ///< of which the complementarity solve (Newton iterations,
                                ///< Ipopt, or the closed form) [s]

@@ -5,6 +5,7 @@
 // with it is one solve with the Cholesky factor of M - solved by ncp::fc's matrix-free
 // Newton (GMRES); with or without friction (f_c = 0: Signorini alone). Memory and set-up
 // follow the factor of M, not the square of the contact set.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -92,6 +93,7 @@ class CoulombFcStep : public StepAlgorithm {
     out.newton_iterations = s.iterations;
     out.jacobian_evaluations = s.iterations;  // one generalized Jacobian per Newton step
     out.residual_evaluations = s.iterations + s.backtracks + 1;
+    out.krylov_iterations = std::max(0, s.krylov_iterations);  // -1: dense (no GMRES)
     out.implicit_friction_bound = friction_;
     out.solve_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

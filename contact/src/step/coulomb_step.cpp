@@ -101,26 +101,22 @@ void CoulombStep::Build(Eigen::Index num_unknowns, double friction_coefficient) 
   problem_.name = "contact step";
 }
 
-double CoulombStep::SolveScaled(const Eigen::VectorXd& q_fc, double F, double D,
-                                double tolerance, Eigen::VectorXd* r,
-                                ncp::fc::Summary* summary) {
+void CoulombStep::SolveScaled(const Eigen::VectorXd& q_fc, double F, double D,
+                              double asked, double required, Eigen::VectorXd* r,
+                              ncp::fc::Summary* summary) {
   const Eigen::Index num_contacts = problem_.num_contacts;
-  // Asked: ||e'||_2 <= kNaturalMapMargin tolerance (+ the round-off of u', 16 ulp of its
-  // terms, as ContactSystem); ncp::fc's measure is relative to 1 + ||q'||_2.
   q_ = q_fc / D;
   const Eigen::VectorXd& q = q_;
-  const double eps = std::numeric_limits<double>::epsilon();
+  // ncp::fc's measure is relative to 1 + ||q'||_2. Asked: the margin; required: the
+  // tolerance - below it Newton stops where its steps no longer halve the error (the
+  // round-off of W' r' + q', which grows with the contact set: at 484 nodes ~2e-16
+  // relative, above the margin's 1e-15, and every step ran ~100 Newton steps through all
+  // of the hybrid's attempts before this).
   const double q_norm = q.norm();
-  const double roundoff =
-      ContactSystem::kRoundoffUlps * eps * q.lpNorm<Eigen::Infinity>();
   ncp::fc::Options& options = solve_options_;
   options = options_;
-  options.tolerance = (kNaturalMapMargin * tolerance + roundoff) / (1.0 + q_norm);
-  // Required: the tolerance; below it Newton stops where its steps no longer halve the
-  // error (the round-off of W' r' + q', which grows with the contact set: at 484 nodes
-  // ~2e-16 relative, above the margin's 1e-15, and every step ran ~100 Newton steps
-  // through all of the hybrid's attempts before this).
-  options.acceptable_tolerance = (tolerance + roundoff) / (1.0 + q_norm);
+  options.tolerance = asked / (1.0 + q_norm);
+  options.acceptable_tolerance = required / (1.0 + q_norm);
   if (matrix_free_) {
     operator_problem_.q = q;
     operator_problem_.diagonal = (F / D) * diagonal_fc_;
@@ -139,13 +135,20 @@ double CoulombStep::SolveScaled(const Eigen::VectorXd& q_fc, double F, double D,
     if (!transmits_[static_cast<size_t>(i)]) (*r)(i) = 0.0;
   for (Eigen::Index c = 0; c < num_contacts; ++c)
     ncp::fc::ProjectOnCone(problem_.mu(c), dim_, r->data() + dim_ * c);
-  if (matrix_free_) {
-    operator_problem_.apply_W(*r, &u_);
-  } else {
-    u_.noalias() = solver_->problem().W * *r;
-  }
-  u_ += q;
-  return ncp::fc::NaturalMapResidual(dim_, problem_.mu, *r, u_);
+}
+
+double CoulombStep::Motion(const Eigen::VectorXd& r, const Eigen::VectorXd& x_free,
+                           const Eigen::VectorXd& gap0, double F, double D,
+                           Outcome* out) {
+  out->force.noalias() = E_.transpose() * r;
+  apply_W_(out->force, &out->contact.x);
+  out->contact.x += x_free;
+  local_.noalias() = E_ * out->contact.x;
+  u_ = local_;
+  for (Eigen::Index c = 0; c < problem_.num_contacts; ++c) u_(dim_ * c) += gap0(c);
+  u_ /= D;
+  r_scaled_ = r / F;
+  return ncp::fc::NaturalMapResidual(dim_, problem_.mu, r_scaled_, u_);
 }
 
 bool CoulombStep::Solve(const Eigen::VectorXd& x_free, const Eigen::VectorXd& gap0,
@@ -167,28 +170,41 @@ bool CoulombStep::Solve(const Eigen::VectorXd& x_free, const Eigen::VectorXd& ga
   Eigen::VectorXd& q_fc = q_fc_;
   q_fc.noalias() = E_ * x_free;
   for (Eigen::Index c = 0; c < num_contacts; ++c) q_fc(dim_ * c) += gap0(c);
-  Eigen::VectorXd& r = r_;
-  if (r_previous_.size() == q_fc.size())
-    r = r_previous_ / F;
-  else
-    r.setZero(q_fc.size());
-  out->natural_map_residual = SolveScaled(q_fc, F, D, tolerance, &r, &out->summary);
-  // The margin is best effort (round-off of W' r' can stop Newton short of it): the step
-  // is solved when the required bound holds at the returned (projected) r, recomputed.
+  // Asked: ||e'||_2 <= kNaturalMapMargin tolerance, required: <= tolerance (each + the
+  // round-off of u', 16 ulp of its terms, as ContactSystem). The margin is best effort
+  // (round-off of W' r' can stop Newton short of it): the step is solved when the
+  // required bound holds at the returned (projected) r, recomputed.
   const double roundoff = ContactSystem::kRoundoffUlps *
                           std::numeric_limits<double>::epsilon() *
                           q_fc.lpNorm<Eigen::Infinity>() / D;
-  const bool converged = out->natural_map_residual <= tolerance + roundoff;
-
-  // Back to system units: r, F = E' r, x_c = W F + x_free, u = E x_c + (gap0, 0, 0).
-  r *= F;
+  const double asked = kNaturalMapMargin * tolerance + roundoff,
+               required = tolerance + roundoff;
+  Eigen::VectorXd& r = r_;  // system units
+  double residual = std::numeric_limits<double>::infinity();
+  // The start: the previous step's forces. One product with W gives the motion and the
+  // residual at them; a step they already solve (no contact change) is done - the
+  // solver's own check of its start point, without its per-solve set-up (W's scale, q).
+  if (r_previous_.size() == q_fc.size()) {
+    r = r_previous_;
+    residual = Motion(r, x_free, gap0, F, D, out);
+  } else {
+    r.setZero(q_fc.size());
+  }
+  if (residual <= asked) {
+    SolvedAtStart(residual / (1.0 + q_fc.norm() / D), &out->summary);
+  } else {
+    r /= F;  // the solver's unknowns r' = r / F
+    SolveScaled(q_fc, F, D, asked, required, &r, &out->summary);
+    r *= F;
+    residual = Motion(r, x_free, gap0, F, D, out);
+  }
+  out->natural_map_residual = residual;
+  const bool converged = residual <= required;
   if (converged) r_previous_ = r;
-  out->force = E_.transpose() * r;
+
+  // The contact forces, gaps and slips: r, u = E x_c + (gap0, 0, 0) (Motion).
   ContactSystem::Result& contact = out->contact;
-  apply_W_(out->force, &contact.x);
-  contact.x += x_free;
-  Eigen::VectorXd& local = local_;
-  local.noalias() = E_ * contact.x;
+  const Eigen::VectorXd& local = local_;
   contact.normal_force.resize(num_contacts);
   contact.gap.resize(num_contacts);
   contact.tangent_force.resize(dim_ - 1, num_contacts);
@@ -202,6 +218,20 @@ bool CoulombStep::Solve(const Eigen::VectorXd& x_free, const Eigen::VectorXd& ga
     }
   }
   return converged;
+}
+
+void CoulombStep::SolvedAtStart(double error, ncp::fc::Summary* summary) const {
+  summary->termination = ncp::fc::Termination::kConverged;
+  summary->message = "start point";  // (short: no allocation)
+  summary->iterations = summary->attempts = summary->backtracks = 0;
+  summary->gauss_seidel_sweeps = summary->fallback_sweeps = 0;
+  summary->linear_solver_failures = summary->levenberg_marquardt_steps = 0;
+  summary->symbolic_factorizations = 0;
+  summary->krylov_iterations = matrix_free_ ? 0 : -1;
+  summary->operator_applications = matrix_free_ ? 0 : -1;
+  summary->initial_error = summary->final_error = error;
+  summary->total_time_s = 0.0;
+  summary->trace.clear();
 }
 
 void CoulombStep::RestorePreviousForces(const Eigen::VectorXd& r) {

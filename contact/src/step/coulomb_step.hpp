@@ -106,10 +106,20 @@ class CoulombStep {
  private:
   /// E, transmits_ and the problem's constant parts, checking the arguments.
   void Build(Eigen::Index num_unknowns, double friction_coefficient);
-  /// The scaled problem u' = (F / D) W_fc r' + q_fc / D solved from *r (scaled); returns
-  /// the natural-map residual ||r' - P_C(r' - u'_hat)||_2 at the returned (projected) r.
-  double SolveScaled(const Eigen::VectorXd& q_fc, double F, double D, double tolerance,
-                     Eigen::VectorXd* r, ncp::fc::Summary* summary);
+  /// The scaled problem u' = (F / D) W_fc r' + q_fc / D solved from *r (scaled, r' = r /
+  /// F) to the natural-map residual `asked`, accepted at `required` (absolute, scaled);
+  /// *r returned zero on the non-transmitting components and projected onto the cones.
+  void SolveScaled(const Eigen::VectorXd& q_fc, double F, double D, double asked,
+                   double required, Eigen::VectorXd* r, ncp::fc::Summary* summary);
+  /// At the forces r (system units): out->force = E' r, out->contact.x = W E' r + x_free
+  /// (one product with W), local_ = E x_c; returns the natural-map residual
+  /// ||r' - P_C(r' - u'_hat)||_2 at r' = r / F, u' = (E x_c + (gap0, 0[, 0])) / D =
+  /// (F / D) W_fc r' + q_fc / D.
+  double Motion(const Eigen::VectorXd& r, const Eigen::VectorXd& x_free,
+                const Eigen::VectorXd& gap0, double F, double D, Outcome* out);
+  /// The summary of a step its start point solves (no Newton step), error relative to 1
+  /// + ||q'||_2 as ncp::fc's.
+  void SolvedAtStart(double error, ncp::fc::Summary* summary) const;
 
   int dim_;
   std::vector<ContactNode> nodes_;
@@ -127,8 +137,9 @@ class CoulombStep {
   ncp::fc::OperatorProblem operator_problem_;  // the same, matrix-free
   double operator_scale_ = 1.0;                // F / D of the current step (matrix-free)
   Eigen::VectorXd spread_, applied_;           // buffers of the matrix-free product
-  Eigen::VectorXd r_previous_;                // system units; empty before the first step
-  Eigen::VectorXd q_, q_fc_, r_, u_, local_;  // work vectors (no allocation per step)
+  Eigen::VectorXd r_previous_;  // system units; empty before the first step
+  Eigen::VectorXd q_, q_fc_, r_, r_scaled_, u_,
+      local_;  // work vectors (no allocation per step)
 };
 
 }  // namespace contact::internal

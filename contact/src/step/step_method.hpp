@@ -48,6 +48,8 @@ struct StepOutcome {
   std::string status = "not solved";  ///< "converged", or why not
   int newton_iterations = 0, jacobian_evaluations = 0, residual_evaluations = 0;
   int friction_restarts = 0;  ///< Newton solves repeated from the neutral friction start
+  /// Krylov (GMRES) iterations of the Newton systems (the sparse step; 0 otherwise).
+  int krylov_iterations = 0;
   /// Friction was solved against f_c lambda^{k+1} (this step's normal forces, implicit
   /// Coulomb), not against StepData::bound: the step's accuracy is measured against it.
   bool implicit_friction_bound = false;
