@@ -5,8 +5,8 @@
 //                          [--friction-formulation lagged-bound|coulomb-fc] [--end-time
 //                          S]
 //                          [--output DIR] [--resume] [--quiet]
-//   mpiexec -n R contact-sim SCENE.toml ...   (built with PETSc: the explicit step on R
-//   ranks,
+//   mpiexec -n R contact-sim SCENE.toml ...   (built with PETSc: the explicit or the
+//   condensed step on R ranks,
 //                                             docs/petsc.md "Contact scenes on MPI
 //                                             ranks")
 #include <signal.h>
@@ -168,7 +168,8 @@ cxxopts::Options MakeCli() {
       "output", "override output.directory", cxxopts::value<std::string>())(
       "no-output", "write no files")(
       "distributed",
-      "run through PETSc DMPlex even on one MPI rank (under mpiexec: the explicit step)")(
+      "run through PETSc DMPlex even on one MPI rank (under mpiexec: the explicit or the "
+      "condensed step)")(
       "resume",
       "continue the run from the checkpoint in the output directory (checkpoint.bin, "
       "written every output.checkpoint_every steps and when interrupted); the scene "
@@ -302,9 +303,10 @@ nlohmann::json JsonSummary(const contact::Scene& scene, const contact::SceneResu
   return j;
 }
 
-/// The scene on the MPI ranks (contact::petsc): only the explicit step; a scene it cannot
-/// run is refused alike on every rank. SIGINT/SIGTERM (mpiexec passes them on to every
-/// rank) stop it after the step in progress, agreed by the ranks at the step's end.
+/// The scene on the MPI ranks (contact::petsc): the explicit or the condensed step
+/// (contact::petsc::WhyNotDistributed); a scene it cannot run is refused alike on every
+/// rank. SIGINT/SIGTERM (mpiexec passes them on to every rank) stop it after the step in
+/// progress, agreed by the ranks at the step's end.
 contact::SceneResult RunDistributed(const contact::Scene& scene, const MpiSession& mpi,
                                     bool progress) {
 #ifdef CONTACT_SIM_WITH_PETSC
