@@ -35,6 +35,7 @@
 #include "scene/scene_load.hpp"
 #include "scene/scene_output.hpp"
 #include "step/explicit_contact_node.hpp"
+#include "step_accuracy.hpp"
 #include "step_record.hpp"
 
 namespace contact::petsc {
@@ -699,8 +700,10 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   DistributedOutput output(comm, scene, &result.files_written);
   std::unique_ptr<ExplicitRun> explicit_run;
   if (!condensed) explicit_run = std::make_unique<ExplicitRun>(comm, scene, body);
-  const Vec u_run =
-      condensed ? condensed_run->displacement() : explicit_run->displacement();
+  // u^k [m] (a step may swap the explicit run's Vecs: asked anew each time).
+  const auto u_run = [&] {
+    return condensed ? condensed_run->displacement() : explicit_run->displacement();
+  };
   // The step scaling S = M / m_max: the largest lumped mass (explicit) or entry of M_FF.
   const double m_max = condensed ? info.m_max : explicit_run->m_max();
   internal::StepGather gather(comm, scene.dim, info.num_contact_nodes);
@@ -726,7 +729,7 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   const DynamicOptions& options = scene.dynamics;
   const long num_steps = static_cast<long>(
       std::ceil((options.end_time - options.start_time) / options.dt - 1e-3));
-  output.WriteSnapshot(body, u_run, 0, options.start_time);
+  output.WriteSnapshot(body, u_run(), 0, options.start_time);
   const double force_scale = m_max / (options.dt * options.dt);
   std::vector<double> stress_times = scene.stress_times;
   std::sort(stress_times.begin(), stress_times.end());
@@ -792,11 +795,11 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
         ::contact::internal::ConsumeStressTimes(rec.time, options.dt, &stress_times);
     Eigen::VectorXd u_free;
     if (output.enabled() && (stress_time || last))
-      u_free = GatherFreeDofs(body, u_run, info.num_free_dofs);
+      u_free = GatherFreeDofs(body, u_run(), info.num_free_dofs);
     output.WriteStep(rec, mesh, dofs, nodes, marked, gathered.contact, force_scale,
                      stress_time || last ? &u_free : nullptr);
     if ((scene.snapshot_every > 0 && rec.step % scene.snapshot_every == 0) || last)
-      output.WriteSnapshot(body, u_run, rec.step, rec.time);
+      output.WriteSnapshot(body, u_run(), rec.step, rec.time);
     if (rank == 0) {
       summary.records.push_back(rec);
       if (progress && Seconds(start) - last_progress > 1.0) {
@@ -820,7 +823,7 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
                         " step, partitioner " + body.partitioner() + ")";
   }
   ShareEnd(comm, &summary);
-  const Eigen::VectorXd u = GatherFreeDofs(body, u_run, info.num_free_dofs);
+  const Eigen::VectorXd u = GatherFreeDofs(body, u_run(), info.num_free_dofs);
   if (rank == 0) summary.u = u;
   output.Finish();
   summary.seconds = Seconds(start);
