@@ -29,7 +29,7 @@ StepScales StepScalesFromMaxima(double f_max, double Ku_max, double contact_forc
   StepScales out;
   out.force = std::max({f_max, Ku_max, contact_force_max});
   const double step_of_force = out.force * dt * dt / m_max;
-  out.displacement = std::max({du_max, step_of_force, penetration});
+  out.displacement = std::max({du_max, step_of_force, std::max(penetration, 0.0)});
   if (out.force == 0.0) out.force = out.displacement * m_max / (dt * dt);
   if (out.force == 0.0)
     out.force = out.displacement = 1.0;  // nothing moves, loads or touches

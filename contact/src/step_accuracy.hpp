@@ -24,6 +24,12 @@ StepScales ComputeStepScales(const Eigen::VectorXd& f, const Eigen::VectorXd& Ku
                              double contact_force_max, const Eigen::VectorXd& du_previous,
                              const std::vector<ContactNode>& nodes,
                              const Eigen::VectorXd& u, double m_max, double dt);
+/// The same from the maxima: f_max = |f^k|_inf, Ku_max = |K u^k|_inf [N], du_max =
+/// |u^k - u^{k-1}|_inf [m], penetration = max_c (n_c . u^k_c - s_c) [m] (for a caller
+/// that reduces them over MPI ranks).
+StepScales StepScalesFromMaxima(double f_max, double Ku_max, double contact_force_max,
+                                double du_max, double penetration, double m_max,
+                                double dt);
 
 /// The same scales from the maxima that enter them (a run on MPI ranks reduces each over
 /// the ranks): f_max = |f^k|_inf, Ku_max = |K u^k|_inf, contact_force_max = |r^k|_inf

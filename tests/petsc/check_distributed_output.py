@@ -8,7 +8,8 @@ serial rows' contact force sums (the 1e-12 comparison of the trajectories themse
 test_distributed_scene.cpp's, in one process without the files' rounding), and
 contact_stress.csv, node_history.csv (output.marked_point) and displacement.csv (at
 output.stress_times and the end) have the serial rows; --json reports ranks = 2; a scene
-whose step is not explicit is refused once, with exit code 1, naming the step; and SIGINT
+whose step is not explicit or condensed (here the full step) is refused once, with exit
+code 1, naming the step; and SIGINT
 to mpiexec ends a run after a finished step with the "interrupted" summary and steps.csv
 complete up to that step (OpenMPI 4.1's mpiexec passes SIGINT on as SIGTERM and exits
 nonzero)."""
@@ -168,9 +169,9 @@ def main():
     interrupted = check_interrupt(a, mpi, scene)
 
     # Another step on 2 ranks: refused, once, naming the step and what is supported.
-    refused = subprocess.run(mpi + [scene, "--step", "condensed", "--no-output"], capture_output=True, text=True)
+    refused = subprocess.run(mpi + [scene, "--step", "full", "--no-output"], capture_output=True, text=True)
     assert refused.returncode == 1, refused
-    lines = [l for l in refused.stderr.splitlines() if "condensed" in l]
+    lines = [l for l in refused.stderr.splitlines() if "full" in l]
     assert len(lines) == 1 and "explicit" in lines[0], refused.stderr
     print(f"ok: {len(files)} snapshots, {grid.GetNumberOfPoints()} piece points = {len(nodes)} nodes merged, "
           f"{num_elements} cells; |u_mpi - u_serial| = {difference:.3g} m of {u_max:.3g} m; "

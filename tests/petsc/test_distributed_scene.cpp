@@ -262,15 +262,16 @@ TEST_CASE("an unstable explicit step blows up on MPI ranks as in one process") {
   CHECK(parallel.summary.message == serial.summary.message);
 }
 
-TEST_CASE("a scene whose step is not explicit is refused on every rank") {
+TEST_CASE(
+    "a scene whose step is neither explicit nor condensed is refused on every rank") {
   std::string text = kBlock2d;
-  text.replace(text.find("step = \"explicit\""), 17, "step = \"condensed\"");
-  const contact::Scene scene = LoadSceneText(text, "condensed");
+  text.replace(text.find("step = \"explicit\""), 17, "step = \"full\"");
+  const contact::Scene scene = LoadSceneText(text, "full");
   const std::string why = contact::petsc::WhyNotDistributed(scene);
-  CHECK_THAT(why, Catch::Matchers::Contains("condensed") &&
-                      Catch::Matchers::Contains("explicit"));
+  CHECK_THAT(
+      why, Catch::Matchers::Contains("'full'") && Catch::Matchers::Contains("explicit"));
   CHECK_THROWS_WITH(contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, false),
-                    Catch::Matchers::Contains("condensed"));
+                    Catch::Matchers::Contains("'full'"));
 }
 
 int main(int argc, char** argv) {

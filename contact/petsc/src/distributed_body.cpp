@@ -22,7 +22,8 @@ int Rank(MPI_Comm comm) {
 
 DistributedBody::DistributedBody(MPI_Comm comm, const Scene& scene,
                                  const SceneModel* built,
-                                 const std::vector<double>& node_data)
+                                 const std::vector<double>& node_data,
+                                 bool assemble_mass_matrix)
     : dim_(scene.dim) {
   // The element type and the cell count of rank 0's mesh, known everywhere.
   int header[2] = {0, 0};
@@ -44,12 +45,13 @@ DistributedBody::DistributedBody(MPI_Comm comm, const Scene& scene,
   distribute_seconds_ = lap();
   CreateSection();
   section_seconds_ = lap();
-  Assemble(scene);
+  Assemble(scene, assemble_mass_matrix);
   assemble_seconds_ = lap();
 }
 
 DistributedBody::~DistributedBody() {
   MatDestroy(&K_);
+  MatDestroy(&M_);
   VecDestroy(&m_);
   PetscSFDestroy(&migration_);
   DMDestroy(&dm_);
@@ -229,42 +231,71 @@ PetscInt DistributedBody::LocalOffset(int vertex, int a) const {
   return offset + a;
 }
 
-// K_FF and the lumped mass: contact::ElasticBody on this rank's cells (the project's
-// element kernels and their quadrature), its entries added into the global rows and
-// columns of the free dofs; a partition-boundary row is summed over the ranks that share
-// the vertex.
-void DistributedBody::Assemble(const Scene& scene) {
+// K_FF, the lumped mass and (if asked) the mass matrix M_FF of the scene (consistent, or
+// the lumped diagonal): contact::ElasticBody on this
+// rank's cells (the project's element kernels and their quadrature), its entries added
+// into the global rows and columns of the free dofs; a partition-boundary row is summed
+// over the ranks that share the vertex.
+void DistributedBody::Assemble(const Scene& scene, bool assemble_mass_matrix) {
   CONTACT_PETSC_CHECK(DMCreateMatrix(dm_, &K_));
   CONTACT_PETSC_CHECK(MatSetOption(K_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
+  if (assemble_mass_matrix) {
+    CONTACT_PETSC_CHECK(DMCreateMatrix(dm_, &M_));
+    CONTACT_PETSC_CHECK(MatSetOption(M_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
+  }
   CONTACT_PETSC_CHECK(VecZeroEntries(m_));
   if (local_mesh_.NumElements() > 0) {
     const ElasticBody body(local_mesh_, scene.material, scene.plane);
-    const SparseMatrix K = body.StiffnessMatrix();
+    AddRows(body.StiffnessMatrix(), K_);
+    if (M_ && scene.mass == MassKind::kConsistent)
+      AddRows(body.ConsistentMassMatrix(), M_);
     const Vector lumped = body.LumpedMass();
-    // K is exactly symmetric (ElasticBody symmetrizes each element matrix): column j of
-    // the compressed-column K is row j, added as one row (AIJ stores rows).
-    std::vector<PetscInt> columns;
-    std::vector<PetscScalar> values;
-    for (Eigen::Index j = 0; j < K.outerSize(); ++j) {
+    for (Eigen::Index j = 0; j < lumped.size(); ++j) {
       const PetscInt row = global_index_[static_cast<size_t>(j)];
-      if (row < 0) continue;
-      columns.clear();
-      values.clear();
-      for (SparseMatrix::InnerIterator it(K, j); it; ++it) {
-        const PetscInt column = global_index_[static_cast<size_t>(it.row())];
-        if (column < 0) continue;
-        columns.push_back(column);
-        values.push_back(it.value());
-      }
-      CONTACT_PETSC_CHECK(MatSetValues(K_, 1, &row, static_cast<PetscInt>(columns.size()),
-                                       columns.data(), values.data(), ADD_VALUES));
-      CONTACT_PETSC_CHECK(VecSetValue(m_, row, lumped(j), ADD_VALUES));
+      if (row >= 0) CONTACT_PETSC_CHECK(VecSetValue(m_, row, lumped(j), ADD_VALUES));
     }
   }
-  CONTACT_PETSC_CHECK(MatAssemblyBegin(K_, MAT_FINAL_ASSEMBLY));
-  CONTACT_PETSC_CHECK(MatAssemblyEnd(K_, MAT_FINAL_ASSEMBLY));
   CONTACT_PETSC_CHECK(VecAssemblyBegin(m_));
   CONTACT_PETSC_CHECK(VecAssemblyEnd(m_));
+  if (M_ && scene.mass == MassKind::kLumped) {  // M = diag(m), as the serial model's
+    PetscInt first = 0, last = 0;
+    const PetscScalar* m = nullptr;
+    CONTACT_PETSC_CHECK(VecGetOwnershipRange(m_, &first, &last));
+    CONTACT_PETSC_CHECK(VecGetArrayRead(m_, &m));
+    for (PetscInt row = first; row < last; ++row)
+      CONTACT_PETSC_CHECK(MatSetValue(M_, row, row, m[row - first], INSERT_VALUES));
+    CONTACT_PETSC_CHECK(VecRestoreArrayRead(m_, &m));
+  }
+  for (Mat A : {K_, M_}) {
+    if (!A) continue;
+    CONTACT_PETSC_CHECK(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
+    CONTACT_PETSC_CHECK(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
+    // (Both are symmetric by construction; M is positive definite - MUMPS's Cholesky.)
+    CONTACT_PETSC_CHECK(MatSetOption(A, MAT_SYMMETRIC, PETSC_TRUE));
+  }
+  if (M_) CONTACT_PETSC_CHECK(MatSetOption(M_, MAT_SPD, PETSC_TRUE));
+}
+
+// A is exactly symmetric (ElasticBody symmetrizes each element matrix): column j of the
+// compressed-column A is row j, added as one row (AIJ stores rows) of the free dofs.
+void DistributedBody::AddRows(const SparseMatrix& A, Mat target) const {
+  std::vector<PetscInt> columns;
+  std::vector<PetscScalar> values;
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+    const PetscInt row = global_index_[static_cast<size_t>(j)];
+    if (row < 0) continue;
+    columns.clear();
+    values.clear();
+    for (SparseMatrix::InnerIterator it(A, j); it; ++it) {
+      const PetscInt column = global_index_[static_cast<size_t>(it.row())];
+      if (column < 0) continue;
+      columns.push_back(column);
+      values.push_back(it.value());
+    }
+    CONTACT_PETSC_CHECK(MatSetValues(target, 1, &row,
+                                     static_cast<PetscInt>(columns.size()),
+                                     columns.data(), values.data(), ADD_VALUES));
+  }
 }
 
 }  // namespace contact::petsc::internal

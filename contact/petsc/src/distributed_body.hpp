@@ -3,7 +3,8 @@
 // PetscSection with dim dofs per vertex whose Dirichlet components are constraints
 // (eliminated from the global vectors, as contact::DofMap eliminates them), K as a
 // parallel AIJ matrix assembled from the element kernels of contact::ElasticBody on each
-// rank's cells, the lumped mass a Vec.
+// rank's cells, the lumped mass a Vec and, when asked, the consistent mass a parallel AIJ
+// matrix like K.
 #pragma once
 
 #include <petscdmplex.h>
@@ -30,9 +31,10 @@ class DistributedBody {
  public:
   /// Collective. `built` is read on rank 0 only (may be null elsewhere); node_data (rank
   /// 0: NodeData::Width(dim) doubles per mesh node) is sent to the ranks that get each
-  /// node.
+  /// node. assemble_mass_matrix: also assemble the mass matrix (mass_matrix()).
   DistributedBody(MPI_Comm comm, const Scene& scene, const SceneModel* built,
-                  const std::vector<double>& node_data);
+                  const std::vector<double>& node_data,
+                  bool assemble_mass_matrix = false);
   ~DistributedBody();
   DistributedBody(const DistributedBody&) = delete;
   DistributedBody& operator=(const DistributedBody&) = delete;
@@ -43,6 +45,14 @@ class DistributedBody {
   Mat stiffness() const { return K_; }
   /// The lumped mass [kg] per owned free dof.
   Vec lumped_mass() const { return m_; }
+  /// M_FF [kg], the scene's mass matrix (consistent, or diagonal for mass = "lumped") as
+  /// MATMPIAIJ with the pattern of K; null unless the constructor was asked for it.
+  Mat mass_matrix() const { return M_; }
+  /// Global index (in the DM's global Vecs) of component a of a local vertex; -1 if
+  /// constrained.
+  PetscInt GlobalIndex(int vertex, int a) const {
+    return global_index_[static_cast<size_t>(dim_ * vertex + a)];
+  }
   const std::string& partitioner() const { return partitioner_; }
   /// Wall time of the set-up phases on this rank [s]: DMPlex creation and distribution
   /// with the node data; section; K and mass assembly.
@@ -70,13 +80,15 @@ class DistributedBody {
   void ReceiveNodeData(const std::vector<double>& node_data, int num_original_cells);
   void BuildLocalMesh(ElementType type);
   void CreateSection();
-  void Assemble(const Scene& scene);
+  void Assemble(const Scene& scene, bool assemble_mass_matrix);
+  void AddRows(const SparseMatrix& A, Mat target) const;
 
   int dim_ = 0;
   DM dm_ = nullptr;
   PetscSF migration_ =
       nullptr;  // original points (rank 0) -> distributed points; null on 1 rank
   Mat K_ = nullptr;
+  Mat M_ = nullptr;
   Vec m_ = nullptr;
   std::string partitioner_;
   double distribute_seconds_ = 0, section_seconds_ = 0, assemble_seconds_ = 0;

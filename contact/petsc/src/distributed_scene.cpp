@@ -26,6 +26,8 @@
 #include "contact/simulation.hpp"
 #include "contact/vtk_writer.hpp"
 #include "distributed_body.hpp"
+#include "distributed_implicit_step.hpp"
+#include "mass_inverse.hpp"
 #include "ncp/output_file.hpp"
 #include "parallel.hpp"
 #include "petsc_check.hpp"
@@ -33,11 +35,13 @@
 #include "scene/scene_load.hpp"
 #include "scene/scene_output.hpp"
 #include "step/explicit_contact_node.hpp"
+#include "step_accuracy.hpp"
 #include "step_record.hpp"
 
 namespace contact::petsc {
 namespace {
 
+using internal::CondensedGatheredStep;
 using internal::DistributedBody;
 using internal::GatheredStep;
 using internal::NodeData;
@@ -65,6 +69,8 @@ struct StartInfo {
   int refused = 0;  // the serial set-up refused the run (summary says why)
   double critical_time_step = 0.0;  // [s]
   int num_dofs = 0, num_free_dofs = 0, num_contact_nodes = 0, num_elements = 0;
+  int method = static_cast<int>(StepMethod::kExplicit);  // the step on ranks
+  double m_max = 0.0;  // the largest entry of the serial M_FF [kg]
 };
 
 // What rank 0's StepRecorder starts from: the initial normal forces lambda^0 [N] and the
@@ -82,9 +88,16 @@ std::vector<double> SerialSetUp(const Scene& scene, SceneModel* built,
   *built = BuildSceneModel(scene);
   const Mesh& mesh = built->body->mesh();
   const int dim = mesh.dim;
+  const StepMethod method = internal::ResolveDistributedStep(scene, *built);
+  info->method = static_cast<int>(method);
+  info->m_max = ::contact::internal::MaxAbsEntry(built->model.M);
   DynamicOptions options = built->options;
   options.progress = false;
   options.on_step = nullptr;
+  // (The serial step is never taken here: for the condensed step on ranks the full
+  // step, whose set-up is cheapest, stands in, so that rank 0 does not form W.)
+  options.step_method =
+      method == StepMethod::kExplicit ? StepMethod::kExplicit : StepMethod::kFull;
   const Simulation initial(built->model,
                            options);  // checks dt against dt_crit, u^0, u^{-1}
   *summary = initial.summary();
@@ -573,12 +586,15 @@ void BroadcastString(MPI_Comm comm, std::string* s) {
 // Broadcasts rank 0's StartInfo and summary status/message.
 void ShareStart(MPI_Comm comm, StartInfo* info, DynamicSummary* summary) {
   MPI_Bcast(&info->refused, 1, MPI_INT, 0, comm);
-  MPI_Bcast(&info->critical_time_step, 1, MPI_DOUBLE, 0, comm);
-  int counts[4] = {info->num_dofs, info->num_free_dofs, info->num_contact_nodes,
-                   info->num_elements};
-  MPI_Bcast(counts, 4, MPI_INT, 0, comm);
+  double reals[2] = {info->critical_time_step, info->m_max};
+  MPI_Bcast(reals, 2, MPI_DOUBLE, 0, comm);
+  info->critical_time_step = reals[0], info->m_max = reals[1];
+  int counts[5] = {info->num_dofs, info->num_free_dofs, info->num_contact_nodes,
+                   info->num_elements, info->method};
+  MPI_Bcast(counts, 5, MPI_INT, 0, comm);
   info->num_dofs = counts[0], info->num_free_dofs = counts[1];
   info->num_contact_nodes = counts[2], info->num_elements = counts[3];
+  info->method = counts[4];
   int status = static_cast<int>(summary->status);
   MPI_Bcast(&status, 1, MPI_INT, 0, comm);
   summary->status = static_cast<DynamicStatus>(status);
@@ -598,16 +614,25 @@ void ShareEnd(MPI_Comm comm, DynamicSummary* summary) {
 
 std::string WhyNotDistributed(const Scene& scene) {
   const std::string supported =
-      "on more than one MPI rank contact-sim runs the explicit step only (solver.step = "
-      "\"explicit\" "
-      "with mass = \"lumped\"; --step explicit)";
-  if (scene.dynamics.step_method != StepMethod::kExplicit)
-    return scene.source + ": the scene's step is '" +
-           ToString(scene.dynamics.step_method) + "'; " + supported;
-  if (scene.mass != MassKind::kLumped)
+      "on more than one MPI rank contact-sim runs the explicit step (solver.step = "
+      "\"explicit\" with mass = \"lumped\"), the condensed step with the contact set "
+      "gathered (solver.step = \"condensed\", friction \"coulomb-fc\") and \"auto\" "
+      "choosing between them";
+  const StepMethod method = scene.dynamics.step_method;
+  if (method != StepMethod::kExplicit && method != StepMethod::kCondensed &&
+      method != StepMethod::kAuto)
+    return scene.source + ": the scene's step is '" + ToString(method) + "'; " +
+           supported;
+  if (method == StepMethod::kExplicit && scene.mass != MassKind::kLumped)
     return scene.source +
            ": the explicit step needs mass = \"lumped\" (the scene's mass is "
            "consistent); " +
+           supported;
+  if (method == StepMethod::kCondensed && scene.friction_coefficient > 0.0 &&
+      scene.dynamics.friction_formulation == FrictionFormulation::kLaggedBound)
+    return scene.source +
+           ": the condensed step on MPI ranks poses friction as implicit Coulomb "
+           "(solver.friction = \"coulomb-fc\"), not with the lagged bound; " +
            supported;
   if (scene.dynamics.compare_with_ipopt)
     return scene.source + ": compare_with_ipopt is not available on MPI ranks; " +
@@ -646,12 +671,18 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   result.num_contact_nodes = info.num_contact_nodes,
   result.num_elements = info.num_elements;
   summary.critical_time_step = info.critical_time_step;
-  summary.step_method = StepMethod::kExplicit;
+  const auto method = static_cast<StepMethod>(info.method);
+  summary.step_method = method;
   if (info.refused) return result;
 
   const double setup_seconds = Seconds(start);
-  const DistributedBody body(comm, scene, built.get(), node_data);
+  const bool condensed = method == StepMethod::kCondensed;
+  const DistributedBody body(comm, scene, built.get(), node_data, condensed);
   node_data = {};
+  std::unique_ptr<CondensedGatheredStep> condensed_run;
+  if (condensed)
+    condensed_run = std::make_unique<CondensedGatheredStep>(
+        comm, scene, body, built ? &built->frames.nodes : nullptr, info.m_max);
   if (progress && rank == 0)
     std::fprintf(stderr,
                  "  set-up on rank 0: model, dt_crit and initial state %.3g s; DMPlex "
@@ -659,8 +690,22 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
                  "(%s) %.3g s, section %.3g s, assembly of K and M %.3g s\n",
                  setup_seconds, body.partitioner().c_str(), body.distribute_seconds(),
                  body.section_seconds(), body.assemble_seconds());
+  if (progress && rank == 0 && condensed_run)
+    std::fprintf(stderr,
+                 "  condensed step on ranks: %d contact unknowns gathered on rank 0; "
+                 "solves with M by %s; factor %.3g s, W %.3g s\n",
+                 condensed_run->num_contact_unknowns(),
+                 condensed_run->mass_solver().c_str(), condensed_run->factor_seconds(),
+                 condensed_run->delassus_seconds());
   DistributedOutput output(comm, scene, &result.files_written);
-  ExplicitRun run(comm, scene, body);
+  std::unique_ptr<ExplicitRun> explicit_run;
+  if (!condensed) explicit_run = std::make_unique<ExplicitRun>(comm, scene, body);
+  // u^k [m] (a step may swap the explicit run's Vecs: asked anew each time).
+  const auto u_run = [&] {
+    return condensed ? condensed_run->displacement() : explicit_run->displacement();
+  };
+  // The step scaling S = M / m_max: the largest lumped mass (explicit) or entry of M_FF.
+  const double m_max = condensed ? info.m_max : explicit_run->m_max();
   internal::StepGather gather(comm, scene.dim, info.num_contact_nodes);
   // Rank 0 keeps of the serial set-up what the records and the output need (mesh,
   // Dirichlet map, contact nodes).
@@ -678,17 +723,21 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
       result.marked_node = nodes[static_cast<size_t>(marked)].node;
     }
     recorder = std::make_unique<internal::StepRecorder>(
-        scene, built->frames.nodes, recorder_start.lambda0, recorder_start.energy,
-        run.m_max());
+        scene, built->frames.nodes, recorder_start.lambda0, recorder_start.energy, m_max);
     built.reset();
   }
   const DynamicOptions& options = scene.dynamics;
   const long num_steps = static_cast<long>(
       std::ceil((options.end_time - options.start_time) / options.dt - 1e-3));
-  output.WriteSnapshot(body, run.displacement(), 0, options.start_time);
-  const double force_scale = run.m_max() / (options.dt * options.dt);
+  output.WriteSnapshot(body, u_run(), 0, options.start_time);
+  const double force_scale = m_max / (options.dt * options.dt);
   std::vector<double> stress_times = scene.stress_times;
   std::sort(stress_times.begin(), stress_times.end());
+  if (condensed)
+    for (double* measure :
+         {&summary.max_equilibrium_residual, &summary.max_complementarity_residual,
+          &summary.max_friction_residual, &summary.energy_balance_error})
+      *measure = std::numeric_limits<double>::quiet_NaN();  // not computed (docs)
   RankStepPart part;
   std::vector<NodeResult> node_results;
   GatheredStep gathered;
@@ -699,18 +748,42 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
     StepRecord rec;
     rec.step = static_cast<int>(k + 1);
     rec.time = options.start_time + static_cast<double>(k) * options.dt + options.dt;
-    run.Step(k, options.stop_requested && options.stop_requested->load(), &part,
-             &node_results);
-    rec.solve_seconds = Seconds(step_start);
-    gather.Gather(part, node_results, &gathered);
     // Rank 0 records the step and decides for every rank whether the run goes on.
     enum Decision : int { kGoOn, kStopAfterRecord, kStopUnrecorded };
     int decision = kGoOn;
-    if (rank == 0) {
-      if (!recorder->Record(&gathered, num_steps, &rec, &summary))
-        decision = summary.status == DynamicStatus::kSolverFailure ? kStopUnrecorded
-                                                                   : kStopAfterRecord;
-      rec.seconds = Seconds(step_start);
+    const int stop_read =
+        options.stop_requested && options.stop_requested->load() ? 1 : 0;
+    if (condensed) {
+      if (!condensed_run->Step(k, &rec, &gathered.contact)) {
+        summary.status = DynamicStatus::kSolverFailure;
+        summary.message = "step " + std::to_string(k + 1) +
+                          " (t = " + std::to_string(rec.time) +
+                          " s): " + condensed_run->failure();
+        break;
+      }
+      rec.solve_seconds = rec.seconds = Seconds(step_start);
+      int stop = stop_read;
+      MPI_Allreduce(MPI_IN_PLACE, &stop, 1, MPI_INT, MPI_MAX, comm);
+      if (rank == 0) {
+        summary.max_penetration = std::max(summary.max_penetration, rec.max_penetration);
+        summary.newton_iterations += rec.newton_iterations;
+        summary.jacobian_evaluations += rec.jacobian_evaluations;
+        summary.residual_evaluations += rec.residual_evaluations;
+        if (stop && rec.step < num_steps) {
+          ::contact::internal::SetInterrupted(rec, num_steps, &summary);
+          decision = kStopAfterRecord;
+        }
+      }
+    } else {
+      explicit_run->Step(k, stop_read != 0, &part, &node_results);
+      rec.solve_seconds = Seconds(step_start);
+      gather.Gather(part, node_results, &gathered);
+      if (rank == 0) {
+        if (!recorder->Record(&gathered, num_steps, &rec, &summary))
+          decision = summary.status == DynamicStatus::kSolverFailure ? kStopUnrecorded
+                                                                     : kStopAfterRecord;
+        rec.seconds = Seconds(step_start);
+      }
     }
     MPI_Bcast(&decision, 1, MPI_INT, 0, comm);
     if (decision == kStopUnrecorded) break;
@@ -722,30 +795,35 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
         ::contact::internal::ConsumeStressTimes(rec.time, options.dt, &stress_times);
     Eigen::VectorXd u_free;
     if (output.enabled() && (stress_time || last))
-      u_free = GatherFreeDofs(body, run.displacement(), info.num_free_dofs);
+      u_free = GatherFreeDofs(body, u_run(), info.num_free_dofs);
     output.WriteStep(rec, mesh, dofs, nodes, marked, gathered.contact, force_scale,
                      stress_time || last ? &u_free : nullptr);
     if ((scene.snapshot_every > 0 && rec.step % scene.snapshot_every == 0) || last)
-      output.WriteSnapshot(body, run.displacement(), rec.step, rec.time);
+      output.WriteSnapshot(body, u_run(), rec.step, rec.time);
     if (rank == 0) {
       summary.records.push_back(rec);
       if (progress && Seconds(start) - last_progress > 1.0) {
         last_progress = Seconds(start);
-        std::fprintf(stderr, "  step %d / %ld, t = %.6g s (explicit, %d ranks)\n",
-                     rec.step, num_steps, rec.time, SizeOf(comm));
+        std::fprintf(stderr, "  step %d / %ld, t = %.6g s (%s, %d ranks)\n", rec.step,
+                     num_steps, rec.time, ToString(method), SizeOf(comm));
       }
     }
     if (!go_on) break;
   }
   if (rank == 0) {
-    recorder->Finish(&summary);
+    if (summary.status == DynamicStatus::kNotRun) {
+      if (condensed)
+        summary.status = DynamicStatus::kCompleted;  // (no accuracy measures on ranks)
+      else
+        recorder->Finish(&summary);
+    }
     if (summary.status == DynamicStatus::kCompleted)
       summary.message = "completed " + std::to_string(summary.steps) + " steps on " +
-                        std::to_string(SizeOf(comm)) + " MPI ranks (partitioner " +
-                        body.partitioner() + ")";
+                        std::to_string(SizeOf(comm)) + " MPI ranks (" + ToString(method) +
+                        " step, partitioner " + body.partitioner() + ")";
   }
   ShareEnd(comm, &summary);
-  const Eigen::VectorXd u = GatherFreeDofs(body, run.displacement(), info.num_free_dofs);
+  const Eigen::VectorXd u = GatherFreeDofs(body, u_run(), info.num_free_dofs);
   if (rank == 0) summary.u = u;
   output.Finish();
   summary.seconds = Seconds(start);

@@ -1,0 +1,482 @@
+#include "distributed_implicit_step.hpp"
+
+#include <dlfcn.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+#include "mass_inverse.hpp"
+#include "petsc_check.hpp"
+#include "scene/scene_load.hpp"
+#include "step/step_method.hpp"
+#include "step_accuracy.hpp"
+
+namespace contact::petsc::internal {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Seconds(Clock::time_point since) {
+  return std::chrono::duration<double>(Clock::now() - since).count();
+}
+
+void BroadcastText(MPI_Comm comm, std::string* s) {
+  int length = static_cast<int>(s->size());
+  MPI_Bcast(&length, 1, MPI_INT, 0, comm);
+  s->resize(static_cast<size_t>(length));
+  MPI_Bcast(s->data(), length, MPI_CHAR, 0, comm);
+}
+
+// Throws the message of rank 0 on every rank (empty: nothing to throw), so that a failure
+// of rank 0's part of the set-up leaves no rank waiting in a collective call.
+void ThrowFromRankZero(MPI_Comm comm, std::string message) {
+  BroadcastText(comm, &message);
+  if (!message.empty()) throw std::invalid_argument(message);
+}
+
+// True if PETSc's calls to MUMPS reach the parallel MUMPS. Debian's sequential MUMPS
+// (libdmumps_seq, linked through Ipopt) defines the same dmumps_c; when the dynamic
+// linker binds it first, a factorization over more than one rank sees only each rank's
+// rows and fails (INFOG(1) = -10).
+bool ParallelMumpsBound() {
+  void* entry = dlsym(RTLD_DEFAULT, "dmumps_c");
+  Dl_info info;
+  if (!entry || dladdr(entry, &info) == 0 || !info.dli_fname) return false;
+  return std::strstr(info.dli_fname, "_seq") == nullptr;
+}
+
+std::string KspDescription(KSP ksp) {
+  KSPType ksp_type = nullptr;
+  PC pc = nullptr;
+  PCType pc_type = nullptr;
+  CONTACT_PETSC_CHECK(KSPGetType(ksp, &ksp_type));
+  CONTACT_PETSC_CHECK(KSPGetPC(ksp, &pc));
+  CONTACT_PETSC_CHECK(PCGetType(pc, &pc_type));
+  std::string out =
+      std::string(ksp_type ? ksp_type : "?") + " + " + (pc_type ? pc_type : "?");
+  MatSolverType package = nullptr;
+  if (PCFactorGetMatSolverType(pc, &package) == 0 && package)
+    out += std::string(" (") + package + ")";
+  return out;
+}
+
+}  // namespace
+
+int CountContactUnknowns(int dim, const std::vector<ContactNode>& nodes) {
+  int count = 0;
+  for (const ContactNode& node : nodes)
+    for (int a = 0; a < dim; ++a)
+      if (node.dofs[a] >= 0) ++count;
+  return count;
+}
+
+StepMethod ResolveDistributedStep(const Scene& scene, const SceneModel& built) {
+  const DynamicOptions& options = built.options;
+  const DynamicModel& model = built.model;
+  StepMethod method = options.step_method;
+  if (method == StepMethod::kAuto) {
+    // The serial choice when it is the explicit step (lumped M, no implicit friction).
+    if (scene.mass == MassKind::kLumped) {
+      const ::contact::internal::MassInverse mass(model.M, "contact::petsc");
+      if (::contact::internal::PredictStepCost(model, options, mass).choice ==
+          StepMethod::kExplicit)
+        return StepMethod::kExplicit;
+    }
+    const int unknowns = CountContactUnknowns(model.dim, model.contact_nodes);
+    if (unknowns > kMaxGatheredContactUnknowns)
+      throw std::invalid_argument(
+          scene.source +
+          ": solver.step = \"auto\" on MPI ranks runs the condensed step "
+          "with the contact set gathered onto rank 0, up to " +
+          std::to_string(kMaxGatheredContactUnknowns) +
+          " contact unknowns; this scene has " + std::to_string(unknowns) + " (" +
+          std::to_string(model.contact_nodes.size()) +
+          " contact nodes): set solver.step = \"condensed\" to gather them anyway, "
+          "solver.step = \"explicit\" with mass = \"lumped\", or run in one process "
+          "(the sparse step)");
+    method = StepMethod::kCondensed;
+  }
+  if (method == StepMethod::kCondensed && options.friction_coefficient > 0.0 &&
+      options.friction_formulation == FrictionFormulation::kLaggedBound)
+    throw std::invalid_argument(
+        scene.source +
+        ": on MPI ranks the condensed step poses friction as implicit "
+        "Coulomb (solver.friction = \"coulomb-fc\", the default), not with the lagged "
+        "bound (lagged-bound); the explicit step (mass = \"lumped\") takes the lagged "
+        "bound");
+  return method;
+}
+
+CondensedGatheredStep::CondensedGatheredStep(MPI_Comm comm, const Scene& scene,
+                                             const DistributedBody& body,
+                                             const std::vector<ContactNode>* nodes,
+                                             double m_max)
+    : comm_(comm),
+      rank_(0),
+      scene_(scene),
+      body_(body),
+      dim_(body.dim()),
+      dt_(scene.dynamics.dt),
+      m_max_(m_max),
+      force_scale_(m_max / (scene.dynamics.dt * scene.dynamics.dt)),
+      tolerance_(scene.dynamics.ncp.tolerance) {
+  MPI_Comm_rank(comm, &rank_);
+  if (!body.mass_matrix())
+    throw std::logic_error("CondensedGatheredStep: the body has no mass matrix");
+  for (Vec* v : {&u_, &du_, &Ku_, &Mdu_previous_, &f_free_, &q_, &y_, &rhs_, &Mdu_})
+    CONTACT_PETSC_CHECK(DMCreateGlobalVector(body.dm(), v));
+  auto start = Clock::now();
+  CreateMassSolver();
+  factor_seconds_ = Seconds(start);
+  BuildContactScatter(nodes);
+  start = Clock::now();
+  FormDelassus();
+  delassus_seconds_ = Seconds(start);
+  SetInitialState();
+}
+
+CondensedGatheredStep::~CondensedGatheredStep() {
+  for (Vec* v : {&u_, &du_, &Ku_, &Mdu_previous_, &f_free_, &q_, &y_, &rhs_, &Mdu_})
+    VecDestroy(v);
+  VecDestroy(&contact_);
+  VecScatterDestroy(&to_contact_);
+  KSPDestroy(&ksp_);
+}
+
+// M^-1 by PETSc's KSP on the parallel M: by default MUMPS's Cholesky factor (preonly),
+// computed once and reused by every solve of the run; on more than one rank when the
+// sequential MUMPS is bound in MUMPS's place (ParallelMumpsBound: contact-sim, which
+// links Ipopt), CG with Jacobi's preconditioner (M's condition number after diagonal
+// scaling is bounded independently of the mesh size: a few tens of iterations; exact for
+// a lumped M). The options database under "mass_" overrides either (-mass_ksp_type cg
+// -mass_pc_type gamg, -mass_pc_type redundant, ...).
+void CondensedGatheredStep::CreateMassSolver() {
+  int ranks = 1;
+  MPI_Comm_size(comm_, &ranks);
+  const bool mumps = ranks == 1 || ParallelMumpsBound();
+  CONTACT_PETSC_CHECK(KSPCreate(comm_, &ksp_));
+  CONTACT_PETSC_CHECK(KSPSetOptionsPrefix(ksp_, "mass_"));
+  CONTACT_PETSC_CHECK(KSPSetOperators(ksp_, body_.mass_matrix(), body_.mass_matrix()));
+  CONTACT_PETSC_CHECK(KSPSetType(ksp_, mumps ? KSPPREONLY : KSPCG));
+  PC pc = nullptr;
+  CONTACT_PETSC_CHECK(KSPGetPC(ksp_, &pc));
+  CONTACT_PETSC_CHECK(PCSetType(pc, mumps ? PCCHOLESKY : PCJACOBI));
+  if (mumps) CONTACT_PETSC_CHECK(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+  // An iterative solve to 1e-12 of |b| (the trajectory is compared with one process's to
+  // 1e-9).
+  CONTACT_PETSC_CHECK(KSPSetTolerances(ksp_, 1e-12, 0.0, PETSC_DEFAULT, 10000));
+  CONTACT_PETSC_CHECK(KSPSetFromOptions(ksp_));
+  mass_solver_ = KspDescription(ksp_);
+  // preonly applies the preconditioner once: M^-1 only if it is a factorization (or the
+  // inverse of a diagonal M), never an approximation taken for the solve.
+  PetscBool preonly = PETSC_FALSE, exact = PETSC_FALSE;
+  CONTACT_PETSC_CHECK(
+      PetscObjectTypeCompare(reinterpret_cast<PetscObject>(ksp_), KSPPREONLY, &preonly));
+  CONTACT_PETSC_CHECK(KSPGetPC(ksp_, &pc));
+  CONTACT_PETSC_CHECK(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &exact,
+                                                PCCHOLESKY, PCLU, PCREDUNDANT, ""));
+  if (!exact && scene_.mass == MassKind::kLumped)
+    CONTACT_PETSC_CHECK(
+        PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCJACOBI, &exact));
+  if (preonly && !exact)
+    throw std::invalid_argument(
+        "contact::petsc: the solves with the mass matrix are set to " + mass_solver_ +
+        ", one application of a preconditioner that is not M^-1; with -mass_ksp_type "
+        "preonly use -mass_pc_type cholesky, lu or redundant (jacobi for a lumped "
+        "mass), or a Krylov method (-mass_ksp_type cg)");
+  CONTACT_PETSC_CHECK(KSPSetUp(ksp_));
+}
+
+bool CondensedGatheredStep::SolveS(Vec b, Vec x) {
+  CONTACT_PETSC_CHECK(KSPSolve(ksp_, b, x));
+  KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
+  CONTACT_PETSC_CHECK(KSPGetConvergedReason(ksp_, &reason));
+  if (reason < 0) {
+    failure_ = "the solve with the mass matrix (" + mass_solver_ +
+               ") did not converge: " + KSPConvergedReasons[reason];
+    return false;
+  }
+  CONTACT_PETSC_CHECK(VecScale(x, m_max_));  // S^-1 = m_max M^-1
+  return true;
+}
+
+// The contact unknowns in the serial order of H (contact node by node, its free
+// components in order): rank 0 learns the global index of each from the ranks that own
+// the contact nodes, and one VecScatter moves them between the global Vecs and rank 0.
+void CondensedGatheredStep::BuildContactScatter(const std::vector<ContactNode>* nodes) {
+  // (serial free-dof index, global index) of every owned free component of a contact
+  // node.
+  std::vector<long long> send;
+  for (int i = 0; i < body_.NumLocalVertices(); ++i) {
+    if (!body_.Owns(i) || body_.Data(i)[4 * dim_] < 0) continue;
+    for (int a = 0; a < dim_; ++a)
+      if (body_.GlobalIndex(i, a) >= 0) {
+        send.push_back(static_cast<long long>(body_.Data(i)[a]));
+        send.push_back(static_cast<long long>(body_.GlobalIndex(i, a)));
+      }
+  }
+  int size = 1;
+  MPI_Comm_size(comm_, &size);
+  std::vector<int> counts(static_cast<size_t>(size)), offsets(static_cast<size_t>(size));
+  const int count = static_cast<int>(send.size());
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_);
+  int total = 0;
+  if (rank_ == 0)
+    for (size_t r = 0; r < counts.size(); ++r) offsets[r] = total, total += counts[r];
+  std::vector<long long> received(static_cast<size_t>(total));
+  MPI_Gatherv(send.data(), count, MPI_LONG_LONG, received.data(), counts.data(),
+              offsets.data(), MPI_LONG_LONG, 0, comm_);
+  std::vector<PetscInt> indices;
+  std::string error;
+  if (rank_ == 0) {
+    long long num_free = 0;
+    for (size_t k = 0; k + 1 < received.size(); k += 2)
+      num_free = std::max(num_free, received[k] + 1);
+    for (const ContactNode& node : *nodes)
+      for (int a = 0; a < dim_; ++a) num_free = std::max(num_free, node.dofs[a] + 1LL);
+    std::vector<PetscInt> global_of_free(static_cast<size_t>(num_free), -1);
+    for (size_t k = 0; k + 1 < received.size(); k += 2)
+      global_of_free[static_cast<size_t>(received[k])] =
+          static_cast<PetscInt>(received[k + 1]);
+    nodes_ = *nodes;
+    for (ContactNode& node : nodes_)  // renumbered onto the contact unknowns (as H)
+      for (int a = 0; a < dim_; ++a) {
+        if (node.dofs[a] < 0) continue;
+        const PetscInt global = global_of_free[static_cast<size_t>(node.dofs[a])];
+        if (global < 0)
+          error = "contact::petsc: contact node " + std::to_string(node.node) +
+                  " has no owner among the ranks";
+        node.dofs[a] = static_cast<int>(indices.size());
+        indices.push_back(global);
+      }
+  }
+  ThrowFromRankZero(comm_, error);
+  num_unknowns_ = static_cast<int>(indices.size());
+  MPI_Bcast(&num_unknowns_, 1, MPI_INT, 0, comm_);
+  IS is = nullptr;
+  CONTACT_PETSC_CHECK(ISCreateGeneral(PETSC_COMM_SELF,
+                                      static_cast<PetscInt>(indices.size()),
+                                      indices.data(), PETSC_COPY_VALUES, &is));
+  CONTACT_PETSC_CHECK(
+      VecCreateSeq(PETSC_COMM_SELF, static_cast<PetscInt>(indices.size()), &contact_));
+  CONTACT_PETSC_CHECK(VecScatterCreate(u_, is, contact_, nullptr, &to_contact_));
+  CONTACT_PETSC_CHECK(ISDestroy(&is));
+}
+
+// W = H S^-1 H' on rank 0, column by column: e_j scattered to its owner, one distributed
+// solve, the column gathered (as the serial DelassusOperator, then symmetrized); rank 0
+// sets up the serial step's CoulombStep on it.
+void CondensedGatheredStep::FormDelassus() {
+  Eigen::MatrixXd W;
+  if (rank_ == 0) W.resize(num_unknowns_, num_unknowns_);
+  for (int j = 0; j < num_unknowns_; ++j) {
+    CONTACT_PETSC_CHECK(VecZeroEntries(contact_));
+    if (rank_ == 0) CONTACT_PETSC_CHECK(VecSetValue(contact_, j, 1.0, INSERT_VALUES));
+    CONTACT_PETSC_CHECK(VecAssemblyBegin(contact_));
+    CONTACT_PETSC_CHECK(VecAssemblyEnd(contact_));
+    CONTACT_PETSC_CHECK(VecZeroEntries(rhs_));
+    CONTACT_PETSC_CHECK(
+        VecScatterBegin(to_contact_, contact_, rhs_, INSERT_VALUES, SCATTER_REVERSE));
+    CONTACT_PETSC_CHECK(
+        VecScatterEnd(to_contact_, contact_, rhs_, INSERT_VALUES, SCATTER_REVERSE));
+    if (!SolveS(rhs_, y_)) throw std::invalid_argument("contact::petsc: " + failure_);
+    CONTACT_PETSC_CHECK(
+        VecScatterBegin(to_contact_, y_, contact_, INSERT_VALUES, SCATTER_FORWARD));
+    CONTACT_PETSC_CHECK(
+        VecScatterEnd(to_contact_, y_, contact_, INSERT_VALUES, SCATTER_FORWARD));
+    if (rank_ != 0) continue;
+    const PetscScalar* column = nullptr;
+    CONTACT_PETSC_CHECK(VecGetArrayRead(contact_, &column));
+    for (int i = 0; i < num_unknowns_; ++i) W(i, j) = column[i];
+    CONTACT_PETSC_CHECK(VecRestoreArrayRead(contact_, &column));
+  }
+  std::string error;
+  if (rank_ == 0) {
+    W = 0.5 * (W + W.transpose());
+    ncp::fc::Options fc;  // as the serial step: the hybrid, the scene's Newton limits
+    fc.max_iterations = scene_.dynamics.ncp.max_iterations;
+    fc.log_to_stderr = scene_.dynamics.ncp.log_to_stderr;
+    try {
+      coulomb_ = std::make_unique<::contact::internal::CoulombStep>(
+          dim_, W, nodes_, scene_.friction_coefficient, fc);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    x_free_.resize(num_unknowns_);
+    u_contact_.resize(num_unknowns_);
+    gap0_.resize(static_cast<Eigen::Index>(nodes_.size()));
+  }
+  ThrowFromRankZero(comm_, error);
+}
+
+// u^0, du = u^0 - u^{-1}, f_F from the node data rank 0 sent; M du and K u^0.
+void CondensedGatheredStep::SetInitialState() {
+  PetscScalar *u = nullptr, *du = nullptr, *f = nullptr;
+  CONTACT_PETSC_CHECK(VecGetArray(u_, &u));
+  CONTACT_PETSC_CHECK(VecGetArray(du_, &du));
+  CONTACT_PETSC_CHECK(VecGetArray(f_free_, &f));
+  for (int i = 0; i < body_.NumLocalVertices(); ++i) {
+    const double* data = body_.Data(i);
+    for (int c = 0; c < dim_; ++c) {
+      const PetscInt k = body_.OwnedIndex(i, c);
+      if (k < 0) continue;
+      u[k] = data[dim_ + c];
+      du[k] = data[dim_ + c] - data[2 * dim_ + c];
+      f[k] = data[3 * dim_ + c];
+    }
+  }
+  CONTACT_PETSC_CHECK(VecRestoreArray(f_free_, &f));
+  CONTACT_PETSC_CHECK(VecRestoreArray(du_, &du));
+  CONTACT_PETSC_CHECK(VecRestoreArray(u_, &u));
+  CONTACT_PETSC_CHECK(MatMult(body_.mass_matrix(), du_, Mdu_previous_));
+  CONTACT_PETSC_CHECK(MatMult(body_.stiffness(), u_, Ku_));
+}
+
+bool CondensedGatheredStep::Step(long k, StepRecord* rec,
+                                 ContactSystem::Result* contact) {
+  const auto start = Clock::now();
+  rec->step = static_cast<int>(k + 1);
+  rec->time = scene_.dynamics.start_time + static_cast<double>(k) * dt_ + dt_;
+  const double factor = ::contact::internal::LoadHistoryFactor(
+      scene_.load_history, scene_.dynamics.start_time, scene_.ramp_time,
+      scene_.dynamics.start_time + static_cast<double>(k) * dt_);
+  // Q^k = K u^k - f^k - M (u^k - u^{k-1}) / dt^2, q = Q^k / force_scale (dynamics.cpp
+  // LoadStep), and the maxima of the step's scales: |f^k|, |K u^k|, |u^k - u^{k-1}|.
+  double maxima[3] = {0.0, 0.0, 0.0};
+  {
+    PetscInt n = 0;
+    CONTACT_PETSC_CHECK(VecGetLocalSize(q_, &n));
+    PetscScalar* q = nullptr;
+    const PetscScalar *Ku = nullptr, *f_free = nullptr, *Mdu = nullptr, *du = nullptr;
+    CONTACT_PETSC_CHECK(VecGetArray(q_, &q));
+    CONTACT_PETSC_CHECK(VecGetArrayRead(Ku_, &Ku));
+    CONTACT_PETSC_CHECK(VecGetArrayRead(f_free_, &f_free));
+    CONTACT_PETSC_CHECK(VecGetArrayRead(Mdu_previous_, &Mdu));
+    CONTACT_PETSC_CHECK(VecGetArrayRead(du_, &du));
+    for (PetscInt i = 0; i < n; ++i) {
+      const double f = factor * f_free[i];
+      const double Q = Ku[i] - f - Mdu[i] / (dt_ * dt_);
+      q[i] = Q / force_scale_;
+      maxima[0] = std::max(maxima[0], std::abs(f));
+      maxima[1] = std::max(maxima[1], std::abs(Ku[i]));
+      maxima[2] = std::max(maxima[2], std::abs(du[i]));
+    }
+    CONTACT_PETSC_CHECK(VecRestoreArrayRead(du_, &du));
+    CONTACT_PETSC_CHECK(VecRestoreArrayRead(Mdu_previous_, &Mdu));
+    CONTACT_PETSC_CHECK(VecRestoreArrayRead(f_free_, &f_free));
+    CONTACT_PETSC_CHECK(VecRestoreArrayRead(Ku_, &Ku));
+    CONTACT_PETSC_CHECK(VecRestoreArray(q_, &q));
+  }
+  MPI_Allreduce(MPI_IN_PLACE, maxima, 3, MPI_DOUBLE, MPI_MAX, comm_);
+  // y = S^-1 q; -H y and u^k_c onto rank 0.
+  if (!SolveS(q_, y_)) return false;
+  for (auto [from, to] : {std::pair<Vec, Eigen::VectorXd*>{y_, &x_free_},
+                          std::pair<Vec, Eigen::VectorXd*>{u_, &u_contact_}}) {
+    CONTACT_PETSC_CHECK(
+        VecScatterBegin(to_contact_, from, contact_, INSERT_VALUES, SCATTER_FORWARD));
+    CONTACT_PETSC_CHECK(
+        VecScatterEnd(to_contact_, from, contact_, INSERT_VALUES, SCATTER_FORWARD));
+    if (rank_ != 0) continue;
+    const PetscScalar* x = nullptr;
+    CONTACT_PETSC_CHECK(VecGetArrayRead(contact_, &x));
+    for (int i = 0; i < num_unknowns_; ++i) (*to)(i) = x[i];
+    CONTACT_PETSC_CHECK(VecRestoreArrayRead(contact_, &x));
+  }
+  // Rank 0: F into contact_; every rank learns whether it was found.
+  int solved = rank_ == 0 ? (SolveContact(maxima, rec, contact) ? 1 : 0) : 0;
+  MPI_Bcast(&solved, 1, MPI_INT, 0, comm_);
+  if (!solved) {
+    BroadcastText(comm_, &failure_);
+    return false;
+  }
+  // du = S^-1 (H' F - q).
+  CONTACT_PETSC_CHECK(VecZeroEntries(rhs_));
+  CONTACT_PETSC_CHECK(
+      VecScatterBegin(to_contact_, contact_, rhs_, INSERT_VALUES, SCATTER_REVERSE));
+  CONTACT_PETSC_CHECK(
+      VecScatterEnd(to_contact_, contact_, rhs_, INSERT_VALUES, SCATTER_REVERSE));
+  CONTACT_PETSC_CHECK(VecAXPY(rhs_, -1.0, q_));
+  if (!SolveS(rhs_, du_)) return false;
+  rec->solve_seconds = Seconds(start);
+  // u^{k+1}, M du, K u^{k+1} and the energies (dynamics.cpp MeasureStep).
+  CONTACT_PETSC_CHECK(VecAXPY(u_, 1.0, du_));
+  CONTACT_PETSC_CHECK(MatMult(body_.mass_matrix(), du_, Mdu_));
+  CONTACT_PETSC_CHECK(MatMult(body_.stiffness(), u_, Ku_));
+  PetscScalar duMdu = 0.0, uKu = 0.0;
+  CONTACT_PETSC_CHECK(VecDot(du_, Mdu_, &duMdu));
+  CONTACT_PETSC_CHECK(VecDot(u_, Ku_, &uKu));
+  rec->kinetic = 0.5 * duMdu / (dt_ * dt_);
+  rec->strain = 0.5 * uKu;
+  if (!std::isfinite(rec->kinetic) || !std::isfinite(rec->strain)) {
+    failure_ = "non-finite values in the condensed step";
+    return false;
+  }
+  std::swap(Mdu_previous_, Mdu_);
+  rec->seconds = Seconds(start);
+  return true;
+}
+
+// Rank 0: the serial step's contact problem (coulomb_fc_step.cpp) from the gathered
+// -H S^-1 q and u^k_c, against the scales of dynamics.cpp from the reduced maxima.
+bool CondensedGatheredStep::SolveContact(const double maxima[3], StepRecord* rec,
+                                         ContactSystem::Result* contact) {
+  double penetration = 0.0;
+  for (size_t c = 0; c < nodes_.size(); ++c) {
+    const ContactNode& node = nodes_[c];
+    double normal_motion = 0.0;
+    for (int a = 0; a < 3; ++a)
+      if (node.dofs[a] >= 0) normal_motion += node.normal(a) * u_contact_(node.dofs[a]);
+    penetration = std::max(penetration, normal_motion - node.gap);
+    gap0_(static_cast<Eigen::Index>(c)) = node.gap - normal_motion;
+  }
+  const ::contact::internal::StepScales scales =
+      ::contact::internal::StepScalesFromMaxima(maxima[0], maxima[1], contact_force_max_,
+                                                maxima[2], penetration, m_max_, dt_);
+  x_free_ = -x_free_;
+  ::contact::internal::CoulombStep::Outcome outcome;
+  const bool ok = coulomb_->Solve(x_free_, gap0_, scales.force / force_scale_,
+                                  scales.displacement, tolerance_, &outcome);
+  const ncp::fc::Summary& s = outcome.summary;
+  rec->newton_iterations = s.iterations;
+  rec->jacobian_evaluations = s.iterations;  // one generalized Jacobian per Newton step
+  rec->residual_evaluations = s.iterations + s.backtracks + 1;
+  if (!ok) {
+    char buffer[160];
+    std::snprintf(buffer, sizeof buffer,
+                  "step %d (t = %.6g s): natural-map residual %.3e > tolerance %.3e "
+                  "(scaled): ",
+                  rec->step, rec->time, outcome.natural_map_residual, tolerance_);
+    failure_ = buffer + s.message;
+    return false;
+  }
+  PetscScalar* F = nullptr;
+  CONTACT_PETSC_CHECK(VecGetArray(contact_, &F));
+  for (int i = 0; i < num_unknowns_; ++i) F[i] = outcome.force(i);
+  CONTACT_PETSC_CHECK(VecRestoreArray(contact_, &F));
+  contact_force_max_ = force_scale_ * outcome.force.lpNorm<Eigen::Infinity>();
+  *contact = outcome.contact;
+  // The record's contact sums in the serial node order (dynamics.cpp MeasureStep); the
+  // accuracy and energy-balance measures are not computed on ranks.
+  const Eigen::VectorXd lambda = force_scale_ * contact->normal_force;
+  rec->normal_force_sum = lambda.sum();
+  rec->tangent_force_sum = 0.0;
+  for (Eigen::Index c = 0; c < contact->tangent_force.cols(); ++c)
+    rec->tangent_force_sum += force_scale_ * contact->tangent_force.col(c).norm();
+  rec->max_penetration =
+      std::max(0.0, contact->gap.size() ? -contact->gap.minCoeff() : 0.0);
+  rec->solver_status = "converged";
+  const double not_measured = std::nan("");
+  for (double* measure :
+       {&rec->external_work, &rec->normal_contact_work, &rec->friction_dissipation,
+        &rec->energy_balance_error, &rec->equilibrium_residual,
+        &rec->complementarity_residual, &rec->friction_residual, &rec->force_accuracy,
+        &rec->displacement_accuracy})
+    *measure = not_measured;
+  rec->active_nodes = -1;
+  return true;
+}
+
+}  // namespace contact::petsc::internal

@@ -1,0 +1,344 @@
+// The condensed frictional step on MPI ranks (contact::petsc::RunSceneDistributed with
+// solver.step = "condensed" or "auto"; ctest runs this executable under mpiexec -n 1, 2,
+// 3):
+//  * a Tet4 box with the consistent mass dropped onto a plane with friction and a
+//    sideways load (it lands, slides and rings) follows the serial contact::RunScene:
+//    the final displacement within 1e-9 of its largest entry and the per-step sums of
+//    the normal and friction forces within 1e-9 of their largest value; the same for two
+//    Quad4 cells (on 3 ranks one rank has no cell and no contact node) and for a Tet4
+//    column (lumped mass) whose upper ranks are meant to have no contact node;
+//  * with default settings (solver.step = "auto", consistent mass) a block thrown along
+//    a floor with Coulomb friction stops after v0 / (mu g) within 1%, having slid
+//    v0^2 / (2 mu g) within 2% (the closed form of
+//    tests/contact/test_physical_accuracy.cpp), measured from the run's own records;
+//  * "auto" refuses, on every rank and naming the limit, a contact set above
+//    kMaxGatheredContactUnknowns; the lagged-bound friction and the full step are
+//    refused.
+#define CATCH_CONFIG_RUNNER
+#include <petscsys.h>
+
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include "contact/dynamics.hpp"
+#include "contact/petsc/distributed_scene.hpp"
+#include "contact/scene.hpp"
+
+namespace {
+
+constexpr double kSameTrajectory =
+    1e-9;  // relative to the largest value of the quantity (issue 27, item 3)
+
+// A Tet4 box 0.2 m x 0.2 m x 0.1 m (consistent mass) falling at 0.5 m/s onto a plane
+// 1 mm below it, f_c = 0.3, with a sideways body force so that it slides.
+const char* const kTetBox = R"(
+name = "tet-box-condensed"
+[geometry]
+type = "box"
+origin = [0.0, 0.0, 0.0]
+size = [0.2, 0.2, 0.1]
+cells = [4, 3, 2]
+element = "tet4"
+contact = ["zmin"]
+[material]
+young_modulus = 2e8
+poisson_ratio = 0.3
+density = 7800
+mass = "consistent"
+[loads]
+body_force = [30000.0, 8000.0, -76518.0]
+[obstacle]
+type = "plane"
+normal = [0.0, 0.0, 1.0]
+offset = -0.001
+normal_source = "obstacle"
+[friction]
+coefficient = 0.3
+[time]
+dt = 2e-5
+end_time = 0.004
+initial_state = "velocity"
+initial_velocity = [0.0, 0.0, -0.5]
+[solver]
+step = "condensed"
+)";
+
+// Two Quad4 cells (consistent mass): on 3 ranks a rank has no cell and no contact node.
+const char* const kTwoCells = R"(
+name = "two-cells-condensed"
+[geometry]
+type = "rectangle"
+origin = [0.0, 0.0]
+size = [1.0, 0.2]
+cells = [2, 1]
+element = "quad4"
+contact = ["ymin"]
+[material]
+young_modulus = 2e8
+poisson_ratio = 0.3
+density = 7800
+plane = "strain"
+thickness = 1.0
+mass = "consistent"
+[loads]
+body_force = [20000.0, -76518.0]
+[obstacle]
+type = "plane"
+normal = [0.0, 1.0]
+offset = -0.001
+normal_source = "obstacle"
+[friction]
+coefficient = 0.3
+[time]
+dt = 5e-5
+end_time = 0.005
+initial_state = "velocity"
+initial_velocity = [0.0, -0.5]
+[solver]
+step = "condensed"
+)";
+
+// A Tet4 column 0.05 x 0.05 x 0.3 m standing on its base (lumped mass, a roller side),
+// 9 cells high and one across, so that a partition into 2 or 3 parts of equal cell count
+// leaves the upper parts without a contact node (not checked: the partitioner decides).
+const char* const kTetColumn = R"(
+name = "tet-column-condensed"
+[geometry]
+type = "box"
+origin = [0.0, 0.0, 0.0]
+size = [0.05, 0.05, 0.3]
+cells = [1, 1, 9]
+element = "tet4"
+contact = ["zmin"]
+fixed = ["xmin"]
+fixed_components = [0]
+[material]
+young_modulus = 2e8
+poisson_ratio = 0.3
+density = 7800
+mass = "lumped"
+[loads]
+body_force = [0.0, 20000.0, -76518.0]
+[obstacle]
+type = "plane"
+normal = [0.0, 0.0, 1.0]
+offset = -0.001
+normal_source = "obstacle"
+[friction]
+coefficient = 0.3
+[time]
+dt = 2e-5
+end_time = 0.004
+initial_state = "velocity"
+initial_velocity = [0.0, 0.0, -0.5]
+[solver]
+step = "condensed"
+)";
+
+int Rank() {
+  int rank = 0;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  return rank;
+}
+
+// The scene text as a file of this rank (no rank reads another's file while it is
+// written).
+contact::Scene LoadSceneText(const std::string& text, const std::string& name) {
+  const std::string path =
+      "distributed_condensed_" + name + "_rank" + std::to_string(Rank()) + ".toml";
+  std::ofstream(path) << text;
+  return contact::LoadScene(path);
+}
+
+double MaxAbs(const std::vector<contact::StepRecord>& records,
+              double contact::StepRecord::*field) {
+  double m = 0.0;
+  for (const contact::StepRecord& r : records) m = std::max(m, std::abs(r.*field));
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("the condensed step on MPI ranks follows the serial trajectory") {
+  const auto [name, text] =
+      GENERATE(std::make_pair("tet_box", kTetBox), std::make_pair("two_cells", kTwoCells),
+               std::make_pair("tet_column", kTetColumn));
+  const contact::Scene scene = LoadSceneText(text, name);
+  REQUIRE(contact::petsc::WhyNotDistributed(scene).empty());
+  const contact::SceneResult parallel =
+      contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, false);
+  INFO(name << ": " << parallel.summary.message);
+  REQUIRE(parallel.summary.status == contact::DynamicStatus::kCompleted);
+  REQUIRE(parallel.summary.step_method == contact::StepMethod::kCondensed);
+  if (Rank() != 0) return;
+  const contact::SceneResult serial = contact::RunScene(scene, false);
+  INFO("serial: " << serial.summary.message);
+  REQUIRE(serial.summary.status == contact::DynamicStatus::kCompleted);
+  REQUIRE(serial.summary.step_method == contact::StepMethod::kCondensed);
+  REQUIRE(parallel.summary.records.size() == serial.summary.records.size());
+
+  // The final displacement, every free dof.
+  const Eigen::VectorXd& u = serial.summary.u;
+  REQUIRE(parallel.summary.u.size() == u.size());
+  const double u_max = u.lpNorm<Eigen::Infinity>();
+  REQUIRE(u_max > 1e-4);  // it moved (m)
+  const double u_difference = (parallel.summary.u - u).lpNorm<Eigen::Infinity>();
+  INFO("final u: " << u_difference << " m of " << u_max << " m");
+  CHECK(u_difference <= kSameTrajectory * u_max);
+
+  // The contact forces of every step; the scene has contact and sliding.
+  const double normal_max =
+      MaxAbs(serial.summary.records, &contact::StepRecord::normal_force_sum);
+  const double friction_max =
+      MaxAbs(serial.summary.records, &contact::StepRecord::tangent_force_sum);
+  REQUIRE(normal_max > 0.0);
+  REQUIRE(friction_max > 0.0);
+  double normal_difference = 0.0, friction_difference = 0.0;
+  for (size_t k = 0; k < serial.summary.records.size(); ++k) {
+    const contact::StepRecord &s = serial.summary.records[k],
+                              &p = parallel.summary.records[k];
+    REQUIRE(p.time == s.time);
+    normal_difference =
+        std::max(normal_difference, std::abs(p.normal_force_sum - s.normal_force_sum));
+    friction_difference = std::max(friction_difference,
+                                   std::abs(p.tangent_force_sum - s.tangent_force_sum));
+  }
+  INFO("normal force sums: " << normal_difference << " N of " << normal_max
+                             << " N; friction: " << friction_difference << " N of "
+                             << friction_max << " N");
+  CHECK(normal_difference <= kSameTrajectory * normal_max);
+  CHECK(friction_difference <= kSameTrajectory * friction_max);
+  const contact::StepRecord &s = serial.summary.records.back(),
+                            &p = parallel.summary.records.back();
+  CHECK(std::abs(p.kinetic - s.kinetic) <= kSameTrajectory * std::max(s.kinetic, 1e-300));
+  CHECK(std::abs(p.strain - s.strain) <= kSameTrajectory * std::max(s.strain, 1e-300));
+}
+
+// The block of tests/contact/test_physical_accuracy.cpp ("a thrown block stops after
+// v0 / (mu g)"; examples/validation/physics_checks.cpp, Sliding): 0.2 m x 0.05 m, 4 x 2
+// Quad4, E = 2e11 Pa, consistent mass (the default), dt = 0.95 dt_crit, thrown at v0 =
+// mu g t_stop with t_stop = 600 dt, run to 1.15 t_stop; no solver section (defaults).
+TEST_CASE("default settings on 2 ranks: a thrown block stops after v0 / (mu g)") {
+  const double g = 9.81, mu = 0.3, density = 7800.0, E = 2e11;
+  const std::string body = R"(
+[geometry]
+type = "rectangle"
+origin = [0.0, 0.0]
+size = [0.2, 0.05]
+cells = [4, 2]
+element = "quad4"
+contact = ["ymin"]
+[material]
+young_modulus = 2e11
+poisson_ratio = 0.3
+density = 7800
+plane = "strain"
+thickness = 1.0
+[loads]
+body_force = [0.0, -76518.0]
+[obstacle]
+type = "plane"
+normal = [0.0, 1.0]
+offset = 0.0
+[friction]
+coefficient = 0.3
+)";
+  // dt from the critical step of the serial model (the same computation on every rank).
+  const contact::Scene probe =
+      LoadSceneText(body + "[time]\ndt = 1\nend_time = 1\n", "sliding_probe");
+  const contact::SceneModel model = contact::BuildSceneModel(probe);
+  const double dt =
+      0.95 * contact::EstimateCriticalTimeStep(model.model.K, model.model.M).dt_crit;
+  const double wave = 0.05 / std::sqrt(E / density);
+  const double stop = std::max(600 * dt, 200 * wave), v0 = mu * g * stop;
+  char time[256];
+  std::snprintf(time, sizeof time,
+                "[time]\ndt = %.17g\nend_time = %.17g\ninitial_state = \"velocity\"\n"
+                "initial_velocity = [%.17g, 0.0]\n",
+                dt, 1.15 * stop, v0);
+  const contact::Scene scene = LoadSceneText(body + time, "sliding");
+  REQUIRE(scene.dynamics.step_method == contact::StepMethod::kAuto);
+  const contact::SceneResult r =
+      contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, false);
+  INFO(r.summary.message);
+  REQUIRE(r.summary.status == contact::DynamicStatus::kCompleted);
+  CHECK(r.summary.step_method == contact::StepMethod::kCondensed);
+  if (Rank() != 0) return;
+  // The mean velocity of the block from the run's friction forces: no load acts along
+  // x and K has no net force, so the momentum changes by the friction impulse alone,
+  // m (v^{k+1/2} - v^{k-1/2}) = -dt sum_c |tau_c| while every contact node slides forward
+  // (v^{-1/2} = v0: the prescribed start has no acceleration along x). A line of slope
+  // -mu g between 0.2 v0 and 0.8 v0, whose root is the stopping time (the fit of
+  // examples/validation/physics_checks.cpp, Sliding).
+  const double mass = density * 0.2 * 0.05;  // [kg] per metre of thickness
+  std::vector<double> t, v;
+  double velocity = v0;
+  for (const contact::StepRecord& rec : r.summary.records) {
+    velocity -= dt * rec.tangent_force_sum / mass;
+    if (velocity > 0.2 * v0 && velocity < 0.8 * v0)
+      t.push_back(rec.time - 0.5 * dt), v.push_back(velocity);
+  }
+  REQUIRE(t.size() > 100);
+  double mean_t = 0, mean_v = 0;
+  for (size_t k = 0; k < t.size(); ++k) mean_t += t[k], mean_v += v[k];
+  mean_t /= static_cast<double>(t.size()), mean_v /= static_cast<double>(t.size());
+  double tv = 0, tt = 0;
+  for (size_t k = 0; k < t.size(); ++k)
+    tv += (t[k] - mean_t) * (v[k] - mean_v), tt += (t[k] - mean_t) * (t[k] - mean_t);
+  const double slope = tv / tt, stop_time = mean_t - mean_v / slope;
+  INFO("stops at " << stop_time << " s, v0 / (mu g) = " << stop << " s; slope " << slope
+                   << " m/s^2, -mu g = " << -mu * g);
+  CHECK(std::abs(stop_time - stop) <= 0.01 * stop);
+  // The distance: the mean x displacement of the nodes (the block has stopped and barely
+  // deforms). Within 2%: the block is set down with its weight applied at once, and in
+  // the first oscillations of its normal force (0 to 2 m g) it brakes unevenly, which
+  // the rigid-body distance does not contain (the same in one process: the trajectories
+  // agree to round-off; docs/petsc.md).
+  double distance = 0.0;
+  const Eigen::VectorXd& u = r.summary.u;
+  for (Eigen::Index i = 0; i < u.size(); i += 2) distance += u(i);
+  distance /= static_cast<double>(u.size() / 2);
+  const double expected = v0 * v0 / (2 * mu * g);
+  INFO("slid " << distance << " m, v0^2 / (2 mu g) = " << expected << " m");
+  CHECK(std::abs(distance - expected) <= 0.02 * expected);
+}
+
+TEST_CASE("what the condensed step on ranks cannot run is refused on every rank") {
+  // auto above the gathered limit (33 x 33 contact nodes x 3 components > 3000).
+  std::string text = kTetBox;
+  text.replace(text.find("cells = [4, 3, 2]"), 17, "cells = [32, 32, 1]");
+  text.replace(text.find("element = \"tet4\""), 16, "element = \"hex8\"");
+  text.replace(text.find("step = \"condensed\""), 18, "step = \"auto\"");
+  const contact::Scene large = LoadSceneText(text, "large");
+  CHECK(contact::petsc::WhyNotDistributed(large).empty());
+  CHECK_THROWS_WITH(
+      contact::petsc::RunSceneDistributed(large, PETSC_COMM_WORLD, false),
+      Catch::Matchers::Contains("3000") && Catch::Matchers::Contains("3267"));
+  // The lagged bound and the full step: refused from the scene file alone.
+  std::string lagged = kTetBox;
+  lagged.replace(lagged.find("step = \"condensed\""), 18,
+                 "step = \"condensed\"\nfriction = \"lagged-bound\"");
+  CHECK_THAT(contact::petsc::WhyNotDistributed(LoadSceneText(lagged, "lagged")),
+             Catch::Matchers::Contains("lagged"));
+  std::string full = kTetBox;
+  full.replace(full.find("step = \"condensed\""), 18, "step = \"full\"");
+  CHECK_THAT(contact::petsc::WhyNotDistributed(LoadSceneText(full, "full")),
+             Catch::Matchers::Contains("'full'"));
+}
+
+int main(int argc, char** argv) {
+  if (PetscInitializeNoArguments() != 0) return 1;  // (PETSc options: PETSC_OPTIONS)
+  int result = 0;
+  {
+    Catch::StringMaker<double>::precision = 17;
+    Catch::Session session;  // every rank runs every test: the runs are collective
+    result = session.run(argc, argv);
+  }
+  // A failure on any rank fails the test.
+  MPI_Allreduce(MPI_IN_PLACE, &result, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+  PetscFinalize();
+  return result;
+}
