@@ -740,14 +740,8 @@ class Solver::Iteration {
       function_ = from.ncp_function;
       return false;
     }
-    StrategySwitch record;
-    record.iteration = k;
-    record.from_strategy = from;
-    record.to_strategy = to;
-    record.reason = reason;
-    record.best_iteration = work_.progress.best_iteration();
-    record.best_psi = work_.progress.best_psi();
-    summary_.strategy_switches.push_back(record);
+    summary_.strategy_switches.push_back(
+        work_.progress.SwitchRecord(k, from, to, reason));
     x_.swap(work_.x_trial);
     work_.E.swap(work_.Et);
     work_.A.swap(work_.At);
@@ -763,7 +757,7 @@ class Solver::Iteration {
       std::fprintf(stderr, "strategy %s -> %s at iteration %d (%s), from iteration %d\n",
                    internal::StrategyName(from).c_str(),
                    internal::StrategyName(to).c_str(), k, ToString(reason),
-                   record.best_iteration);
+                   work_.progress.best_iteration());
     return true;
   }
 

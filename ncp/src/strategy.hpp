@@ -54,6 +54,19 @@ class StrategyProgress {
   const Vector& best_x() const { return best_x_; }
   double best_psi() const { return best_psi_; }
   int best_iteration() const { return best_k_; }
+  /// The Summary record of a switch at iteration k from `from` to `to`, with the best
+  /// iterate the next strategy starts from.
+  StrategySwitch SwitchRecord(int k, const Strategy& from, const Strategy& to,
+                              SwitchReason reason) const {
+    StrategySwitch record;
+    record.iteration = k;
+    record.from_strategy = from;
+    record.to_strategy = to;
+    record.reason = reason;
+    record.best_iteration = best_k_;
+    record.best_psi = best_psi_;
+    return record;
+  }
 
  private:
   std::vector<double> ring_;  // smallest psi so far, at kk mod (window + 1)

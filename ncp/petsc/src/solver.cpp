@@ -1365,14 +1365,7 @@ class Iteration {
       function_ = from.ncp_function;
       return false;
     }
-    StrategySwitch record;
-    record.iteration = k;
-    record.from_strategy = from;
-    record.to_strategy = to;
-    record.reason = reason;
-    record.best_iteration = progress_.best_iteration();
-    record.best_psi = progress_.best_psi();
-    s_.strategy_switches.push_back(record);
+    s_.strategy_switches.push_back(progress_.SwitchRecord(k, from, to, reason));
     NCP_PETSC_CHECK(VecCopy(x_trial_, y_));
     f_.Swap(f_trial_);
     phi_.Swap(phi_trial_);
@@ -1386,7 +1379,7 @@ class Iteration {
                    "strategy %s -> %s at iteration %d (%s), from iteration %d\n",
                    internal::StrategyName(from).c_str(),
                    internal::StrategyName(to).c_str(), k, ToString(reason),
-                   record.best_iteration);
+                   progress_.best_iteration());
     return true;
   }
 
