@@ -226,14 +226,6 @@ void PrintReport(std::FILE* table, const contact::Scene& scene,
   std::fprintf(table, "  %-10g %-6g %-7d %-8ld %-8ld %-10.4f\n", scene.dynamics.dt,
                scene.friction_coefficient, s.steps, s.jacobian_evaluations,
                s.residual_evaluations, s.seconds);
-  if (std::isnan(s.max_equilibrium_residual)) {  // the condensed step on MPI ranks
-    std::fprintf(table,
-                 "  penetration %.3e m; the accuracy measures and the energy balance of "
-                 "the condensed step are not computed on MPI ranks yet (docs/petsc.md, "
-                 "\"Contact scenes on MPI ranks\")\n",
-                 s.max_penetration);
-    return;
-  }
   std::fprintf(table,
                "  accuracy over all steps: equilibrium residual %.3e N, penetration %.3e "
                "m, contact "

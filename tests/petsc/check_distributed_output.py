@@ -9,7 +9,9 @@ test_distributed_scene.cpp's, in one process without the files' rounding), and
 contact_stress.csv, node_history.csv (output.marked_point) and displacement.csv (at
 output.stress_times and the end) have the serial rows; --json reports ranks = 2; a scene
 whose step is not explicit or condensed (here the full step) is refused once, with exit
-code 1, naming the step; and SIGINT
+code 1, naming the step; the condensed step (a Tet4 box with the consistent mass and
+friction) on 2 ranks writes the serial steps.csv's accuracy, energy and active_nodes
+columns and ends with the serial status and summary maxima; and SIGINT
 to mpiexec ends a run after a finished step with the "interrupted" summary and steps.csv
 complete up to that step (OpenMPI 4.1's mpiexec passes SIGINT on as SIGTERM and exits
 nonzero)."""
@@ -65,6 +67,43 @@ marked_point = [0.1, 0.1, 0.0]
 """
 SAME = 1e-9  # relative: the CSV files print 10 significant digits
 
+# The Tet4 box of tests/petsc/test_distributed_condensed.cpp (consistent mass, f_c = 0.3):
+# it lands, slides and rings under the condensed step.
+CONDENSED_SCENE = """
+name = "tet-box-condensed-output"
+[geometry]
+type = "box"
+origin = [0.0, 0.0, 0.0]
+size = [0.2, 0.2, 0.1]
+cells = [4, 3, 2]
+element = "tet4"
+contact = ["zmin"]
+[material]
+young_modulus = 2e8
+poisson_ratio = 0.3
+density = 7800
+mass = "consistent"
+[loads]
+body_force = [30000.0, 8000.0, -76518.0]
+[obstacle]
+type = "plane"
+normal = [0.0, 0.0, 1.0]
+offset = -0.001
+normal_source = "obstacle"
+[friction]
+coefficient = 0.3
+[time]
+dt = 2e-5
+end_time = 0.004
+initial_state = "velocity"
+initial_velocity = [0.0, 0.0, -0.5]
+[solver]
+step = "condensed"
+"""
+ENERGY_COLUMNS = ("kinetic_energy", "strain_energy", "external_work", "normal_contact_work",
+                  "friction_dissipation", "energy_balance_error")
+RESIDUAL_COLUMNS = ("equilibrium_residual", "complementarity_residual", "friction_residual")
+
 
 def read_csv(path):
     with open(path) as f:
@@ -99,6 +138,54 @@ def check_interrupt(a, mpi, scene):
     rows = read_csv(steps)
     assert len(rows) == step and int(rows[-1]["step"]) == step, (len(rows), step)
     return f"stopped after step {step} (mpiexec exit code {run.returncode})"
+
+
+def check_condensed(a):
+    """The condensed step on 2 ranks against one process: steps.csv's energy columns within
+    SAME of the run's largest energy, the residuals within SAME of the step's force scale
+    F = force_accuracy / tolerance (their own size is what the contact solver left), the
+    penetration within SAME of D = displacement_accuracy / tolerance, both accuracies within
+    SAME relative, active_nodes equal; --json's status, inaccurate_steps and maxima alike."""
+    scene = os.path.join(a.workdir, "tet_box_condensed.toml")
+    with open(scene, "w") as f:
+        f.write(CONDENSED_SCENE)
+    tolerance = 1e-10  # (solver.tolerance's default)
+    runs = {}
+    for name, command in (("serial", [a.contact_sim]),
+                          ("mpi2", [a.mpiexec, "-n", "2", "--oversubscribe", a.contact_sim])):
+        out = os.path.join(a.workdir, "condensed_" + name)
+        run = subprocess.run(command + [scene, "--quiet", "--json", "--output", out],
+                             check=True, capture_output=True, text=True)
+        runs[name] = (json.loads(run.stdout), read_csv(os.path.join(out, "steps.csv")))
+    (js, serial), (jm, mpi) = runs["serial"], runs["mpi2"]
+    assert jm["ranks"] == 2 and jm["step_method"] == "condensed", jm
+    for key in ("status", "inaccurate_steps", "steps"):
+        assert jm[key] == js[key], (key, jm[key], js[key])
+    assert js["status"] == "completed", js
+    assert len(serial) == len(mpi) == 200, (len(serial), len(mpi))
+    column = lambda rows, c: np.array([float(r[c]) for r in rows])
+    energy_scale = max(np.abs(column(serial, c)).max() for c in ENERGY_COLUMNS[:-1])
+    worst = {}
+    worst["energy"] = max(np.abs(column(mpi, c) - column(serial, c)).max()
+                          for c in ENERGY_COLUMNS) / energy_scale
+    F = column(serial, "force_accuracy") / tolerance
+    D = column(serial, "displacement_accuracy") / tolerance
+    worst["residuals"] = max((np.abs(column(mpi, c) - column(serial, c)) / F).max()
+                             for c in RESIDUAL_COLUMNS)
+    worst["penetration"] = (np.abs(column(mpi, "max_penetration") -
+                                   column(serial, "max_penetration")) / D).max()
+    worst["accuracies"] = max((np.abs(column(mpi, c) / column(serial, c) - 1)).max()
+                              for c in ("force_accuracy", "displacement_accuracy"))
+    assert all(v <= SAME for v in worst.values()), worst
+    active_s, active_m = column(serial, "active_nodes"), column(mpi, "active_nodes")
+    assert active_s.max() > 0 and (active_s == active_m).all(), "active_nodes"
+    for key in ("max_equilibrium_residual", "max_complementarity_residual",
+                "max_friction_residual"):
+        assert np.isfinite(jm[key]) and abs(jm[key] - js[key]) <= SAME * F.max(), key
+    assert abs(jm["energy_balance_error"] - js["energy_balance_error"]) <= SAME * energy_scale
+    return ("condensed on 2 ranks: " +
+            ", ".join(f"{k} {v:.2g}" for k, v in worst.items()) +
+            f" (energy scale {energy_scale:.3g} J); active_nodes up to {int(active_s.max())}")
 
 
 def main():
@@ -167,6 +254,7 @@ def main():
         assert (np.abs(m - s) / scale).max() <= SAME, (name, (np.abs(m - s) / scale).max())
 
     interrupted = check_interrupt(a, mpi, scene)
+    condensed = check_condensed(a)
 
     # Another step on 2 ranks: refused, once, naming the step and what is supported.
     refused = subprocess.run(mpi + [scene, "--step", "full", "--no-output"], capture_output=True, text=True)
@@ -175,7 +263,7 @@ def main():
     assert len(lines) == 1 and "explicit" in lines[0], refused.stderr
     print(f"ok: {len(files)} snapshots, {grid.GetNumberOfPoints()} piece points = {len(nodes)} nodes merged, "
           f"{num_elements} cells; |u_mpi - u_serial| = {difference:.3g} m of {u_max:.3g} m; "
-          f"SIGINT: {interrupted}")
+          f"SIGINT: {interrupted}; {condensed}")
     return 0
 
 

@@ -20,17 +20,25 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <string>
 
 #include "contact/dynamics.hpp"
 #include "contact/petsc/distributed_scene.hpp"
 #include "contact/scene.hpp"
+#include "distributed_scene_support.hpp"
 
 namespace {
 
+using contact::test::MaxAbs;
+using contact::test::Rank;
+
 constexpr double kSameTrajectory =
     1e-9;  // relative to the largest value of the quantity (issue 27, item 3)
+// The accuracy and energy measures of each step against one process's, relative to their
+// scales (CheckSameMeasures): the explicit step's tolerance (test_distributed_scene.cpp).
+constexpr double kSameMeasures = 1e-12;
 
 // A Tet4 box 0.2 m x 0.2 m x 0.1 m (consistent mass) falling at 0.5 m/s onto a plane
 // 1 mm below it, f_c = 0.3, with a sideways body force so that it slides.
@@ -138,26 +146,8 @@ initial_velocity = [0.0, 0.0, -0.5]
 step = "condensed"
 )";
 
-int Rank() {
-  int rank = 0;
-  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  return rank;
-}
-
-// The scene text as a file of this rank (no rank reads another's file while it is
-// written).
 contact::Scene LoadSceneText(const std::string& text, const std::string& name) {
-  const std::string path =
-      "distributed_condensed_" + name + "_rank" + std::to_string(Rank()) + ".toml";
-  std::ofstream(path) << text;
-  return contact::LoadScene(path);
-}
-
-double MaxAbs(const std::vector<contact::StepRecord>& records,
-              double contact::StepRecord::*field) {
-  double m = 0.0;
-  for (const contact::StepRecord& r : records) m = std::max(m, std::abs(r.*field));
-  return m;
+  return contact::test::LoadSceneText(text, "distributed_condensed", name);
 }
 
 }  // namespace
@@ -215,6 +205,14 @@ TEST_CASE("the condensed step on MPI ranks follows the serial trajectory") {
                             &p = parallel.summary.records.back();
   CHECK(std::abs(p.kinetic - s.kinetic) <= kSameTrajectory * std::max(s.kinetic, 1e-300));
   CHECK(std::abs(p.strain - s.strain) <= kSameTrajectory * std::max(s.strain, 1e-300));
+  // steps.csv's accuracy, energy and active_nodes columns and the summary's maxima, with
+  // the tolerance of the explicit step's (test_distributed_scene.cpp).
+  const std::vector<double> worst = contact::test::CheckSameMeasures(
+      scene, serial.summary, parallel.summary, kSameMeasures);
+  std::printf(
+      "%s: worst differences to one process: energy %.2g, residuals %.2g F, "
+      "penetration %.2g D, accuracies %.2g; final u %.2g m of %.2g m\n",
+      name, worst[0], worst[1], worst[2], worst[3], u_difference, u_max);
 }
 
 // The block of tests/contact/test_physical_accuracy.cpp ("a thrown block stops after
@@ -304,6 +302,32 @@ coefficient = 0.3
   const double expected = v0 * v0 / (2 * mu * g);
   INFO("slid " << distance << " m, v0^2 / (2 mu g) = " << expected << " m");
   CHECK(std::abs(distance - expected) <= 0.02 * expected);
+}
+
+// The status of a run that misses its accuracy: with one Newton iteration allowed per
+// step (solver.max_iterations = 1) the serial condensed step ends solver-failure when a
+// step needs more; on ranks the run ends at the same step with the same message. (No
+// tolerance from 1e-15 to 0.9 nor f_c up to 5 makes the serial condensed step of this
+// box measure an inaccurate step - Newton overshoots what it is asked - so the path to
+// accuracy-not-reached, the recorder's SetFinalStatus shared with the explicit step, is
+// not reached by a scene here; docs/petsc.md.)
+TEST_CASE("a step the contact Newton cannot solve ends the run as in one process") {
+  std::string text = kTetBox;
+  text.replace(text.find("step = \"condensed\""), 18,
+               "step = \"condensed\"\nmax_iterations = 1");
+  const contact::Scene scene = LoadSceneText(text, "one_newton_step");
+  const contact::SceneResult parallel =
+      contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, false);
+  INFO(parallel.summary.message);
+  CHECK(parallel.summary.status == contact::DynamicStatus::kSolverFailure);
+  if (Rank() != 0) return;
+  const contact::SceneResult serial = contact::RunScene(scene, false);
+  INFO("serial: " << serial.summary.message);
+  REQUIRE(serial.summary.status == contact::DynamicStatus::kSolverFailure);
+  CHECK(parallel.summary.steps == serial.summary.steps);
+  CHECK(parallel.summary.steps < 200);  // stopped before end_time
+  CHECK(parallel.summary.message == serial.summary.message);
+  CHECK(parallel.summary.inaccurate_steps == serial.summary.inaccurate_steps);
 }
 
 TEST_CASE("what the condensed step on ranks cannot run is refused on every rank") {

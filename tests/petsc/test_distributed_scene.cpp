@@ -14,8 +14,12 @@
 
 #include "contact/petsc/distributed_scene.hpp"
 #include "contact/scene.hpp"
+#include "distributed_scene_support.hpp"
 
 namespace {
+
+using contact::test::MaxAbs;
+using contact::test::Rank;
 
 constexpr double kSameTrajectory =
     1e-12;  // relative to the largest value of the quantity
@@ -125,74 +129,8 @@ initial_velocity = [0.0, -0.5]
 step = "explicit"
 )";
 
-int Rank() {
-  int rank = 0;
-  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  return rank;
-}
-
-// The scene text as a file of this rank (no rank reads another's file while it is
-// written).
 contact::Scene LoadSceneText(const std::string& text, const std::string& name) {
-  const std::string path =
-      "distributed_scene_" + name + "_rank" + std::to_string(Rank()) + ".toml";
-  std::ofstream(path) << text;
-  return contact::LoadScene(path);
-}
-
-double MaxAbs(const std::vector<contact::StepRecord>& records,
-              double contact::StepRecord::*field) {
-  double m = 0.0;
-  for (const contact::StepRecord& r : records) m = std::max(m, std::abs(r.*field));
-  return m;
-}
-
-// The accuracy and energy measures of every step (steps.csv's columns) and the summary's
-// maxima: the same definitions as in one process, so equal up to the round-off of the
-// reordered sums - within kSameTrajectory of the quantity's scale: the energy columns of
-// the largest energy of the run [J]; the residuals of the step's force scale F =
-// force_accuracy / tolerance [N] (the residuals themselves are round-off of the explicit
-// step's closed form, so their own size is no scale); the penetration of D =
-// displacement_accuracy / tolerance [m].
-void CheckSameMeasures(const contact::Scene& scene, const contact::DynamicSummary& serial,
-                       const contact::DynamicSummary& parallel) {
-  using R = contact::StepRecord;
-  double energy_scale = 0.0;
-  for (double R::*field : {&R::kinetic, &R::strain, &R::external_work,
-                           &R::normal_contact_work, &R::friction_dissipation})
-    energy_scale = std::max(energy_scale, MaxAbs(serial.records, field));
-  REQUIRE(energy_scale > 0.0);
-  const double tolerance = scene.dynamics.ncp.tolerance;
-  double worst_energy = 0.0, worst_force = 0.0, worst_penetration = 0.0,
-         worst_accuracy = 0.0;
-  for (size_t k = 0; k < serial.records.size(); ++k) {
-    const R &s = serial.records[k], &p = parallel.records[k];
-    INFO("step " << s.step);
-    for (double R::*field :
-         {&R::kinetic, &R::strain, &R::external_work, &R::normal_contact_work,
-          &R::friction_dissipation, &R::energy_balance_error})
-      worst_energy = std::max(worst_energy, std::abs(p.*field - s.*field) / energy_scale);
-    const double F = s.force_accuracy / tolerance,
-                 D = s.displacement_accuracy / tolerance;
-    for (double R::*field :
-         {&R::equilibrium_residual, &R::complementarity_residual, &R::friction_residual})
-      worst_force = std::max(worst_force, std::abs(p.*field - s.*field) / F);
-    worst_penetration =
-        std::max(worst_penetration, std::abs(p.max_penetration - s.max_penetration) / D);
-    worst_accuracy = std::max(
-        {worst_accuracy, std::abs(p.force_accuracy - s.force_accuracy) / s.force_accuracy,
-         std::abs(p.displacement_accuracy - s.displacement_accuracy) /
-             s.displacement_accuracy});
-    CHECK(p.active_nodes == s.active_nodes);
-    CHECK(p.accurate == s.accurate);
-  }
-  CHECK(worst_energy <= kSameTrajectory);
-  CHECK(worst_force <= kSameTrajectory);
-  CHECK(worst_penetration <= kSameTrajectory);
-  CHECK(worst_accuracy <= kSameTrajectory);
-  CHECK(parallel.inaccurate_steps == serial.inaccurate_steps);
-  CHECK(std::abs(parallel.energy_balance_error - serial.energy_balance_error) <=
-        kSameTrajectory * energy_scale);
+  return contact::test::LoadSceneText(text, "distributed_scene", name);
 }
 
 }  // namespace
@@ -239,7 +177,8 @@ TEST_CASE("the explicit step on MPI ranks follows the serial trajectory") {
   }
   CHECK(normal_difference <= kSameTrajectory * normal_max);
   CHECK(friction_difference <= kSameTrajectory * friction_max);
-  CheckSameMeasures(scene, serial.summary, parallel.summary);
+  contact::test::CheckSameMeasures(scene, serial.summary, parallel.summary,
+                                   kSameTrajectory);
 }
 
 TEST_CASE("an unstable explicit step blows up on MPI ranks as in one process") {

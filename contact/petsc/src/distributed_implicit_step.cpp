@@ -126,8 +126,7 @@ CondensedGatheredStep::CondensedGatheredStep(MPI_Comm comm, const Scene& scene,
   MPI_Comm_rank(comm, &rank_);
   if (!body.mass_matrix())
     throw std::logic_error("CondensedGatheredStep: the body has no mass matrix");
-  for (Vec* v : {&u_, &du_, &Ku_, &Mdu_previous_, &f_free_, &q_, &y_, &rhs_, &Mdu_})
-    CONTACT_PETSC_CHECK(DMCreateGlobalVector(body.dm(), v));
+  for (Vec* v : Vectors()) CONTACT_PETSC_CHECK(DMCreateGlobalVector(body.dm(), v));
   auto start = Clock::now();
   CreateMassSolver();
   factor_seconds_ = Seconds(start);
@@ -139,8 +138,7 @@ CondensedGatheredStep::CondensedGatheredStep(MPI_Comm comm, const Scene& scene,
 }
 
 CondensedGatheredStep::~CondensedGatheredStep() {
-  for (Vec* v : {&u_, &du_, &Ku_, &Mdu_previous_, &f_free_, &q_, &y_, &rhs_, &Mdu_})
-    VecDestroy(v);
+  for (Vec* v : Vectors()) VecDestroy(v);
   VecDestroy(&contact_);
   VecScatterDestroy(&to_contact_);
   KSPDestroy(&ksp_);
@@ -312,81 +310,59 @@ void CondensedGatheredStep::FormDelassus() {
   ThrowFromRankZero(comm_, error);
 }
 
-// u^0, du = u^0 - u^{-1}, f_F from the node data rank 0 sent; M du and K u^0.
+// u^0, u^{-1}, du = u^0 - u^{-1}, f_F and the contact dofs from the node data rank 0
+// sent; M du and K u^0.
 void CondensedGatheredStep::SetInitialState() {
-  PetscScalar *u = nullptr, *du = nullptr, *f = nullptr;
+  PetscScalar *u = nullptr, *u_previous = nullptr, *du = nullptr, *f = nullptr;
   CONTACT_PETSC_CHECK(VecGetArray(u_, &u));
+  CONTACT_PETSC_CHECK(VecGetArray(u_previous_, &u_previous));
   CONTACT_PETSC_CHECK(VecGetArray(du_, &du));
   CONTACT_PETSC_CHECK(VecGetArray(f_free_, &f));
+  PetscInt n = 0;
+  CONTACT_PETSC_CHECK(VecGetLocalSize(u_, &n));
+  contact_dof_.assign(static_cast<size_t>(n), 0);
   for (int i = 0; i < body_.NumLocalVertices(); ++i) {
     const double* data = body_.Data(i);
+    const bool contact_node = body_.Owns(i) && data[4 * dim_] >= 0;
     for (int c = 0; c < dim_; ++c) {
       const PetscInt k = body_.OwnedIndex(i, c);
       if (k < 0) continue;
       u[k] = data[dim_ + c];
+      u_previous[k] = data[2 * dim_ + c];
       du[k] = data[dim_ + c] - data[2 * dim_ + c];
       f[k] = data[3 * dim_ + c];
+      contact_dof_[static_cast<size_t>(k)] = contact_node ? 1 : 0;
     }
   }
   CONTACT_PETSC_CHECK(VecRestoreArray(f_free_, &f));
   CONTACT_PETSC_CHECK(VecRestoreArray(du_, &du));
+  CONTACT_PETSC_CHECK(VecRestoreArray(u_previous_, &u_previous));
   CONTACT_PETSC_CHECK(VecRestoreArray(u_, &u));
   CONTACT_PETSC_CHECK(MatMult(body_.mass_matrix(), du_, Mdu_previous_));
   CONTACT_PETSC_CHECK(MatMult(body_.stiffness(), u_, Ku_));
 }
 
-bool CondensedGatheredStep::Step(long k, StepRecord* rec,
-                                 ContactSystem::Result* contact) {
-  const auto start = Clock::now();
-  rec->step = static_cast<int>(k + 1);
-  rec->time = scene_.dynamics.start_time + static_cast<double>(k) * dt_ + dt_;
+bool CondensedGatheredStep::Step(long k, bool stop_requested,
+                                 const StepRecorder* recorder, RankStepPart* part,
+                                 std::vector<NodeResult>* results, StepRecord* rec) {
+  *part = RankStepPart();
+  part->sum[RankStepPart::kStopRequested] = stop_requested ? 1.0 : 0.0;
+  results->clear();
   const double factor = ::contact::internal::LoadHistoryFactor(
       scene_.load_history, scene_.dynamics.start_time, scene_.ramp_time,
       scene_.dynamics.start_time + static_cast<double>(k) * dt_);
-  // Q^k = K u^k - f^k - M (u^k - u^{k-1}) / dt^2, q = Q^k / force_scale (dynamics.cpp
-  // LoadStep), and the maxima of the step's scales: |f^k|, |K u^k|, |u^k - u^{k-1}|.
-  double maxima[3] = {0.0, 0.0, 0.0};
-  {
-    PetscInt n = 0;
-    CONTACT_PETSC_CHECK(VecGetLocalSize(q_, &n));
-    PetscScalar* q = nullptr;
-    const PetscScalar *Ku = nullptr, *f_free = nullptr, *Mdu = nullptr, *du = nullptr;
-    CONTACT_PETSC_CHECK(VecGetArray(q_, &q));
-    CONTACT_PETSC_CHECK(VecGetArrayRead(Ku_, &Ku));
-    CONTACT_PETSC_CHECK(VecGetArrayRead(f_free_, &f_free));
-    CONTACT_PETSC_CHECK(VecGetArrayRead(Mdu_previous_, &Mdu));
-    CONTACT_PETSC_CHECK(VecGetArrayRead(du_, &du));
-    for (PetscInt i = 0; i < n; ++i) {
-      const double f = factor * f_free[i];
-      const double Q = Ku[i] - f - Mdu[i] / (dt_ * dt_);
-      q[i] = Q / force_scale_;
-      maxima[0] = std::max(maxima[0], std::abs(f));
-      maxima[1] = std::max(maxima[1], std::abs(Ku[i]));
-      maxima[2] = std::max(maxima[2], std::abs(du[i]));
-    }
-    CONTACT_PETSC_CHECK(VecRestoreArrayRead(du_, &du));
-    CONTACT_PETSC_CHECK(VecRestoreArrayRead(Mdu_previous_, &Mdu));
-    CONTACT_PETSC_CHECK(VecRestoreArrayRead(f_free_, &f_free));
-    CONTACT_PETSC_CHECK(VecRestoreArrayRead(Ku_, &Ku));
-    CONTACT_PETSC_CHECK(VecRestoreArray(q_, &q));
-  }
-  MPI_Allreduce(MPI_IN_PLACE, maxima, 3, MPI_DOUBLE, MPI_MAX, comm_);
-  // y = S^-1 q; -H y and u^k_c onto rank 0.
+  LoadStep(factor, part);
+  // The maxima of the step's scales onto rank 0 (the contact problem is solved against
+  // them); y = S^-1 q; -H y and u^k_c onto rank 0.
+  double maxima[3] = {part->max[RankStepPart::kF], part->max[RankStepPart::kKu],
+                      part->max[RankStepPart::kDu]};
+  MPI_Reduce(rank_ == 0 ? MPI_IN_PLACE : maxima, maxima, 3, MPI_DOUBLE, MPI_MAX, 0,
+             comm_);
   if (!SolveS(q_, y_)) return false;
-  for (auto [from, to] : {std::pair<Vec, Eigen::VectorXd*>{y_, &x_free_},
-                          std::pair<Vec, Eigen::VectorXd*>{u_, &u_contact_}}) {
-    CONTACT_PETSC_CHECK(
-        VecScatterBegin(to_contact_, from, contact_, INSERT_VALUES, SCATTER_FORWARD));
-    CONTACT_PETSC_CHECK(
-        VecScatterEnd(to_contact_, from, contact_, INSERT_VALUES, SCATTER_FORWARD));
-    if (rank_ != 0) continue;
-    const PetscScalar* x = nullptr;
-    CONTACT_PETSC_CHECK(VecGetArrayRead(contact_, &x));
-    for (int i = 0; i < num_unknowns_; ++i) (*to)(i) = x[i];
-    CONTACT_PETSC_CHECK(VecRestoreArrayRead(contact_, &x));
-  }
+  GatherContact(y_, &x_free_);
+  GatherContact(u_, &u_contact_);
   // Rank 0: F into contact_; every rank learns whether it was found.
-  int solved = rank_ == 0 ? (SolveContact(maxima, rec, contact) ? 1 : 0) : 0;
+  int solved = rank_ == 0 ? (SolveContact(*recorder, maxima, part, rec) ? 1 : 0) : 0;
   MPI_Bcast(&solved, 1, MPI_INT, 0, comm_);
   if (!solved) {
     BroadcastText(comm_, &failure_);
@@ -400,29 +376,65 @@ bool CondensedGatheredStep::Step(long k, StepRecord* rec,
       VecScatterEnd(to_contact_, contact_, rhs_, INSERT_VALUES, SCATTER_REVERSE));
   CONTACT_PETSC_CHECK(VecAXPY(rhs_, -1.0, q_));
   if (!SolveS(rhs_, du_)) return false;
-  rec->solve_seconds = Seconds(start);
-  // u^{k+1}, M du, K u^{k+1} and the energies (dynamics.cpp MeasureStep).
-  CONTACT_PETSC_CHECK(VecAXPY(u_, 1.0, du_));
-  CONTACT_PETSC_CHECK(MatMult(body_.mass_matrix(), du_, Mdu_));
-  CONTACT_PETSC_CHECK(MatMult(body_.stiffness(), u_, Ku_));
-  PetscScalar duMdu = 0.0, uKu = 0.0;
-  CONTACT_PETSC_CHECK(VecDot(du_, Mdu_, &duMdu));
-  CONTACT_PETSC_CHECK(VecDot(u_, Ku_, &uKu));
-  rec->kinetic = 0.5 * duMdu / (dt_ * dt_);
-  rec->strain = 0.5 * uKu;
-  if (!std::isfinite(rec->kinetic) || !std::isfinite(rec->strain)) {
-    failure_ = "non-finite values in the condensed step";
-    return false;
-  }
+  Advance(factor, part);
+  Results(results);
+  // u^{k-1} <- u^k <- u^{k+1} (the handles); M du and K u^{k+1} go along.
+  std::swap(u_previous_, u_);
+  std::swap(u_, u_next_);
   std::swap(Mdu_previous_, Mdu_);
-  rec->seconds = Seconds(start);
   return true;
 }
 
+// Q^k = K u^k - f^k - M (u^k - u^{k-1}) / dt^2, q = Q^k / force_scale (dynamics.cpp
+// LoadStep), and this rank's maxima |f^k|, |K u^k|, |u^k - u^{k-1}|, |Q^k|.
+void CondensedGatheredStep::LoadStep(double factor, RankStepPart* part) {
+  PetscInt n = 0;
+  CONTACT_PETSC_CHECK(VecGetLocalSize(q_, &n));
+  PetscScalar *q = nullptr, *Q = nullptr;
+  const PetscScalar *Ku = nullptr, *f_free = nullptr, *Mdu = nullptr, *du = nullptr;
+  CONTACT_PETSC_CHECK(VecGetArray(q_, &q));
+  CONTACT_PETSC_CHECK(VecGetArray(Q_, &Q));
+  CONTACT_PETSC_CHECK(VecGetArrayRead(Ku_, &Ku));
+  CONTACT_PETSC_CHECK(VecGetArrayRead(f_free_, &f_free));
+  CONTACT_PETSC_CHECK(VecGetArrayRead(Mdu_previous_, &Mdu));
+  CONTACT_PETSC_CHECK(VecGetArrayRead(du_, &du));
+  double* max = part->max;
+  for (PetscInt i = 0; i < n; ++i) {
+    const double f = factor * f_free[i];
+    Q[i] = Ku[i] - f - Mdu[i] / (dt_ * dt_);
+    q[i] = Q[i] / force_scale_;
+    max[RankStepPart::kF] = std::max(max[RankStepPart::kF], std::abs(f));
+    max[RankStepPart::kKu] = std::max(max[RankStepPart::kKu], std::abs(Ku[i]));
+    max[RankStepPart::kDu] = std::max(max[RankStepPart::kDu], std::abs(du[i]));
+    max[RankStepPart::kQ] = std::max(max[RankStepPart::kQ], std::abs(Q[i]));
+  }
+  CONTACT_PETSC_CHECK(VecRestoreArrayRead(du_, &du));
+  CONTACT_PETSC_CHECK(VecRestoreArrayRead(Mdu_previous_, &Mdu));
+  CONTACT_PETSC_CHECK(VecRestoreArrayRead(f_free_, &f_free));
+  CONTACT_PETSC_CHECK(VecRestoreArrayRead(Ku_, &Ku));
+  CONTACT_PETSC_CHECK(VecRestoreArray(Q_, &Q));
+  CONTACT_PETSC_CHECK(VecRestoreArray(q_, &q));
+}
+
+void CondensedGatheredStep::GatherContact(Vec from, Eigen::VectorXd* to) {
+  CONTACT_PETSC_CHECK(
+      VecScatterBegin(to_contact_, from, contact_, INSERT_VALUES, SCATTER_FORWARD));
+  CONTACT_PETSC_CHECK(
+      VecScatterEnd(to_contact_, from, contact_, INSERT_VALUES, SCATTER_FORWARD));
+  if (rank_ != 0) return;
+  const PetscScalar* x = nullptr;
+  CONTACT_PETSC_CHECK(VecGetArrayRead(contact_, &x));
+  to->resize(num_unknowns_);
+  for (int i = 0; i < num_unknowns_; ++i) (*to)(i) = x[i];
+  CONTACT_PETSC_CHECK(VecRestoreArrayRead(contact_, &x));
+}
+
 // Rank 0: the serial step's contact problem (coulomb_fc_step.cpp) from the gathered
-// -H S^-1 q and u^k_c, against the scales of dynamics.cpp from the reduced maxima.
-bool CondensedGatheredStep::SolveContact(const double maxima[3], StepRecord* rec,
-                                         ContactSystem::Result* contact) {
+// -H S^-1 q and u^k_c, against the recorder's scales of the step (dynamics.cpp
+// LoadStep) from the reduced maxima and the penetration of u^k (into rank 0's part).
+bool CondensedGatheredStep::SolveContact(const StepRecorder& recorder,
+                                         const double maxima[3], RankStepPart* part,
+                                         StepRecord* rec) {
   double penetration = 0.0;
   for (size_t c = 0; c < nodes_.size(); ++c) {
     const ContactNode& node = nodes_[c];
@@ -432,9 +444,9 @@ bool CondensedGatheredStep::SolveContact(const double maxima[3], StepRecord* rec
     penetration = std::max(penetration, normal_motion - node.gap);
     gap0_(static_cast<Eigen::Index>(c)) = node.gap - normal_motion;
   }
+  part->max[RankStepPart::kPenetration] = penetration;
   const ::contact::internal::StepScales scales =
-      ::contact::internal::StepScalesFromMaxima(maxima[0], maxima[1], contact_force_max_,
-                                                maxima[2], penetration, m_max_, dt_);
+      recorder.Scales(maxima[0], maxima[1], maxima[2], penetration);
   x_free_ = -x_free_;
   ::contact::internal::CoulombStep::Outcome outcome;
   const bool ok = coulomb_->Solve(x_free_, gap0_, scales.force / force_scale_,
@@ -446,9 +458,8 @@ bool CondensedGatheredStep::SolveContact(const double maxima[3], StepRecord* rec
   if (!ok) {
     char buffer[160];
     std::snprintf(buffer, sizeof buffer,
-                  "step %d (t = %.6g s): natural-map residual %.3e > tolerance %.3e "
-                  "(scaled): ",
-                  rec->step, rec->time, outcome.natural_map_residual, tolerance_);
+                  "natural-map residual %.3e > tolerance %.3e (scaled): ",
+                  outcome.natural_map_residual, tolerance_);
     failure_ = buffer + s.message;
     return false;
   }
@@ -456,27 +467,73 @@ bool CondensedGatheredStep::SolveContact(const double maxima[3], StepRecord* rec
   CONTACT_PETSC_CHECK(VecGetArray(contact_, &F));
   for (int i = 0; i < num_unknowns_; ++i) F[i] = outcome.force(i);
   CONTACT_PETSC_CHECK(VecRestoreArray(contact_, &F));
-  contact_force_max_ = force_scale_ * outcome.force.lpNorm<Eigen::Infinity>();
-  *contact = outcome.contact;
-  // The record's contact sums in the serial node order (dynamics.cpp MeasureStep); the
-  // accuracy and energy-balance measures are not computed on ranks.
-  const Eigen::VectorXd lambda = force_scale_ * contact->normal_force;
-  rec->normal_force_sum = lambda.sum();
-  rec->tangent_force_sum = 0.0;
-  for (Eigen::Index c = 0; c < contact->tangent_force.cols(); ++c)
-    rec->tangent_force_sum += force_scale_ * contact->tangent_force.col(c).norm();
-  rec->max_penetration =
-      std::max(0.0, contact->gap.size() ? -contact->gap.minCoeff() : 0.0);
-  rec->solver_status = "converged";
-  const double not_measured = std::nan("");
-  for (double* measure :
-       {&rec->external_work, &rec->normal_contact_work, &rec->friction_dissipation,
-        &rec->energy_balance_error, &rec->equilibrium_residual,
-        &rec->complementarity_residual, &rec->friction_residual, &rec->force_accuracy,
-        &rec->displacement_accuracy})
-    *measure = not_measured;
-  rec->active_nodes = -1;
+  contact_result_ = outcome.contact;
   return true;
+}
+
+// u^{k+1} = u^k + du, M du (the scene's M: consistent or lumped), K u^{k+1}, r = M du /
+// dt^2 + Q^k (the contact forces at the contact nodes, else the equilibrium residual),
+// the energy sums and the maxima (dynamics.cpp MeasureStep, energy_balance.cpp).
+void CondensedGatheredStep::Advance(double factor, RankStepPart* part) {
+  CONTACT_PETSC_CHECK(VecWAXPY(u_next_, 1.0, du_, u_));
+  CONTACT_PETSC_CHECK(MatMult(body_.mass_matrix(), du_, Mdu_));
+  CONTACT_PETSC_CHECK(MatMult(body_.stiffness(), u_next_, Ku_));
+  PetscInt n = 0;
+  CONTACT_PETSC_CHECK(VecGetLocalSize(u_, &n));
+  PetscScalar* r = nullptr;
+  const PetscScalar *u = nullptr, *u_previous = nullptr, *u_next = nullptr, *du = nullptr,
+                    *Mdu = nullptr, *Ku = nullptr, *Q = nullptr, *f_free = nullptr;
+  CONTACT_PETSC_CHECK(VecGetArray(r_, &r));
+  const std::pair<Vec, const PetscScalar**> read[] = {
+      {u_, &u},           {u_previous_, &u_previous},
+      {u_next_, &u_next}, {du_, &du},
+      {Mdu_, &Mdu},       {Ku_, &Ku},
+      {Q_, &Q},           {f_free_, &f_free}};
+  for (const auto& [v, a] : read) CONTACT_PETSC_CHECK(VecGetArrayRead(v, a));
+  double* sum = part->sum;
+  double* max = part->max;
+  for (PetscInt i = 0; i < n; ++i) {
+    if (!std::isfinite(du[i])) sum[RankStepPart::kNonFinite] = 1.0;
+    const double f = factor * f_free[i];
+    r[i] = Mdu[i] / (dt_ * dt_) + Q[i];
+    sum[RankStepPart::kDuMdu] += du[i] * Mdu[i];
+    sum[RankStepPart::kFUNext] += f * u_next[i];
+    sum[RankStepPart::kFUPrevious] += f * u_previous[i];
+    sum[RankStepPart::kUKuNext] += u[i] * Ku[i];
+    sum[RankStepPart::kUNextKuNext] += u_next[i] * Ku[i];
+    max[RankStepPart::kMdu] = std::max(max[RankStepPart::kMdu], std::abs(Mdu[i]));
+    max[RankStepPart::kUNext] = std::max(max[RankStepPart::kUNext], std::abs(u_next[i]));
+    if (!contact_dof_[static_cast<size_t>(i)])
+      max[RankStepPart::kRFree] = std::max(max[RankStepPart::kRFree], std::abs(r[i]));
+  }
+  for (const auto& [v, a] : read) CONTACT_PETSC_CHECK(VecRestoreArrayRead(v, a));
+  CONTACT_PETSC_CHECK(VecRestoreArray(r_, &r));
+}
+
+void CondensedGatheredStep::Results(std::vector<NodeResult>* results) {
+  GatherContact(r_, &r_contact_);
+  GatherContact(u_next_, &u_next_contact_);
+  GatherContact(u_previous_, &u_previous_contact_);
+  if (rank_ != 0) return;
+  results->resize(nodes_.size());
+  for (size_t j = 0; j < nodes_.size(); ++j) {
+    const ContactNode& node = nodes_[j];
+    const auto c = static_cast<Eigen::Index>(j);
+    NodeResult& out = (*results)[j];
+    out.index = static_cast<int>(j);
+    out.normal_force = contact_result_.normal_force(c);
+    out.gap = contact_result_.gap(c);
+    for (int a = 0; a < dim_ - 1; ++a) {
+      out.tangent_force(a) = contact_result_.tangent_force(a, c);
+      out.slip(a) = contact_result_.slip(a, c);
+    }
+    for (int a = 0; a < dim_; ++a) {
+      const int i = node.dofs[a];  // (numbered on the contact unknowns)
+      out.r(a) = i >= 0 ? r_contact_(i) : 0.0;
+      out.u_next(a) = i >= 0 ? u_next_contact_(i) : 0.0;
+      out.u_previous(a) = i >= 0 ? u_previous_contact_(i) : 0.0;
+    }
+  }
 }
 
 }  // namespace contact::petsc::internal

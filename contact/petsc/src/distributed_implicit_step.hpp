@@ -26,6 +26,7 @@
 #include "contact/scene.hpp"
 #include "distributed_body.hpp"
 #include "step/coulomb_step.hpp"
+#include "step_record.hpp"
 
 namespace contact::petsc::internal {
 
@@ -59,10 +60,14 @@ class CondensedGatheredStep {
   CondensedGatheredStep(const CondensedGatheredStep&) = delete;
   CondensedGatheredStep& operator=(const CondensedGatheredStep&) = delete;
 
-  /// Step k -> k+1 (collective). On rank 0 fills *rec (contact force sums, Newton
-  /// counts) and *contact (system units). False, on every rank, when the contact solve
-  /// or a solve with M failed or a value is not finite; failure() says why.
-  bool Step(long k, StepRecord* rec, ContactSystem::Result* contact);
+  /// Step k -> k+1 (collective), u^{k+1} and K u^{k+1}; *part and *results: what the
+  /// step's record needs from this rank (StepGather, StepRecorder: rank 0 sends every
+  /// contact node's result, the other ranks none). recorder: rank 0's (the scales the
+  /// contact problem is solved against; null elsewhere). On rank 0 fills rec's Newton
+  /// counts. False, on every rank, when the contact solve or a solve with
+  /// M failed; failure() says why. A non-finite increment is reported in *part.
+  bool Step(long k, bool stop_requested, const StepRecorder* recorder, RankStepPart* part,
+            std::vector<NodeResult>* results, StepRecord* rec);
 
   Vec displacement() const { return u_; }
   const std::string& failure() const { return failure_; }
@@ -80,9 +85,20 @@ class CondensedGatheredStep {
   void SetInitialState();
   // x = S^-1 b = m_max M^-1 b; false (failure_ set) if the KSP did not converge.
   bool SolveS(Vec b, Vec x);
+  // Q^k, q, and this rank's maxima of the step's scales into part (dynamics.cpp
+  // LoadStep).
+  void LoadStep(double factor, RankStepPart* part);
+  // Global -> rank 0's Eigen vector of the contact unknowns (collective).
+  void GatherContact(Vec from, Eigen::VectorXd* to);
   // Rank 0: the contact problem of the step from the gathered x_free and u^k_c.
-  bool SolveContact(const double maxima[3], StepRecord* rec,
-                    ContactSystem::Result* contact);
+  bool SolveContact(const StepRecorder& recorder, const double maxima[3],
+                    RankStepPart* part, StepRecord* rec);
+  // u^{k+1}, M du, K u^{k+1}, r and this rank's sums and maxima (dynamics.cpp
+  // MeasureStep); the state moved on to the next step.
+  void Advance(double factor, RankStepPart* part);
+  // Rank 0: every contact node's result and r, u^{k+1}, u^{k-1} at its unknowns
+  // (collective: the gathers).
+  void Results(std::vector<NodeResult>* results);
 
   MPI_Comm comm_;
   int rank_;
@@ -97,16 +113,24 @@ class CondensedGatheredStep {
   // Global -> rank 0's sequential Vec of the contact unknowns (in the serial order of H).
   VecScatter to_contact_ = nullptr;
   Vec contact_ = nullptr;  // rank 0: n_u entries; elsewhere 0
-  // u^k [m]; du: the last increment u^k - u^{k-1} [m]; Ku [N]; Mdu_previous = M du
-  // [kg m]; f_F [N]; q (system units); y = S^-1 q; rhs = H' F - q; Mdu of the new step.
-  Vec u_ = nullptr, du_ = nullptr, Ku_ = nullptr, Mdu_previous_ = nullptr,
-      f_free_ = nullptr, q_ = nullptr, y_ = nullptr, rhs_ = nullptr, Mdu_ = nullptr;
+  std::vector<Vec*> Vectors() {
+    return {&u_, &u_previous_, &u_next_, &du_,  &Ku_, &Mdu_previous_, &Q_, &f_free_,
+            &q_, &y_,          &rhs_,    &Mdu_, &r_};
+  }
+  // u^k, u^{k-1}, u^{k+1} [m]; du: the last increment [m]; Ku = K u^k [N]; Mdu_previous
+  // = M (u^k - u^{k-1}) [kg m]; Q^k, f_F [N]; q (system units); y = S^-1 q; rhs = H' F -
+  // q; Mdu of the new step; r = M du / dt^2 + Q^k [N].
+  Vec u_ = nullptr, u_previous_ = nullptr, u_next_ = nullptr, du_ = nullptr,
+      Ku_ = nullptr, Mdu_previous_ = nullptr, Q_ = nullptr, f_free_ = nullptr,
+      q_ = nullptr, y_ = nullptr, rhs_ = nullptr, Mdu_ = nullptr, r_ = nullptr;
+  std::vector<char> contact_dof_;  // per owned entry: a dof of a contact node
   // Rank 0: the contact nodes numbered on the contact unknowns, their gaps s_c, the
   // serial step's solver of the contact problem and its buffers.
   std::vector<ContactNode> nodes_;
   std::unique_ptr<::contact::internal::CoulombStep> coulomb_;
-  Eigen::VectorXd x_free_, u_contact_, gap0_;
-  double contact_force_max_ = 0.0;  // |r^k|_inf of the previous step [N]
+  Eigen::VectorXd x_free_, u_contact_, gap0_, r_contact_, u_next_contact_,
+      u_previous_contact_;
+  ContactSystem::Result contact_result_;
   double tolerance_ = 0.0;
 };
 

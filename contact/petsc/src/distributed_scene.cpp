@@ -723,7 +723,8 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
       result.marked_node = nodes[static_cast<size_t>(marked)].node;
     }
     recorder = std::make_unique<internal::StepRecorder>(
-        scene, built->frames.nodes, recorder_start.lambda0, recorder_start.energy, m_max);
+        scene, method, built->frames.nodes, recorder_start.lambda0, recorder_start.energy,
+        m_max);
     built.reset();
   }
   const DynamicOptions& options = scene.dynamics;
@@ -733,11 +734,6 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   const double force_scale = m_max / (options.dt * options.dt);
   std::vector<double> stress_times = scene.stress_times;
   std::sort(stress_times.begin(), stress_times.end());
-  if (condensed)
-    for (double* measure :
-         {&summary.max_equilibrium_residual, &summary.max_complementarity_residual,
-          &summary.max_friction_residual, &summary.energy_balance_error})
-      *measure = std::numeric_limits<double>::quiet_NaN();  // not computed (docs)
   RankStepPart part;
   std::vector<NodeResult> node_results;
   GatheredStep gathered;
@@ -754,36 +750,27 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
     const int stop_read =
         options.stop_requested && options.stop_requested->load() ? 1 : 0;
     if (condensed) {
-      if (!condensed_run->Step(k, &rec, &gathered.contact)) {
+      if (!condensed_run->Step(k, stop_read != 0, recorder.get(), &part, &node_results,
+                               &rec)) {
         summary.status = DynamicStatus::kSolverFailure;
         summary.message = "step " + std::to_string(k + 1) +
                           " (t = " + std::to_string(rec.time) +
                           " s): " + condensed_run->failure();
         break;
       }
-      rec.solve_seconds = rec.seconds = Seconds(step_start);
-      int stop = stop_read;
-      MPI_Allreduce(MPI_IN_PLACE, &stop, 1, MPI_INT, MPI_MAX, comm);
-      if (rank == 0) {
-        summary.max_penetration = std::max(summary.max_penetration, rec.max_penetration);
-        summary.newton_iterations += rec.newton_iterations;
-        summary.jacobian_evaluations += rec.jacobian_evaluations;
-        summary.residual_evaluations += rec.residual_evaluations;
-        if (stop && rec.step < num_steps) {
-          ::contact::internal::SetInterrupted(rec, num_steps, &summary);
-          decision = kStopAfterRecord;
-        }
-      }
     } else {
       explicit_run->Step(k, stop_read != 0, &part, &node_results);
-      rec.solve_seconds = Seconds(step_start);
-      gather.Gather(part, node_results, &gathered);
-      if (rank == 0) {
-        if (!recorder->Record(&gathered, num_steps, &rec, &summary))
-          decision = summary.status == DynamicStatus::kSolverFailure ? kStopUnrecorded
-                                                                     : kStopAfterRecord;
-        rec.seconds = Seconds(step_start);
-      }
+    }
+    rec.solve_seconds = Seconds(step_start);
+    gather.Gather(part, node_results, &gathered);
+    if (rank == 0) {
+      summary.newton_iterations += rec.newton_iterations;
+      summary.jacobian_evaluations += rec.jacobian_evaluations;
+      summary.residual_evaluations += rec.residual_evaluations;
+      if (!recorder->Record(&gathered, num_steps, &rec, &summary))
+        decision = summary.status == DynamicStatus::kSolverFailure ? kStopUnrecorded
+                                                                   : kStopAfterRecord;
+      rec.seconds = Seconds(step_start);
     }
     MPI_Bcast(&decision, 1, MPI_INT, 0, comm);
     if (decision == kStopUnrecorded) break;
@@ -811,12 +798,7 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
     if (!go_on) break;
   }
   if (rank == 0) {
-    if (summary.status == DynamicStatus::kNotRun) {
-      if (condensed)
-        summary.status = DynamicStatus::kCompleted;  // (no accuracy measures on ranks)
-      else
-        recorder->Finish(&summary);
-    }
+    if (summary.status == DynamicStatus::kNotRun) recorder->Finish(&summary);
     if (summary.status == DynamicStatus::kCompleted)
       summary.message = "completed " + std::to_string(summary.steps) + " steps on " +
                         std::to_string(SizeOf(comm)) + " MPI ranks (" + ToString(method) +

@@ -4,8 +4,6 @@
 #include <cmath>
 #include <cstdio>
 
-#include "step_accuracy.hpp"
-
 namespace contact::petsc::internal {
 
 StepGather::StepGather(MPI_Comm comm, int dim, int num_contact_nodes)
@@ -72,10 +70,12 @@ void StepGather::Gather(const RankStepPart& part, const std::vector<NodeResult>&
   }
 }
 
-StepRecorder::StepRecorder(const Scene& scene, const std::vector<ContactNode>& nodes,
+StepRecorder::StepRecorder(const Scene& scene, StepMethod method,
+                           const std::vector<ContactNode>& nodes,
                            const Eigen::VectorXd& lambda0,
                            const ::contact::internal::EnergyBalance& energy, double m_max)
     : dim_(scene.dim),
+      method_(method),
       dt_(scene.dynamics.dt),
       tolerance_(scene.dynamics.ncp.tolerance),
       friction_(scene.friction_coefficient),
@@ -92,6 +92,13 @@ StepRecorder::StepRecorder(const Scene& scene, const std::vector<ContactNode>& n
   }
 }
 
+::contact::internal::StepScales StepRecorder::Scales(double f_max, double Ku_max,
+                                                     double du_max,
+                                                     double penetration) const {
+  return ::contact::internal::StepScalesFromMaxima(f_max, Ku_max, contact_force_max_,
+                                                   du_max, penetration, m_max_, dt_);
+}
+
 bool StepRecorder::Record(GatheredStep* step, long num_steps, StepRecord* rec,
                           DynamicSummary* summary) {
   // The parts summed (and maximized) in rank order.
@@ -105,26 +112,28 @@ bool StepRecorder::Record(GatheredStep* step, long num_steps, StepRecord* rec,
     summary->status = DynamicStatus::kSolverFailure;
     summary->message = "step " + std::to_string(rec->step) +
                        " (t = " + std::to_string(rec->time) +
-                       " s): non-finite values in the explicit step";
+                       " s): non-finite values in the " + ToString(method_) + " step";
     return false;
   }
   // The step's scales and the accuracy asked for (step_accuracy.hpp).
   const ::contact::internal::StepScales scales =
-      ::contact::internal::StepScalesFromMaxima(
-          all.max[RankStepPart::kF], all.max[RankStepPart::kKu], contact_force_max_,
-          all.max[RankStepPart::kDu], all.max[RankStepPart::kPenetration], m_max_, dt_);
+      Scales(all.max[RankStepPart::kF], all.max[RankStepPart::kKu],
+             all.max[RankStepPart::kDu], all.max[RankStepPart::kPenetration]);
   ::contact::internal::AskedAccuracyMaxima maxima;
   maxima.Q = all.max[RankStepPart::kQ];
   maxima.Mdu = all.max[RankStepPart::kMdu];
   maxima.u_next = all.max[RankStepPart::kUNext];
   maxima.gap0 = gap0_max_;
   ::contact::internal::SetAskedAccuracy(tolerance_, scales, maxima, dt_, rec);
-  // The accuracy reached, per contact node in the serial order; the equilibrium residual
-  // of the other free dofs is r itself (no contact force there).
-  if (friction_ > 0.0)
+  // The accuracy reached, per contact node in the serial order, against the bound the
+  // step solved with (system units); the equilibrium residual of the other free dofs is r
+  // itself (no contact force there).
+  if (friction_ <= 0.0)
+    bound_.resize(0);
+  else if (method_ == StepMethod::kExplicit)
     bound_ = (friction_ / force_scale_) * lambda_.cwiseMax(0.0);
   else
-    bound_.resize(0);
+    bound_ = friction_ * step->contact.normal_force.cwiseMax(0.0);
   ::contact::internal::MeasureStepAccuracy(dim_, nodes_, step->r, step->contact,
                                            force_scale_, step->u_next, bound_, &residual_,
                                            rec);

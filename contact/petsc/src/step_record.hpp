@@ -1,11 +1,12 @@
-// The record of a distributed explicit step (steps.csv's row, the summary's maxima, the
-// energy blow-up guard) with the definitions and scales of the serial step
-// (contact/src/step_accuracy.hpp, energy_balance.hpp, dynamics.cpp MeasureStep):
-// every rank reduces its owned free dofs and contact nodes to a few sums and maxima
-// (RankStepPart) and sends them, with one NodeResult per owned contact node, to rank 0 in
-// one MPI_Gatherv per step (StepGather); rank 0 sums the parts in rank order (the same
-// order on every run with the same ranks) and evaluates each contact node in the serial
-// node order with the serial functions (StepRecorder).
+// The record of a distributed step, whichever step it is (steps.csv's row, the summary's
+// maxima, the energy blow-up guard, the final status) with the definitions and scales of
+// the serial step (contact/src/step_accuracy.hpp, energy_balance.hpp, dynamics.cpp
+// MeasureStep): every rank reduces its owned free dofs and contact nodes to a few sums
+// and maxima (RankStepPart: M du with the step's own M, lumped or consistent) and sends
+// them, with one NodeResult per contact node it holds the result of, to rank 0 in one
+// MPI_Gatherv per step (StepGather); rank 0 sums the parts in rank order (the same order
+// on every run with the same ranks) and evaluates each contact node in the serial node
+// order with the serial functions (StepRecorder).
 #pragma once
 
 #include <mpi.h>
@@ -17,6 +18,7 @@
 #include "contact/dynamics.hpp"
 #include "contact/scene.hpp"
 #include "energy_balance.hpp"
+#include "step_accuracy.hpp"
 
 namespace contact::petsc::internal {
 
@@ -82,15 +84,27 @@ class StepGather {
   std::vector<double> send_, receive_;
 };
 
-/// Rank 0: the serial step's measures of each distributed step.
+/// Rank 0: the serial step's measures of each distributed step, whichever step produced
+/// the parts (explicit, condensed, ...).
 class StepRecorder {
  public:
-  /// nodes: the scene's contact nodes (dofs in the serial free numbering); lambda0 [N]
-  /// the initial normal forces; energy: the balance at the start (EnergyBalance of u^0,
-  /// u^{-1}); m_max [kg] the largest lumped mass.
-  StepRecorder(const Scene& scene, const std::vector<ContactNode>& nodes,
-               const Eigen::VectorXd& lambda0,
+  /// method: the step that runs - the Tresca bound the friction residual is measured
+  /// against is the lagged f_c lambda^k for the explicit step and f_c lambda^{k+1}
+  /// (implicit Coulomb, as the serial dynamics.cpp SolveStep) for the others; nodes: the
+  /// scene's contact nodes (dofs in the serial free numbering); lambda0 [N] the initial
+  /// normal forces; energy: the balance at the start (EnergyBalance of u^0, u^{-1} with
+  /// the scene's M); m_max [kg] the step scaling (the largest lumped mass, or the largest
+  /// entry of M_FF).
+  StepRecorder(const Scene& scene, StepMethod method,
+               const std::vector<ContactNode>& nodes, const Eigen::VectorXd& lambda0,
                const ::contact::internal::EnergyBalance& energy, double m_max);
+
+  /// The scales of the coming step (step_accuracy.hpp) from the maxima over all ranks of
+  /// |f^k|, |K u^k| [N], |u^k - u^{k-1}| [m] and the penetration of u^k [m], with the
+  /// contact forces of the last recorded step: what Record measures the step against,
+  /// for a step that solves against them (the condensed step).
+  ::contact::internal::StepScales Scales(double f_max, double Ku_max, double du_max,
+                                         double penetration) const;
 
   /// Fills rec (all but step, time, the timings) from the gathered step and adds it to
   /// the summary (maxima, inaccurate steps). False if the run must stop after this step
@@ -105,6 +119,7 @@ class StepRecorder {
 
  private:
   int dim_;
+  StepMethod method_;
   double dt_, tolerance_, friction_, blowup_factor_, m_max_, force_scale_,
       gap0_max_ = 0.0;
   std::vector<ContactNode> nodes_;  // dofs: entry dim c + a of the gathered vectors
