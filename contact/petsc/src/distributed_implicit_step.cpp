@@ -164,8 +164,10 @@ void CondensedGatheredStep::CreateMassSolver() {
   CONTACT_PETSC_CHECK(PCSetType(pc, mumps ? PCCHOLESKY : PCJACOBI));
   if (mumps) CONTACT_PETSC_CHECK(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
   // An iterative solve to 1e-12 of |b| (the trajectory is compared with one process's to
-  // 1e-9).
+  // 1e-9), or tighter per step (SolveS), in the true residual's norm (the step's
+  // equilibrium residual is force_scale times it).
   CONTACT_PETSC_CHECK(KSPSetTolerances(ksp_, 1e-12, 0.0, PETSC_DEFAULT, 10000));
+  if (!mumps) CONTACT_PETSC_CHECK(KSPSetNormType(ksp_, KSP_NORM_UNPRECONDITIONED));
   CONTACT_PETSC_CHECK(KSPSetFromOptions(ksp_));
   mass_solver_ = KspDescription(ksp_);
   // preonly applies the preconditioner once: M^-1 only if it is a factorization (or the
@@ -186,9 +188,33 @@ void CondensedGatheredStep::CreateMassSolver() {
         "preonly use -mass_pc_type cholesky, lu or redundant (jacobi for a lumped "
         "mass), or a Krylov method (-mass_ksp_type cg)");
   CONTACT_PETSC_CHECK(KSPSetUp(ksp_));
+  CONTACT_PETSC_CHECK(KSPGetTolerances(ksp_, &rtol_, nullptr, nullptr, &max_its_));
 }
 
-bool CondensedGatheredStep::SolveS(Vec b, Vec x) {
+// An iterative solve M z = b stops at |M z - b|_2 <= max(kRoundoffRtol |b|, min(rtol
+// |b|, kStepSolveFraction tol F / force_scale)) (rtol: 1e-12 or -mass_ksp_rtol): the
+// equilibrium residual it leaves, force_scale |M z - b| [N], is then a thousandth of the
+// step's force accuracy tol F, and the displacement error |S^-1 (M z - b)| <= m_max /
+// m_min |M z - b| stays below tol F dt^2 / m_max <= tol D (S's smallest eigenvalue is
+// about m_min / m_max, F dt^2 / m_max <= D by the scales' definition), never looser than
+// rtol |b| and never below the round-off of b.
+constexpr double kStepSolveFraction = 1e-3;
+constexpr double kRoundoffRtol = 1e-14;
+
+bool CondensedGatheredStep::SolveS(Vec b, Vec x, double step_force) {
+  PetscBool preonly = PETSC_FALSE;
+  CONTACT_PETSC_CHECK(
+      PetscObjectTypeCompare(reinterpret_cast<PetscObject>(ksp_), KSPPREONLY, &preonly));
+  if (!preonly) {
+    PetscReal b_norm = 0.0;
+    CONTACT_PETSC_CHECK(VecNorm(b, NORM_2, &b_norm));
+    double absolute = rtol_ * b_norm;
+    if (step_force > 0.0)
+      absolute = std::max(kRoundoffRtol * b_norm,
+                          std::min(absolute, kStepSolveFraction * tolerance_ *
+                                                 step_force / force_scale_));
+    CONTACT_PETSC_CHECK(KSPSetTolerances(ksp_, 0.0, absolute, PETSC_DEFAULT, max_its_));
+  }
   CONTACT_PETSC_CHECK(KSPSolve(ksp_, b, x));
   KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
   CONTACT_PETSC_CHECK(KSPGetConvergedReason(ksp_, &reason));
@@ -280,7 +306,8 @@ void CondensedGatheredStep::FormDelassus() {
         VecScatterBegin(to_contact_, contact_, rhs_, INSERT_VALUES, SCATTER_REVERSE));
     CONTACT_PETSC_CHECK(
         VecScatterEnd(to_contact_, contact_, rhs_, INSERT_VALUES, SCATTER_REVERSE));
-    if (!SolveS(rhs_, y_)) throw std::invalid_argument("contact::petsc: " + failure_);
+    if (!SolveS(rhs_, y_, 0.0))
+      throw std::invalid_argument("contact::petsc: " + failure_);
     CONTACT_PETSC_CHECK(
         VecScatterBegin(to_contact_, y_, contact_, INSERT_VALUES, SCATTER_FORWARD));
     CONTACT_PETSC_CHECK(
@@ -352,17 +379,26 @@ bool CondensedGatheredStep::Step(long k, bool stop_requested,
       scene_.load_history, scene_.dynamics.start_time, scene_.ramp_time,
       scene_.dynamics.start_time + static_cast<double>(k) * dt_);
   LoadStep(factor, part);
-  // The maxima of the step's scales onto rank 0 (the contact problem is solved against
-  // them); y = S^-1 q; -H y and u^k_c onto rank 0.
+  // The maxima of the step's scales and u^k_c onto rank 0, which sets the scales of the
+  // step (every rank solves with M to them); y = S^-1 q and -H y onto rank 0.
   double maxima[3] = {part->max[RankStepPart::kF], part->max[RankStepPart::kKu],
                       part->max[RankStepPart::kDu]};
   MPI_Reduce(rank_ == 0 ? MPI_IN_PLACE : maxima, maxima, 3, MPI_DOUBLE, MPI_MAX, 0,
              comm_);
-  if (!SolveS(q_, y_)) return false;
-  GatherContact(y_, &x_free_);
   GatherContact(u_, &u_contact_);
+  double scales[2] = {0.0, 0.0};  // F [N], D [m]
+  if (rank_ == 0) {
+    const double penetration = SetGaps();
+    part->max[RankStepPart::kPenetration] = penetration;
+    const ::contact::internal::StepScales s =
+        recorder->Scales(maxima[0], maxima[1], maxima[2], penetration);
+    scales[0] = s.force, scales[1] = s.displacement;
+  }
+  MPI_Bcast(scales, 2, MPI_DOUBLE, 0, comm_);
+  if (!SolveS(q_, y_, scales[0])) return false;
+  GatherContact(y_, &x_free_);
   // Rank 0: F into contact_; every rank learns whether it was found.
-  int solved = rank_ == 0 ? (SolveContact(*recorder, maxima, part, rec) ? 1 : 0) : 0;
+  int solved = rank_ == 0 ? (SolveContact(scales[0], scales[1], rec) ? 1 : 0) : 0;
   MPI_Bcast(&solved, 1, MPI_INT, 0, comm_);
   if (!solved) {
     BroadcastText(comm_, &failure_);
@@ -375,7 +411,7 @@ bool CondensedGatheredStep::Step(long k, bool stop_requested,
   CONTACT_PETSC_CHECK(
       VecScatterEnd(to_contact_, contact_, rhs_, INSERT_VALUES, SCATTER_REVERSE));
   CONTACT_PETSC_CHECK(VecAXPY(rhs_, -1.0, q_));
-  if (!SolveS(rhs_, du_)) return false;
+  if (!SolveS(rhs_, du_, scales[0])) return false;
   Advance(factor, part);
   Results(results);
   // u^{k-1} <- u^k <- u^{k+1} (the handles); M du and K u^{k+1} go along.
@@ -429,12 +465,9 @@ void CondensedGatheredStep::GatherContact(Vec from, Eigen::VectorXd* to) {
   CONTACT_PETSC_CHECK(VecRestoreArrayRead(contact_, &x));
 }
 
-// Rank 0: the serial step's contact problem (coulomb_fc_step.cpp) from the gathered
-// -H S^-1 q and u^k_c, against the recorder's scales of the step (dynamics.cpp
-// LoadStep) from the reduced maxima and the penetration of u^k (into rank 0's part).
-bool CondensedGatheredStep::SolveContact(const StepRecorder& recorder,
-                                         const double maxima[3], RankStepPart* part,
-                                         StepRecord* rec) {
+// Rank 0: gap0_c = s_c - n_c . u^k_c from the gathered u^k_c; returns the penetration
+// of u^k, max(0, max_c n_c . u^k_c - s_c) [m].
+double CondensedGatheredStep::SetGaps() {
   double penetration = 0.0;
   for (size_t c = 0; c < nodes_.size(); ++c) {
     const ContactNode& node = nodes_[c];
@@ -444,13 +477,17 @@ bool CondensedGatheredStep::SolveContact(const StepRecorder& recorder,
     penetration = std::max(penetration, normal_motion - node.gap);
     gap0_(static_cast<Eigen::Index>(c)) = node.gap - normal_motion;
   }
-  part->max[RankStepPart::kPenetration] = penetration;
-  const ::contact::internal::StepScales scales =
-      recorder.Scales(maxima[0], maxima[1], maxima[2], penetration);
+  return penetration;
+}
+
+// Rank 0: the serial step's contact problem (coulomb_fc_step.cpp) from the gathered
+// -H S^-1 q and the gaps, against the step's scales F [N] and D [m].
+bool CondensedGatheredStep::SolveContact(double force, double displacement,
+                                         StepRecord* rec) {
   x_free_ = -x_free_;
   ::contact::internal::CoulombStep::Outcome outcome;
-  const bool ok = coulomb_->Solve(x_free_, gap0_, scales.force / force_scale_,
-                                  scales.displacement, tolerance_, &outcome);
+  const bool ok = coulomb_->Solve(x_free_, gap0_, force / force_scale_, displacement,
+                                  tolerance_, &outcome);
   const ncp::fc::Summary& s = outcome.summary;
   rec->newton_iterations = s.iterations;
   rec->jacobian_evaluations = s.iterations;  // one generalized Jacobian per Newton step

@@ -84,15 +84,19 @@ class CondensedGatheredStep {
   void FormDelassus();
   void SetInitialState();
   // x = S^-1 b = m_max M^-1 b; false (failure_ set) if the KSP did not converge.
-  bool SolveS(Vec b, Vec x);
+  // step_force: the step's force scale F [N] (an iterative solve to a thousandth of its
+  // force accuracy), 0 for the set-up's solves (to rtol).
+  bool SolveS(Vec b, Vec x, double step_force);
   // Q^k, q, and this rank's maxima of the step's scales into part (dynamics.cpp
   // LoadStep).
   void LoadStep(double factor, RankStepPart* part);
   // Global -> rank 0's Eigen vector of the contact unknowns (collective).
   void GatherContact(Vec from, Eigen::VectorXd* to);
-  // Rank 0: the contact problem of the step from the gathered x_free and u^k_c.
-  bool SolveContact(const StepRecorder& recorder, const double maxima[3],
-                    RankStepPart* part, StepRecord* rec);
+  // Rank 0: gap0 from the gathered u^k_c; the penetration of u^k [m].
+  double SetGaps();
+  // Rank 0: the contact problem of the step from the gathered x_free and gap0, against
+  // the step's scales F [N] and D [m].
+  bool SolveContact(double force, double displacement, StepRecord* rec);
   // u^{k+1}, M du, K u^{k+1}, r and this rank's sums and maxima (dynamics.cpp
   // MeasureStep); the state moved on to the next step.
   void Advance(double factor, RankStepPart* part);
@@ -132,6 +136,8 @@ class CondensedGatheredStep {
       u_previous_contact_;
   ContactSystem::Result contact_result_;
   double tolerance_ = 0.0;
+  PetscReal rtol_ = 0.0;  // the KSP's relative tolerance (1e-12 or the options')
+  PetscInt max_its_ = 0;
 };
 
 }  // namespace contact::petsc::internal
