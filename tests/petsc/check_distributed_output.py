@@ -10,7 +10,7 @@ contact_stress.csv, node_history.csv (output.marked_point) and displacement.csv 
 output.stress_times and the end) have the serial rows; --json reports ranks = 2; a scene
 whose step is not explicit or condensed (here the full step) is refused once, with exit
 code 1, naming the step; the condensed step (a Tet4 box with the consistent mass and
-friction) on 2 ranks writes the serial steps.csv's accuracy, energy and active_nodes
+friction: SCENE's box as Tet4 cells) on 2 ranks writes the serial steps.csv's accuracy, energy and active_nodes
 columns and ends with the serial status and summary maxima; and SIGINT
 to mpiexec ends a run after a finished step with the "interrupted" summary and steps.csv
 complete up to that step (OpenMPI 4.1's mpiexec passes SIGINT on as SIGTERM and exits
@@ -67,39 +67,12 @@ marked_point = [0.1, 0.1, 0.0]
 """
 SAME = 1e-9  # relative: the CSV files print 10 significant digits
 
-# The Tet4 box of tests/petsc/test_distributed_condensed.cpp (consistent mass, f_c = 0.3):
-# it lands, slides and rings under the condensed step.
-CONDENSED_SCENE = """
-name = "tet-box-condensed-output"
-[geometry]
-type = "box"
-origin = [0.0, 0.0, 0.0]
-size = [0.2, 0.2, 0.1]
-cells = [4, 3, 2]
-element = "tet4"
-contact = ["zmin"]
-[material]
-young_modulus = 2e8
-poisson_ratio = 0.3
-density = 7800
-mass = "consistent"
-[loads]
-body_force = [30000.0, 8000.0, -76518.0]
-[obstacle]
-type = "plane"
-normal = [0.0, 0.0, 1.0]
-offset = -0.001
-normal_source = "obstacle"
-[friction]
-coefficient = 0.3
-[time]
-dt = 2e-5
-end_time = 0.004
-initial_state = "velocity"
-initial_velocity = [0.0, 0.0, -0.5]
-[solver]
-step = "condensed"
-"""
+# The box of SCENE as Tet4 cells with the consistent mass under the condensed step (as
+# tests/petsc/test_distributed_condensed.cpp's): it lands, slides and rings.
+CONDENSED_SCENE = (SCENE.replace("cells = [6, 5, 3]", "cells = [4, 3, 2]")
+                   .replace('element = "hex8"', 'element = "tet4"')
+                   .replace('mass = "lumped"', 'mass = "consistent"')
+                   .replace('step = "explicit"', 'step = "condensed"'))
 ENERGY_COLUMNS = ("kinetic_energy", "strain_energy", "external_work", "normal_contact_work",
                   "friction_dissipation", "energy_balance_error")
 RESIDUAL_COLUMNS = ("equilibrium_residual", "complementarity_residual", "friction_residual")
@@ -147,6 +120,7 @@ def check_condensed(a):
     penetration within SAME of D = displacement_accuracy / tolerance, both accuracies within
     SAME relative, active_nodes equal; --json's status, inaccurate_steps and maxima alike."""
     scene = os.path.join(a.workdir, "tet_box_condensed.toml")
+    assert CONDENSED_SCENE.count("tet4") == CONDENSED_SCENE.count("condensed") == 1
     with open(scene, "w") as f:
         f.write(CONDENSED_SCENE)
     tolerance = 1e-10  # (solver.tolerance's default)

@@ -295,28 +295,18 @@ void CondensedGatheredStep::BuildContactScatter(const std::vector<ContactNode>* 
 // sets up the serial step's CoulombStep on it.
 void CondensedGatheredStep::FormDelassus() {
   Eigen::MatrixXd W;
+  Eigen::VectorXd column;
   if (rank_ == 0) W.resize(num_unknowns_, num_unknowns_);
   for (int j = 0; j < num_unknowns_; ++j) {
     CONTACT_PETSC_CHECK(VecZeroEntries(contact_));
     if (rank_ == 0) CONTACT_PETSC_CHECK(VecSetValue(contact_, j, 1.0, INSERT_VALUES));
     CONTACT_PETSC_CHECK(VecAssemblyBegin(contact_));
     CONTACT_PETSC_CHECK(VecAssemblyEnd(contact_));
-    CONTACT_PETSC_CHECK(VecZeroEntries(rhs_));
-    CONTACT_PETSC_CHECK(
-        VecScatterBegin(to_contact_, contact_, rhs_, INSERT_VALUES, SCATTER_REVERSE));
-    CONTACT_PETSC_CHECK(
-        VecScatterEnd(to_contact_, contact_, rhs_, INSERT_VALUES, SCATTER_REVERSE));
+    ScatterContact(rhs_);
     if (!SolveS(rhs_, y_, 0.0))
       throw std::invalid_argument("contact::petsc: " + failure_);
-    CONTACT_PETSC_CHECK(
-        VecScatterBegin(to_contact_, y_, contact_, INSERT_VALUES, SCATTER_FORWARD));
-    CONTACT_PETSC_CHECK(
-        VecScatterEnd(to_contact_, y_, contact_, INSERT_VALUES, SCATTER_FORWARD));
-    if (rank_ != 0) continue;
-    const PetscScalar* column = nullptr;
-    CONTACT_PETSC_CHECK(VecGetArrayRead(contact_, &column));
-    for (int i = 0; i < num_unknowns_; ++i) W(i, j) = column[i];
-    CONTACT_PETSC_CHECK(VecRestoreArrayRead(contact_, &column));
+    GatherContact(y_, &column);
+    if (rank_ == 0) W.col(j) = column;
   }
   std::string error;
   if (rank_ == 0) {
@@ -405,11 +395,7 @@ bool CondensedGatheredStep::Step(long k, bool stop_requested,
     return false;
   }
   // du = S^-1 (H' F - q).
-  CONTACT_PETSC_CHECK(VecZeroEntries(rhs_));
-  CONTACT_PETSC_CHECK(
-      VecScatterBegin(to_contact_, contact_, rhs_, INSERT_VALUES, SCATTER_REVERSE));
-  CONTACT_PETSC_CHECK(
-      VecScatterEnd(to_contact_, contact_, rhs_, INSERT_VALUES, SCATTER_REVERSE));
+  ScatterContact(rhs_);
   CONTACT_PETSC_CHECK(VecAXPY(rhs_, -1.0, q_));
   if (!SolveS(rhs_, du_, scales[0])) return false;
   Advance(factor, part);
@@ -428,12 +414,11 @@ void CondensedGatheredStep::LoadStep(double factor, RankStepPart* part) {
   CONTACT_PETSC_CHECK(VecGetLocalSize(q_, &n));
   PetscScalar *q = nullptr, *Q = nullptr;
   const PetscScalar *Ku = nullptr, *f_free = nullptr, *Mdu = nullptr, *du = nullptr;
-  CONTACT_PETSC_CHECK(VecGetArray(q_, &q));
-  CONTACT_PETSC_CHECK(VecGetArray(Q_, &Q));
-  CONTACT_PETSC_CHECK(VecGetArrayRead(Ku_, &Ku));
-  CONTACT_PETSC_CHECK(VecGetArrayRead(f_free_, &f_free));
-  CONTACT_PETSC_CHECK(VecGetArrayRead(Mdu_previous_, &Mdu));
-  CONTACT_PETSC_CHECK(VecGetArrayRead(du_, &du));
+  const std::pair<Vec, PetscScalar**> write[] = {{q_, &q}, {Q_, &Q}};
+  const std::pair<Vec, const PetscScalar**> read[] = {
+      {Ku_, &Ku}, {f_free_, &f_free}, {Mdu_previous_, &Mdu}, {du_, &du}};
+  for (const auto& [v, a] : write) CONTACT_PETSC_CHECK(VecGetArray(v, a));
+  for (const auto& [v, a] : read) CONTACT_PETSC_CHECK(VecGetArrayRead(v, a));
   double* max = part->max;
   for (PetscInt i = 0; i < n; ++i) {
     const double f = factor * f_free[i];
@@ -444,12 +429,16 @@ void CondensedGatheredStep::LoadStep(double factor, RankStepPart* part) {
     max[RankStepPart::kDu] = std::max(max[RankStepPart::kDu], std::abs(du[i]));
     max[RankStepPart::kQ] = std::max(max[RankStepPart::kQ], std::abs(Q[i]));
   }
-  CONTACT_PETSC_CHECK(VecRestoreArrayRead(du_, &du));
-  CONTACT_PETSC_CHECK(VecRestoreArrayRead(Mdu_previous_, &Mdu));
-  CONTACT_PETSC_CHECK(VecRestoreArrayRead(f_free_, &f_free));
-  CONTACT_PETSC_CHECK(VecRestoreArrayRead(Ku_, &Ku));
-  CONTACT_PETSC_CHECK(VecRestoreArray(Q_, &Q));
-  CONTACT_PETSC_CHECK(VecRestoreArray(q_, &q));
+  for (const auto& [v, a] : read) CONTACT_PETSC_CHECK(VecRestoreArrayRead(v, a));
+  for (const auto& [v, a] : write) CONTACT_PETSC_CHECK(VecRestoreArray(v, a));
+}
+
+void CondensedGatheredStep::ScatterContact(Vec to) {
+  CONTACT_PETSC_CHECK(VecZeroEntries(to));
+  CONTACT_PETSC_CHECK(
+      VecScatterBegin(to_contact_, contact_, to, INSERT_VALUES, SCATTER_REVERSE));
+  CONTACT_PETSC_CHECK(
+      VecScatterEnd(to_contact_, contact_, to, INSERT_VALUES, SCATTER_REVERSE));
 }
 
 void CondensedGatheredStep::GatherContact(Vec from, Eigen::VectorXd* to) {

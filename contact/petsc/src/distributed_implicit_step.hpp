@@ -92,6 +92,8 @@ class CondensedGatheredStep {
   void LoadStep(double factor, RankStepPart* part);
   // Global -> rank 0's Eigen vector of the contact unknowns (collective).
   void GatherContact(Vec from, Eigen::VectorXd* to);
+  // Rank 0's contact_ -> the global Vec `to`, zero off the contact unknowns (collective).
+  void ScatterContact(Vec to);
   // Rank 0: gap0 from the gathered u^k_c; the penetration of u^k [m].
   double SetGaps();
   // Rank 0: the contact problem of the step from the gathered x_free and gap0, against
