@@ -21,9 +21,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <memory>
+#include <string>
 
 #include "contact/simulation.hpp"
 #include "contact/vtk_writer.hpp"
@@ -66,6 +69,16 @@ int SizeOf(MPI_Comm comm) {
   int size = 1;
   MPI_Comm_size(comm, &size);
   return size;
+}
+
+// This process's peak resident set size so far [MiB]: VmHWM of /proc/self/status (Linux;
+// -1 where it cannot be read).
+double PeakResidentMiB() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;  // kB
+  return -1.0;
 }
 
 // The scenes whose set-up needs no serial K on rank 0: a lumped mass and a prescribed
@@ -693,6 +706,7 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   if (info.refused) return result;
 
   const double setup_seconds = Seconds(start);
+  const double setup_peak = rank == 0 && progress ? PeakResidentMiB() : -1.0;
   const bool condensed = method == StepMethod::kCondensed;
   const DistributedBody body(comm, scene, built.get(), node_data, condensed);
   node_data = {};
@@ -721,6 +735,11 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   if (progress && rank == 0 && !serial_stiffness)
     std::fprintf(stderr, "  dt_crit = %.6g s by Lanczos on the ranks' K: %.3g s\n",
                  summary.critical_time_step, lanczos_seconds);
+  if (progress && rank == 0)
+    std::fprintf(stderr,
+                 "  rank 0's peak memory: %.0f MiB after its set-up, %.0f MiB after the "
+                 "distribution and assembly\n",
+                 setup_peak, PeakResidentMiB());
   if (progress && rank == 0 && condensed_run)
     std::fprintf(stderr,
                  "  condensed step on ranks: %d contact unknowns gathered on rank 0; "
