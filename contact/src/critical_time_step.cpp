@@ -12,6 +12,10 @@
 namespace contact {
 namespace internal {
 
+double LanczosStartEntry(long long i) {
+  return ((i / 2) % 2 == 0 ? 1.0 : -1.0) * (1.0 + 1e-3 * static_cast<double>(i % 7));
+}
+
 // Lanczos on the pencil (K, M), i.e. on M^-1 K, which is self-adjoint in the M inner
 // product: with M-orthonormal v_1, v_2, ...
 //   w = M^-1 K v_j - alpha_j v_j - beta_{j-1} v_{j-1},  alpha_j = v_j' K v_j,
@@ -22,33 +26,32 @@ namespace internal {
 // costs one product with K and one solve with M. No reorthogonalization: the loss of
 // orthogonality only adds copies of converged Ritz values, not wrong extreme ones. The
 // start vector alternates in sign node by node so it is rich in high-frequency modes.
-CriticalTimeStep Lanczos(const Eigen::SparseMatrix<double>& K,
-                         const Eigen::SparseMatrix<double>& M, MassInverse* mass,
+CriticalTimeStep Lanczos(const LanczosOperators& op, Eigen::Index local_size,
                          double relative_tolerance, int max_iterations) {
   CriticalTimeStep out;
-  const Eigen::Index n = K.rows();
+  const long long n = op.global_size;
   if (n == 0) return out;
-  Eigen::VectorXd v(n), Mv(n), v_old = Eigen::VectorXd::Zero(n),
-                               Mv_old = Eigen::VectorXd::Zero(n);
-  Eigen::VectorXd Kv(n), w(n);
-  for (Eigen::Index i = 0; i < n; ++i)
-    v(i) = ((i / 2) % 2 == 0 ? 1.0 : -1.0) * (1.0 + 1e-3 * static_cast<double>(i % 7));
-  Mv.noalias() = M * v;
-  const double norm = std::sqrt(v.dot(Mv));
+  const Eigen::Index m = local_size;
+  Eigen::VectorXd v(m), Mv(m), v_old = Eigen::VectorXd::Zero(m),
+                               Mv_old = Eigen::VectorXd::Zero(m);
+  Eigen::VectorXd Kv(m), w(m);
+  for (Eigen::Index i = 0; i < m; ++i) v(i) = LanczosStartEntry(op.global_index(i));
+  op.multiply_M(v, &Mv);
+  const double norm = std::sqrt(op.dot(v, Mv));
   v /= norm;
   Mv /= norm;
   std::vector<double> alpha, beta;
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> tridiagonal;
   double theta = 0.0, beta_old = 0.0;
   int stable_count = 0;
-  const int limit = static_cast<int>(std::min<Eigen::Index>(max_iterations, n));
+  const int limit = static_cast<int>(std::min<long long>(max_iterations, n));
   for (int j = 1; j <= limit; ++j) {
-    SymmetricMultiply(K, v, &Kv);
-    const double a = v.dot(Kv);
+    op.multiply_K(v, &Kv);
+    const double a = op.dot(v, Kv);
     // M w = K v - a M v - beta_old M v_old, then w = M^-1 (M w).
     Kv -= a * Mv + beta_old * Mv_old;
-    mass->Solve(Kv, &w);
-    const double b = std::sqrt(std::max(w.dot(Kv), 0.0));
+    op.solve_M(Kv, &w);
+    const double b = std::sqrt(std::max(op.dot(w, Kv), 0.0));
     alpha.push_back(a);
     out.iterations = j;
     // Invariant subspace (b ~ 0): T_j holds exact eigenvalues of the pencil.
@@ -82,6 +85,25 @@ CriticalTimeStep Lanczos(const Eigen::SparseMatrix<double>& K,
   out.dt_crit =
       theta > 0.0 ? 2.0 / out.omega_max : std::numeric_limits<double>::infinity();
   return out;
+}
+
+CriticalTimeStep Lanczos(const Eigen::SparseMatrix<double>& K,
+                         const Eigen::SparseMatrix<double>& M, MassInverse* mass,
+                         double relative_tolerance, int max_iterations) {
+  LanczosOperators op;
+  op.global_size = K.rows();
+  op.global_index = [](Eigen::Index i) { return static_cast<long long>(i); };
+  op.multiply_K = [&K](const Eigen::VectorXd& x, Eigen::VectorXd* y) {
+    SymmetricMultiply(K, x, y);
+  };
+  op.multiply_M = [&M](const Eigen::VectorXd& x, Eigen::VectorXd* y) {
+    y->noalias() = M * x;
+  };
+  op.solve_M = [mass](const Eigen::VectorXd& b, Eigen::VectorXd* x) {
+    mass->Solve(b, x);
+  };
+  op.dot = [](const Eigen::VectorXd& x, const Eigen::VectorXd& y) { return x.dot(y); };
+  return Lanczos(op, K.rows(), relative_tolerance, max_iterations);
 }
 
 }  // namespace internal

@@ -86,8 +86,17 @@ void Validate(const DynamicModel& model, const DynamicOptions& options) {
 // why) if dt exceeds it without allow_unstable_time_step.
 bool CheckCriticalStep(const DynamicModel& model, const DynamicOptions& options,
                        internal::MassInverse* mass, DynamicSummary* summary) {
-  const CriticalTimeStep crit = internal::Lanczos(
-      model.K, model.M, mass, kCriticalStepTolerance, kCriticalStepMaxIterations);
+  return internal::AcceptCriticalStep(
+      internal::Lanczos(model.K, model.M, mass, kCriticalStepTolerance,
+                        kCriticalStepMaxIterations),
+      options, summary);
+}
+
+}  // namespace
+
+bool internal::AcceptCriticalStep(const CriticalTimeStep& crit,
+                                  const DynamicOptions& options,
+                                  DynamicSummary* summary) {
   summary->critical_time_step = crit.dt_crit;
   // omega_max = 0 (no stiffness, e.g. a rigid mass) gives dt_crit = inf: any dt is
   // stable.
@@ -112,6 +121,8 @@ bool CheckCriticalStep(const DynamicModel& model, const DynamicOptions& options,
   summary->message = buffer;
   return false;
 }
+
+namespace {
 
 // The state of the integrator between steps k-1 -> k and k -> k+1: the carried part
 // (checkpoint.hpp: displacements, the products with K and M carried between steps so that

@@ -7,8 +7,10 @@
 #define CATCH_CONFIG_RUNNER
 #include <petscsys.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <fstream>
 #include <string>
 
@@ -23,6 +25,10 @@ using contact::test::Rank;
 
 constexpr double kSameTrajectory =
     1e-12;  // relative to the largest value of the quantity
+// Lanczos stops when its Ritz value omega_max^2 moved by at most 1e-9 relative over two
+// checks (kCriticalStepTolerance); dt_crit ~ 1 / omega_max is then within about half
+// that of the exact value, checked with a margin of 20.
+constexpr double kCriticalStepAccuracy = 1e-8;
 
 // A Hex8 box 0.2 m wide falling at 0.5 m/s onto a plane 1 mm below it, with friction and
 // a sideways body force (so that it slides).
@@ -179,6 +185,21 @@ TEST_CASE("the explicit step on MPI ranks follows the serial trajectory") {
   CHECK(friction_difference <= kSameTrajectory * friction_max);
   contact::test::CheckSameMeasures(scene, serial.summary, parallel.summary,
                                    kSameTrajectory);
+
+  // dt_crit, estimated on the ranks' K and lumped mass (rank 0 has no serial K): the
+  // serial Lanczos estimate up to the round-off of the reordered sums, and 2 / omega_max
+  // with omega_max^2 the largest eigenvalue of the pencil (K, M) by a dense solve, to
+  // the estimate's tolerance.
+  const double dt_serial = serial.summary.critical_time_step,
+               dt_ranks = parallel.summary.critical_time_step;
+  CHECK(std::abs(dt_ranks - dt_serial) <= kSameTrajectory * dt_serial);
+  const contact::SceneModel built = contact::BuildSceneModel(scene);
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> pencil(
+      Eigen::MatrixXd(built.model.K), Eigen::MatrixXd(built.model.M),
+      Eigen::EigenvaluesOnly);
+  REQUIRE(pencil.info() == Eigen::Success);
+  const double dt_exact = 2.0 / std::sqrt(pencil.eigenvalues().maxCoeff());
+  CHECK(std::abs(dt_ranks - dt_exact) <= kCriticalStepAccuracy * dt_exact);
 }
 
 TEST_CASE("an unstable explicit step blows up on MPI ranks as in one process") {
@@ -199,6 +220,23 @@ TEST_CASE("an unstable explicit step blows up on MPI ranks as in one process") {
   CHECK(parallel.summary.steps == serial.summary.steps);
   CHECK(parallel.summary.steps < 500);  // stopped before end_time
   CHECK(parallel.summary.message == serial.summary.message);
+}
+
+TEST_CASE("dt above dt_crit estimated on MPI ranks is refused as in one process") {
+  // kBox3d with dt = 4e-4 s > dt_crit = 1.74e-4 s, not allowed: refused on every rank
+  // before any step, with the serial message (dt_crit to its 6 printed digits).
+  std::string text = kBox3d;
+  text.replace(text.find("dt = 2e-5"), 9, "dt = 4e-4");
+  const contact::Scene scene = LoadSceneText(text, "refused");
+  const contact::SceneResult parallel =
+      contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, false);
+  CHECK(parallel.summary.status == contact::DynamicStatus::kRefusedUnstable);
+  CHECK(parallel.summary.records.empty());
+  if (Rank() != 0) return;
+  const contact::SceneResult serial = contact::RunScene(scene, false);
+  REQUIRE(serial.summary.status == contact::DynamicStatus::kRefusedUnstable);
+  CHECK(parallel.summary.message == serial.summary.message);
+  CHECK_THAT(parallel.summary.message, Catch::Matchers::Contains("time.allow_unstable"));
 }
 
 TEST_CASE(

@@ -1,7 +1,9 @@
 // A scene on MPI ranks with the explicit step (contact/petsc/distributed_scene.hpp).
 //
 // Set-up on rank 0 (not yet distributed): the scene's model as contact-sim builds it
-// (BuildSceneModel), and contact::Simulation's critical time step and initial state. Then
+// (BuildSceneModel), and contact::Simulation's critical time step and initial state; for
+// a lumped mass and a prescribed start the model without K, and the critical step by
+// Lanczos on the ranks after the distribution (SetUpWithoutSerialStiffness). Then
 // the mesh and, per node, its Dirichlet components, u^0, u^{-1}, f_F and contact frame go
 // to DMPlex and its ranks (DistributedBody), and each rank steps its own free dofs:
 //   Q^k = K u^k - f^k - M (u^k - u^{k-1}) / dt^2,   q = Q^k dt^2 / m_max,
@@ -19,13 +21,18 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <memory>
+#include <string>
 
 #include "contact/simulation.hpp"
 #include "contact/vtk_writer.hpp"
+#include "critical_time_step.hpp"
 #include "distributed_body.hpp"
+#include "distributed_critical_step.hpp"
 #include "distributed_implicit_step.hpp"
 #include "mass_inverse.hpp"
 #include "ncp/output_file.hpp"
@@ -64,10 +71,30 @@ int SizeOf(MPI_Comm comm) {
   return size;
 }
 
+// This process's peak resident set size so far [MiB]: VmHWM of /proc/self/status (Linux;
+// -1 where it cannot be read).
+double PeakResidentMiB() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;  // kB
+  return -1.0;
+}
+
+// The scenes whose set-up needs no serial K on rank 0: a lumped mass and a prescribed
+// start (u^0 = 0, so K u^0 = 0 and the start is the serial one without K); dt_crit is
+// then estimated on the ranks (DistributedCriticalTimeStep). The static initial state
+// solves the static contact problem with K, and a consistent M needs its factor for the
+// start and for Lanczos: both are set up on rank 0 with the serial model.
+bool SetUpWithoutSerialStiffness(const Scene& scene) {
+  return scene.mass == MassKind::kLumped &&
+         scene.dynamics.initial_state == InitialState::kPrescribed;
+}
+
 // What rank 0 has computed before the distributed steps, and tells every rank.
 struct StartInfo {
   int refused = 0;  // the serial set-up refused the run (summary says why)
-  double critical_time_step = 0.0;  // [s]
+  double critical_time_step = 0.0;  // [s] (estimated later on the ranks if not known)
   int num_dofs = 0, num_free_dofs = 0, num_contact_nodes = 0, num_elements = 0;
   int method = static_cast<int>(StepMethod::kExplicit);  // the step on ranks
   double m_max = 0.0;  // the largest entry of the serial M_FF [kg]
@@ -81,11 +108,14 @@ struct RecorderStart {
 };
 
 // Rank 0: the model, the critical step and the initial state of the serial run, and the
-// NodeData of every mesh node.
+// NodeData of every mesh node. Without the serial K (SetUpWithoutSerialStiffness) the
+// critical step is left to the ranks (summary->critical_time_step = infinity here).
 std::vector<double> SerialSetUp(const Scene& scene, SceneModel* built,
                                 DynamicSummary* summary, StartInfo* info,
                                 RecorderStart* recorder) {
-  *built = BuildSceneModel(scene);
+  *built = SetUpWithoutSerialStiffness(scene)
+               ? ::contact::internal::BuildSceneModelWithoutStiffness(scene)
+               : BuildSceneModel(scene);
   const Mesh& mesh = built->body->mesh();
   const int dim = mesh.dim;
   const StepMethod method = internal::ResolveDistributedStep(scene, *built);
@@ -676,20 +706,40 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   if (info.refused) return result;
 
   const double setup_seconds = Seconds(start);
+  const double setup_peak = rank == 0 && progress ? PeakResidentMiB() : -1.0;
   const bool condensed = method == StepMethod::kCondensed;
   const DistributedBody body(comm, scene, built.get(), node_data, condensed);
   node_data = {};
+  const bool serial_stiffness = !SetUpWithoutSerialStiffness(scene);
+  const auto lanczos_start = Clock::now();
+  if (!serial_stiffness) {
+    // dt_crit on the ranks; every rank has the same estimate, so the same outcome.
+    summary.predicted_cost = StepCostPrediction();  // (the serial prediction needs K)
+    if (!::contact::internal::AcceptCriticalStep(
+            internal::DistributedCriticalTimeStep(body), scene.dynamics, &summary))
+      return result;
+  }
+  const double lanczos_seconds = Seconds(lanczos_start);
   std::unique_ptr<CondensedGatheredStep> condensed_run;
   if (condensed)
     condensed_run = std::make_unique<CondensedGatheredStep>(
         comm, scene, body, built ? &built->frames.nodes : nullptr, info.m_max);
   if (progress && rank == 0)
     std::fprintf(stderr,
-                 "  set-up on rank 0: model, dt_crit and initial state %.3g s; DMPlex "
-                 "and distribution "
-                 "(%s) %.3g s, section %.3g s, assembly of K and M %.3g s\n",
+                 "  set-up on rank 0: %s %.3g s; DMPlex and distribution (%s) %.3g s, "
+                 "section %.3g s, assembly of K and M %.3g s\n",
+                 serial_stiffness ? "model, dt_crit and initial state"
+                                  : "mesh, contact frames, lumped mass and initial state",
                  setup_seconds, body.partitioner().c_str(), body.distribute_seconds(),
                  body.section_seconds(), body.assemble_seconds());
+  if (progress && rank == 0 && !serial_stiffness)
+    std::fprintf(stderr, "  dt_crit = %.6g s by Lanczos on the ranks' K: %.3g s\n",
+                 summary.critical_time_step, lanczos_seconds);
+  if (progress && rank == 0)
+    std::fprintf(stderr,
+                 "  rank 0's peak memory: %.0f MiB after its set-up, %.0f MiB after the "
+                 "distribution and assembly\n",
+                 setup_peak, PeakResidentMiB());
   if (progress && rank == 0 && condensed_run)
     std::fprintf(stderr,
                  "  condensed step on ranks: %d contact unknowns gathered on rank 0; "

@@ -14,4 +14,12 @@ double LoadHistoryFactor(LoadHistory history, double t0, double ramp_time, doubl
 /// f_F [N]: the scene's body force and traction on the free dofs of `built` (factor 1).
 Vector SceneLoadVector(const Scene& scene, const SceneModel& built);
 
+/// BuildSceneModel of a scene with a lumped mass, without the stiffness: the mesh, the
+/// Dirichlet map, the contact frames, the lumped M_FF, the load and the run's options,
+/// but model.K is n x n without entries (contact/petsc/ assembles K on its ranks). With
+/// it, the prescribed start (u^0 = 0, so K u^0 = 0) is the serial one to the bit; the
+/// critical step is not (dt_crit = infinity). Throws std::logic_error for a consistent
+/// mass.
+SceneModel BuildSceneModelWithoutStiffness(const Scene& scene);
+
 }  // namespace contact::internal

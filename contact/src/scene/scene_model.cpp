@@ -3,6 +3,7 @@
 // options.
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include "contact/gmsh_reader.hpp"
@@ -33,6 +34,17 @@ void MakeConstraints(const Scene& scene, SceneModel* out) {
                      " nodes constrained by the 'fixed' group");
 }
 
+/// The lumped mass M_FF [kg] on the free dofs, diagonal.
+SparseMatrix LumpedMassOnFreeDofs(const ElasticBody& body, const DofMap& dofs) {
+  const Vector lumped = body.LumpedMass();
+  SparseMatrix L(lumped.size(), lumped.size());
+  std::vector<Eigen::Triplet<double>> t;
+  for (Eigen::Index i = 0; i < lumped.size(); ++i)
+    t.emplace_back(static_cast<int>(i), static_cast<int>(i), lumped(i));
+  L.setFromTriplets(t.begin(), t.end());
+  return dofs.RestrictMatrix(L);
+}
+
 /// K [N/m] and M [kg] (consistent or lumped) on the free dofs into *model, and the load
 /// vector f_F - K_FC u_C [N] of the body force and traction.
 Vector AssembleOnFreeDofs(const Scene& scene, const ElasticBody& body, const DofMap& dofs,
@@ -41,13 +53,7 @@ Vector AssembleOnFreeDofs(const Scene& scene, const ElasticBody& body, const Dof
   const bool all_free = dofs.NumConstrainedDofs() == 0;
   SparseMatrix K_full = body.StiffnessMatrix();
   if (scene.mass == MassKind::kLumped) {
-    const Vector lumped = body.LumpedMass();
-    SparseMatrix L(lumped.size(), lumped.size());
-    std::vector<Eigen::Triplet<double>> t;
-    for (Eigen::Index i = 0; i < lumped.size(); ++i)
-      t.emplace_back(static_cast<int>(i), static_cast<int>(i), lumped(i));
-    L.setFromTriplets(t.begin(), t.end());
-    model->M = dofs.RestrictMatrix(L);
+    model->M = LumpedMassOnFreeDofs(body, dofs);
   } else {
     SparseMatrix M_full = body.ConsistentMassMatrix();
     if (all_free)
@@ -92,20 +98,31 @@ DynamicOptions RunOptions(const Scene& scene, const SceneModel& built) {
   return options;
 }
 
-SceneModel BuildModel(const Scene& scene, Mesh mesh) {
+// The mesh, its Dirichlet map and contact frames (BuildModel's first phases).
+SceneModel BuildGeometry(const Scene& scene, Mesh mesh) {
   if (mesh.dim != scene.dim)
     throw SceneError(scene.source + ": the mesh is " + std::to_string(mesh.dim) +
                      "D but the scene is " + std::to_string(scene.dim) + "D");
   SceneModel out;
   out.body = std::make_unique<ElasticBody>(std::move(mesh), scene.material, scene.plane);
   MakeConstraints(scene, &out);
-  DynamicModel& model = out.model;
-  model.dim = scene.dim;
-  const Vector f_free = AssembleOnFreeDofs(scene, *out.body, out.dofs, &model);
-  model.load = LoadHistoryOf(scene, f_free);
-  model.contact_nodes = out.frames.nodes;
+  out.model.dim = scene.dim;
+  out.model.contact_nodes = out.frames.nodes;
+  return out;
+}
+
+SceneModel BuildModel(const Scene& scene, Mesh mesh) {
+  SceneModel out = BuildGeometry(scene, std::move(mesh));
+  const Vector f_free = AssembleOnFreeDofs(scene, *out.body, out.dofs, &out.model);
+  out.model.load = LoadHistoryOf(scene, f_free);
   out.options = RunOptions(scene, out);
   return out;
+}
+
+Mesh SceneMesh(const Scene& scene) {
+  return !scene.msh_file.empty() ? ReadGmshMesh(scene.msh_file)
+         : scene.rectangle       ? MakeRectangleMesh(*scene.rectangle)
+                                 : MakeBoxMesh(*scene.box);
 }
 
 }  // namespace
@@ -132,12 +149,24 @@ std::function<void(double, Eigen::VectorXd*)> SceneLoad(
   return LoadHistoryOf(scene, built.dofs.RestrictVector(f_full));
 }
 
-SceneModel BuildSceneModel(const Scene& scene) {
-  return internal::NamingTheScene(scene, [&] {
-    return BuildModel(scene, !scene.msh_file.empty() ? ReadGmshMesh(scene.msh_file)
-                             : scene.rectangle       ? MakeRectangleMesh(*scene.rectangle)
-                                                     : MakeBoxMesh(*scene.box));
+SceneModel internal::BuildSceneModelWithoutStiffness(const Scene& scene) {
+  if (scene.mass != MassKind::kLumped)
+    throw std::logic_error(
+        "BuildSceneModelWithoutStiffness: the scene's mass is not lumped");
+  return NamingTheScene(scene, [&] {
+    SceneModel out = BuildGeometry(scene, SceneMesh(scene));
+    const Eigen::Index n = out.dofs.NumFreeDofs();
+    out.model.K.resize(n, n);  // (no entries)
+    out.model.M = LumpedMassOnFreeDofs(*out.body, out.dofs);
+    out.model.load = LoadHistoryOf(scene, SceneLoadVector(scene, out));
+    out.options = RunOptions(scene, out);
+    return out;
   });
+}
+
+SceneModel BuildSceneModel(const Scene& scene) {
+  return internal::NamingTheScene(scene,
+                                  [&] { return BuildModel(scene, SceneMesh(scene)); });
 }
 
 SceneModel BuildSceneModel(const Scene& scene, Mesh mesh) {

@@ -1,0 +1,28 @@
+// The critical step of central differences on the ranks: Lanczos on the pencil (K, M)
+// with the distributed K and lumped mass of a DistributedBody - the serial iteration
+// (contact/src/critical_time_step.cpp), its vector operations over the owned free dofs.
+#pragma once
+
+#include <mpi.h>
+
+#include <Eigen/Core>
+
+#include "contact/dynamics_types.hpp"
+#include "distributed_body.hpp"
+
+namespace contact::petsc::internal {
+
+/// x' y over the ranks of comm (x, y: this rank's parts): each rank's partial sum, added
+/// in rank order, the same value on every rank and on every run with the same ranks.
+double DeterministicDot(MPI_Comm comm, const Eigen::VectorXd& x,
+                        const Eigen::VectorXd& y);
+
+/// Collective. dt_crit = 2 / omega_max of K and the lumped mass of `body` by the serial
+/// Lanczos iteration (the same start vector, indexed by the serial free-dof numbering,
+/// the same tolerance kCriticalStepTolerance and iteration limit), K x by MatMult and
+/// the dot products by DeterministicDot. Differs from the serial estimate by the
+/// round-off of K x and of the sums (the partition-boundary rows add their ranks' parts
+/// in another order), far below the estimate's own tolerance.
+CriticalTimeStep DistributedCriticalTimeStep(const DistributedBody& body);
+
+}  // namespace contact::petsc::internal
