@@ -34,6 +34,7 @@
 #include "contact/mesh_generation.hpp"
 #include "contact/obstacle.hpp"
 #include "contact/scene.hpp"
+#include "contact/static_contact.hpp"
 #include "ncp/fc/operator_problem.hpp"
 #include "ncp/fc/solver.hpp"
 #include "ncp/solver.hpp"
@@ -347,6 +348,61 @@ TEST_CASE("ncp::Solver on a frictional contact problem: no allocation in the ite
       "SuiteSparse\n",
       ncp::ToString(backend), summary.iterations, log.Ours(), ours_at_end,
       log.Total() - log.Ours());
+}
+
+// The static solver's repeated solves: Coulomb friction by a fixed point of Tresca solves
+// (SolveStaticContact), one ncp::Solver and one ContactSystem for all rounds. The Newton
+// iterations allocate nothing (test above); a round allocates a constant few whatever its
+// iteration count: the start point and the extracted result, returned by value by
+// ContactSystem, and the Summary's termination message.
+TEST_CASE("SolveStaticContact, Coulomb fixed point: a constant few allocations per round",
+          "[contact][allocation]") {
+  const BlockOnFloor block = MakeBlockOnFloor(2);
+  contact::StaticContactOptions options;
+  options.friction = contact::FrictionLaw::kCoulomb;
+  options.friction_coefficient = 0.1;
+  // The start of every round (its iterate 0, after the start point's Jacobian).
+  std::vector<long> round_starts;
+  std::vector<int> round_iterations;
+  round_starts.reserve(1000);
+  round_iterations.reserve(1000);
+  options.ncp.callback = [&](const ncp::IterationRecord& record) {
+    if (record.iteration == 0) {
+      round_starts.push_back(AllocationCount());
+      round_iterations.push_back(0);
+    } else {
+      round_iterations.back() = record.iteration;
+    }
+    return true;
+  };
+  // S = K / k with k = max_i K_ii: max_i S_ii = 1, so S and -q are K and f in units where
+  // k = 1.
+  AllocationLog log;
+  const contact::StaticContactResult result =
+      contact::SolveStaticContact(2, block.S, -block.q, block.nodes, options);
+  log.Stop();
+  INFO(result.message);
+  REQUIRE(result.converged);
+  REQUIRE(round_starts.size() == static_cast<size_t>(result.fixed_point_iterations));
+  REQUIRE(result.fixed_point_iterations >= 3);
+  // Rounds 2 .. last - 1 (from the start of one round to the start of the next).
+  long fewest = std::numeric_limits<long>::max(), most = 0;
+  int iterations = 0;
+  for (size_t k = 1; k + 1 < round_starts.size(); ++k) {
+    const long ours = log.Ours(round_starts[k], round_starts[k + 1]);
+    fewest = std::min(fewest, ours);
+    most = std::max(most, ours);
+    iterations += round_iterations[k];
+  }
+  std::printf(
+      "SolveStaticContact Coulomb: %d rounds, %d Newton iterations in rounds 2-%d, %ld "
+      "to "
+      "%ld allocations per round\n",
+      result.fixed_point_iterations, iterations, result.fixed_point_iterations - 1,
+      fewest, most);
+  CHECK(iterations > static_cast<int>(round_starts.size()) - 2);  // rounds iterate
+  // The start point (2 vectors), the result (5) and the message, whose length varies.
+  CHECK(most <= 24);
 }
 
 // ---------------------------------------------------------------------------------------
