@@ -15,7 +15,8 @@
 
 namespace ncp::internal {
 
-bool DenseLU::Factorize(const DenseMatrix& A) {
+bool DenseLU::Factorize(const Eigen::Ref<const DenseMatrix>& A) {
+  n_ = A.rows();
   full_pivoting_ = A.rows() <= kFullPivotingLimit;
   if (full_pivoting_) return FactorizeFullPivoting(A);
   partial_.compute(A);
@@ -33,57 +34,75 @@ bool DenseLU::Factorize(const DenseMatrix& A) {
 // column below divided by it; the corner updated by the outer product, column by column.
 // Singular (Eigen's isInvertible) when fewer than n pivots exceed n eps max |pivot|, or
 // when the corner becomes exactly zero.
-bool DenseLU::FactorizeFullPivoting(const DenseMatrix& A) {
+bool DenseLU::FactorizeFullPivoting(const Eigen::Ref<const DenseMatrix>& A) {
   const Eigen::Index n = A.rows();
-  lu_ = A;
+  if (lu_storage_.size() < n * n) lu_storage_.resize(n * n);
+  Eigen::Map<DenseMatrix> lu = Lu();
+  lu = A;
   row_swap_.resize(static_cast<size_t>(n));
   column_swap_.resize(static_cast<size_t>(n));
   double largest_pivot = 0.0;
   for (Eigen::Index k = 0; k < n; ++k) {
     Eigen::Index row = k, column = k;
-    double biggest = std::abs(lu_(k, k));
+    double biggest = std::abs(lu(k, k));
     for (Eigen::Index c = k; c < n; ++c)
       for (Eigen::Index r = k; r < n; ++r)
-        if (std::abs(lu_(r, c)) > biggest)
-          biggest = std::abs(lu_(r, c)), row = r, column = c;
+        if (std::abs(lu(r, c)) > biggest)
+          biggest = std::abs(lu(r, c)), row = r, column = c;
     if (biggest == 0.0) return false;  // rank k < n
     largest_pivot = std::max(largest_pivot, biggest);
     row_swap_[static_cast<size_t>(k)] = row;
     column_swap_[static_cast<size_t>(k)] = column;
-    if (row != k) lu_.row(k).swap(lu_.row(row));
-    if (column != k) lu_.col(k).swap(lu_.col(column));
-    const double pivot = lu_(k, k);
-    for (Eigen::Index r = k + 1; r < n; ++r) lu_(r, k) /= pivot;
+    if (row != k) lu.row(k).swap(lu.row(row));
+    if (column != k) lu.col(k).swap(lu.col(column));
+    const double pivot = lu(k, k);
+    for (Eigen::Index r = k + 1; r < n; ++r) lu(r, k) /= pivot;
     for (Eigen::Index c = k + 1; c < n; ++c) {
-      const double u = lu_(k, c);
-      for (Eigen::Index r = k + 1; r < n; ++r) lu_(r, c) -= u * lu_(r, k);
+      const double u = lu(k, c);
+      for (Eigen::Index r = k + 1; r < n; ++r) lu(r, c) -= u * lu(r, k);
     }
   }
   const double threshold =
       largest_pivot * std::numeric_limits<double>::epsilon() * static_cast<double>(n);
   for (Eigen::Index i = 0; i < n; ++i)
-    if (!(std::abs(lu_(i, i)) > threshold)) return false;
+    if (!(std::abs(lu(i, i)) > threshold)) return false;
   return true;
 }
 
+void DenseLU::Reserve(Eigen::Index n) {
+  if (permuted_.size() < n) permuted_.resize(n);
+  if (n > kFullPivotingLimit) return;
+  if (lu_storage_.size() < n * n) lu_storage_.resize(n * n);
+  row_swap_.reserve(static_cast<size_t>(n));
+  column_swap_.reserve(static_cast<size_t>(n));
+}
+
 void DenseLU::Solve(const Vector& rhs, Vector* x) {
+  x->resize(n_);
+  Solve(rhs, Eigen::Ref<Vector>(*x));
+}
+
+void DenseLU::Solve(const Eigen::Ref<const Vector>& rhs, Eigen::Ref<Vector> x) {
+  const Eigen::Index n = n_;
+  if (permuted_.size() < n) permuted_.resize(n);
+  auto permuted = permuted_.head(n);
   if (!full_pivoting_) {  // P A = L U: x = U^-1 L^-1 P rhs
-    permuted_.noalias() = partial_.permutationP() * rhs;
-    partial_.matrixLU().triangularView<Eigen::UnitLower>().solveInPlace(permuted_);
-    partial_.matrixLU().triangularView<Eigen::Upper>().solveInPlace(permuted_);
-    *x = permuted_;
+    permuted.noalias() = partial_.permutationP() * rhs;
+    partial_.matrixLU().triangularView<Eigen::UnitLower>().solveInPlace(permuted);
+    partial_.matrixLU().triangularView<Eigen::Upper>().solveInPlace(permuted);
+    x = permuted;
     return;
   }
   // P A Q = L U: x = Q U^-1 L^-1 P rhs, P and Q applied as their transpositions.
-  permuted_ = rhs;
-  const Eigen::Index n = lu_.rows();
+  const Eigen::Map<DenseMatrix> lu = Lu();
+  permuted = rhs;
   for (Eigen::Index k = 0; k < n; ++k)
-    std::swap(permuted_(k), permuted_(row_swap_[static_cast<size_t>(k)]));
-  lu_.triangularView<Eigen::UnitLower>().solveInPlace(permuted_);
-  lu_.triangularView<Eigen::Upper>().solveInPlace(permuted_);
+    std::swap(permuted(k), permuted(row_swap_[static_cast<size_t>(k)]));
+  lu.triangularView<Eigen::UnitLower>().solveInPlace(permuted);
+  lu.triangularView<Eigen::Upper>().solveInPlace(permuted);
   for (Eigen::Index k = n - 1; k >= 0; --k)
-    std::swap(permuted_(k), permuted_(column_swap_[static_cast<size_t>(k)]));
-  *x = permuted_;
+    std::swap(permuted(k), permuted(column_swap_[static_cast<size_t>(k)]));
+  x = permuted;
 }
 
 namespace {
