@@ -397,15 +397,18 @@ class SlackMatrix {
 // PCMG for the reduced Newton system of the symmetric mode (Iteration::Symmetrize) on a
 // structured grid, as a reduced-space active-set method restricts its multigrid to the
 // inactive set: the hierarchy is made once by coarsening the user's grid (DMCoarsen,
-// DMCreateInterpolation: P_l from level l - 1 to l), and at every Newton step the
-// interpolation into level l keeps only the rows of the unknowns left in the system
-// there (P_l,r = diag(m_l) P_l, m_l = 1 on the inactive set, 0 on the eliminated rows),
-// the coarse operators are the Galerkin products of the reduced system, A_{l-1} =
-// P_l,r' A_l P_l,r, and a coarse node whose column of P_l,r is zero (no inactive fine
-// node near it: a zero row and column of A_{l-1}) gets a 1 on the diagonal, so that it
-// is decoupled and m_{l-1} = 0 there. The eliminated unknowns (identity rows with zeroed
-// columns in A_l) then take no part in the coarse corrections, which see the operator
-// of the inactive set alone.
+// DMCreateInterpolation: P_l from level l - 1 to l), and at every Newton step the coarse
+// operators are the Galerkin products of the reduced system alone,
+//
+//   A_{l-1} = P_l,r' A_l P_l,r = P_l' A_l,0 P_l,   P_l,r = diag(m_l) P_l,
+//
+// with m_l = 1 on the unknowns left in the system at level l and 0 on the eliminated
+// ones, whose rows and columns in A_l are zero but for a 1 on the diagonal (A_l,0: that
+// 1 removed for the product). A coarse node whose column of P_l,r is zero (no kept fine
+// node near it) has a zero row and column in A_{l-1}: it gets a 1 on the diagonal, is
+// decoupled, and m_{l-1} = 0 there. PCMG interpolates with P_l itself: the values it
+// puts on a decoupled row are overwritten by the post-smoother (SOR solves an identity
+// row exactly) and reach no other row, so the V-cycle is that of P_l,r.
 class InactiveSetMultigrid {
  public:
   ~InactiveSetMultigrid() { Clear(); }
@@ -418,83 +421,77 @@ class InactiveSetMultigrid {
     grid_ = grid;
   }
 
-  // Levels from PCMG `pc` (its -pc_mg_levels), the hierarchy from the grid, PCMG's
-  // interpolations the masked copies; PCMG computes no Galerkin operators itself.
+  // Levels from PCMG `pc` (its -pc_mg_levels), the hierarchy from the grid; PCMG
+  // computes no Galerkin operators itself.
   void Attach(PC pc) {
     PetscInt levels = 1;
     NCP_PETSC_CHECK(PCMGGetLevels(pc, &levels));
     const auto count = static_cast<size_t>(std::max<PetscInt>(levels, 1));
     dms_.assign(count, nullptr);
     interpolation_.assign(count, nullptr);
-    masked_.assign(count, nullptr);
     coarse_.assign(count, nullptr);
-    masks_.assign(count, nullptr);
-    missing_.assign(count, nullptr);
+    decoupled_.assign(count, nullptr);
     NCP_PETSC_CHECK(PetscObjectReference(reinterpret_cast<PetscObject>(grid_)));
     dms_[count - 1] = grid_;
+    const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(grid_));
     for (size_t l = count - 1; l >= 1; --l) {
-      NCP_PETSC_CHECK(DMCoarsen(
-          dms_[l], PetscObjectComm(reinterpret_cast<PetscObject>(grid_)), &dms_[l - 1]));
+      NCP_PETSC_CHECK(DMCoarsen(dms_[l], comm, &dms_[l - 1]));
       NCP_PETSC_CHECK(
           DMCreateInterpolation(dms_[l - 1], dms_[l], &interpolation_[l], nullptr));
-      NCP_PETSC_CHECK(MatDuplicate(interpolation_[l], MAT_COPY_VALUES, &masked_[l]));
-      NCP_PETSC_CHECK(MatCreateVecs(interpolation_[l], &masks_[l - 1], nullptr));
-      NCP_PETSC_CHECK(VecDuplicate(masks_[l - 1], &missing_[l - 1]));
-      NCP_PETSC_CHECK(PCMGSetInterpolation(pc, static_cast<PetscInt>(l), masked_[l]));
+      NCP_PETSC_CHECK(MatCreateVecs(interpolation_[l], &decoupled_[l - 1], nullptr));
+      NCP_PETSC_CHECK(
+          PCMGSetInterpolation(pc, static_cast<PetscInt>(l), interpolation_[l]));
     }
     NCP_PETSC_CHECK(PCMGSetGalerkin(pc, PC_MG_GALERKIN_NONE));
     attached_ = true;
   }
 
-  // The coarse operators for the reduced system S of this Newton step; inactive: m of the
-  // finest level (1 on the rows left in S, 0 on the eliminated ones).
-  void Update(PC pc, Mat S, Vec inactive) {
+  // The coarse operators for the reduced system S of this Newton step; eliminated: 1 - m
+  // of the finest level (1 on the eliminated rows of S, 0 on the others).
+  void Update(PC pc, Mat S, Vec eliminated) {
     Mat A = S;
-    Vec mask = inactive;
-    for (size_t l = masked_.size() - 1; l >= 1; --l) {
-      NCP_PETSC_CHECK(MatCopy(interpolation_[l], masked_[l], SAME_NONZERO_PATTERN));
-      NCP_PETSC_CHECK(MatDiagonalScale(masked_[l], mask, nullptr));
-      NCP_PETSC_CHECK(MatPtAP(A, masked_[l],
+    Vec decoupled = eliminated;
+    for (size_t l = coarse_.size() - 1; l >= 1; --l) {
+      NCP_PETSC_CHECK(VecScale(decoupled, -1.0));  // A_l,0 for the product ...
+      NCP_PETSC_CHECK(MatDiagonalSet(A, decoupled, ADD_VALUES));
+      NCP_PETSC_CHECK(MatPtAP(A, interpolation_[l],
                               coarse_[l - 1] ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX,
                               PETSC_DEFAULT, &coarse_[l - 1]));
-      Vec coarse_mask = masks_[l - 1], missing = missing_[l - 1];
-      NCP_PETSC_CHECK(MatGetDiagonal(coarse_[l - 1], coarse_mask));
+      NCP_PETSC_CHECK(VecScale(decoupled, -1.0));  // ... and A_l again
+      NCP_PETSC_CHECK(MatDiagonalSet(A, decoupled, ADD_VALUES));
+      Mat coarse = coarse_[l - 1];
+      Vec coarse_decoupled = decoupled_[l - 1];
+      NCP_PETSC_CHECK(MatGetDiagonal(coarse, coarse_decoupled));
       PetscInt local = 0;
-      NCP_PETSC_CHECK(VecGetLocalSize(coarse_mask, &local));
+      NCP_PETSC_CHECK(VecGetLocalSize(coarse_decoupled, &local));
       {
         // A_{l-1} = P_r' A_l P_r with A_l positive definite on the kept rows: its
         // diagonal entry j is zero exactly when column j of P_r is.
-        LocalWrite m(coarse_mask), identity(missing);
-        for (PetscInt j = 0; j < local; ++j) {
-          const bool kept = PetscRealPart(m[j]) != 0.0;
-          m[j] = kept ? 1.0 : 0.0;
-          identity[j] = kept ? 0.0 : 1.0;
-        }
+        LocalWrite d(coarse_decoupled);
+        for (PetscInt j = 0; j < local; ++j)
+          d[j] = PetscRealPart(d[j]) == 0.0 ? 1.0 : 0.0;
       }
-      NCP_PETSC_CHECK(MatDiagonalSet(coarse_[l - 1], missing, ADD_VALUES));
+      NCP_PETSC_CHECK(MatDiagonalSet(coarse, coarse_decoupled, ADD_VALUES));
       KSP smoother = nullptr;
       NCP_PETSC_CHECK(PCMGGetSmoother(pc, static_cast<PetscInt>(l - 1), &smoother));
-      NCP_PETSC_CHECK(KSPSetOperators(smoother, coarse_[l - 1], coarse_[l - 1]));
-      A = coarse_[l - 1];
-      mask = coarse_mask;
+      NCP_PETSC_CHECK(KSPSetOperators(smoother, coarse, coarse));
+      A = coarse;
+      decoupled = coarse_decoupled;
     }
   }
 
  private:
   void Clear() {
-    for (std::vector<Mat>* M : {&interpolation_, &masked_, &coarse_})
+    for (std::vector<Mat>* M : {&interpolation_, &coarse_})
       for (Mat& m : *M) DestroyMat(&m);
-    for (std::vector<Vec>* V : {&masks_, &missing_})
-      for (Vec& v : *V)
-        if (v) VecDestroy(&v);
+    for (Vec& v : decoupled_)
+      if (v) VecDestroy(&v);
     for (DM& dm : dms_)
       if (dm) DMDestroy(&dm);
     dms_.clear();
     interpolation_.clear();
-    masked_.clear();
     coarse_.clear();
-    masks_.clear();
-    missing_.clear();
+    decoupled_.clear();
     if (grid_) DMDestroy(&grid_);
     grid_ = nullptr;
     attached_ = false;
@@ -502,10 +499,10 @@ class InactiveSetMultigrid {
 
   DM grid_ = nullptr;
   bool attached_ = false;
-  std::vector<DM> dms_;                      // level l = 0 (coarsest) ... finest
-  std::vector<Mat> interpolation_, masked_;  // [l]: from level l - 1 to l
-  std::vector<Mat> coarse_;                  // [l]: A_l of the coarse levels
-  std::vector<Vec> masks_, missing_;         // [l]: m_l and 1 - m_l of the coarse levels
+  std::vector<DM> dms_;             // level l = 0 (coarsest) ... finest
+  std::vector<Mat> interpolation_;  // [l]: P_l from level l - 1 to l
+  std::vector<Mat> coarse_;         // [l]: A_l of the coarse levels
+  std::vector<Vec> decoupled_;      // [l]: 1 - m_l of the coarse levels
 };
 
 }  // namespace
@@ -1393,11 +1390,11 @@ class Iteration {
     NCP_PETSC_CHECK(MatDiagonalSet(S, work2_, ADD_VALUES));
     NCP_PETSC_CHECK(MatZeroRowsColumns(S, static_cast<PetscInt>(fixed_rows.size()),
                                        fixed_rows.data(), 1.0, fixed_values_, rhs));
-    if (impl_.multigrid.grid()) {  // m = 1 on the rows left in S, 0 on the fixed ones
-      NCP_PETSC_CHECK(VecSet(work2_, 1.0));
+    if (impl_.multigrid.grid()) {  // 1 on the eliminated rows of S, 0 on the others
+      NCP_PETSC_CHECK(VecSet(work2_, 0.0));
       {
-        LocalWrite m(work2_);
-        for (PetscInt row : fixed_rows) m[row - first] = 0.0;
+        LocalWrite eliminated(work2_);
+        for (PetscInt row : fixed_rows) eliminated[row - first] = 1.0;
       }
       PC pc = nullptr;
       NCP_PETSC_CHECK(KSPGetPC(impl_.ksp, &pc));
