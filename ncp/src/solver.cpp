@@ -114,11 +114,14 @@ void CheckProblem(const MixedProblem& problem, const Vector& x) {
 
 class Solver::Iteration {
  public:
+  /// dense_jacobian: the problem's Jacobian of Phi written dense (a box MCP), used on
+  /// the dense backend without row weights; nullptr: MixedProblem::Jacobian.
   Iteration(const Options& options, Workspace& workspace, MixedProblem& problem,
-            Vector& x, Summary& summary)
+            internal::DenseMixedJacobian* dense_jacobian, Vector& x, Summary& summary)
       : options_(options),
         work_(workspace),
         problem_(problem),
+        offered_dense_jacobian_(dense_jacobian),
         x_(x),
         summary_(summary),
         n_(problem.NumVariables()),
@@ -174,6 +177,7 @@ class Solver::Iteration {
     // Row weights from the problem's own scales (MixedProblem::Scales), once per solve.
     work_.SetWeights(problem_, x_, m_, p_, options_.tolerance);
     summary_.weighted_residual = work_.weighted;
+    dense_jacobian_ = work_.dense && !work_.weighted ? offered_dense_jacobian_ : nullptr;
     threshold_ = options_.tolerance;  // on ||Phi||_inf, weighted (relative) or not
     function_ = options_.ncp_function;
     restarts_left_ = options_.merit_restarts;
@@ -267,6 +271,7 @@ class Solver::Iteration {
   // that returned false is reported by TestStop after the callback has seen iterate k.
   bool EvaluateJacobian(int k) {
     ++summary_.jacobian_evaluations;
+    if (dense_jacobian_) return EvaluateDenseJacobian(k);
     const auto t0 = Clock::now();
     iterate_.jacobian_ok = problem_.Jacobian(x_, &work_.JE, &work_.JA, &work_.JB);
     summary_.evaluation_time_s += Seconds(t0);
@@ -293,6 +298,23 @@ class Solver::Iteration {
     return true;
   }
 
+  // The same, written dense by the problem (internal::DenseMixedJacobian): no JE, JA, JB.
+  bool EvaluateDenseJacobian(int k) {
+    const auto t0 = Clock::now();
+    iterate_.jacobian_ok = dense_jacobian_->EvaluateDerivative(x_);
+    summary_.evaluation_time_s += Seconds(t0);
+    if (!iterate_.jacobian_ok) return true;
+    PhiPartials();
+    if (!dense_jacobian_->Fill(work_.da, work_.db, x_, &work_.Jd, &work_.sensitivity)) {
+      Finish(TerminationType::kNonFiniteValues,
+             "the Jacobian has NaN or Inf entries at iteration " + std::to_string(k));
+      return false;
+    }
+    work_.MultiplyJacobianTransposed(work_.phi,
+                                     &work_.grad);  // grad psi = J' Phi (eq. 24)
+    return true;
+  }
+
   // da_j, db_j: the partials of phi at (A_j, B_j). Degenerate set gamma = {j : A_j = B_j
   // = 0} (eq. 13) and the z-vector rule: z_v = 1 at the variable of every degenerate pair
   // (DFK 1996, eq. 27; thesis 3.1).
@@ -310,7 +332,9 @@ class Solver::Iteration {
         work_.z(problem_.PairVariable(j)) = 1.0;
         ++iterate_.degenerate_count;
       }
-      if (iterate_.degenerate_count > 0) {
+      if (iterate_.degenerate_count > 0 && dense_jacobian_) {
+        dense_jacobian_->MultiplyPairJacobians(work_.z, &work_.za, &work_.zb);
+      } else if (iterate_.degenerate_count > 0) {
         work_.za.noalias() = work_.JA * work_.z;
         work_.zb.noalias() = work_.JB * work_.z;
       }
@@ -794,6 +818,8 @@ class Solver::Iteration {
   const Options& options_;
   Workspace& work_;
   MixedProblem& problem_;
+  internal::DenseMixedJacobian* const offered_dense_jacobian_;
+  internal::DenseMixedJacobian* dense_jacobian_ = nullptr;  // used in this solve
   Vector& x_;
   Summary& summary_;
   const int n_, m_, p_;
@@ -833,7 +859,7 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
   if (x_ptr == nullptr || summary_ptr == nullptr)
     throw std::invalid_argument("ncp::Solver::Solve: x and summary must not be null");
   CheckProblem(problem, *x_ptr);
-  Iteration(options_, *workspace_, problem, *x_ptr, *summary_ptr).Run();
+  Iteration(options_, *workspace_, problem, nullptr, *x_ptr, *summary_ptr).Run();
 }
 
 void Solver::Solve(SquareFunction& F, const Vector& lower, const Vector& upper, Vector* x,
@@ -842,7 +868,12 @@ void Solver::Solve(SquareFunction& F, const Vector& lower, const Vector& upper, 
     throw std::invalid_argument("ncp::Solver::Solve: x and summary must not be null");
   // The box MCP as a mixed problem (box_mcp.hpp), solved like any other.
   internal::BoxMcpSolve box_mcp(options_, &workspace_->box_mcp, F, lower, upper, x);
-  if (box_mcp.ready()) Solve(box_mcp.problem(), &box_mcp.unknowns(), summary);
+  if (box_mcp.ready()) {
+    CheckProblem(box_mcp.problem(), box_mcp.unknowns());
+    Iteration(options_, *workspace_, box_mcp.problem(), &box_mcp.dense_jacobian(),
+              box_mcp.unknowns(), *summary)
+        .Run();
+  }
   box_mcp.Finish(summary);
 }
 
