@@ -227,9 +227,11 @@ class BoxMcpAsMixed final : public MixedProblem, public DenseMixedJacobian {
     const Eigen::Index size = NumVariables();
     Jd->setZero(size, size);
     sensitivity->setZero(size);
+    double* const J = Jd->data();  // column-major, leading dimension size
+    double* const r_sum = sensitivity->data();
     auto add = [&](int row, int col, double value) {
-      (*Jd)(row, col) += value;
-      (*sensitivity)(row) += std::abs(value) * std::abs(y(col));
+      J[row + col * size] += value;
+      r_sum[row] += std::abs(value) * std::abs(y(col));
     };
     for (const DenseConstant& c : a_constants_)
       add(c.row, c.column, da(c.pair) * c.value);
@@ -238,15 +240,21 @@ class BoxMcpAsMixed final : public MixedProblem, public DenseMixedJacobian {
       row_factor_(r) = f_row_sign_[static_cast<size_t>(r)] * (j >= 0 ? db(j) : 1.0);
     }
     bool finite = true;
-    for (int col = 0; col < n_; ++col)
-      for (int k = JF_.outerIndexPtr()[col]; k < JF_.outerIndexPtr()[col + 1]; ++k) {
-        const int r = JF_.innerIndexPtr()[k];
-        const int row = f_row_target_[static_cast<size_t>(r)];
+    const int* const outer = JF_.outerIndexPtr();
+    const int* const inner = JF_.innerIndexPtr();
+    const double* const values = JF_.valuePtr();
+    for (int col = 0; col < n_; ++col) {
+      double* const J_col = J + col * size;
+      const double y_col = std::abs(y(col));
+      for (int k = outer[col]; k < outer[col + 1]; ++k) {
+        const int row = f_row_target_[static_cast<size_t>(inner[k])];
         if (row < 0) continue;  // a fixed variable's row of F
-        const double value = JF_.valuePtr()[k];
-        finite = finite && std::isfinite(value);
-        add(row, col, row_factor_(r) * value);
+        finite &= std::isfinite(values[k]);
+        const double value = row_factor_(inner[k]) * values[k];
+        J_col[row] += value;
+        r_sum[row] += std::abs(value) * y_col;
       }
+    }
     for (const DenseConstant& c : other_constants_)
       add(c.row, c.column, c.pair >= 0 ? db(c.pair) * c.value : c.value);
     return finite;
