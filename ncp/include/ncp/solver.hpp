@@ -296,7 +296,8 @@ struct Summary {
 
   /// Wall time of the solve [s]. The split below takes two clock reads per iteration, no
   /// more: on small problems reads around every evaluation were a visible part of an
-  /// iteration (docs/ncp.md, "Small problems").
+  /// iteration (docs/ncp.md, "Small problems"). (ncp::petsc::Solver, whose iterations
+  /// are large, times every evaluation and linear solve instead.)
   double total_time_s = -1.0;
   /// total_time_s - linear_solver_time_s [s]: the problem's Evaluate() and Jacobian(),
   /// the solver's assembly of Phi and J from them, the line search, the tests and the
