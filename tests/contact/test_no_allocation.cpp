@@ -38,6 +38,7 @@
 #include "ncp/fc/operator_problem.hpp"
 #include "ncp/fc/solver.hpp"
 #include "ncp/solver.hpp"
+#include "ncp_collection/checks.hpp"
 #include "ncp_collection/small_problems.hpp"
 
 // ---------------------------------------------------------------------------------------
@@ -463,6 +464,56 @@ TEST_CASE("ncp box MCP, n = 4, a Solver kept between solves: no allocation per i
     CHECK(log.Total() == log.Ours());  // dense LU: nothing from SuiteSparse
     std::printf("kojshin from %g: %d iterations, %ld allocations (termination message)\n",
                 start, summary.iterations, log.Ours());
+  }
+}
+
+// A mixed problem with free variables, one- and two-sided bounds and a fixed variable:
+// the box MCP's mixed form has equations, pairs and slacks, and on the dense backend
+// writes the Jacobian of Phi itself (issue 28 item 6).
+TEST_CASE(
+    "ncp box MCP with every kind of bound, n = 10, a Solver kept: no allocation per "
+    "iteration",
+    "[ncp][allocation]") {
+  ncp::collection::TestProblem p = ncp::collection::EveryBoundCubic();
+  std::vector<long> marks;
+  marks.reserve(1000);
+  ncp::Options options;  // defaults: FB, kAuto = dense LU at n = 10 (+ 2 slacks)
+  options.callback = [&marks](const ncp::IterationRecord&) {
+    marks.push_back(AllocationCount());
+    return true;
+  };
+  ncp::Solver solver(options);
+  ncp::Summary summary;
+  ncp::Vector x = p.starts.front().x;
+  solver.Solve(*p.F, p.lower, p.upper, &x, &summary);  // warm-up: workspace, mixed form
+  REQUIRE(summary.IsSolutionUsable());
+  CHECK(summary.linear_solver_used == ncp::LinearSolverType::kDenseLU);
+  CHECK(summary.num_equations == 6);  // 4 free, 1 fixed, 1 two-sided (slack split)
+  for (const ncp::collection::StartPoint& start : p.starts) {
+    CAPTURE(start.label);
+    x = start.x;
+    marks.clear();
+    AllocationLog log;
+    solver.Solve(*p.F, p.lower, p.upper, &x, &summary);
+    log.Stop();
+    INFO(summary.message);
+    REQUIRE(summary.IsSolutionUsable());
+    REQUIRE(marks.size() == static_cast<size_t>(summary.iterations) + 1);
+    CHECK(summary.iterations >= 3);
+    // The solution, recomputed: x - mid(l, u, x - F(x)) = 0.
+    CHECK(ncp::collection::NaturalResidual(*p.F, p.lower, p.upper, x) <= 1e-9);
+    INFO("start:" << log.DescribeOurs(0, marks.front()));
+    CHECK(log.Ours(0, marks.front()) == 0);
+    for (size_t k = 0; k + 1 < marks.size(); ++k) {
+      INFO("iteration " << k + 1 << ":" << log.DescribeOurs(marks[k], marks[k + 1]));
+      CHECK(log.Ours(marks[k], marks[k + 1]) == 0);
+    }
+    CHECK(log.Ours(marks.back(), log.Total()) <= 8);
+    CHECK(log.Total() == log.Ours());  // dense LU: nothing from SuiteSparse
+    std::printf(
+        "every-bound-cubic from %s: %d iterations, %ld allocations (termination "
+        "message)\n",
+        start.label.c_str(), summary.iterations, log.Ours());
   }
 }
 
