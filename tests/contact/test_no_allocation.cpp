@@ -222,6 +222,23 @@ BlockOnFloor MakeBlockOnFloor(int dim) {
   return block;
 }
 
+// marks[k]: the allocation count when iterate k of one solve was reported. Nothing
+// allocated before the first iterate (Evaluate, Jacobian, the Jacobian of Phi) or between
+// two iterates (Newton solve, line search, Jacobian at the new iterate); after the last
+// one at most the Summary's termination message (returned).
+long CheckNothingAllocatedPerIteration(const AllocationLog& log,
+                                       const std::vector<long>& marks) {
+  INFO("start:" << log.DescribeOurs(0, marks.front()));
+  CHECK(log.Ours(0, marks.front()) == 0);
+  for (size_t k = 0; k + 1 < marks.size(); ++k) {
+    INFO("iteration " << k + 1 << ":" << log.DescribeOurs(marks[k], marks[k + 1]));
+    CHECK(log.Ours(marks[k], marks[k + 1]) == 0);
+  }
+  const long ours_at_end = log.Ours(marks.back(), log.Total());
+  CHECK(ours_at_end <= 8);
+  return ours_at_end;
+}
+
 }  // namespace
 
 TEST_CASE(
@@ -327,17 +344,7 @@ TEST_CASE("ncp::Solver on a frictional contact problem: no allocation in the ite
   REQUIRE(summary.iterations >= 3);
   REQUIRE(marks.size() == static_cast<size_t>(summary.iterations) + 1);
 
-  // Before the first iterate is reported: Evaluate, Jacobian, the Jacobian of Phi.
-  INFO("start:" << log.DescribeOurs(0, marks.front()));
-  CHECK(log.Ours(0, marks.front()) == 0);
-  // Each iteration k -> k + 1: Newton solve, line search, Jacobian at the new iterate.
-  for (size_t k = 0; k + 1 < marks.size(); ++k) {
-    INFO("iteration " << k + 1 << ":" << log.DescribeOurs(marks[k], marks[k + 1]));
-    CHECK(log.Ours(marks[k], marks[k + 1]) == 0);
-  }
-  // After the last iterate: only the termination message of the Summary.
-  const long ours_at_end = log.Ours(marks.back(), log.Total());
-  CHECK(ours_at_end <= 8);
+  const long ours_at_end = CheckNothingAllocatedPerIteration(log, marks);
   // Dense LU is Eigen only: nothing at all from SuiteSparse; UMFPACK and KLU allocate in
   // every numeric factorization (and UMFPACK in every solve), which the log attributes.
   if (backend == ncp::LinearSolverType::kDenseLU)
@@ -454,13 +461,7 @@ TEST_CASE("ncp box MCP, n = 4, a Solver kept between solves: no allocation per i
     CHECK(distance <= 1e-8);
     // Nothing before the first iterate, nothing in any iteration, only the termination
     // message at the end.
-    INFO("start:" << log.DescribeOurs(0, marks.front()));
-    CHECK(log.Ours(0, marks.front()) == 0);
-    for (size_t k = 0; k + 1 < marks.size(); ++k) {
-      INFO("iteration " << k + 1 << ":" << log.DescribeOurs(marks[k], marks[k + 1]));
-      CHECK(log.Ours(marks[k], marks[k + 1]) == 0);
-    }
-    CHECK(log.Ours(marks.back(), log.Total()) <= 8);
+    CheckNothingAllocatedPerIteration(log, marks);
     CHECK(log.Total() == log.Ours());  // dense LU: nothing from SuiteSparse
     std::printf("kojshin from %g: %d iterations, %ld allocations (termination message)\n",
                 start, summary.iterations, log.Ours());
@@ -502,13 +503,7 @@ TEST_CASE(
     CHECK(summary.iterations >= 3);
     // The solution, recomputed: x - mid(l, u, x - F(x)) = 0.
     CHECK(ncp::collection::NaturalResidual(*p.F, p.lower, p.upper, x) <= 1e-9);
-    INFO("start:" << log.DescribeOurs(0, marks.front()));
-    CHECK(log.Ours(0, marks.front()) == 0);
-    for (size_t k = 0; k + 1 < marks.size(); ++k) {
-      INFO("iteration " << k + 1 << ":" << log.DescribeOurs(marks[k], marks[k + 1]));
-      CHECK(log.Ours(marks[k], marks[k + 1]) == 0);
-    }
-    CHECK(log.Ours(marks.back(), log.Total()) <= 8);
+    CheckNothingAllocatedPerIteration(log, marks);
     CHECK(log.Total() == log.Ours());  // dense LU: nothing from SuiteSparse
     std::printf(
         "every-bound-cubic from %s: %d iterations, %ld allocations (termination "

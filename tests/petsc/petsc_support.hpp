@@ -120,16 +120,21 @@ class DistributedFunction {
   int evaluations_ = 0;
 };
 
-/// A Vec on comm with the entries of v (PETSc chooses the layout).
-inline Vec MakeVec(MPI_Comm comm, const Vector& v) {
-  Vec out = nullptr;
-  VecCreateMPI(comm, PETSC_DECIDE, static_cast<PetscInt>(v.size()), &out);
+/// Each rank's owned entries of out set from v (v indexed in the global numbering).
+inline void SetOwnedEntries(const Vector& v, Vec out) {
   PetscInt first = 0, last = 0;
   VecGetOwnershipRange(out, &first, &last);
   PetscScalar* a = nullptr;
   VecGetArray(out, &a);
   for (PetscInt i = first; i < last; ++i) a[i - first] = v(i);
   VecRestoreArray(out, &a);
+}
+
+/// A Vec on comm with the entries of v (PETSc chooses the layout).
+inline Vec MakeVec(MPI_Comm comm, const Vector& v) {
+  Vec out = nullptr;
+  VecCreateMPI(comm, PETSC_DECIDE, static_cast<PetscInt>(v.size()), &out);
+  SetOwnedEntries(v, out);
   return out;
 }
 

@@ -31,6 +31,7 @@ using ncp::Vector;
 using namespace ncp::collection;
 using ncp::test::DistributedFunction;
 using ncp::test::MakeVec;
+using ncp::test::SetOwnedEntries;
 
 namespace {
 
@@ -395,12 +396,7 @@ TEST_CASE(
   auto grid_vec = [&](const Vector& v) {
     Vec out = nullptr;
     DMCreateGlobalVector(da, &out);
-    PetscInt first = 0, last = 0;
-    VecGetOwnershipRange(out, &first, &last);
-    PetscScalar* a = nullptr;
-    VecGetArray(out, &a);
-    for (PetscInt i = first; i < last; ++i) a[i - first] = v(i);
-    VecRestoreArray(out, &a);
+    SetOwnedEntries(v, out);
     return out;
   };
   Options options;
