@@ -1,6 +1,6 @@
 // The condensed frictional step on MPI ranks (contact::petsc::RunSceneDistributed with
-// solver.step = "condensed" or "auto"; ctest runs this executable under mpiexec -n 1, 2,
-// 3):
+// solver.step = "condensed", "sparse" or "auto"; ctest runs this executable under mpiexec
+// -n 1, 2, 3), each scene with W gathered (condensed) and with W applied (sparse):
 //  * a Tet4 box with the consistent mass dropped onto a plane with friction and a
 //    sideways load (it lands, slides and rings) follows the serial contact::RunScene:
 //    the final displacement within 1e-9 of its largest entry and the per-step sums of
@@ -10,10 +10,10 @@
 //  * with default settings (solver.step = "auto", consistent mass) a block thrown along
 //    a floor with Coulomb friction stops after v0 / (mu g) within 1%, having slid
 //    v0^2 / (2 mu g) within 2% (the closed form of
-//    tests/contact/test_physical_accuracy.cpp), measured from the run's own records;
-//  * "auto" refuses, on every rank and naming the limit, a contact set above
-//    kMaxGatheredContactUnknowns; the lagged-bound friction and the full step are
-//    refused.
+//    tests/contact/test_physical_accuracy.cpp), measured from the run's own records; the
+//    same with solver.step = "sparse";
+//  * "auto" runs the sparse step above kMaxGatheredContactUnknowns and follows the
+//    serial sparse step there; the lagged-bound friction and the full step are refused.
 #define CATCH_CONFIG_RUNNER
 #include <petscsys.h>
 
@@ -160,24 +160,34 @@ double MaxAbs(const std::vector<contact::StepRecord>& records,
   return m;
 }
 
+// The scene text with solver.step = `step` in place of "condensed".
+std::string WithStep(std::string text, const std::string& step) {
+  text.replace(text.find("step = \"condensed\""), 18, "step = \"" + step + "\"");
+  return text;
+}
+
 }  // namespace
 
-TEST_CASE("the condensed step on MPI ranks follows the serial trajectory") {
+TEST_CASE("the condensed and sparse steps on MPI ranks follow the serial trajectory") {
   const auto [name, text] =
       GENERATE(std::make_pair("tet_box", kTetBox), std::make_pair("two_cells", kTwoCells),
                std::make_pair("tet_column", kTetColumn));
-  const contact::Scene scene = LoadSceneText(text, name);
+  const auto [step, method] =
+      GENERATE(std::make_pair("condensed", contact::StepMethod::kCondensed),
+               std::make_pair("sparse", contact::StepMethod::kSparse));
+  const contact::Scene scene =
+      LoadSceneText(WithStep(text, step), std::string(name) + "_" + step);
   REQUIRE(contact::petsc::WhyNotDistributed(scene).empty());
   const contact::SceneResult parallel =
       contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, false);
-  INFO(name << ": " << parallel.summary.message);
+  INFO(name << ", " << step << ": " << parallel.summary.message);
   REQUIRE(parallel.summary.status == contact::DynamicStatus::kCompleted);
-  REQUIRE(parallel.summary.step_method == contact::StepMethod::kCondensed);
+  REQUIRE(parallel.summary.step_method == method);
   if (Rank() != 0) return;
   const contact::SceneResult serial = contact::RunScene(scene, false);
   INFO("serial: " << serial.summary.message);
   REQUIRE(serial.summary.status == contact::DynamicStatus::kCompleted);
-  REQUIRE(serial.summary.step_method == contact::StepMethod::kCondensed);
+  REQUIRE(serial.summary.step_method == method);
   REQUIRE(parallel.summary.records.size() == serial.summary.records.size());
 
   // The final displacement, every free dof.
@@ -221,7 +231,11 @@ TEST_CASE("the condensed step on MPI ranks follows the serial trajectory") {
 // v0 / (mu g)"; examples/validation/physics_checks.cpp, Sliding): 0.2 m x 0.05 m, 4 x 2
 // Quad4, E = 2e11 Pa, consistent mass (the default), dt = 0.95 dt_crit, thrown at v0 =
 // mu g t_stop with t_stop = 600 dt, run to 1.15 t_stop; no solver section (defaults).
-TEST_CASE("default settings on 2 ranks: a thrown block stops after v0 / (mu g)") {
+TEST_CASE("on 2 ranks a thrown block stops after v0 / (mu g), by default and sparse") {
+  // "": no solver section (defaults: auto, the condensed step on ranks).
+  const auto [solver, method] = GENERATE(
+      std::make_pair("", contact::StepMethod::kCondensed),
+      std::make_pair("[solver]\nstep = \"sparse\"\n", contact::StepMethod::kSparse));
   const double g = 9.81, mu = 0.3, density = 7800.0, E = 2e11;
   const std::string body = R"(
 [geometry]
@@ -259,13 +273,12 @@ coefficient = 0.3
                 "[time]\ndt = %.17g\nend_time = %.17g\ninitial_state = \"velocity\"\n"
                 "initial_velocity = [%.17g, 0.0]\n",
                 dt, 1.15 * stop, v0);
-  const contact::Scene scene = LoadSceneText(body + time, "sliding");
-  REQUIRE(scene.dynamics.step_method == contact::StepMethod::kAuto);
+  const contact::Scene scene = LoadSceneText(body + time + solver, "sliding");
   const contact::SceneResult r =
       contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, false);
   INFO(r.summary.message);
   REQUIRE(r.summary.status == contact::DynamicStatus::kCompleted);
-  CHECK(r.summary.step_method == contact::StepMethod::kCondensed);
+  CHECK(r.summary.step_method == method);
   if (Rank() != 0) return;
   // The mean velocity of the block from the run's friction forces: no load acts along
   // x and K has no net force, so the momentum changes by the friction impulse alone,
@@ -306,22 +319,40 @@ coefficient = 0.3
   CHECK(std::abs(distance - expected) <= 0.02 * expected);
 }
 
-TEST_CASE("what the condensed step on ranks cannot run is refused on every rank") {
-  // auto above the gathered limit (33 x 33 contact nodes x 3 components > 3000).
-  std::string text = kTetBox;
+TEST_CASE("auto runs the sparse step above the gathered limit, as one process does") {
+  // 33 x 33 contact nodes x 3 components = 3267 > 3000 contact unknowns; 5 steps.
+  std::string text = WithStep(kTetBox, "auto");
   text.replace(text.find("cells = [4, 3, 2]"), 17, "cells = [32, 32, 1]");
   text.replace(text.find("element = \"tet4\""), 16, "element = \"hex8\"");
-  text.replace(text.find("step = \"condensed\""), 18, "step = \"auto\"");
+  text.replace(text.find("end_time = 0.004"), 16, "end_time = 0.0001");
   const contact::Scene large = LoadSceneText(text, "large");
-  CHECK(contact::petsc::WhyNotDistributed(large).empty());
-  CHECK_THROWS_WITH(
-      contact::petsc::RunSceneDistributed(large, PETSC_COMM_WORLD, false),
-      Catch::Matchers::Contains("3000") && Catch::Matchers::Contains("3267"));
+  REQUIRE(contact::petsc::WhyNotDistributed(large).empty());
+  const contact::SceneResult parallel =
+      contact::petsc::RunSceneDistributed(large, PETSC_COMM_WORLD, false);
+  INFO(parallel.summary.message);
+  REQUIRE(parallel.summary.status == contact::DynamicStatus::kCompleted);
+  CHECK(parallel.summary.step_method == contact::StepMethod::kSparse);
+  if (Rank() != 0) return;
+  contact::Scene sparse = large;
+  sparse.dynamics.step_method = contact::StepMethod::kSparse;
+  const contact::SceneResult serial = contact::RunScene(sparse, false);
+  REQUIRE(serial.summary.status == contact::DynamicStatus::kCompleted);
+  const double u_max = serial.summary.u.lpNorm<Eigen::Infinity>();
+  const double u_difference =
+      (parallel.summary.u - serial.summary.u).lpNorm<Eigen::Infinity>();
+  INFO("final u: " << u_difference << " m of " << u_max << " m");
+  CHECK(u_difference <= kSameTrajectory * u_max);
+}
+
+TEST_CASE("what the implicit steps on ranks cannot run is refused on every rank") {
   // The lagged bound and the full step: refused from the scene file alone.
   std::string lagged = kTetBox;
   lagged.replace(lagged.find("step = \"condensed\""), 18,
                  "step = \"condensed\"\nfriction = \"lagged-bound\"");
   CHECK_THAT(contact::petsc::WhyNotDistributed(LoadSceneText(lagged, "lagged")),
+             Catch::Matchers::Contains("lagged"));
+  CHECK_THAT(contact::petsc::WhyNotDistributed(
+                 LoadSceneText(WithStep(lagged, "sparse"), "lagged_sparse")),
              Catch::Matchers::Contains("lagged"));
   std::string full = kTetBox;
   full.replace(full.find("step = \"condensed\""), 18, "step = \"full\"");

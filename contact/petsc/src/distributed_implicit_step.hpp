@@ -25,6 +25,7 @@
 
 #include "contact/scene.hpp"
 #include "distributed_body.hpp"
+#include "distributed_sparse_step.hpp"
 #include "step/coulomb_step.hpp"
 
 namespace contact::petsc::internal {
@@ -32,14 +33,16 @@ namespace contact::petsc::internal {
 /// With StepMethod::kAuto, the largest number of contact unknowns (free components of the
 /// contact nodes) the distributed run gathers onto rank 0 for the condensed step: W is
 /// dense there (8 n_u^2 bytes: 72 MB at the limit) and forming it takes n_u distributed
-/// solves. Above it, kAuto refuses the run; solver.step = "condensed" runs at any size.
+/// solves. Above it, kAuto runs the sparse step (W never formed); solver.step =
+/// "condensed" runs the gathered step at any size.
 constexpr int kMaxGatheredContactUnknowns = 3000;
 
-/// The step a scene runs on ranks: explicit or condensed (gathered). Rank 0, after
-/// BuildSceneModel: for kAuto, the explicit step when the serial choice
+/// The step a scene runs on ranks: explicit, condensed (gathered) or sparse. Rank 0,
+/// after BuildSceneModel: for kAuto, the explicit step when the serial choice
 /// (PredictStepCost) is explicit, else the condensed step when the contact unknowns are
-/// at most kMaxGatheredContactUnknowns. Throws std::invalid_argument naming the limit,
-/// or the friction formulation, when neither applies.
+/// at most kMaxGatheredContactUnknowns, else the sparse step. Throws
+/// std::invalid_argument naming the friction formulation when the condensed or sparse
+/// step is asked for with the lagged bound.
 StepMethod ResolveDistributedStep(const Scene& scene, const SceneModel& built);
 
 /// The number of contact unknowns of the contact nodes (free components).
@@ -53,8 +56,16 @@ class CondensedGatheredStep {
   /// the serial M_FF (the step scaling S = M / m_max), the same on every rank. Throws
   /// std::invalid_argument when W is not positive definite (a contact node with no mass)
   /// or a solve with M fails.
+  ///
+  /// matrix_free (the sparse step on ranks, distributed_sparse_step.hpp): W is never
+  /// formed; rank 0's contact Newton is the serial sparse step's (ncp::fc's operator
+  /// problem, GMRES) and each of its products with W is one distributed solve with M in
+  /// which every rank takes part (DelassusProducts). Its scaling diag(W) is taken as
+  /// m_max / M_ii (exact for a lumped M; within a factor of about 2 of W_ii for a
+  /// consistent one) instead of the serial step's probing.
   CondensedGatheredStep(MPI_Comm comm, const Scene& scene, const DistributedBody& body,
-                        const std::vector<ContactNode>* nodes, double m_max);
+                        const std::vector<ContactNode>* nodes, double m_max,
+                        bool matrix_free = false);
   ~CondensedGatheredStep();
   CondensedGatheredStep(const CondensedGatheredStep&) = delete;
   CondensedGatheredStep& operator=(const CondensedGatheredStep&) = delete;
@@ -72,11 +83,21 @@ class CondensedGatheredStep {
   /// Set-up [s]: the factor of M; W (n_u solves).
   double factor_seconds() const { return factor_seconds_; }
   double delassus_seconds() const { return delassus_seconds_; }
+  /// Products with W the run took (the matrix-free step: one distributed solve each).
+  long delassus_products() const { return products_ ? products_->products() : 0; }
 
  private:
   void CreateMassSolver();
   void BuildContactScatter(const std::vector<ContactNode>* nodes);
   void FormDelassus();
+  // The matrix-free form: rank 0's CoulombStep on DelassusProducts, diag(W) ~ m_max /
+  // M_ii.
+  void SetUpOperator();
+  // Collective: contact_ <- W contact_ (rank 0's entries; H' scattered to the owners, one
+  // solve with S, H gathered); false (failure_ set) if the solve did not converge.
+  bool MultiplyW();
+  // The fc settings of the serial step (coulomb_fc_step.cpp FcOptions).
+  ncp::fc::Options FcOptions() const;
   void SetInitialState();
   // x = S^-1 b = m_max M^-1 b; false (failure_ set) if the KSP did not converge.
   bool SolveS(Vec b, Vec x);
@@ -105,6 +126,8 @@ class CondensedGatheredStep {
   // serial step's solver of the contact problem and its buffers.
   std::vector<ContactNode> nodes_;
   std::unique_ptr<::contact::internal::CoulombStep> coulomb_;
+  // Every rank: the products with W while rank 0 solves the contact problem.
+  std::unique_ptr<DelassusProducts> products_;
   Eigen::VectorXd x_free_, u_contact_, gap0_;
   double contact_force_max_ = 0.0;  // |r^k|_inf of the previous step [N]
   double tolerance_ = 0.0;

@@ -21,8 +21,8 @@ namespace contact::petsc {
 /// Empty if RunSceneDistributed can run `scene` as far as the scene file tells;
 /// otherwise one sentence naming the scene's step (or setting) and what the distributed
 /// run supports. (With solver.step = "auto" the choice needs the mesh:
-/// RunSceneDistributed refuses a contact set above internal::kMaxGatheredContactUnknowns,
-/// docs/petsc.md.)
+/// RunSceneDistributed runs the sparse step above internal::kMaxGatheredContactUnknowns
+/// contact unknowns, the condensed step up to it; docs/petsc.md.)
 std::string WhyNotDistributed(const Scene& scene);
 
 /// Runs the scene on the ranks of `comm` (collective; every rank passes the same scene).
@@ -32,7 +32,7 @@ std::string WhyNotDistributed(const Scene& scene);
 /// ranks the summary has the status, message and step count only. With the explicit step
 /// each step's record has the accuracy and energy measures of one process (the same
 /// definitions and scales, summed over the ranks in rank order) and the energy blow-up
-/// guard ends the run as in one process; the condensed step's records have the contact
+/// guard ends the run as in one process; the condensed and sparse steps' records have the contact
 /// force sums, penetration and Newton counts, its accuracy and energy measures NaN
 /// (active_nodes = -1). scene.dynamics.stop_requested (read on every rank, agreed at the
 /// step's end) ends either with the status of one process. Files (rank 0 unless said):
