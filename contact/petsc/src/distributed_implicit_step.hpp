@@ -14,7 +14,8 @@
 // -mass_ksp_type cg -mass_pc_type gamg); W is formed once from one distributed solve per
 // contact unknown; x_free and u^k_c are gathered onto rank 0 by one VecScatter, rank 0
 // solves the small contact problem with the serial step's CoulombStep (the same code and
-// the same data as one process), and F is scattered back.
+// the same data as one process), and F is scattered back. The sparse step on ranks is
+// the same step with W never formed (matrix_free; distributed_sparse_step.hpp).
 #pragma once
 
 #include <petscksp.h>

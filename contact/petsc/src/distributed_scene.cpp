@@ -830,6 +830,10 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
                         std::to_string(SizeOf(comm)) + " MPI ranks (" + ToString(method) +
                         " step, partitioner " + body.partitioner() + ")";
   }
+  if (progress && rank == 0 && method == StepMethod::kSparse)
+    std::fprintf(stderr,
+                 "  sparse step on ranks: %ld products with W (distributed solves)\n",
+                 condensed_run->delassus_products());
   ShareEnd(comm, &summary);
   const Eigen::VectorXd u = GatherFreeDofs(body, u_run(), info.num_free_dofs);
   if (rank == 0) summary.u = u;
