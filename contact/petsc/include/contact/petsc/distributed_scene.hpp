@@ -32,14 +32,14 @@ std::string WhyNotDistributed(const Scene& scene);
 /// ranks the summary has the status, message and step count only. With the explicit step
 /// each step's record has the accuracy and energy measures of one process (the same
 /// definitions and scales, summed over the ranks in rank order) and the energy blow-up
-/// guard ends the run as in one process; the condensed and sparse steps' records have the contact
-/// force sums, penetration and Newton counts, its accuracy and energy measures NaN
-/// (active_nodes = -1). scene.dynamics.stop_requested (read on every rank, agreed at the
-/// step's end) ends either with the status of one process. Files (rank 0 unless said):
-/// steps.csv, contact_stress.csv and displacement.csv (at output.stress_times and the
-/// end), node_history.csv (output.marked_point), as from one process, and the snapshots
-/// as one .vtu piece per rank (each rank writes its own), one .pvtu per snapshot and
-/// series.pvd.
+/// guard ends the run as in one process; the condensed and sparse steps' records have the
+/// contact force sums, penetration and Newton counts, their accuracy and energy measures
+/// NaN (active_nodes = -1). scene.dynamics.stop_requested (read on every rank, agreed at
+/// the step's end) ends either with the status of one process. Files (rank 0 unless
+/// said): steps.csv, contact_stress.csv and displacement.csv (at output.stress_times and
+/// the end), node_history.csv (output.marked_point), as from one process, and the
+/// snapshots as one .vtu piece per rank (each rank writes its own), one .pvtu per
+/// snapshot and series.pvd.
 SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress);
 
 }  // namespace contact::petsc
