@@ -309,15 +309,24 @@ void CondensedGatheredStep::FormDelassus() {
     ReadContact(&column);
     if (rank_ == 0) W.col(j) = column;
   }
-  std::string error;
+  if (rank_ == 0) W = 0.5 * (W + W.transpose());
+  SetUpContactSolver(
+      [&] {
+        return std::make_unique<::contact::internal::CoulombStep>(
+            dim_, W, nodes_, scene_.friction_coefficient, FcOptions());
+      },
+      std::string());
+}
+
+void CondensedGatheredStep::SetUpContactSolver(
+    const std::function<std::unique_ptr<::contact::internal::CoulombStep>()>& make,
+    std::string error) {
   if (rank_ == 0) {
-    W = 0.5 * (W + W.transpose());
-    try {
-      coulomb_ = std::make_unique<::contact::internal::CoulombStep>(
-          dim_, W, nodes_, scene_.friction_coefficient, FcOptions());
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
+    if (error.empty()) try {
+        coulomb_ = make();
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
     x_free_.resize(num_unknowns_);
     u_contact_.resize(num_unknowns_);
     gap0_.resize(static_cast<Eigen::Index>(nodes_.size()));
@@ -348,29 +357,26 @@ void CondensedGatheredStep::SetUpOperator() {
   Eigen::VectorXd m;  // M_ii [kg] of the contact unknowns
   GatherContact(y_, &m);
   std::string error;
+  Eigen::VectorXd diagonal;
   if (rank_ == 0) {
-    Eigen::VectorXd diagonal(num_unknowns_);
+    diagonal.resize(num_unknowns_);
     for (int i = 0; i < num_unknowns_; ++i) {
       diagonal(i) = m(i) > 0.0 ? m_max_ / m(i) : 0.0;
       if (!(m(i) > 0.0) && error.empty())
         error = "contact::petsc: a contact unknown has no mass (M_ii = " +
                 std::to_string(m(i)) + " kg): the sparse step needs M_ii > 0";
     }
-    if (error.empty()) try {
-        coulomb_ = std::make_unique<::contact::internal::CoulombStep>(
+  }
+  SetUpContactSolver(
+      [&] {
+        return std::make_unique<::contact::internal::CoulombStep>(
             dim_,
             [this](const Eigen::VectorXd& F, Eigen::VectorXd* x) {
               products_->Apply(F, x);
             },
             diagonal, nodes_, scene_.friction_coefficient, FcOptions());
-      } catch (const std::exception& e) {
-        error = e.what();
-      }
-    x_free_.resize(num_unknowns_);
-    u_contact_.resize(num_unknowns_);
-    gap0_.resize(static_cast<Eigen::Index>(nodes_.size()));
-  }
-  ThrowFromRankZero(comm_, error);
+      },
+      error);
 }
 
 // u^0, u^{-1}, du = u^0 - u^{-1}, f_F and the contact dofs from the node data rank 0

@@ -20,6 +20,7 @@
 
 #include <petscksp.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -102,6 +103,11 @@ class CondensedGatheredStep {
   // Collective: contact_ <- W contact_ (rank 0's entries; H' scattered to the owners, one
   // solve with S, H gathered); false (failure_ set) if the solve did not converge.
   bool MultiplyW();
+  // Rank 0: coulomb_ = make() unless `error` is set already (make's exception into it),
+  // the contact buffers sized; then every rank throws rank 0's error (collective).
+  void SetUpContactSolver(
+      const std::function<std::unique_ptr<::contact::internal::CoulombStep>()>& make,
+      std::string error);
   // The fc settings of the serial step (coulomb_fc_step.cpp FcOptions).
   ncp::fc::Options FcOptions() const;
   void SetInitialState();
