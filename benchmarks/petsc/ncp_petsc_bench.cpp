@@ -131,6 +131,8 @@ Arguments ParseArguments(int argc, char** argv) {
       args.settings.ksp_rtol = ParseNumber(key, value(), 1e-14, 0.5);
     } else if (key == "--max-newton") {
       args.settings.max_newton_iterations = int(ParseNumber(key, value(), 1, 1e4));
+    } else if (key == "--min-scale") {
+      args.settings.min_scale = ParseNumber(key, value(), 1e-6, 1.0);
     } else if (key == "--csv") {
       args.csv = value();
     } else if (key == "--append") {
@@ -143,7 +145,8 @@ Arguments ParseArguments(int argc, char** argv) {
       throw std::invalid_argument(
           "unknown option " + key +
           " (accepted: --grids --coarse --solvers --tolerance --check-tolerance "
-          "--ksp-rtol --max-newton --csv --append --list --print-header; PETSc options "
+          "--ksp-rtol --max-newton --min-scale --csv --append --list --print-header; "
+          "PETSc options "
           "-xxx)");
     } else {
       args.petsc_argv.push_back(argv[k]);

@@ -74,8 +74,26 @@ PetscErrorCode SolveOnGrid(const RunConfig& config, const RunSettings& settings,
   PetscCall(CellArea(level.da, &area));
   options.tolerance = settings.tolerance * area;  // F is -Laplace u times the cell area
   options.max_iterations = settings.max_newton_iterations;
+  PetscBool trace = PETSC_FALSE;  // -bench_trace: ncp's iteration log on stderr
+  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-bench_trace", &trace, nullptr));
+  options.log_to_stderr = trace == PETSC_TRUE;
+  // The min function's rows compare u - psi with F scaled by min_scale (RunSettings):
+  // the tolerance scales with F, so the test on the rows where F is the smaller side is
+  // unchanged (and stricter where u - psi is).
+  const double scale = config.kind == SolverKind::kNcpMin ? settings.min_scale : 1.0;
+  options.tolerance *= scale;
   ncp::petsc::Solver solver(PetscObjectComm((PetscObject)level.da), options, prefix);
-  if (config.linear == LinearFamily::kMultigrid) {
+  // -bench_full_galerkin: PCMG on the whole embedded Newton matrix (the eliminated rows
+  // included in the Galerkin products), for comparison with the inactive-set multigrid.
+  PetscBool full_galerkin = PETSC_FALSE;
+  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-bench_full_galerkin", &full_galerkin,
+                                nullptr));
+  if (config.linear == LinearFamily::kMultigrid && config.kind == SolverKind::kNcpMin &&
+      !full_galerkin) {
+    // The min function's Newton system is the reduced (inactive-set) system: PCMG on the
+    // grid's hierarchy restricted to the inactive set at each step (SetMultigridGrid).
+    solver.SetMultigridGrid(level.da);
+  } else if (config.linear == LinearFamily::kMultigrid) {
     // PCMG builds its hierarchy by coarsening this grid; the Newton matrix D_a + D_b F'
     // is not a rediscretization, so the coarse operators are Galerkin products P^T A P.
     PetscCall(KSPSetDM(solver.ksp(), level.da));
@@ -87,12 +105,21 @@ PetscErrorCode SolveOnGrid(const RunConfig& config, const RunSettings& settings,
   }
   DM da = level.da;
   ncp::petsc::BoxMcp problem;
-  problem.residual = [da](Vec u, Vec f) { return EvaluateResidual(da, u, f); };
-  problem.jacobian = [da](Vec u, Mat J) { return EvaluateJacobian(da, u, J); };
+  problem.residual = [da, scale](Vec u, Vec f) {
+    PetscCall(EvaluateResidual(da, u, f));
+    return VecScale(f, scale);
+  };
+  problem.jacobian = [da, scale](Vec u, Mat J) {
+    PetscCall(EvaluateJacobian(da, u, J));
+    return MatScale(J, scale);
+  };
   problem.jacobian_matrix = level.jacobian;
   problem.lower = level.lower;
   problem.upper = level.upper;
   solver.Solve(problem, x, summary);
+  if (trace)
+    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)level.da), "%s\n",
+                          summary->message.c_str()));
   *ksp_iterations = solver.ksp_report().linear_iterations;
   PetscFunctionReturn(0);
 }

@@ -56,6 +56,15 @@ struct RunSettings {
   /// because SNESVI tests a 2-norm (an RMS), not the max; error_vs_exact judges accuracy.
   double check_tolerance = 1e-5;
   int max_newton_iterations = 100;
+  /// ncp with the min function solves min(u - psi, s F) = 0 with s = min_scale (and its
+  /// tolerance times s). The solution does not depend on s, the Newton path does: a row
+  /// is taken as active when u - psi < s F, the primal-dual active set method's rule
+  /// lambda + c (psi - u) > 0 with c = 1 / (s h^2) in units of -Laplace u. A smaller s
+  /// trusts the multiplier more than the gap, as the reduced-space method (active only
+  /// at the bound with F > 0) does in the limit s -> 0. Default 0.1: from the
+  /// interpolated coarse solution, 2 finest-grid Newton steps instead of 3 at 2.6e5 and
+  /// 1e6 unknowns (docs/petsc.md has the measurements).
+  double min_scale = 0.1;
   double ksp_rtol = 1e-6;  ///< relative tolerance of each Krylov solve (not used by LU)
 };
 

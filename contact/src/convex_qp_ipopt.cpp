@@ -1,17 +1,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
 
 #include "contact/convex_qp.hpp"
-
-// Ipopt 3.11 (Debian coinor-libipopt-dev), found through pkg-config.
-#include <coin/IpIpoptApplication.hpp>
-#include <coin/IpSolveStatistics.hpp>
-#include <coin/IpTNLP.hpp>
-
+#include "ipopt_library.hpp"
 #include "text_format.hpp"
 
 namespace contact {
@@ -68,196 +64,225 @@ void ValidateProblem(const SparseMatrix& P, const Vector& q, const SparseMatrix&
         Format(1e-12 * scale) + " (1e-12 max |P_ij|), got " + Format(asymmetry));
 }
 
-/// The QP as an Ipopt TNLP: variables x (unbounded), constraints g(x) = G x with
+/// The QP for Ipopt's C interface: variables x (unbounded), constraints g(x) = G x with
 /// g_L = -inf, g_U = h. Ipopt's Lagrangian is f + lambda' g (Waechter and Biegler 2006),
-/// so lambda is the KKT multiplier z >= 0 of G x <= h.
-class QpTnlp : public Ipopt::TNLP {
- public:
-  QpTnlp(const SparseMatrix& P, const Vector& q, const SparseMatrix& G, const Vector& h,
-         const Vector& x0)
-      : P_(P), q_(q), G_(G), h_(h), x0_(x0) {
+/// so lambda is the KKT multiplier z >= 0 of G x <= h. Hessian (obj_factor P, the
+/// constraints being linear: lower triangle) and Jacobian as triplets, C indexing.
+struct QpCallbacks {
+  QpCallbacks(const SparseMatrix& P_in, const Vector& q_in, const SparseMatrix& G_in)
+      : P(P_in), q(q_in), G(G_in) {
     for (Eigen::Index col = 0; col < P.outerSize(); ++col)
       for (SparseMatrix::InnerIterator it(P, col); it; ++it)
         if (it.row() >= it.col()) {
-          hessian_rows_.push_back(static_cast<Ipopt::Index>(it.row()));
-          hessian_cols_.push_back(static_cast<Ipopt::Index>(it.col()));
-          hessian_values_.push_back(it.value());
+          hessian_rows.push_back(static_cast<Index>(it.row()));
+          hessian_cols.push_back(static_cast<Index>(it.col()));
+          hessian_values.push_back(it.value());
         }
     for (Eigen::Index col = 0; col < G.outerSize(); ++col)
       for (SparseMatrix::InnerIterator it(G, col); it; ++it) {
-        jacobian_rows_.push_back(static_cast<Ipopt::Index>(it.row()));
-        jacobian_cols_.push_back(static_cast<Ipopt::Index>(it.col()));
-        jacobian_values_.push_back(it.value());
+        jacobian_rows.push_back(static_cast<Index>(it.row()));
+        jacobian_cols.push_back(static_cast<Index>(it.col()));
+        jacobian_values.push_back(it.value());
       }
-  }
-
-  bool get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g,
-                    Ipopt::Index& nnz_h_lag, IndexStyleEnum& index_style) override {
-    n = static_cast<Ipopt::Index>(q_.size());
-    m = static_cast<Ipopt::Index>(h_.size());
-    nnz_jac_g = static_cast<Ipopt::Index>(jacobian_values_.size());
-    nnz_h_lag = static_cast<Ipopt::Index>(hessian_values_.size());
-    index_style = C_STYLE;
-    return true;
-  }
-
-  bool get_bounds_info(Ipopt::Index n, Ipopt::Number* x_l, Ipopt::Number* x_u,
-                       Ipopt::Index m, Ipopt::Number* g_l, Ipopt::Number* g_u) override {
-    // +-1e19 are Ipopt's default nlp_upper_bound_inf / nlp_lower_bound_inf: "no bound".
-    std::fill(x_l, x_l + n, -1e19);
-    std::fill(x_u, x_u + n, 1e19);
-    std::fill(g_l, g_l + m, -1e19);
-    std::copy(h_.data(), h_.data() + m, g_u);
-    return true;
-  }
-
-  bool get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x, bool init_z,
-                          Ipopt::Number*, Ipopt::Number*, Ipopt::Index, bool init_lambda,
-                          Ipopt::Number*) override {
-    if (init_z || init_lambda) return false;  // never requested with the options we set
-    if (init_x) std::copy(x0_.data(), x0_.data() + n, x);
-    return true;
-  }
-
-  bool eval_f(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Number& obj) override {
-    const Eigen::Map<const Vector> xv(x, n);
-    obj = 0.5 * xv.dot(P_ * xv) + q_.dot(xv);
-    return true;
-  }
-
-  bool eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool,
-                   Ipopt::Number* grad_f) override {
-    const Eigen::Map<const Vector> xv(x, n);
-    Eigen::Map<Vector>(grad_f, n) = P_ * xv + q_;
-    return true;
-  }
-
-  bool eval_g(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Index m,
-              Ipopt::Number* g) override {
-    const Eigen::Map<const Vector> xv(x, n);
-    Eigen::Map<Vector>(g, m) = G_ * xv;
-    return true;
-  }
-
-  bool eval_jac_g(Ipopt::Index, const Ipopt::Number*, bool, Ipopt::Index,
-                  Ipopt::Index nele_jac, Ipopt::Index* iRow, Ipopt::Index* jCol,
-                  Ipopt::Number* values) override {
-    if (values == nullptr) {
-      std::copy(jacobian_rows_.begin(), jacobian_rows_.end(), iRow);
-      std::copy(jacobian_cols_.begin(), jacobian_cols_.end(), jCol);
-    } else {
-      std::copy(jacobian_values_.begin(), jacobian_values_.begin() + nele_jac, values);
+    // CreateIpoptProblem refuses m > 0 with no Jacobian entry: one structural zero.
+    if (G.rows() > 0 && jacobian_values.empty()) {
+      jacobian_rows.push_back(0);
+      jacobian_cols.push_back(0);
+      jacobian_values.push_back(0.0);
     }
-    return true;
   }
 
-  /// Hessian of the Lagrangian = obj_factor P (the constraints are linear); lower
-  /// triangle.
-  bool eval_h(Ipopt::Index, const Ipopt::Number*, bool, Ipopt::Number obj_factor,
-              Ipopt::Index, const Ipopt::Number*, bool, Ipopt::Index nele_hess,
-              Ipopt::Index* iRow, Ipopt::Index* jCol, Ipopt::Number* values) override {
-    if (values == nullptr) {
-      std::copy(hessian_rows_.begin(), hessian_rows_.end(), iRow);
-      std::copy(hessian_cols_.begin(), hessian_cols_.end(), jCol);
-    } else {
-      for (Ipopt::Index k = 0; k < nele_hess; ++k)
-        values[k] = obj_factor * hessian_values_[k];
-    }
-    return true;
-  }
-
-  void finalize_solution(Ipopt::SolverReturn, Ipopt::Index n, const Ipopt::Number* x,
-                         const Ipopt::Number*, const Ipopt::Number*, Ipopt::Index m,
-                         const Ipopt::Number*, const Ipopt::Number* lambda, Ipopt::Number,
-                         const Ipopt::IpoptData*,
-                         Ipopt::IpoptCalculatedQuantities*) override {
-    solution_ = Eigen::Map<const Vector>(x, n);
-    multipliers_ = m > 0 ? Vector(Eigen::Map<const Vector>(lambda, m)) : Vector();
-    has_solution_ = true;
-  }
-
-  bool has_solution() const { return has_solution_; }
-  const Vector& solution() const { return solution_; }
-  const Vector& multipliers() const { return multipliers_; }
-
- private:
-  const SparseMatrix& P_;
-  const Vector& q_;
-  const SparseMatrix& G_;
-  const Vector& h_;
-  const Vector& x0_;
-  std::vector<Ipopt::Index> hessian_rows_, hessian_cols_;
-  std::vector<double> hessian_values_;
-  std::vector<Ipopt::Index> jacobian_rows_, jacobian_cols_;
-  std::vector<double> jacobian_values_;
-  bool has_solution_ = false;
-  Vector solution_;
-  Vector multipliers_;
+  const SparseMatrix& P;
+  const Vector& q;
+  const SparseMatrix& G;
+  std::vector<Index> hessian_rows, hessian_cols;
+  std::vector<double> hessian_values;
+  std::vector<Index> jacobian_rows, jacobian_cols;
+  std::vector<double> jacobian_values;
+  int iterations = -1;  ///< the last iteration Ipopt reported (intermediate callback)
 };
 
-const char* IpoptStatusName(Ipopt::ApplicationReturnStatus status) {
+QpCallbacks& Data(UserDataPtr user_data) { return *static_cast<QpCallbacks*>(user_data); }
+
+Bool EvalF(Index n, Number* x, Bool, Number* obj, UserDataPtr user_data) {
+  const QpCallbacks& qp = Data(user_data);
+  const Eigen::Map<const Vector> xv(x, n);
+  *obj = 0.5 * xv.dot(qp.P * xv) + qp.q.dot(xv);
+  return TRUE;
+}
+
+Bool EvalGradF(Index n, Number* x, Bool, Number* grad_f, UserDataPtr user_data) {
+  const QpCallbacks& qp = Data(user_data);
+  const Eigen::Map<const Vector> xv(x, n);
+  Eigen::Map<Vector>(grad_f, n) = qp.P * xv + qp.q;
+  return TRUE;
+}
+
+Bool EvalG(Index n, Number* x, Bool, Index m, Number* g, UserDataPtr user_data) {
+  const Eigen::Map<const Vector> xv(x, n);
+  Eigen::Map<Vector>(g, m) = Data(user_data).G * xv;
+  return TRUE;
+}
+
+Bool EvalJacG(Index, Number*, Bool, Index, Index nele_jac, Index* iRow, Index* jCol,
+              Number* values, UserDataPtr user_data) {
+  const QpCallbacks& qp = Data(user_data);
+  if (values == nullptr) {
+    std::copy(qp.jacobian_rows.begin(), qp.jacobian_rows.end(), iRow);
+    std::copy(qp.jacobian_cols.begin(), qp.jacobian_cols.end(), jCol);
+  } else {
+    std::copy(qp.jacobian_values.begin(), qp.jacobian_values.begin() + nele_jac, values);
+  }
+  return TRUE;
+}
+
+Bool EvalH(Index, Number*, Bool, Number obj_factor, Index, Number*, Bool, Index nele_hess,
+           Index* iRow, Index* jCol, Number* values, UserDataPtr user_data) {
+  const QpCallbacks& qp = Data(user_data);
+  if (values == nullptr) {
+    std::copy(qp.hessian_rows.begin(), qp.hessian_rows.end(), iRow);
+    std::copy(qp.hessian_cols.begin(), qp.hessian_cols.end(), jCol);
+  } else {
+    for (Index k = 0; k < nele_hess; ++k) values[k] = obj_factor * qp.hessian_values[k];
+  }
+  return TRUE;
+}
+
+Bool RecordIteration(Index, Index iter_count, Number, Number, Number, Number, Number,
+                     Number, Number, Number, Index, UserDataPtr user_data) {
+  Data(user_data).iterations = static_cast<int>(iter_count);
+  return TRUE;
+}
+
+const char* IpoptStatusName(ApplicationReturnStatus status) {
   switch (status) {
-    case Ipopt::Solve_Succeeded:
+    case Solve_Succeeded:
       return "Solve_Succeeded";
-    case Ipopt::Solved_To_Acceptable_Level:
+    case Solved_To_Acceptable_Level:
       return "Solved_To_Acceptable_Level";
-    case Ipopt::Infeasible_Problem_Detected:
+    case Infeasible_Problem_Detected:
       return "Infeasible_Problem_Detected";
-    case Ipopt::Search_Direction_Becomes_Too_Small:
+    case Search_Direction_Becomes_Too_Small:
       return "Search_Direction_Becomes_Too_Small";
-    case Ipopt::Diverging_Iterates:
+    case Diverging_Iterates:
       return "Diverging_Iterates";
-    case Ipopt::User_Requested_Stop:
+    case User_Requested_Stop:
       return "User_Requested_Stop";
-    case Ipopt::Feasible_Point_Found:
+    case Feasible_Point_Found:
       return "Feasible_Point_Found";
-    case Ipopt::Maximum_Iterations_Exceeded:
+    case Maximum_Iterations_Exceeded:
       return "Maximum_Iterations_Exceeded";
-    case Ipopt::Restoration_Failed:
+    case Restoration_Failed:
       return "Restoration_Failed";
-    case Ipopt::Error_In_Step_Computation:
+    case Error_In_Step_Computation:
       return "Error_In_Step_Computation";
-    case Ipopt::Maximum_CpuTime_Exceeded:
+    case Maximum_CpuTime_Exceeded:
       return "Maximum_CpuTime_Exceeded";
-    case Ipopt::Not_Enough_Degrees_Of_Freedom:
+    case Not_Enough_Degrees_Of_Freedom:
       return "Not_Enough_Degrees_Of_Freedom";
-    case Ipopt::Invalid_Problem_Definition:
+    case Invalid_Problem_Definition:
       return "Invalid_Problem_Definition";
-    case Ipopt::Invalid_Option:
+    case Invalid_Option:
       return "Invalid_Option";
-    case Ipopt::Invalid_Number_Detected:
+    case Invalid_Number_Detected:
       return "Invalid_Number_Detected";
-    case Ipopt::Unrecoverable_Exception:
+    case Unrecoverable_Exception:
       return "Unrecoverable_Exception";
-    case Ipopt::NonIpopt_Exception_Thrown:
+    case NonIpopt_Exception_Thrown:
       return "NonIpopt_Exception_Thrown";
-    case Ipopt::Insufficient_Memory:
+    case Insufficient_Memory:
       return "Insufficient_Memory";
-    case Ipopt::Internal_Error:
+    case Internal_Error:
       return "Internal_Error";
   }
   return "unknown Ipopt status";
 }
 
-ConvexQpStatus ToConvexQpStatus(Ipopt::ApplicationReturnStatus status) {
+ConvexQpStatus ToConvexQpStatus(ApplicationReturnStatus status) {
   switch (status) {
-    case Ipopt::Solve_Succeeded:
+    case Solve_Succeeded:
       return ConvexQpStatus::kSolved;
-    case Ipopt::Solved_To_Acceptable_Level:
+    case Solved_To_Acceptable_Level:
       return ConvexQpStatus::kAcceptable;
-    case Ipopt::Maximum_Iterations_Exceeded:
+    case Maximum_Iterations_Exceeded:
       return ConvexQpStatus::kMaxIterations;
-    case Ipopt::Maximum_CpuTime_Exceeded:
+    case Maximum_CpuTime_Exceeded:
       return ConvexQpStatus::kMaxTime;
-    case Ipopt::Infeasible_Problem_Detected:
+    case Infeasible_Problem_Detected:
       return ConvexQpStatus::kInfeasible;
-    case Ipopt::Diverging_Iterates:
+    case Diverging_Iterates:
       return ConvexQpStatus::kUnbounded;
-    case Ipopt::Search_Direction_Becomes_Too_Small:
+    case Search_Direction_Becomes_Too_Small:
       return ConvexQpStatus::kSmallSearchDirection;
     default:
       return ConvexQpStatus::kFailed;
   }
+}
+
+/// Sets the options, runs Ipopt from x0 and fills result's status, message, iterations,
+/// x and z (x0 and z = 0 where Ipopt stopped before it had an iterate).
+void SolveWithIpopt(const internal::IpoptLibrary& ipopt, const SparseMatrix& P,
+                    const Vector& q, const SparseMatrix& G, const Vector& h,
+                    const Vector& x0, const ConvexQpOptions& options,
+                    ConvexQpResult* result) {
+  const auto n = static_cast<Index>(q.size());
+  const auto m = static_cast<Index>(h.size());
+  QpCallbacks qp(P, q, G);
+  // +-1e19 are Ipopt's default nlp_upper_bound_inf / nlp_lower_bound_inf: "no bound".
+  std::vector<Number> x_lower(n, -1e19), x_upper(n, 1e19), g_lower(m, -1e19);
+  std::vector<Number> g_upper(h.data(), h.data() + m);
+  const std::unique_ptr<IpoptProblemInfo, decltype(ipopt.free_problem)> problem(
+      ipopt.create_problem(n, x_lower.data(), x_upper.data(), m, g_lower.data(),
+                           g_upper.data(), static_cast<Index>(qp.jacobian_values.size()),
+                           static_cast<Index>(qp.hessian_values.size()), /*C style*/ 0,
+                           EvalF, EvalG, EvalGradF, EvalJacG, EvalH),
+      ipopt.free_problem);
+  if (!problem) {
+    result->status = ConvexQpStatus::kFailed;
+    result->message = "Ipopt refused the problem (CreateIpoptProblem)";
+    return;
+  }
+  // The C interface takes char*: keyword and value copied into strings it may not keep.
+  const auto text = [&](std::string keyword, std::string value) {
+    return ipopt.add_string_option(problem.get(), keyword.data(), value.data()) != FALSE;
+  };
+  const auto number = [&](std::string keyword, double value) {
+    return ipopt.add_number_option(problem.get(), keyword.data(), value) != FALSE;
+  };
+  const auto integer = [&](std::string keyword, int value) {
+    return ipopt.add_integer_option(problem.get(), keyword.data(), value) != FALSE;
+  };
+  bool options_accepted = true;
+  options_accepted &= text("sb", "yes");
+  options_accepted &= integer("print_level", options.print_level);
+  options_accepted &= number("tol", options.tolerance);
+  options_accepted &= number("constr_viol_tol", options.constraint_violation_tolerance);
+  options_accepted &= number("dual_inf_tol", options.dual_infeasibility_tolerance);
+  options_accepted &= number("compl_inf_tol", options.complementarity_tolerance);
+  options_accepted &= integer("max_iter", options.max_iterations);
+  options_accepted &= number("max_cpu_time", options.max_cpu_seconds);
+  options_accepted &= number("bound_relax_factor", options.bound_relax_factor);
+  options_accepted &= text("hessian_constant", "yes");
+  options_accepted &= text("jac_c_constant", "yes");
+  options_accepted &= text("jac_d_constant", "yes");
+  options_accepted &= text("mehrotra_algorithm", options.mehrotra ? "yes" : "no");
+  if (!options_accepted) {
+    result->status = ConvexQpStatus::kFailed;
+    result->message = "Ipopt rejected an option (see its output)";
+    return;
+  }
+  ipopt.set_intermediate_callback(problem.get(), RecordIteration);
+  Vector x = x0;
+  Vector z = Vector::Zero(m);
+  const ApplicationReturnStatus status =
+      ipopt.solve(problem.get(), x.data(), nullptr, nullptr, m > 0 ? z.data() : nullptr,
+                  nullptr, nullptr, &qp);
+  result->status = ToConvexQpStatus(status);
+  result->message = std::string("Ipopt: ") + IpoptStatusName(status) + " (" +
+                    std::to_string(static_cast<int>(status)) + ")";
+  result->iterations = qp.iterations;
+  result->x = std::move(x);
+  result->multipliers = std::move(z);
 }
 
 /// Recomputes the unscaled KKT residuals of result->x, result->multipliers.
@@ -353,53 +378,17 @@ ConvexQpResult SolveConvexQpIpopt(const SparseMatrix& P, const Vector& q,
     throw std::invalid_argument("SolveConvexQpIpopt: " + error);
 
   ConvexQpResult result;
-  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = new Ipopt::IpoptApplication();
-  Ipopt::SmartPtr<Ipopt::OptionsList> ipopt_options = app->Options();
-  bool options_accepted = true;
-  options_accepted &= ipopt_options->SetStringValue("sb", "yes");
-  options_accepted &= ipopt_options->SetIntegerValue("print_level", options.print_level);
-  options_accepted &= ipopt_options->SetNumericValue("tol", options.tolerance);
-  options_accepted &= ipopt_options->SetNumericValue(
-      "constr_viol_tol", options.constraint_violation_tolerance);
-  options_accepted &= ipopt_options->SetNumericValue(
-      "dual_inf_tol", options.dual_infeasibility_tolerance);
-  options_accepted &=
-      ipopt_options->SetNumericValue("compl_inf_tol", options.complementarity_tolerance);
-  options_accepted &= ipopt_options->SetIntegerValue("max_iter", options.max_iterations);
-  options_accepted &=
-      ipopt_options->SetNumericValue("max_cpu_time", options.max_cpu_seconds);
-  options_accepted &=
-      ipopt_options->SetNumericValue("bound_relax_factor", options.bound_relax_factor);
-  options_accepted &= ipopt_options->SetStringValue("hessian_constant", "yes");
-  options_accepted &= ipopt_options->SetStringValue("jac_c_constant", "yes");
-  options_accepted &= ipopt_options->SetStringValue("jac_d_constant", "yes");
-  options_accepted &= ipopt_options->SetStringValue("mehrotra_algorithm",
-                                                    options.mehrotra ? "yes" : "no");
-  if (!options_accepted) {
+  const internal::IpoptLibrary& ipopt = internal::LoadIpopt();
+  if (!ipopt.error.empty()) {
     result.status = ConvexQpStatus::kFailed;
-    result.message = "Ipopt rejected an option (see its output)";
-  } else if (const Ipopt::ApplicationReturnStatus init = app->Initialize();
-             init != Ipopt::Solve_Succeeded) {
-    result.status = ConvexQpStatus::kFailed;
-    result.message = std::string("Ipopt Initialize failed: ") + IpoptStatusName(init);
+    result.message = ipopt.error;
   } else {
-    Ipopt::SmartPtr<QpTnlp> problem = new QpTnlp(P, q, G, h, x0);
-    const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(problem);
-    result.status = ToConvexQpStatus(status);
-    result.message = std::string("Ipopt: ") + IpoptStatusName(status) + " (" +
-                     std::to_string(static_cast<int>(status)) + ")";
-    if (Ipopt::IsValid(app->Statistics()))
-      result.iterations = static_cast<int>(app->Statistics()->IterationCount());
-    if (problem->has_solution()) {
-      result.x = problem->solution();
-      result.multipliers = problem->multipliers();
-    }
+    SolveWithIpopt(ipopt, P, q, G, h, x0, options, &result);
   }
   if (result.x.size() != q.size()) {
-    // Ipopt stopped before it had an iterate: report the start point with z = 0.
+    // Ipopt could not be run: report the start point with z = 0.
     result.x = x0;
     result.multipliers = Vector::Zero(h.size());
-    if (result.status == ConvexQpStatus::kSolved) result.status = ConvexQpStatus::kFailed;
   }
   ComputeResiduals(P, q, G, h, &result);
   result.seconds =

@@ -63,7 +63,7 @@ double NormalizeBound(double bound, double infinite_bound) {
 /// and bounds; F is bound anew by Rebind) so that a problem solved again reuses its
 /// Jacobian structure (checked against F's pattern at every Jacobian) and allocates
 /// nothing.
-class BoxMcpAsMixed final : public MixedProblem {
+class BoxMcpAsMixed final : public MixedProblem, public DenseMixedJacobian {
  public:
   /// lower and upper as given (sizes checked by the caller); bounds with |b| >=
   /// infinite_bound are stored as infinite.
@@ -105,6 +105,7 @@ class BoxMcpAsMixed final : public MixedProblem {
     }
     Fx_.resize(n_);
     x_.resize(n_);
+    BuildDenseLayout();
   }
 
   /// Same number of variables and the same bounds (after NormalizeBound) as this one was
@@ -180,13 +181,7 @@ class BoxMcpAsMixed final : public MixedProblem {
   /// (no allocation); otherwise the structure is built again (BuildStructure).
   bool Jacobian(const Vector& y, SparseMatrix* JE, SparseMatrix* JA,
                 SparseMatrix* JB) override {
-    if (!F_->Jacobian(XPart(y), &JF_)) return false;
-    if (JF_.rows() != n_ || JF_.cols() != n_)
-      throw std::invalid_argument("ncp: SquareFunction::Jacobian returned " +
-                                  std::to_string(JF_.rows()) + " x " +
-                                  std::to_string(JF_.cols()) + ", expected " +
-                                  std::to_string(n_) + " x " + std::to_string(n_));
-    JF_.makeCompressed();
+    if (!EvaluateF(y)) return false;
     SparseMatrix* out[3] = {JE, JA, JB};
     if (!StructureMatches(out)) BuildStructure(out);
     FillValues(out);
@@ -200,6 +195,69 @@ class BoxMcpAsMixed final : public MixedProblem {
     x_ = y->head(n_);
     ProjectOntoBox(lower_, upper_, &x_);
     return InitialSlacks(x_, y);
+  }
+
+  // ---- DenseMixedJacobian: the rows of Phi written dense straight from F' ----------
+
+  bool EvaluateDerivative(const Vector& y) override { return EvaluateF(y); }
+
+  /// za = JA z: the one constant of each A row; zb = JB z: a row of F' (times its sign)
+  /// or a slack's constant. Sums in the order of JA * z and JB * z (column by column).
+  void MultiplyPairJacobians(const Vector& z, Vector* za, Vector* zb) const override {
+    za->setZero();
+    zb->setZero();
+    for (const DenseConstant& c : a_constants_) (*za)(c.pair) += c.value * z(c.column);
+    for (int col = 0; col < n_; ++col)
+      for (int k = JF_.outerIndexPtr()[col]; k < JF_.outerIndexPtr()[col + 1]; ++k) {
+        const int r = JF_.innerIndexPtr()[k];
+        const int j = f_row_pair_[static_cast<size_t>(r)];
+        if (j >= 0)
+          (*zb)(j) += f_row_sign_[static_cast<size_t>(r)] * JF_.valuePtr()[k] * z(col);
+      }
+    for (const DenseConstant& c : other_constants_)
+      if (c.pair >= 0) (*zb)(c.pair) += c.value * z(c.column);
+  }
+
+  /// Jd row by row as FillValues and the solver's FillDenseJacobian would make it: per
+  /// row of Phi first A's constant (times da), then the row of F' in column order (times
+  /// the row's sign, and db for a pair), then the constants of slacks and fixed
+  /// variables.
+  bool Fill(const Vector& da, const Vector& db, const Vector& y, DenseMatrix* Jd,
+            Vector* sensitivity) const override {
+    const Eigen::Index size = NumVariables();
+    Jd->setZero(size, size);
+    sensitivity->setZero(size);
+    double* const J = Jd->data();  // column-major, leading dimension size
+    double* const r_sum = sensitivity->data();
+    auto add = [&](int row, int col, double value) {
+      J[row + col * size] += value;
+      r_sum[row] += std::abs(value) * std::abs(y(col));
+    };
+    for (const DenseConstant& c : a_constants_)
+      add(c.row, c.column, da(c.pair) * c.value);
+    for (int r = 0; r < n_; ++r) {
+      const int j = f_row_pair_[static_cast<size_t>(r)];
+      row_factor_(r) = f_row_sign_[static_cast<size_t>(r)] * (j >= 0 ? db(j) : 1.0);
+    }
+    bool finite = true;
+    const int* const outer = JF_.outerIndexPtr();
+    const int* const inner = JF_.innerIndexPtr();
+    const double* const values = JF_.valuePtr();
+    for (int col = 0; col < n_; ++col) {
+      double* const J_col = J + col * size;
+      const double y_col = std::abs(y(col));
+      for (int k = outer[col]; k < outer[col + 1]; ++k) {
+        const int row = f_row_target_[static_cast<size_t>(inner[k])];
+        if (row < 0) continue;  // a fixed variable's row of F
+        finite &= std::isfinite(values[k]);
+        const double value = row_factor_(inner[k]) * values[k];
+        J_col[row] += value;
+        r_sum[row] += std::abs(value) * y_col;
+      }
+    }
+    for (const DenseConstant& c : other_constants_)
+      add(c.row, c.column, c.pair >= 0 ? db(c.pair) * c.value : c.value);
+    return finite;
   }
 
   /// True when JF_ has the pattern the structure was built for and each output still has
@@ -304,6 +362,45 @@ class BoxMcpAsMixed final : public MixedProblem {
     }
   }
 
+  /// The layout of the dense Jacobian (DenseMixedJacobian) from the rows of the mixed
+  /// form: where each row of F' goes, with which sign, and the constant entries.
+  void BuildDenseLayout() {
+    f_row_target_.assign(static_cast<size_t>(n_), -1);
+    f_row_pair_.assign(static_cast<size_t>(n_), -1);
+    f_row_sign_.assign(static_cast<size_t>(n_), 1.0);
+    row_factor_.resize(n_);
+    auto f_row = [&](int f_row, int phi_row, int pair, double sign) {
+      f_row_target_[static_cast<size_t>(f_row)] = phi_row;
+      f_row_pair_[static_cast<size_t>(f_row)] = pair;
+      f_row_sign_[static_cast<size_t>(f_row)] = sign;
+    };
+    const int m = NumEquations();
+    for (int e = 0; e < m; ++e) {
+      const Row& r = equations_[static_cast<size_t>(e)];
+      if (r.kind == Kind::kFixed) {
+        other_constants_.push_back({e, r.index, 1.0, -1});
+        continue;
+      }
+      f_row(r.index, e, -1, 1.0);
+      if (r.kind == Kind::kSlackSplit) {
+        other_constants_.push_back({e, n_ + r.slack, -1.0, -1});
+        other_constants_.push_back({e, n_ + num_slacks_ + r.slack, 1.0, -1});
+      }
+    }
+    for (int j = 0; j < static_cast<int>(pairs_.size()); ++j) {
+      const Row& r = pairs_[static_cast<size_t>(j)];
+      const bool lower_side = r.kind == Kind::kLower || r.kind == Kind::kLowerSlack;
+      a_constants_.push_back({m + j, r.index, lower_side ? 1.0 : -1.0, j});
+      if (r.kind == Kind::kLower || r.kind == Kind::kUpper)
+        f_row(r.index, m + j, j, lower_side ? 1.0 : -1.0);
+      else
+        other_constants_.push_back(
+            {m + j,
+             r.kind == Kind::kLowerSlack ? n_ + r.slack : n_ + num_slacks_ + r.slack, 1.0,
+             j});
+    }
+  }
+
   /// Start point of the slacks: the positive and negative parts of F at x0.
   bool InitialSlacks(const Vector& x0, Vector* y) {
     y->setZero(NumVariables());
@@ -333,6 +430,18 @@ class BoxMcpAsMixed final : public MixedProblem {
     int index;  // variable i of the box MCP
     int slack;  // k for two-sided variables, else -1
   };
+  /// F' at the x of y into JF_ (compressed); false when F cannot give it.
+  bool EvaluateF(const Vector& y) {
+    if (!F_->Jacobian(XPart(y), &JF_)) return false;
+    if (JF_.rows() != n_ || JF_.cols() != n_)
+      throw std::invalid_argument("ncp: SquareFunction::Jacobian returned " +
+                                  std::to_string(JF_.rows()) + " x " +
+                                  std::to_string(JF_.cols()) + ", expected " +
+                                  std::to_string(n_) + " x " + std::to_string(n_));
+    JF_.makeCompressed();
+    return true;
+  }
+
   /// x of the unknowns y = [x; slacks], without a temporary.
   const Vector& XPart(const Vector& y) {
     if (num_slacks_ == 0) return y;
@@ -366,6 +475,20 @@ class BoxMcpAsMixed final : public MixedProblem {
   std::vector<Target> entry_target_;
   std::vector<double> entry_sign_, constants_;
   std::vector<ConstantSlot> constant_slots_[3];
+  // The dense layout (BuildDenseLayout): row i of F' is row f_row_target_[i] of Phi (-1:
+  // none, a fixed variable) times f_row_sign_[i], and times db of pair f_row_pair_[i]
+  // (-1: an equation); the constant entries of A rows (times da), and the others (of
+  // equations, or of B rows times db: `pair` >= 0). row_factor_: the factor of each row
+  // of F' in one Fill.
+  struct DenseConstant {
+    int row, column;
+    double value;
+    int pair;
+  };
+  std::vector<int> f_row_target_, f_row_pair_;
+  std::vector<double> f_row_sign_;
+  std::vector<DenseConstant> a_constants_, other_constants_;
+  mutable Vector row_factor_;
 };
 
 namespace {
@@ -563,6 +686,7 @@ BoxMcpSolve::BoxMcpSolve(const Options& options, BoxMcpCache* cache, SquareFunct
 }
 
 MixedProblem& BoxMcpSolve::problem() { return mixed_; }
+DenseMixedJacobian& BoxMcpSolve::dense_jacobian() { return mixed_; }
 Vector& BoxMcpSolve::unknowns() { return mixed_.unknowns(); }
 
 void BoxMcpSolve::Finish(Summary* summary) {

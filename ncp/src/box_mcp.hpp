@@ -11,6 +11,27 @@
 
 namespace ncp::internal {
 
+/// The Jacobian of Phi = [E; phi(A, B)] written straight into a dense matrix from the
+/// problem's own derivative, without the matrices JE, JA, JB of MixedProblem::Jacobian
+/// (the dense path of small box MCPs: every row of Phi is a row of F' times +-1 or
+/// constant entries). The results are those of MixedProblem::Jacobian followed by the
+/// solver's assembly (Solver::Workspace::FillDenseJacobian), to the bit: the same
+/// products, summed in the same order.
+class DenseMixedJacobian {
+ public:
+  virtual ~DenseMixedJacobian() = default;
+  /// The derivative at the unknowns y; false when it cannot be evaluated there (as
+  /// MixedProblem::Jacobian). Throws std::invalid_argument on a wrong size.
+  virtual bool EvaluateDerivative(const Vector& y) = 0;
+  /// za = JA z and zb = JB z with the last derivative (the z-vector rule, DFK eq. 27).
+  virtual void MultiplyPairJacobians(const Vector& z, Vector* za, Vector* zb) const = 0;
+  /// Jd = [JE; diag(da) JA + diag(db) JB] with the last derivative and sensitivity_i =
+  /// sum over the terms of row i of |term| |y_col| (the round-off floor's r); false when
+  /// an entry the rows use is not finite (then Jd is incomplete).
+  virtual bool Fill(const Vector& da, const Vector& db, const Vector& y, DenseMatrix* Jd,
+                    Vector* sensitivity) const = 0;
+};
+
 /// The box MCP in mixed form (box_mcp.cpp); kept by the Solver between solves.
 class BoxMcpAsMixed;
 struct BoxMcpDeleter {
@@ -38,6 +59,8 @@ class BoxMcpSolve {
   /// solve).
   MixedProblem& problem();
   Vector& unknowns();
+  /// The same problem's Jacobian written dense (DenseMixedJacobian).
+  DenseMixedJacobian& dense_jacobian();
   /// After the solve of problem() into summary: *x from the unknowns, a Farkas
   /// certificate when an affine F got stuck (kInfeasible), and *x projected onto [l, u],
   /// with the start and final projections counted and stated in the summary.

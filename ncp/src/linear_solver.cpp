@@ -15,7 +15,8 @@
 
 namespace ncp::internal {
 
-bool DenseLU::Factorize(const DenseMatrix& A) {
+bool DenseLU::Factorize(const Eigen::Ref<const DenseMatrix>& A) {
+  n_ = A.rows();
   full_pivoting_ = A.rows() <= kFullPivotingLimit;
   if (full_pivoting_) return FactorizeFullPivoting(A);
   partial_.compute(A);
@@ -32,58 +33,95 @@ bool DenseLU::Factorize(const DenseMatrix& A) {
 // magnitude of the remaining corner in column-major order; rows and columns swapped; the
 // column below divided by it; the corner updated by the outer product, column by column.
 // Singular (Eigen's isInvertible) when fewer than n pivots exceed n eps max |pivot|, or
-// when the corner becomes exactly zero.
-bool DenseLU::FactorizeFullPivoting(const DenseMatrix& A) {
+// when the corner becomes exactly zero. The search for the next pivot runs in the same
+// pass as the update of the corner (one pass over it per step instead of two); it picks
+// the pivot FullPivLU's separate search would: the first entry of largest magnitude, or
+// the corner's first entry when that one is NaN (no entry compares greater than NaN).
+bool DenseLU::FactorizeFullPivoting(const Eigen::Ref<const DenseMatrix>& A) {
   const Eigen::Index n = A.rows();
-  lu_ = A;
+  if (lu_storage_.size() < n * n) lu_storage_.resize(n * n);
+  Eigen::Map<DenseMatrix> lu = Lu();
+  lu = A;
   row_swap_.resize(static_cast<size_t>(n));
   column_swap_.resize(static_cast<size_t>(n));
+  double* const a = lu.data();  // column-major, leading dimension n
+  auto at = [a, n](Eigen::Index r, Eigen::Index c) -> double& { return a[r + c * n]; };
+  // The pivot of step 0: the whole matrix searched.
+  Eigen::Index row = 0, column = 0;
+  double biggest = n > 0 ? std::abs(at(0, 0)) : 0.0;
+  for (Eigen::Index c = 0; c < n; ++c)
+    for (Eigen::Index r = 0; r < n; ++r)
+      if (std::abs(at(r, c)) > biggest) biggest = std::abs(at(r, c)), row = r, column = c;
   double largest_pivot = 0.0;
   for (Eigen::Index k = 0; k < n; ++k) {
-    Eigen::Index row = k, column = k;
-    double biggest = std::abs(lu_(k, k));
-    for (Eigen::Index c = k; c < n; ++c)
-      for (Eigen::Index r = k; r < n; ++r)
-        if (std::abs(lu_(r, c)) > biggest)
-          biggest = std::abs(lu_(r, c)), row = r, column = c;
     if (biggest == 0.0) return false;  // rank k < n
     largest_pivot = std::max(largest_pivot, biggest);
     row_swap_[static_cast<size_t>(k)] = row;
     column_swap_[static_cast<size_t>(k)] = column;
-    if (row != k) lu_.row(k).swap(lu_.row(row));
-    if (column != k) lu_.col(k).swap(lu_.col(column));
-    const double pivot = lu_(k, k);
-    for (Eigen::Index r = k + 1; r < n; ++r) lu_(r, k) /= pivot;
+    if (row != k)
+      for (Eigen::Index c = 0; c < n; ++c) std::swap(at(k, c), at(row, c));
+    if (column != k)
+      for (Eigen::Index r = 0; r < n; ++r) std::swap(at(r, k), at(r, column));
+    const double pivot = at(k, k);
+    double* const below = a + k * n;  // column k
+    for (Eigen::Index r = k + 1; r < n; ++r) below[r] /= pivot;
+    // The corner k+1.. updated column by column; the next pivot found on the way.
+    row = column = k + 1;
+    biggest = 0.0;
     for (Eigen::Index c = k + 1; c < n; ++c) {
-      const double u = lu_(k, c);
-      for (Eigen::Index r = k + 1; r < n; ++r) lu_(r, c) -= u * lu_(r, k);
+      double* const col = a + c * n;
+      const double u = col[k];
+      for (Eigen::Index r = k + 1; r < n; ++r) {
+        col[r] -= u * below[r];
+        if (std::abs(col[r]) > biggest) biggest = std::abs(col[r]), row = r, column = c;
+      }
+    }
+    if (k + 1 < n && std::isnan(at(k + 1, k + 1))) {
+      row = column = k + 1;
+      biggest = std::abs(at(k + 1, k + 1));
     }
   }
   const double threshold =
       largest_pivot * std::numeric_limits<double>::epsilon() * static_cast<double>(n);
   for (Eigen::Index i = 0; i < n; ++i)
-    if (!(std::abs(lu_(i, i)) > threshold)) return false;
+    if (!(std::abs(at(i, i)) > threshold)) return false;
   return true;
 }
 
+void DenseLU::Reserve(Eigen::Index n) {
+  if (permuted_.size() < n) permuted_.resize(n);
+  if (n > kFullPivotingLimit) return;
+  if (lu_storage_.size() < n * n) lu_storage_.resize(n * n);
+  row_swap_.reserve(static_cast<size_t>(n));
+  column_swap_.reserve(static_cast<size_t>(n));
+}
+
 void DenseLU::Solve(const Vector& rhs, Vector* x) {
+  x->resize(n_);
+  Solve(rhs, Eigen::Ref<Vector>(*x));
+}
+
+void DenseLU::Solve(const Eigen::Ref<const Vector>& rhs, Eigen::Ref<Vector> x) {
+  const Eigen::Index n = n_;
+  if (permuted_.size() < n) permuted_.resize(n);
+  auto permuted = permuted_.head(n);
   if (!full_pivoting_) {  // P A = L U: x = U^-1 L^-1 P rhs
-    permuted_.noalias() = partial_.permutationP() * rhs;
-    partial_.matrixLU().triangularView<Eigen::UnitLower>().solveInPlace(permuted_);
-    partial_.matrixLU().triangularView<Eigen::Upper>().solveInPlace(permuted_);
-    *x = permuted_;
+    permuted.noalias() = partial_.permutationP() * rhs;
+    partial_.matrixLU().triangularView<Eigen::UnitLower>().solveInPlace(permuted);
+    partial_.matrixLU().triangularView<Eigen::Upper>().solveInPlace(permuted);
+    x = permuted;
     return;
   }
   // P A Q = L U: x = Q U^-1 L^-1 P rhs, P and Q applied as their transpositions.
-  permuted_ = rhs;
-  const Eigen::Index n = lu_.rows();
+  const Eigen::Map<DenseMatrix> lu = Lu();
+  permuted = rhs;
   for (Eigen::Index k = 0; k < n; ++k)
-    std::swap(permuted_(k), permuted_(row_swap_[static_cast<size_t>(k)]));
-  lu_.triangularView<Eigen::UnitLower>().solveInPlace(permuted_);
-  lu_.triangularView<Eigen::Upper>().solveInPlace(permuted_);
+    std::swap(permuted(k), permuted(row_swap_[static_cast<size_t>(k)]));
+  lu.triangularView<Eigen::UnitLower>().solveInPlace(permuted);
+  lu.triangularView<Eigen::Upper>().solveInPlace(permuted);
   for (Eigen::Index k = n - 1; k >= 0; --k)
-    std::swap(permuted_(k), permuted_(column_swap_[static_cast<size_t>(k)]));
-  *x = permuted_;
+    std::swap(permuted(k), permuted(column_swap_[static_cast<size_t>(k)]));
+  x = permuted;
 }
 
 namespace {

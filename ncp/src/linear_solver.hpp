@@ -27,21 +27,32 @@ class DenseLU {
     const double r = static_cast<double>(n);
     return 2.0 / 3.0 * r * r * r;
   }
-  /// false when A is (numerically) singular.
-  bool Factorize(const DenseMatrix& A);
-  /// x = A^-1 rhs with the last factorization.
+  /// false when A is (numerically) singular. The full-pivoting factors live in storage
+  /// that only grows: factorizing a matrix no larger than an earlier one allocates
+  /// nothing, whatever the order of sizes (a reduced system whose size follows an active
+  /// set). Partial pivoting (n > kFullPivotingLimit) reallocates when n changes.
+  bool Factorize(const Eigen::Ref<const DenseMatrix>& A);
+  /// Storage for matrices up to n x n (full pivoting: n <= kFullPivotingLimit), so that
+  /// no later Factorize or Solve of such a matrix allocates.
+  void Reserve(Eigen::Index n);
+  /// x = A^-1 rhs with the last factorization (x resized to n).
   void Solve(const Vector& rhs, Vector* x);
+  /// The same into x of n entries (nothing allocated within the storage's capacity).
+  void Solve(const Eigen::Ref<const Vector>& rhs, Eigen::Ref<Vector> x);
 
  private:
-  bool FactorizeFullPivoting(const DenseMatrix& A);
+  bool FactorizeFullPivoting(const Eigen::Ref<const DenseMatrix>& A);
+  /// The full-pivoting factors: n_ x n_, column-major in the first n_^2 entries.
+  Eigen::Map<DenseMatrix> Lu() { return {lu_storage_.data(), n_, n_}; }
 
   bool full_pivoting_ = true;
-  // Full pivoting: P A Q = L U in lu_ (L unit lower), P and Q as the transpositions
+  Eigen::Index n_ = 0;
+  // Full pivoting: P A Q = L U in Lu() (L unit lower), P and Q as the transpositions
   // applied at step k (rows k <-> row_swap_[k], columns k <-> column_swap_[k]).
-  DenseMatrix lu_;
+  Vector lu_storage_;
   std::vector<Eigen::Index> row_swap_, column_swap_;
   Eigen::PartialPivLU<DenseMatrix> partial_;
-  Vector permuted_;
+  Vector permuted_;  // its first n entries; grown only
 };
 
 /// Row and column scaling of a square matrix by powers of two (exact in floating point):

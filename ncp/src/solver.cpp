@@ -114,11 +114,14 @@ void CheckProblem(const MixedProblem& problem, const Vector& x) {
 
 class Solver::Iteration {
  public:
+  /// dense_jacobian: the problem's Jacobian of Phi written dense (a box MCP), used on
+  /// the dense backend without row weights; nullptr: MixedProblem::Jacobian.
   Iteration(const Options& options, Workspace& workspace, MixedProblem& problem,
-            Vector& x, Summary& summary)
+            internal::DenseMixedJacobian* dense_jacobian, Vector& x, Summary& summary)
       : options_(options),
         work_(workspace),
         problem_(problem),
+        offered_dense_jacobian_(dense_jacobian),
         x_(x),
         summary_(summary),
         n_(problem.NumVariables()),
@@ -138,7 +141,7 @@ class Solver::Iteration {
         return;
       }
       if (LeaveStrategy(k)) continue;
-      const Direction direction = ChooseDirection(k);
+      const Direction direction = TimedChooseDirection(k);
       if (finished_) {
         if (SwitchStrategy(k, SwitchReason::kStuck)) continue;
         return;
@@ -174,6 +177,7 @@ class Solver::Iteration {
     // Row weights from the problem's own scales (MixedProblem::Scales), once per solve.
     work_.SetWeights(problem_, x_, m_, p_, options_.tolerance);
     summary_.weighted_residual = work_.weighted;
+    dense_jacobian_ = work_.dense && !work_.weighted ? offered_dense_jacobian_ : nullptr;
     threshold_ = options_.tolerance;  // on ||Phi||_inf, weighted (relative) or not
     function_ = options_.ncp_function;
     restarts_left_ = options_.merit_restarts;
@@ -243,10 +247,7 @@ class Solver::Iteration {
   // ---- Phi(x) = [E; phi(A_j, B_j)] (thesis eq. 15), rows weighted by the scales ----
   bool Evaluate(const Vector& point, Vector* E, Vector* A, Vector* B, Vector* phi) {
     ++summary_.residual_evaluations;
-    const auto t0 = Clock::now();
-    const bool ok = problem_.Evaluate(point, E, A, B);
-    summary_.evaluation_time_s += Seconds(t0);
-    if (!ok) return false;
+    if (!problem_.Evaluate(point, E, A, B)) return false;
     if (E->size() != m_ || A->size() != p_ || B->size() != p_)
       throw std::invalid_argument(
           "ncp::Solver: MixedProblem::Evaluate resized its outputs");
@@ -267,9 +268,8 @@ class Solver::Iteration {
   // that returned false is reported by TestStop after the callback has seen iterate k.
   bool EvaluateJacobian(int k) {
     ++summary_.jacobian_evaluations;
-    const auto t0 = Clock::now();
+    if (dense_jacobian_) return EvaluateDenseJacobian(k);
     iterate_.jacobian_ok = problem_.Jacobian(x_, &work_.JE, &work_.JA, &work_.JB);
-    summary_.evaluation_time_s += Seconds(t0);
     if (!iterate_.jacobian_ok) return true;
     CheckJacobianShape(work_.JE, m_, n_, "JE");
     CheckJacobianShape(work_.JA, p_, n_, "JA");
@@ -293,6 +293,21 @@ class Solver::Iteration {
     return true;
   }
 
+  // The same, written dense by the problem (internal::DenseMixedJacobian): no JE, JA, JB.
+  bool EvaluateDenseJacobian(int k) {
+    iterate_.jacobian_ok = dense_jacobian_->EvaluateDerivative(x_);
+    if (!iterate_.jacobian_ok) return true;
+    PhiPartials();
+    if (!dense_jacobian_->Fill(work_.da, work_.db, x_, &work_.Jd, &work_.sensitivity)) {
+      Finish(TerminationType::kNonFiniteValues,
+             "the Jacobian has NaN or Inf entries at iteration " + std::to_string(k));
+      return false;
+    }
+    work_.MultiplyJacobianTransposed(work_.phi,
+                                     &work_.grad);  // grad psi = J' Phi (eq. 24)
+    return true;
+  }
+
   // da_j, db_j: the partials of phi at (A_j, B_j). Degenerate set gamma = {j : A_j = B_j
   // = 0} (eq. 13) and the z-vector rule: z_v = 1 at the variable of every degenerate pair
   // (DFK 1996, eq. 27; thesis 3.1).
@@ -310,7 +325,9 @@ class Solver::Iteration {
         work_.z(problem_.PairVariable(j)) = 1.0;
         ++iterate_.degenerate_count;
       }
-      if (iterate_.degenerate_count > 0) {
+      if (iterate_.degenerate_count > 0 && dense_jacobian_) {
+        dense_jacobian_->MultiplyPairJacobians(work_.z, &work_.za, &work_.zb);
+      } else if (iterate_.degenerate_count > 0) {
         work_.za.noalias() = work_.JA * work_.z;
         work_.zb.noalias() = work_.JB * work_.z;
       }
@@ -460,6 +477,16 @@ class Solver::Iteration {
     return Direction::kGradient;
   }
 
+  // ChooseDirection, its time added to Summary::linear_solver_time_s: two clock reads
+  // per iteration, the only ones of an iteration (the rest of the iterations' time is
+  // Summary::evaluation_time_s, computed in Finish).
+  Direction TimedChooseDirection(int k) {
+    const Clock::time_point t0 = Clock::now();
+    const Direction direction = ChooseDirection(k);
+    summary_.linear_solver_time_s += Seconds(t0);
+    return direction;
+  }
+
   // grad psi' d <= -rho ||d||^p (eq. 22); sets the slope.
   bool PassesDescentTest() {
     iterate_.slope = work_.grad.dot(work_.d);
@@ -469,13 +496,9 @@ class Solver::Iteration {
   // J d = -Phi (eq. 21). A factorization predicted to take longer than the time left is
   // not started (the solve ends with kTimeLimit). false when singular or failed.
   bool NewtonDirection(int k) {
-    const auto t0 = Clock::now();
     work_.newton_rhs = -work_.phi;
-    bool solved = FactorizeJacobian(k) && SolveFactorized(work_.newton_rhs, &work_.d) &&
-                  AllFinite(work_.d);
-    solved = solved && SolvesNewtonSystem();
-    summary_.linear_solver_time_s += Seconds(t0);
-    return solved;
+    return FactorizeJacobian(k) && SolveFactorized(work_.newton_rhs, &work_.d) &&
+           AllFinite(work_.d) && SolvesNewtonSystem();
   }
 
   // The backward-error guard of globalization.hpp: whether work_.d solves J d = -Phi as
@@ -533,14 +556,11 @@ class Solver::Iteration {
   // collection, colvdual and vonthmcp; docs/ncp.md.) false when it failed or does not
   // solve the system.
   bool MinimumNormDirection() {
-    const auto t0 = Clock::now();
     work_.newton_rhs = -work_.phi;
-    bool solved = work_.dense
-                      ? work_.rank_revealing.Solve(work_.Jd, work_.newton_rhs, &work_.d)
-                      : work_.rank_revealing.Solve(work_.J, work_.newton_rhs, &work_.d);
-    solved = solved && SolvesNewtonSystem();
-    summary_.linear_solver_time_s += Seconds(t0);
-    return solved;
+    const bool solved =
+        work_.dense ? work_.rank_revealing.Solve(work_.Jd, work_.newton_rhs, &work_.d)
+                    : work_.rank_revealing.Solve(work_.J, work_.newton_rhs, &work_.d);
+    return solved && SolvesNewtonSystem();
   }
 
   int SymbolicFactorizations() const {
@@ -591,7 +611,6 @@ class Solver::Iteration {
   // Yuan 2005; the proximal perturbation of Munson et al. 2001, sec. 3): a descent
   // direction of psi whenever grad psi != 0, between Newton (mu -> 0) and -grad psi / mu.
   bool RegularizedDirection() {
-    const auto t0 = Clock::now();
     const double mu = std::sqrt(2.0 * iterate_.psi);
     if (!work_.regularized_solver)
       work_.regularized_solver = internal::MakeLinearSolver(resolved_);
@@ -609,16 +628,14 @@ class Solver::Iteration {
                          work_.normal_matrix.nonZeros() != work_.regularized_nonzeros;
     work_.regularized_nonzeros = work_.normal_matrix.nonZeros();
     work_.newton_rhs = -work_.grad;
-    bool solved = work_.regularized_solver->Analyze(work_.normal_matrix, changed);
-    work_.regularized_analyzed = solved;
+    work_.regularized_analyzed =
+        work_.regularized_solver->Analyze(work_.normal_matrix, changed);
     internal::LinearSolver& solver = *work_.regularized_solver;
-    solved = solved &&
-             TimedFactorize(solver.PredictedFactorizationFlops(),
-                            [&] { return solver.Factorize(work_.normal_matrix); }) &&
-             work_.regularized_solver->Solve(work_.newton_rhs, &work_.d) &&
-             AllFinite(work_.d);
-    summary_.linear_solver_time_s += Seconds(t0);
-    return solved;
+    return work_.regularized_analyzed &&
+           TimedFactorize(solver.PredictedFactorizationFlops(),
+                          [&] { return solver.Factorize(work_.normal_matrix); }) &&
+           work_.regularized_solver->Solve(work_.newton_rhs, &work_.d) &&
+           AllFinite(work_.d);
   }
 
   // ---- step 3: Armijo line search on psi with steps 2^-i
@@ -788,12 +805,18 @@ class Solver::Iteration {
     summary_.final_psi = 0.5 * work_.phi.squaredNorm();
     summary_.symbolic_factorizations = SymbolicFactorizations() - symbolic_before_;
     summary_.cholesky_fallbacks = Fallbacks() - fallbacks_before_;
+    // One clock read: the rest of the time outside the direction's linear algebra
+    // (timed by TimedChooseDirection) is the evaluations' and the iterations' own work.
     summary_.total_time_s = Seconds(start_);
+    summary_.evaluation_time_s =
+        std::max(0.0, summary_.total_time_s - summary_.linear_solver_time_s);
   }
 
   const Options& options_;
   Workspace& work_;
   MixedProblem& problem_;
+  internal::DenseMixedJacobian* const offered_dense_jacobian_;
+  internal::DenseMixedJacobian* dense_jacobian_ = nullptr;  // used in this solve
   Vector& x_;
   Summary& summary_;
   const int n_, m_, p_;
@@ -833,7 +856,7 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
   if (x_ptr == nullptr || summary_ptr == nullptr)
     throw std::invalid_argument("ncp::Solver::Solve: x and summary must not be null");
   CheckProblem(problem, *x_ptr);
-  Iteration(options_, *workspace_, problem, *x_ptr, *summary_ptr).Run();
+  Iteration(options_, *workspace_, problem, nullptr, *x_ptr, *summary_ptr).Run();
 }
 
 void Solver::Solve(SquareFunction& F, const Vector& lower, const Vector& upper, Vector* x,
@@ -842,7 +865,12 @@ void Solver::Solve(SquareFunction& F, const Vector& lower, const Vector& upper, 
     throw std::invalid_argument("ncp::Solver::Solve: x and summary must not be null");
   // The box MCP as a mixed problem (box_mcp.hpp), solved like any other.
   internal::BoxMcpSolve box_mcp(options_, &workspace_->box_mcp, F, lower, upper, x);
-  if (box_mcp.ready()) Solve(box_mcp.problem(), &box_mcp.unknowns(), summary);
+  if (box_mcp.ready()) {
+    CheckProblem(box_mcp.problem(), box_mcp.unknowns());
+    Iteration(options_, *workspace_, box_mcp.problem(), &box_mcp.dense_jacobian(),
+              box_mcp.unknowns(), *summary)
+        .Run();
+  }
   box_mcp.Finish(summary);
 }
 

@@ -305,8 +305,8 @@ void BindSummary(py::module_& m) {
       ("final_phi_inf", &Summary::final_phi_inf, "||Phi(x)||_inf at the returned x")
       ("final_psi", &Summary::final_psi, "psi at the returned x")
       ("total_time_s", &Summary::total_time_s, "[s]")
-      ("evaluation_time_s", &Summary::evaluation_time_s, "inside F and J (the Python callbacks) [s]")
-      ("linear_solver_time_s", &Summary::linear_solver_time_s, "factorizations and solves [s]")
+      ("evaluation_time_s", &Summary::evaluation_time_s, "total_time_s - linear_solver_time_s: F and J (the Python callbacks), the assembly of Phi and J, line search and tests [s]")
+      ("linear_solver_time_s", &Summary::linear_solver_time_s, "computing the directions: factorizations and solves [s]")
       ("trace", &Summary::trace, "IterationRecord per iteration (Options.keep_trace)");
   // clang-format on
   cls.def("brief_report", &Summary::BriefReport)

@@ -2,6 +2,7 @@
 // start point outside [l, u] is projected onto the box. Residuals are recomputed here
 // from F, l, u; the runs with +-1e20 are compared with the same runs with +-inf.
 #include <Eigen/LU>
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
@@ -408,5 +409,179 @@ TEST_CASE("the returned x of a box MCP lies in [l, u] whatever the status", "[bo
       }
       CHECK(summary.projected_final_components >= 0);
     }
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// On the dense backend the box MCP writes the Jacobian of Phi itself, straight from F'
+// (internal::DenseMixedJacobian). Its results must be those of the general path, where a
+// MixedProblem hands JE, JA, JB to the solver: here the same mixed form is written out
+// by hand (box_mcp.cpp's file comment) and solved as a MixedProblem, and the two runs
+// must agree to the bit at every iterate.
+namespace {
+
+// l <= x <= u perp F(x) as equations (free: F_i = 0; fixed: x_i - l_i = 0; two-sided:
+// F_i - w_k + v_k = 0) and pairs (x_i - l_i, F_i), (u_i - x_i, -F_i), (x_i - l_i, w_k),
+// (u_i - x_i, v_k); unknowns [x; w; v]; the rows in box_mcp.cpp's order.
+class BoxMcpByHand final : public ncp::MixedProblem {
+ public:
+  BoxMcpByHand(ncp::SquareFunction& F, const Vector& lower, const Vector& upper)
+      : F_(F), l_(lower), u_(upper), n_(F.NumVariables()) {
+    for (int i = 0; i < n_; ++i) {
+      const bool lo = std::isfinite(l_(i)), up = std::isfinite(u_(i));
+      if (!lo && !up) equations_.push_back({kFree, i, -1});
+      if (lo && up && l_(i) == u_(i)) equations_.push_back({kFixed, i, -1});
+      if (lo && up && l_(i) < u_(i)) two_sided_.push_back(i);
+    }
+    const int s = static_cast<int>(two_sided_.size());
+    for (int k = 0; k < s; ++k) equations_.push_back({kSplit, two_sided_[k], k});
+    for (int i = 0; i < n_; ++i) {
+      const bool lo = std::isfinite(l_(i)), up = std::isfinite(u_(i));
+      if (lo && !up) pairs_.push_back({kLower, i, -1});
+      if (!lo && up) pairs_.push_back({kUpper, i, -1});
+    }
+    for (int k = 0; k < s; ++k) {
+      pairs_.push_back({kLowerSlack, two_sided_[k], k});
+      pairs_.push_back({kUpperSlack, two_sided_[k], k});
+    }
+  }
+  int NumVariables() const override { return n_ + 2 * slacks(); }
+  int NumEquations() const override { return static_cast<int>(equations_.size()); }
+  int PairVariable(int j) const override {
+    const Row& r = pairs_[static_cast<size_t>(j)];
+    return r.kind == kLowerSlack   ? n_ + r.slack
+           : r.kind == kUpperSlack ? n_ + slacks() + r.slack
+                                   : r.index;
+  }
+  /// The start [x0; max(F, 0); max(-F, 0)] of the two-sided rows (x0 in [l, u], as the
+  /// box MCP projects it).
+  Vector Start(const Vector& x0) {
+    Vector y = Vector::Zero(NumVariables()), Fx(n_);
+    y.head(n_) = x0;
+    F_.Evaluate(x0, &Fx);
+    for (int k = 0; k < slacks(); ++k) {
+      y(n_ + k) = std::max(Fx(two_sided_[k]), 0.0);
+      y(n_ + slacks() + k) = std::max(-Fx(two_sided_[k]), 0.0);
+    }
+    return y;
+  }
+  bool Evaluate(const Vector& y, Vector* E, Vector* A, Vector* B) override {
+    Vector Fx(n_);
+    if (!F_.Evaluate(y.head(n_), &Fx)) return false;
+    for (size_t e = 0; e < equations_.size(); ++e) {
+      const Row& r = equations_[e];
+      const auto row = static_cast<Eigen::Index>(e);
+      (*E)(row) = r.kind == kFree ? Fx(r.index)
+                  : r.kind == kFixed
+                      ? y(r.index) - l_(r.index)
+                      : Fx(r.index) - y(n_ + r.slack) + y(n_ + slacks() + r.slack);
+    }
+    for (size_t j = 0; j < pairs_.size(); ++j) {
+      const Row& r = pairs_[j];
+      const auto row = static_cast<Eigen::Index>(j);
+      const bool lower_side = r.kind == kLower || r.kind == kLowerSlack;
+      (*A)(row) = lower_side ? y(r.index) - l_(r.index) : u_(r.index) - y(r.index);
+      (*B)(row) = r.kind == kLower        ? Fx(r.index)
+                  : r.kind == kUpper      ? -Fx(r.index)
+                  : r.kind == kLowerSlack ? y(n_ + r.slack)
+                                          : y(n_ + slacks() + r.slack);
+    }
+    return true;
+  }
+  bool Jacobian(const Vector& y, ncp::SparseMatrix* JE, ncp::SparseMatrix* JA,
+                ncp::SparseMatrix* JB) override {
+    ncp::SparseMatrix JF;
+    if (!F_.Jacobian(y.head(n_), &JF)) return false;
+    const ncp::DenseMatrix dense_F(JF);  // every entry of F' is stored (a dense F')
+    std::vector<Eigen::Triplet<double, int>> te, ta, tb;
+    auto f_row = [&](std::vector<Eigen::Triplet<double, int>>& t, int row, int i,
+                     double sign) {
+      for (int c = 0; c < n_; ++c) t.emplace_back(row, c, sign * dense_F(i, c));
+    };
+    for (size_t e = 0; e < equations_.size(); ++e) {
+      const Row& r = equations_[e];
+      const int row = static_cast<int>(e);
+      if (r.kind == kFixed) {
+        te.emplace_back(row, r.index, 1.0);
+        continue;
+      }
+      f_row(te, row, r.index, 1.0);
+      if (r.kind == kSplit) {
+        te.emplace_back(row, n_ + r.slack, -1.0);
+        te.emplace_back(row, n_ + slacks() + r.slack, 1.0);
+      }
+    }
+    for (size_t j = 0; j < pairs_.size(); ++j) {
+      const Row& r = pairs_[j];
+      const int row = static_cast<int>(j);
+      const bool lower_side = r.kind == kLower || r.kind == kLowerSlack;
+      ta.emplace_back(row, r.index, lower_side ? 1.0 : -1.0);
+      if (r.kind == kLower || r.kind == kUpper)
+        f_row(tb, row, r.index, lower_side ? 1.0 : -1.0);
+      else
+        tb.emplace_back(
+            row, r.kind == kLowerSlack ? n_ + r.slack : n_ + slacks() + r.slack, 1.0);
+    }
+    JE->setFromTriplets(te.begin(), te.end());
+    JA->setFromTriplets(ta.begin(), ta.end());
+    JB->setFromTriplets(tb.begin(), tb.end());
+    return true;
+  }
+
+ private:
+  enum Kind { kFree, kFixed, kSplit, kLower, kUpper, kLowerSlack, kUpperSlack };
+  struct Row {
+    Kind kind;
+    int index, slack;
+  };
+  int slacks() const { return static_cast<int>(two_sided_.size()); }
+  ncp::SquareFunction& F_;
+  Vector l_, u_;
+  int n_;
+  std::vector<int> two_sided_;
+  std::vector<Row> equations_, pairs_;
+};
+
+}  // namespace
+
+TEST_CASE("the box MCP's dense Jacobian of Phi: the general mixed form's, to the bit",
+          "[box_mcp][dense]") {
+  const NcpFunction function =
+      GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin,
+               NcpFunction::kPenalizedFischerBurmeister);
+  TestProblem p = EveryBoundCubic();
+  BoxMcpByHand by_hand(*p.F, p.lower, p.upper);
+  REQUIRE(by_hand.NumVariables() == 12);  // one two-sided variable: two slacks
+  ncp::Options options;
+  options.ncp_function = function;
+  options.keep_trace = true;
+  ncp::Solver box_solver(options), mixed_solver(options);
+  for (const StartPoint& start : p.starts) {
+    INFO(start.label << " " << ncp::ToString(function));
+    Vector x = start.x, y = by_hand.Start(ProjectOntoBox(p.lower, p.upper, start.x));
+    ncp::Summary box, mixed;
+    box_solver.Solve(*p.F, p.lower, p.upper, &x, &box);
+    mixed_solver.Solve(by_hand, &y, &mixed);
+    INFO(box.BriefReport() << " / " << mixed.BriefReport());
+    REQUIRE(box.IsSolutionUsable());
+    CHECK(NaturalResidual(*p.F, p.lower, p.upper, x) <= kResidualTolerance);
+    CHECK(box.linear_solver_used == ncp::LinearSolverType::kDenseLU);
+    CHECK(mixed.linear_solver_used == ncp::LinearSolverType::kDenseLU);
+    REQUIRE(box.trace.size() == mixed.trace.size());
+    for (size_t k = 0; k < box.trace.size(); ++k) {
+      INFO("iterate " << k);
+      CHECK(box.trace[k].phi_inf == mixed.trace[k].phi_inf);
+      CHECK(box.trace[k].grad_psi_inf == mixed.trace[k].grad_psi_inf);
+      CHECK(box.trace[k].step_length == mixed.trace[k].step_length);
+      CHECK(box.trace[k].direction_norm == mixed.trace[k].direction_norm);
+      CHECK(box.trace[k].degenerate_pairs == mixed.trace[k].degenerate_pairs);
+    }
+    // (The box MCP returns its last iterate projected onto [l, u].)
+    CHECK((x - ProjectOntoBox(p.lower, p.upper, y.head(x.size())))
+              .lpNorm<Eigen::Infinity>() == 0.0);
+    // The start "degenerate" puts pair 4 (x4 >= 0) in the degenerate set: the z-vector
+    // rule (za = JA z, zb = JB z) is taken on both paths.
+    if (start.label == "degenerate" && function != NcpFunction::kMin)
+      CHECK(box.trace.front().degenerate_pairs >= 1);
   }
 }

@@ -38,9 +38,10 @@ void ThrowFromRankZero(MPI_Comm comm, std::string message) {
 }
 
 // True if PETSc's calls to MUMPS reach the parallel MUMPS. Debian's sequential MUMPS
-// (libdmumps_seq, linked through Ipopt) defines the same dmumps_c; when the dynamic
-// linker binds it first, a factorization over more than one rank sees only each rank's
-// rows and fails (INFOG(1) = -10).
+// (libdmumps_seq, a dependency of Ipopt) defines the same dmumps_c; had it entered the
+// global scope first (a program that links libipopt itself; the contact library loads it
+// with RTLD_DEEPBIND and adds nothing to the global scope), a factorization over more
+// than one rank would see only each rank's rows and fail (INFOG(1) = -10).
 bool ParallelMumpsBound() {
   void* entry = dlsym(RTLD_DEFAULT, "dmumps_c");
   Dl_info info;
@@ -149,11 +150,11 @@ CondensedGatheredStep::~CondensedGatheredStep() {
 
 // M^-1 by PETSc's KSP on the parallel M: by default MUMPS's Cholesky factor (preonly),
 // computed once and reused by every solve of the run; on more than one rank when the
-// sequential MUMPS is bound in MUMPS's place (ParallelMumpsBound: contact-sim, which
-// links Ipopt), CG with Jacobi's preconditioner (M's condition number after diagonal
-// scaling is bounded independently of the mesh size: a few tens of iterations; exact for
-// a lumped M). The options database under "mass_" overrides either (-mass_ksp_type cg
-// -mass_pc_type gamg, -mass_pc_type redundant, ...).
+// sequential MUMPS is bound in MUMPS's place (ParallelMumpsBound false: a program that
+// links libipopt or libdmumps_seq before PETSc), CG with Jacobi's preconditioner (M's
+// condition number after diagonal scaling is bounded independently of the mesh size: a
+// few tens of iterations; exact for a lumped M). The options database under "mass_"
+// overrides either (-mass_ksp_type cg -mass_pc_type gamg, -mass_pc_type redundant, ...).
 void CondensedGatheredStep::CreateMassSolver() {
   int ranks = 1;
   MPI_Comm_size(comm_, &ranks);

@@ -47,6 +47,8 @@ class CoulombFcStep : public StepAlgorithm {
       coulomb_ = std::make_unique<CoulombStep>(
           model.dim, delassus_.W(), delassus_.condensed_nodes(),
           options.friction_coefficient, FcOptions(options));
+    // The trace holds one record per Newton step of a solve (dense form): sized once.
+    outcome_.summary.trace.reserve(static_cast<size_t>(options.ncp.max_iterations));
   }
 
   Eigen::MatrixXd WarmStart() const override { return coulomb_->previous_forces(); }
@@ -75,7 +77,13 @@ class CoulombFcStep : public StepAlgorithm {
     // du = S^-1 (H' F - q); the contact forces, gaps and slips as CoulombStep found them.
     full_.noalias() = delassus_.H().transpose() * outcome_.force;
     full_ -= step.q;
-    *result = outcome_.contact;
+    // (Field by field: outcome_.contact.x holds the contact unknowns, result->x all free
+    // dofs - a copy of the whole Result would resize result->x twice per step.)
+    const ContactSystem::Result& contact = outcome_.contact;
+    result->normal_force = contact.normal_force;
+    result->tangent_force = contact.tangent_force;
+    result->gap = contact.gap;
+    result->slip = contact.slip;
     delassus_.SolveS(full_, &result->x);
 
     const ncp::fc::Summary& s = outcome_.summary;

@@ -121,7 +121,7 @@ void CoulombStep::SolveScaled(const Eigen::VectorXd& q_fc, double F, double D,
     operator_problem_.q = q;
     operator_problem_.diagonal = (F / D) * diagonal_fc_;
     operator_scale_ = F / D;
-    ncp::fc::Solve(options, operator_problem_, r, summary);
+    operator_solver_.Solve(options, operator_problem_, r, summary);
   } else {
     solver_->ScaleW(F / D);
     solver_->SetQ(q);

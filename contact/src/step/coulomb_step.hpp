@@ -135,6 +135,7 @@ class CoulombStep {
   std::unique_ptr<ncp::fc::Solver> solver_;  // problem_ kept for the run (dense form)
   ncp::fc::Options solve_options_;           // options_ with this step's tolerances
   ncp::fc::OperatorProblem operator_problem_;  // the same, matrix-free
+  ncp::fc::OperatorSolver operator_solver_;    // its workspaces kept for the run
   double operator_scale_ = 1.0;                // F / D of the current step (matrix-free)
   Eigen::VectorXd spread_, applied_;           // buffers of the matrix-free product
   Eigen::VectorXd r_previous_;  // system units; empty before the first step

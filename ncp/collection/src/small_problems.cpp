@@ -394,4 +394,75 @@ TestProblem MurtyExponentialLcp(int n) {
   return p;
 }
 
+// ---- a box MCP with every kind of bound ---------------------------------------------
+// F(x) = M x + q + x.^3 / 10 (small_problems.hpp). The products are summed in plain loops
+// in a fixed order, so that F4 at the start "degenerate" is (M x)_4 + q4 = 0 exactly.
+namespace {
+
+class CubicAffineFunction : public internal::DenseJacobianFunction {
+ public:
+  CubicAffineFunction(DenseMatrix M, Vector q)
+      : DenseJacobianFunction(static_cast<int>(q.size())),
+        M_(std::move(M)),
+        q_(std::move(q)) {}
+  bool Evaluate(const Vector& x, Vector* F) override {
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+      (*F)(i) = Product(i, x) + q_(i) + 0.1 * x(i) * x(i) * x(i);
+    return true;
+  }
+  /// (M x)_i, summed over j in order.
+  double Product(Eigen::Index i, const Vector& x) const {
+    double sum = 0.0;
+    for (Eigen::Index j = 0; j < x.size(); ++j) sum += M_(i, j) * x(j);
+    return sum;
+  }
+  void set_q(Eigen::Index i, double value) { q_(i) = value; }
+
+ protected:
+  bool DenseJacobian(const Vector& x, DenseMatrix* J) override {
+    *J = M_;
+    for (Eigen::Index i = 0; i < x.size(); ++i) (*J)(i, i) += 0.3 * x(i) * x(i);
+    return true;
+  }
+
+ private:
+  DenseMatrix M_;
+  Vector q_;
+};
+
+}  // namespace
+
+TestProblem EveryBoundCubic() {
+  constexpr int n = 10;
+  DenseMatrix K(n, n), B(n, n);
+  Vector q(n);
+  for (int i = 0; i < n; ++i) {
+    q(i) = std::sin(7.0 * i);
+    for (int j = 0; j < n; ++j) {
+      K(i, j) = std::sin(1.0 + i + 2.0 * j);
+      B(i, j) = std::cos(3.0 * i - j);
+    }
+  }
+  const DenseMatrix M =
+      2.0 * DenseMatrix::Identity(n, n) + (K - K.transpose()) + B * B.transpose() / n;
+  Vector degenerate = Vector::Constant(n, 0.5);
+  degenerate(4) = 0.0;
+  degenerate(9) = 0.3;
+  auto F = std::make_unique<CubicAffineFunction>(M, q);
+  F->set_q(4, -F->Product(4, degenerate));  // F4(degenerate) = 0 (x4^3 = 0)
+  TestProblem p;
+  p.name = "every-bound-cubic";
+  p.source = "constructed (small_problems.hpp): strongly monotone, every kind of bound";
+  p.F = std::move(F);
+  p.lower = Vec({-internal::kInf, -internal::kInf, -internal::kInf, -internal::kInf, 0.0,
+                 0.0, -0.5, -internal::kInf, -1.0, 0.3});
+  p.upper = Vec({internal::kInf, internal::kInf, internal::kInf, internal::kInf,
+                 internal::kInf, internal::kInf, internal::kInf, 1.0, 1.0, 0.3});
+  Vector half = Vector::Constant(n, 0.5);
+  half(9) = 0.3;
+  p.starts = {{"zero", Vector::Zero(n)}, {"half", half}, {"degenerate", degenerate}};
+  p.notes = "one solution (strongly monotone F); not computed in closed form";
+  return p;
+}
+
 }  // namespace ncp::collection

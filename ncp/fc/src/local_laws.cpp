@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "ncp/fc/error.hpp"
 
@@ -192,12 +195,48 @@ void ErrorReport(const Options& options, bool converged, double error, std::stri
   out->assign(buffer);
 }
 
-std::vector<std::pair<Formulation, double>> AttemptSequence(Formulation formulation) {
-  if (formulation != Formulation::kHybrid) return {{formulation, 1.0}};
-  return {{Formulation::kAlartCurnier, 1.0}, {Formulation::kFischerBurmeister, 1.0},
-          {Formulation::kNaturalMap, 1.0},   {Formulation::kAlartCurnier, 10.0},
-          {Formulation::kNaturalMap, 0.1},   {Formulation::kAlartCurnier, 0.1},
-          {Formulation::kNaturalMap, 10.0}};
+void ResetSummary(const Options& options, int num_contacts, Summary* summary) {
+  std::vector<IterationRecord> trace = std::move(summary->trace);
+  std::string message = std::move(summary->message);
+  trace.clear();
+  *summary = Summary();
+  message = summary->message;
+  // Room for the longest message of a solve (ErrorReport's 160 characters, the counts
+  // and the termination): repeated solves then write it in place.
+  message.reserve(256);
+  summary->trace = std::move(trace);
+  summary->message = std::move(message);
+  summary->formulation_requested = options.formulation;
+  summary->num_contacts = num_contacts;
+  summary->iterations = 0;
+  summary->gauss_seidel_sweeps = 0;
+  summary->fallback_sweeps = 0;
+  summary->attempts = 0;
+  summary->backtracks = 0;
+  summary->linear_solver_failures = 0;
+  summary->levenberg_marquardt_steps = 0;
+}
+
+AttemptList AttemptSequence(Formulation formulation) {
+  static constexpr Attempt kHybrid[] = {
+      {Formulation::kAlartCurnier, 1.0}, {Formulation::kFischerBurmeister, 1.0},
+      {Formulation::kNaturalMap, 1.0},   {Formulation::kAlartCurnier, 10.0},
+      {Formulation::kNaturalMap, 0.1},   {Formulation::kAlartCurnier, 0.1},
+      {Formulation::kNaturalMap, 10.0}};
+  static constexpr Attempt kSingle[] = {{Formulation::kAlartCurnier, 1.0},
+                                        {Formulation::kNaturalMap, 1.0},
+                                        {Formulation::kFischerBurmeister, 1.0}};
+  switch (formulation) {
+    case Formulation::kAlartCurnier:
+      return {&kSingle[0], 1};
+    case Formulation::kNaturalMap:
+      return {&kSingle[1], 1};
+    case Formulation::kFischerBurmeister:
+      return {&kSingle[2], 1};
+    case Formulation::kHybrid:
+      break;
+  }
+  return {kHybrid, static_cast<int>(sizeof kHybrid / sizeof kHybrid[0])};
 }
 
 }  // namespace ncp::fc::internal

@@ -53,9 +53,21 @@ Rho RhoFromDiagonal(int d, const double* diagonal, double fallback);
 void EvaluateLaw(Formulation formulation, int d, double mu, const Rho& rho, double scale,
                  const double* r, const double* u, double* phi, Block* A, Block* B);
 
-/// The attempts of a solve: {(formulation, rho factor)}; kHybrid's sequence (solver.hpp)
-/// or the one formulation asked for.
-std::vector<std::pair<Formulation, double>> AttemptSequence(Formulation formulation);
+/// One attempt of a solve: a formulation with rho times rho_factor.
+struct Attempt {
+  Formulation formulation;
+  double rho_factor;
+};
+/// A fixed sequence of attempts (static storage: nothing allocated per solve).
+struct AttemptList {
+  const Attempt* first;
+  int count;
+  const Attempt* begin() const { return first; }
+  const Attempt* end() const { return first + count; }
+};
+/// The attempts of a solve: kHybrid's sequence (solver.hpp) or the one formulation asked
+/// for.
+AttemptList AttemptSequence(Formulation formulation);
 
 /// The end of a Newton attempt at natural-map error `error` (the previous iterate's:
 /// `previous`): error <= tolerance, or error <= acceptable_tolerance without halving
@@ -101,5 +113,9 @@ class AttemptProgress {
 /// floor)", or "> tolerance t") into *out (assigned: no allocation when its capacity
 /// suffices).
 void ErrorReport(const Options& options, bool converged, double error, std::string* out);
+
+/// *summary reset to its defaults (Summary()) for a new solve of `num_contacts` contacts,
+/// the counters of every solver at 0, keeping the storage of its trace and message.
+void ResetSummary(const Options& options, int num_contacts, Summary* summary);
 
 }  // namespace ncp::fc::internal

@@ -4,9 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <deque>
-#include <sstream>
+#include <memory>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "local_laws.hpp"
@@ -38,57 +38,52 @@ void OperatorProblem::Validate() const {
   if ((diagonal.array() < 0.0).any()) fail("diagonal must be >= 0");
 }
 
-namespace {
-
-using internal::Block;
 using Clock = std::chrono::steady_clock;
+
+namespace internal {
 
 /// GMRES iterations between restarts.
 constexpr int kRestart = 50;
 
+/// The Newton-GMRES solver, kept between solves (OperatorSolver): every vector and block
+/// of a solve is a member, sized by the first solve of a problem size and reused after.
+/// Run() shares its state between the attempts of the hybrid.
 class OperatorNewton {
  public:
-  OperatorNewton(const Options& options, const OperatorProblem& problem, Summary* summary)
-      : options_(options),
-        problem_(problem),
-        summary_(summary),
-        d_(problem.dimension),
-        nc_(problem.num_contacts),
-        A_(nc_),
-        B_(nc_),
-        P_inverse_(nc_),
-        start_(Clock::now()) {
-    ComputeRho();
-  }
-
   /// From *r through the attempts of options.formulation (kHybrid: AC, then FB, NM and
   /// other rho when one stalls, as solver.hpp), each from the best iterate so far; the
   /// best iterate is returned in *r.
-  void Run(Vector* r) {
-    Vector u;
-    MultiplyW(*r, &u);
-    u += problem_.q;
-    double error = Error(*r, u);
+  void Run(const Options& options, const OperatorProblem& problem, Vector* r,
+           Summary* summary) {
+    options_ = &options;
+    problem_ = &problem;
+    summary_ = summary;
+    start_ = Clock::now();
+    Resize(problem.dimension, problem.num_contacts);
+    ComputeRho();
+    MultiplyW(*r, &u_);
+    u_ += problem.q;
+    double error = Error(*r, u_);
     summary_->initial_error = error;
     Termination status =
         std::isfinite(error) ? Termination::kConverged : Termination::kNonFiniteValues;
     for (const auto& [formulation, rho_factor] :
-         internal::AttemptSequence(options_.formulation)) {
-      if (status == Termination::kNonFiniteValues || error <= options_.tolerance) break;
+         internal::AttemptSequence(options.formulation)) {
+      if (status == Termination::kNonFiniteValues || error <= options.tolerance) break;
       if (summary_->attempts++ > 0) {  // restart on u = W r + q of the best iterate
-        MultiplyW(*r, &u);
-        u += problem_.q;
+        MultiplyW(*r, &u_);
+        u_ += problem.q;
       }
       summary_->formulation_final = formulation;
-      status = Iterate(formulation, rho_factor, r, &u, &error);
+      status = Iterate(formulation, rho_factor, r, &error);
       if (status == Termination::kConverged || status == Termination::kMaxIterations ||
           status == Termination::kTimeLimit)
         break;
     }
     summary_->final_error = error;
-    if (error <= options_.tolerance) status = Termination::kConverged;
+    if (error <= options.tolerance) status = Termination::kConverged;
     summary_->termination = status;
-    internal::ErrorReport(options_, status == Termination::kConverged, error,
+    internal::ErrorReport(options, status == Termination::kConverged, error,
                           &summary_->message);
     char counts[160];
     std::snprintf(counts, sizeof counts,
@@ -100,31 +95,44 @@ class OperatorNewton {
   }
 
  private:
+  /// The blocks and the GMRES basis for d-dimensional contacts, nc of them, with the
+  /// restart length of the options (nothing allocated when the sizes are unchanged).
+  void Resize(int d, int nc) {
+    d_ = d;
+    nc_ = nc;
+    A_.resize(static_cast<size_t>(nc));
+    B_.resize(static_cast<size_t>(nc));
+    P_inverse_.resize(static_cast<size_t>(nc));
+    const int m = std::min(kRestart, options_->krylov_max_iterations);
+    krylov_basis_.resize(static_cast<Eigen::Index>(d) * nc, m + 1);
+  }
+
   /// rho per contact from the given diagonal (internal::RhoFromDiagonal).
   void ComputeRho() {
-    const double largest = problem_.diagonal.size() ? problem_.diagonal.maxCoeff() : 0.0;
-    rho_.resize(nc_);
+    const Vector& diagonal = problem_->diagonal;
+    const double largest = diagonal.size() ? diagonal.maxCoeff() : 0.0;
+    rho_.resize(static_cast<size_t>(nc_));
     for (int a = 0; a < nc_; ++a)
-      rho_[a] = internal::RhoFromDiagonal(d_, problem_.diagonal.data() + d_ * a,
-                                          largest > 0.0 ? 1.0 / largest : 1.0);
+      rho_[static_cast<size_t>(a)] = internal::RhoFromDiagonal(
+          d_, diagonal.data() + d_ * a, largest > 0.0 ? 1.0 / largest : 1.0);
   }
 
   void MultiplyW(const Vector& r, Vector* Wr) {
-    problem_.apply_W(r, Wr);
+    problem_->apply_W(r, Wr);
     ++summary_->operator_applications;
   }
 
   double Error(const Vector& r, const Vector& u) const {
-    return NaturalMapResidual(d_, problem_.mu, r, u) / (1.0 + problem_.q.norm());
+    return NaturalMapResidual(d_, problem_->mu, r, u) / (1.0 + problem_->q.norm());
   }
 
   /// Phi(r, u) of the attempt's formulation into *phi, with the blocks A_, B_; returns
   /// psi.
   double Evaluate(const Vector& r, const Vector& u, Vector* phi) {
     phi->resize(r.size());
-    const double scale = options_.rho_scale * rho_factor_;
+    const double scale = options_->rho_scale * rho_factor_;
     for (int a = 0; a < nc_; ++a)
-      internal::EvaluateLaw(formulation_, d_, problem_.mu(a), rho_[a], scale,
+      internal::EvaluateLaw(formulation_, d_, problem_->mu(a), rho_[a], scale,
                             r.data() + d_ * a, u.data() + d_ * a, phi->data() + d_ * a,
                             &A_[a], &B_[a]);
     return 0.5 * phi->squaredNorm();
@@ -137,12 +145,12 @@ class OperatorNewton {
     double largest = 1.0;
     for (int a = 0; a < nc_; ++a) {
       Block D = Block::Identity();
-      for (int i = 0; i < d_; ++i) D(i, i) = problem_.diagonal(d_ * a + i);
+      for (int i = 0; i < d_; ++i) D(i, i) = problem_->diagonal(d_ * a + i);
       P_inverse_[a] = A_[a] + B_[a] * D;
       for (int i = 0; i < d_; ++i)
         largest = std::max(largest, std::abs(P_inverse_[a](i, i)));
     }
-    delta_ = options_.regularization * largest;
+    delta_ = options_->regularization * largest;
     for (int a = 0; a < nc_; ++a) {
       Block P = P_inverse_[a] + delta_ * Block::Identity();
       if (d_ == 2) P(2, 2) = 1.0;
@@ -151,8 +159,8 @@ class OperatorNewton {
     }
   }
 
-  /// y = P^-1 x.
-  void ApplyPreconditioner(const Vector& x, Vector* y) const {
+  /// y = P^-1 x (x a vector or a column of the Krylov basis).
+  void ApplyPreconditioner(const Eigen::Ref<const Vector>& x, Vector* y) const {
     y->resize(x.size());
     for (int a = 0; a < nc_; ++a) {
       Eigen::Vector3d xa = Eigen::Vector3d::Zero();
@@ -185,18 +193,21 @@ class OperatorNewton {
     d->setZero(n);
     const double b_norm = b.norm();
     if (b_norm == 0.0) return 0.0;
-    Vector residual = b, w, z;
+    Vector &residual = residual_, &w = w_, &z = z_;
+    residual = b;
     double relative = 1.0;
     int used = 0;
-    while (used < options_.krylov_max_iterations) {
-      const int m = std::min(kRestart, options_.krylov_max_iterations - used);
+    while (used < options_->krylov_max_iterations) {
+      const int m = std::min(kRestart, options_->krylov_max_iterations - used);
       const double beta = residual.norm();
-      // Workspace kept between Newton steps (sized once per problem and restart length).
+      // The basis has the columns of a full cycle (Resize); the last cycle may use fewer.
       Eigen::MatrixXd& V = krylov_basis_;
       Eigen::MatrixXd& H = hessenberg_;
-      V.resize(n, m + 1);
       H.setZero(m + 1, m);
-      Eigen::VectorXd g = Eigen::VectorXd::Zero(m + 1), cs(m), sn(m);
+      Vector &g = givens_rhs_, &cs = givens_cos_, &sn = givens_sin_;
+      g.setZero(m + 1);
+      cs.resize(m);
+      sn.resize(m);
       V.col(0) = residual / beta;
       g(0) = beta;
       int k = 0;
@@ -230,9 +241,12 @@ class OperatorNewton {
         }
       }
       // d += P^-1 V_k y, H_k y = g_k (upper triangular).
-      const Eigen::VectorXd y =
-          H.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
-      ApplyPreconditioner(V.leftCols(k) * y, &z);
+      y_.resize(m + 1);
+      auto y = y_.head(k);
+      y = g.head(k);
+      H.topLeftCorner(k, k).triangularView<Eigen::Upper>().solveInPlace(y);
+      combination_.noalias() = V.leftCols(k) * y;
+      ApplyPreconditioner(combination_, &z);
       *d += z;
       if (relative <= eta) break;
       ApplyJacobian(*d, &w);  // true residual for the restart
@@ -243,23 +257,27 @@ class OperatorNewton {
     return relative;
   }
 
-  /// One attempt: the Newton loop from (r, u = W r + q) with error *error; keeps the best
-  /// iterate in *r_best, *error_best.
+  /// One attempt: the Newton loop from (r, u_ = W r + q) with error *error; keeps the
+  /// best iterate in *r_best, *error_best.
   Termination Iterate(Formulation formulation, double rho_factor, Vector* r_best,
-                      Vector* u, double* error_best) {
+                      double* error_best) {
     formulation_ = formulation;
     rho_factor_ = rho_factor;
-    Vector r = *r_best, phi, trial_phi, direction, Wd, trial_r, trial_u;
-    double psi = Evaluate(r, *u, &phi);
+    Vector &r = r_, &u = u_, &phi = phi_, &trial_phi = trial_phi_,
+           &direction = direction_, &Wd = Wd_, &trial_r = trial_r_, &trial_u = trial_u_;
+    r = *r_best;
+    double psi = Evaluate(r, u, &phi);
     const double phi0 = std::sqrt(2.0 * psi);
-    std::deque<double> recent_psi{psi};
-    internal::AttemptProgress progress(options_, *error_best);
+    // psi of the last Options::nonmonotone_window iterates, oldest first.
+    recent_psi_.clear();
+    recent_psi_.push_back(psi);
+    internal::AttemptProgress progress(*options_, *error_best);
     while (true) {
-      if (summary_->iterations >= options_.max_iterations)
+      if (summary_->iterations >= options_->max_iterations)
         return Termination::kMaxIterations;
-      if (options_.max_time_s > 0.0 &&
+      if (options_->max_time_s > 0.0 &&
           std::chrono::duration<double>(Clock::now() - start_).count() >
-              options_.max_time_s)
+              options_->max_time_s)
         return Termination::kTimeLimit;
       Precondition();
       const double phi_norm = std::sqrt(2.0 * psi);
@@ -267,26 +285,27 @@ class OperatorNewton {
       // tolerance relative to the current error (the last Newton steps of a solve to
       // 1e-15 otherwise took two thirds of all GMRES iterations).
       const double needed = progress.previous_error() > 0.0
-                                ? 0.1 * options_.tolerance / progress.previous_error()
+                                ? 0.1 * options_->tolerance / progress.previous_error()
                                 : 0.0;
-      const double eta = std::min(options_.newton_residual,
+      const double eta = std::min(options_->newton_residual,
                                   std::max(phi0 > 0.0 ? phi_norm / phi0 : 1.0, needed));
-      const double reached = Gmres(-phi, eta, &direction);
+      minus_phi_ = -phi;
+      const double reached = Gmres(minus_phi_, eta, &direction);
       if (!(reached < 1.0) || !direction.allFinite()) {
         ++summary_->linear_solver_failures;
         return Termination::kLinearSolverFailure;
       }
       MultiplyW(direction, &Wd);
       // Nonmonotone Armijo: psi(r + t d) <= max(recent psi) - 2 beta t psi(r).
-      const double reference = *std::max_element(recent_psi.begin(), recent_psi.end());
+      const double reference = *std::max_element(recent_psi_.begin(), recent_psi_.end());
       double t = 1.0, trial_psi = 0.0;
       bool accepted = false;
-      for (int i = 0; i <= options_.max_backtracks; ++i, t *= 0.5) {
+      for (int i = 0; i <= options_->max_backtracks; ++i, t *= 0.5) {
         trial_r = r + t * direction;
-        trial_u = *u + t * Wd;
+        trial_u = u + t * Wd;
         trial_psi = Evaluate(trial_r, trial_u, &trial_phi);
         if (std::isfinite(trial_psi) &&
-            trial_psi <= reference - 2.0 * options_.armijo_beta * t * psi) {
+            trial_psi <= reference - 2.0 * options_->armijo_beta * t * psi) {
           accepted = true;
           break;
         }
@@ -294,23 +313,23 @@ class OperatorNewton {
       }
       if (!accepted) return Termination::kLineSearchFailure;
       r.swap(trial_r);
-      u->swap(trial_u);
+      u.swap(trial_u);
       phi.swap(trial_phi);
       psi = trial_psi;
-      recent_psi.push_back(psi);
-      if (static_cast<int>(recent_psi.size()) > options_.nonmonotone_window)
-        recent_psi.pop_front();
+      recent_psi_.push_back(psi);
+      if (static_cast<int>(recent_psi_.size()) > options_->nonmonotone_window)
+        recent_psi_.erase(recent_psi_.begin());
       ++summary_->iterations;
-      double error = Error(r, *u);
-      if (internal::Converged(options_, error,
+      double error = Error(r, u);
+      if (internal::Converged(*options_, error,
                               progress.previous_error())) {  // confirm on u = W r + q
-        MultiplyW(r, u);
-        *u += problem_.q;
-        error = Error(r, *u);
-        psi = Evaluate(r, *u, &phi);
+        MultiplyW(r, &u);
+        u += problem_->q;
+        error = Error(r, u);
+        psi = Evaluate(r, u, &phi);
       }
       if (!std::isfinite(error)) return Termination::kNonFiniteValues;
-      if (options_.log_to_stderr)
+      if (options_->log_to_stderr)
         std::fprintf(stderr,
                      "fc-op %4d %-13s error %.3e psi %.3e step %.3g eta %.2g GMRES %.2e "
                      "(%d iterations in all)\n",
@@ -321,24 +340,33 @@ class OperatorNewton {
     }
   }
 
-  const Options& options_;
-  const OperatorProblem& problem_;
-  Summary* summary_;
-  int d_, nc_;
+  // Of the current Run.
+  const Options* options_ = nullptr;
+  const OperatorProblem* problem_ = nullptr;
+  Summary* summary_ = nullptr;
+  Clock::time_point start_;
+  int d_ = 3, nc_ = 0;
   std::vector<Block> A_, B_, P_inverse_;
   std::vector<internal::Rho> rho_;
   Formulation formulation_ = Formulation::kAlartCurnier;
   double rho_factor_ = 1.0;
   double delta_ = 0.0;
-  Vector Wx_;
-  Eigen::MatrixXd krylov_basis_, hessenberg_;  // GMRES workspace
-  Clock::time_point start_;
+  // Newton: iterate, motion u = W r + q, Phi, direction, trial point, psi window.
+  Vector r_, u_, phi_, minus_phi_, direction_, Wd_, trial_r_, trial_u_, trial_phi_;
+  std::vector<double> recent_psi_;
+  // GMRES: basis, Hessenberg matrix, Givens rotations and right side, work vectors.
+  Eigen::MatrixXd krylov_basis_, hessenberg_;
+  Vector givens_rhs_, givens_cos_, givens_sin_, y_, combination_, residual_, w_, z_, Wx_;
 };
 
-}  // namespace
+}  // namespace internal
 
-void Solve(const Options& options, const OperatorProblem& problem, Vector* r,
-           Summary* summary) {
+OperatorSolver::OperatorSolver()
+    : newton_(std::make_unique<internal::OperatorNewton>()) {}
+OperatorSolver::~OperatorSolver() = default;
+
+void OperatorSolver::Solve(const Options& options, const OperatorProblem& problem,
+                           Vector* r, Summary* summary) {
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("ncp::fc::Options: " + why);
   problem.Validate();
@@ -351,18 +379,18 @@ void Solve(const Options& options, const OperatorProblem& problem, Vector* r,
                                 std::to_string(r->size()));
   if (!r->allFinite())
     throw std::invalid_argument("ncp::fc::Solve: start point not finite");
-  *summary = Summary();
-  summary->formulation_requested = summary->formulation_final = options.formulation;
-  summary->num_contacts = problem.num_contacts;
-  summary->iterations = summary->gauss_seidel_sweeps = summary->fallback_sweeps =
-      summary->backtracks = 0;
-  summary->linear_solver_failures = summary->levenberg_marquardt_steps = 0;
+  internal::ResetSummary(options, problem.num_contacts, summary);
+  summary->formulation_final = options.formulation;
   summary->symbolic_factorizations = summary->krylov_iterations =
       summary->operator_applications = 0;
-  summary->attempts = 0;
   const auto start = Clock::now();
-  OperatorNewton(options, problem, summary).Run(r);
+  newton_->Run(options, problem, r, summary);
   summary->total_time_s = std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+void Solve(const Options& options, const OperatorProblem& problem, Vector* r,
+           Summary* summary) {
+  OperatorSolver().Solve(options, problem, r, summary);
 }
 
 }  // namespace ncp::fc

@@ -181,7 +181,22 @@ class NewtonSolver {
       factorized_once_ = normal_factorized_once_ = false;
     }
     summary_->linear_solver_used = type;
+    if (type == LinearSolverType::kDenseLU) ReserveReduced();
     symbolic_before_ = linear_solver_->symbolic_factorizations();
+  }
+
+  /// ReducedDirection's storage for its largest system, all contacts coupled (the dense
+  /// J of the same size is formed anyway): its size then follows the coupled set
+  /// without allocating.
+  void ReserveReduced() {
+    const Eigen::Index n = static_cast<Eigen::Index>(d_) * nc_;
+    if (reduced_storage_.size() < n * n) reduced_storage_.resize(n * n);
+    if (reduced_rhs_.size() < n) {
+      reduced_rhs_.resize(n);
+      reduced_solution_.resize(n);
+    }
+    coupled_.reserve(static_cast<size_t>(nc_));
+    reduced_lu_.Reserve(n);
   }
 
   /// The hybrid's attempts (or the one formulation asked for) until one ends the solve.
@@ -415,9 +430,17 @@ class NewtonSolver {
       rhs.head(d_) = -phi.segment(d_ * a, d_);
       direction->segment(d_ * a, d_) = lu.solve(rhs).head(d_);
     }
+    // The system in storage that only grows (its size follows the coupled set).
     const Eigen::Index n = d_ * static_cast<Eigen::Index>(coupled_.size());
-    reduced_.setZero(n, n);
-    reduced_rhs_.resize(n);
+    if (reduced_storage_.size() < n * n) reduced_storage_.resize(n * n);
+    if (reduced_rhs_.size() < n) {
+      reduced_rhs_.resize(n);
+      reduced_solution_.resize(n);
+    }
+    Eigen::Map<DenseMatrix> reduced(reduced_storage_.data(), n, n);
+    auto reduced_rhs = reduced_rhs_.head(n);
+    auto reduced_solution = reduced_solution_.head(n);
+    reduced.setZero();
     for (size_t i = 0; i < coupled_.size(); ++i) {
       const int a = coupled_[i];
       Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
@@ -434,19 +457,19 @@ class NewtonSolver {
         }
         Block Jab = B_[a] * W_.BlockAt(k);
         if (b == a) Jab += A_[a] + delta * Block::Identity();
-        reduced_.block(d_ * static_cast<Eigen::Index>(i), d_ * j, d_, d_) =
+        reduced.block(d_ * static_cast<Eigen::Index>(i), d_ * j, d_, d_) =
             Jab.topLeftCorner(d_, d_);
       }
       rhs -= B_[a] * decoupled_motion;
-      reduced_rhs_.segment(d_ * static_cast<Eigen::Index>(i), d_) = rhs.head(d_);
+      reduced_rhs.segment(d_ * static_cast<Eigen::Index>(i), d_) = rhs.head(d_);
     }
     if (n > 0) {
-      if (!reduced_lu_.Factorize(reduced_)) return false;
-      reduced_lu_.Solve(reduced_rhs_, &reduced_solution_);
+      if (!reduced_lu_.Factorize(reduced)) return false;
+      reduced_lu_.Solve(reduced_rhs, reduced_solution);
     }
     for (size_t i = 0; i < coupled_.size(); ++i)
       direction->segment(d_ * coupled_[i], d_) =
-          reduced_solution_.segment(d_ * static_cast<Eigen::Index>(i), d_);
+          reduced_solution.segment(d_ * static_cast<Eigen::Index>(i), d_);
     return true;
   }
 
@@ -543,39 +566,14 @@ class NewtonSolver {
   double gs_error_ = std::numeric_limits<double>::infinity();
   Vector u_, r_, phi_, trial_phi_, direction_, trial_, rhs_, Wd_;  // work vectors
   std::vector<double> recent_psi_;
-  std::vector<int> coupled_, position_;  // SplitDecoupled
-  DenseMatrix reduced_;                  // ReducedDirection's system over coupled_
-  Vector reduced_rhs_, reduced_solution_;
+  std::vector<int> coupled_, position_;    // SplitDecoupled
+  Vector reduced_storage_;                 // ReducedDirection's system over coupled_
+  Vector reduced_rhs_, reduced_solution_;  // (their first d |coupled_| entries)
   ncp::internal::DenseLU reduced_lu_;
   Clock::time_point start_;
 };
 
 }  // namespace internal
-
-namespace {
-
-/// *summary reset to its defaults (Summary()) for a new solve, keeping the storage of its
-/// trace and message.
-void ResetSummary(const Options& options, int num_contacts, Summary* summary) {
-  std::vector<IterationRecord> trace = std::move(summary->trace);
-  std::string message = std::move(summary->message);
-  trace.clear();
-  *summary = Summary();
-  message = summary->message;
-  summary->trace = std::move(trace);
-  summary->message = std::move(message);
-  summary->formulation_requested = options.formulation;
-  summary->num_contacts = num_contacts;
-  summary->iterations = 0;
-  summary->gauss_seidel_sweeps = 0;
-  summary->fallback_sweeps = 0;
-  summary->attempts = 0;
-  summary->backtracks = 0;
-  summary->linear_solver_failures = 0;
-  summary->levenberg_marquardt_steps = 0;
-}
-
-}  // namespace
 
 Solver::Solver(FrictionProblem problem) : problem_(std::move(problem)) {
   problem_.Validate();
@@ -619,7 +617,7 @@ void Solver::Solve(const Options& options, Vector* r, Summary* summary) {
                                 std::to_string(r->size()));
   if (!r->allFinite())
     throw std::invalid_argument("ncp::fc::Solve: start point not finite");
-  ResetSummary(options, problem_.num_contacts, summary);
+  internal::ResetSummary(options, problem_.num_contacts, summary);
   const auto start = Clock::now();
   newton_->Run(options, r, summary);
   summary->total_time_s = std::chrono::duration<double>(Clock::now() - start).count();

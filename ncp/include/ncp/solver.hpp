@@ -294,9 +294,19 @@ struct Summary {
                                   ///< its projection, projected_final_components)
   double final_psi = -1.0;        ///< psi at the returned x
 
+  /// Wall time of the solve [s]. The split below takes two clock reads per iteration, no
+  /// more: on small problems reads around every evaluation were a visible part of an
+  /// iteration (docs/ncp.md, "Small problems"). (ncp::petsc::Solver, whose iterations
+  /// are large, times every evaluation and linear solve instead.)
   double total_time_s = -1.0;
-  double evaluation_time_s = -1.0;     ///< inside Evaluate() and Jacobian()
-  double linear_solver_time_s = -1.0;  ///< factorizations and solves
+  /// total_time_s - linear_solver_time_s [s]: the problem's Evaluate() and Jacobian(),
+  /// the solver's assembly of Phi and J from them, the line search, the tests and the
+  /// iteration callback (and the set-up of the solve).
+  double evaluation_time_s = -1.0;
+  /// Computing each direction [s]: the factorizations and solves of the Newton system,
+  /// the fallback directions (least-squares, Levenberg-Marquardt, -grad psi) and the
+  /// descent test.
+  double linear_solver_time_s = -1.0;
   /// Predicted flops of the last factorization considered (NaN: the backend gives none).
   double predicted_factorization_flops = -1.0;
 

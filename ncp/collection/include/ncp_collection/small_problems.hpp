@@ -42,4 +42,14 @@ TestProblem PathManualLcp();
 /// triangular, M_ii = 1, M_ij = 2 below the diagonal, q = -1. Unique solution e_1.
 TestProblem MurtyExponentialLcp(int n);
 
+/// A box MCP with every kind of bound, n = 10 (not in StandardCollection; tests of the
+/// box MCP's mixed form): F(x) = M x + q + x.^3 / 10 with M = 2 I + (K - K') + B B' / n,
+/// K_ij = sin(1 + i + 2 j), B_ij = cos(3 i - j) (i, j from 0), so x'Mx >= 2 |x|^2 and
+/// F' = M + diag(0.3 x.^2) is positive definite: one solution. Bounds: x0..x3 free, x4,
+/// x5 >= 0, x6 >= -0.5, x7 <= 1, -1 <= x8 <= 1, x9 = 0.3 (fixed). q_i = sin(7 i), except
+/// q4, chosen so that F4 = 0 exactly at the start "degenerate" (0.5 everywhere, x4 = 0,
+/// x9 = 0.3), where pair 4 has x4 - l4 = F4 = 0 (the degenerate set of the FB family).
+/// Starts: "zero", "half" (0.5 everywhere, x9 = 0.3), "degenerate".
+TestProblem EveryBoundCubic();
+
 }  // namespace ncp::collection

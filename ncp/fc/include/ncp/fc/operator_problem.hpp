@@ -21,6 +21,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "ncp/fc/solver.hpp"
@@ -57,5 +58,33 @@ struct OperatorProblem {
 /// Throws std::invalid_argument on invalid options, problem or start point.
 void Solve(const Options& options, const OperatorProblem& problem, Vector* r,
            Summary* summary);
+
+namespace internal {
+class OperatorNewton;
+}
+
+/// Repeated solves of problems of one size (the steps of a time stepper, whose q,
+/// diagonal and W change between solves): the Newton and GMRES workspaces - the Jacobian
+/// and preconditioner blocks, the work vectors, the Krylov basis of size n x (restart +
+/// 1)
+/// - are kept, so that a solve of a problem of the previous one's size allocates nothing
+/// (the Summary's message and trace reuse their storage; apply_W's own allocations are
+/// the caller's). A problem of another size resizes them once. Solve(options, problem, r,
+/// summary) above is one OperatorSolver used once; results are the same bit for bit.
+class OperatorSolver {
+ public:
+  OperatorSolver();
+  ~OperatorSolver();
+  OperatorSolver(const OperatorSolver&) = delete;
+  OperatorSolver& operator=(const OperatorSolver&) = delete;
+
+  /// As Solve(options, problem, r, summary) above; `problem` is read during the call
+  /// only.
+  void Solve(const Options& options, const OperatorProblem& problem, Vector* r,
+             Summary* summary);
+
+ private:
+  std::unique_ptr<internal::OperatorNewton> newton_;
+};
 
 }  // namespace ncp::fc

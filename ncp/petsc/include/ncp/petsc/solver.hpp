@@ -27,6 +27,7 @@
 /// every rank.
 #pragma once
 
+#include <petscdm.h>
 #include <petscksp.h>
 #include <petscmat.h>
 #include <petscvec.h>
@@ -105,6 +106,19 @@ class Solver {
   /// solve; set its type here (KSPSetType, KSPGetPC/PCSetType) to override the default
   /// before Solve (the options database still has the last word).
   KSP ksp() const;
+
+  /// Multigrid restricted to the inactive set, for the symmetrized Newton systems
+  /// (docs/petsc.md): with -<prefix>pc_type mg and a CG-like KSP, PCMG's hierarchy of
+  /// -<prefix>pc_mg_levels levels is made by coarsening `grid` (DMCoarsen,
+  /// DMCreateInterpolation), and at every Newton step the interpolation into each level
+  /// keeps only the rows of the unknowns still in the reduced system (the others were
+  /// eliminated: the active set of the min function), the coarse operators being Galerkin
+  /// products of that reduced system - the multigrid of a reduced-space active-set
+  /// method. `grid`'s global vectors must be laid out like x (checked at Solve, with the
+  /// PC type and the symmetric mode: std::invalid_argument otherwise). Do not also give
+  /// the grid to the KSP (KSPSetDM): PCMG is set up here. nullptr switches it off. The
+  /// Solver keeps a reference to `grid`.
+  void SetMultigridGrid(DM grid);
 
   /// Solves the box MCP; x holds the start point on entry and the last iterate on return
   /// (the solution when summary->IsSolutionUsable()), projected onto [l, u] like the
