@@ -169,8 +169,8 @@ cxxopts::Options MakeCli() {
       "output", "override output.directory", cxxopts::value<std::string>())(
       "no-output", "write no files")(
       "distributed",
-      "run through PETSc DMPlex even on one MPI rank (under mpiexec: the explicit or the "
-      "condensed step)")(
+      "run through PETSc DMPlex even on one MPI rank (under mpiexec: the explicit, the "
+      "condensed or the sparse step)")(
       "resume",
       "continue the run from the checkpoint in the output directory (checkpoint.bin, "
       "written every output.checkpoint_every steps and when interrupted); the scene "

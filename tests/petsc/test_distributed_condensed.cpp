@@ -1,6 +1,6 @@
 // The condensed frictional step on MPI ranks (contact::petsc::RunSceneDistributed with
-// solver.step = "condensed" or "auto"; ctest runs this executable under mpiexec -n 1, 2,
-// 3):
+// solver.step = "condensed", "sparse" or "auto"; ctest runs this executable under mpiexec
+// -n 1, 2, 3), each scene with W gathered (condensed) and with W applied (sparse):
 //  * a Tet4 box with the consistent mass dropped onto a plane with friction and a
 //    sideways load (it lands, slides and rings) follows the serial contact::RunScene:
 //    the final displacement within 1e-9 of its largest entry and the per-step sums of
@@ -10,14 +10,15 @@
 //    step's accuracy, energy and active_nodes measures (steps.csv's columns) and the
 //    summary's maxima as in one process (CheckSameMeasures);
 //  * with one Newton iteration allowed, the run ends solver-failure at the same step with
-//    the same message as in one process;
+//    the same message as in one process (the sparse step: the same step and reason);
 //  * with default settings (solver.step = "auto", consistent mass) a block thrown along
 //    a floor with Coulomb friction stops after v0 / (mu g) within 1%, having slid
 //    v0^2 / (2 mu g) within 2% (the closed form of
-//    tests/contact/test_physical_accuracy.cpp), measured from the run's own records;
-//  * "auto" refuses, on every rank and naming the limit, a contact set above
-//    kMaxGatheredContactUnknowns; the lagged-bound friction and the full step are
-//    refused.
+//    tests/contact/test_physical_accuracy.cpp), measured from the run's own records; the
+//    same with solver.step = "sparse";
+//  * "auto" runs the sparse step above kMaxGatheredContactUnknowns and follows the
+//    serial sparse step there, its measures too; the lagged-bound friction and the full
+//    step are refused.
 #define CATCH_CONFIG_RUNNER
 #include <petscsys.h>
 
@@ -158,24 +159,34 @@ contact::Scene LoadSceneText(const std::string& text, const std::string& name) {
   return contact::test::LoadSceneText(text, "distributed_condensed", name);
 }
 
+// The scene text with solver.step = `step` in place of "condensed".
+std::string WithStep(std::string text, const std::string& step) {
+  text.replace(text.find("step = \"condensed\""), 18, "step = \"" + step + "\"");
+  return text;
+}
+
 }  // namespace
 
-TEST_CASE("the condensed step on MPI ranks follows the serial trajectory") {
+TEST_CASE("the condensed and sparse steps on MPI ranks follow the serial trajectory") {
   const auto [name, text] =
       GENERATE(std::make_pair("tet_box", kTetBox), std::make_pair("two_cells", kTwoCells),
                std::make_pair("tet_column", kTetColumn));
-  const contact::Scene scene = LoadSceneText(text, name);
+  const auto [step, method] =
+      GENERATE(std::make_pair("condensed", contact::StepMethod::kCondensed),
+               std::make_pair("sparse", contact::StepMethod::kSparse));
+  const contact::Scene scene =
+      LoadSceneText(WithStep(text, step), std::string(name) + "_" + step);
   REQUIRE(contact::petsc::WhyNotDistributed(scene).empty());
   const contact::SceneResult parallel =
       contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, false);
-  INFO(name << ": " << parallel.summary.message);
+  INFO(name << ", " << step << ": " << parallel.summary.message);
   REQUIRE(parallel.summary.status == contact::DynamicStatus::kCompleted);
-  REQUIRE(parallel.summary.step_method == contact::StepMethod::kCondensed);
+  REQUIRE(parallel.summary.step_method == method);
   if (Rank() != 0) return;
   const contact::SceneResult serial = contact::RunScene(scene, false);
   INFO("serial: " << serial.summary.message);
   REQUIRE(serial.summary.status == contact::DynamicStatus::kCompleted);
-  REQUIRE(serial.summary.step_method == contact::StepMethod::kCondensed);
+  REQUIRE(serial.summary.step_method == method);
   REQUIRE(parallel.summary.records.size() == serial.summary.records.size());
 
   // The final displacement, every free dof.
@@ -229,7 +240,11 @@ TEST_CASE("the condensed step on MPI ranks follows the serial trajectory") {
 // v0 / (mu g)"; examples/validation/physics_checks.cpp, Sliding): 0.2 m x 0.05 m, 4 x 2
 // Quad4, E = 2e11 Pa, consistent mass (the default), dt = 0.95 dt_crit, thrown at v0 =
 // mu g t_stop with t_stop = 600 dt, run to 1.15 t_stop; no solver section (defaults).
-TEST_CASE("default settings on 2 ranks: a thrown block stops after v0 / (mu g)") {
+TEST_CASE("on 2 ranks a thrown block stops after v0 / (mu g), by default and sparse") {
+  // "": no solver section (defaults: auto, the condensed step on ranks).
+  const auto [solver, method] = GENERATE(
+      std::make_pair("", contact::StepMethod::kCondensed),
+      std::make_pair("[solver]\nstep = \"sparse\"\n", contact::StepMethod::kSparse));
   const double g = 9.81, mu = 0.3, density = 7800.0, E = 2e11;
   const std::string body = R"(
 [geometry]
@@ -267,13 +282,12 @@ coefficient = 0.3
                 "[time]\ndt = %.17g\nend_time = %.17g\ninitial_state = \"velocity\"\n"
                 "initial_velocity = [%.17g, 0.0]\n",
                 dt, 1.15 * stop, v0);
-  const contact::Scene scene = LoadSceneText(body + time, "sliding");
-  REQUIRE(scene.dynamics.step_method == contact::StepMethod::kAuto);
+  const contact::Scene scene = LoadSceneText(body + time + solver, "sliding");
   const contact::SceneResult r =
       contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, false);
   INFO(r.summary.message);
   REQUIRE(r.summary.status == contact::DynamicStatus::kCompleted);
-  CHECK(r.summary.step_method == contact::StepMethod::kCondensed);
+  CHECK(r.summary.step_method == method);
   if (Rank() != 0) return;
   // The mean velocity of the block from the run's friction forces: no load acts along
   // x and K has no net force, so the momentum changes by the friction impulse alone,
@@ -315,17 +329,18 @@ coefficient = 0.3
 }
 
 // The status of a run that misses its accuracy: with one Newton iteration allowed per
-// step (solver.max_iterations = 1) the serial condensed step ends solver-failure when a
-// step needs more; on ranks the run ends at the same step with the same message. (No
+// step (solver.max_iterations = 1) the serial condensed and sparse steps end
+// solver-failure when a step needs more; on ranks the run ends at the same step with the
+// same message (the sparse step: the same step, time and reason). (No
 // tolerance from 1e-15 to 0.9 nor f_c up to 5 makes the serial condensed step of this
 // box measure an inaccurate step - Newton overshoots what it is asked - so the path to
 // accuracy-not-reached, the recorder's SetFinalStatus shared with the explicit step, is
 // not reached by a scene here; docs/petsc.md.)
 TEST_CASE("a step the contact Newton cannot solve ends the run as in one process") {
-  std::string text = kTetBox;
-  text.replace(text.find("step = \"condensed\""), 18,
-               "step = \"condensed\"\nmax_iterations = 1");
-  const contact::Scene scene = LoadSceneText(text, "one_newton_step");
+  const std::string step = GENERATE("condensed", "sparse");
+  // (kTetBox ends in its [solver] section.)
+  const contact::Scene scene = LoadSceneText(
+      WithStep(kTetBox, step) + "max_iterations = 1\n", "one_newton_step_" + step);
   const contact::SceneResult parallel =
       contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, false);
   INFO(parallel.summary.message);
@@ -336,27 +351,60 @@ TEST_CASE("a step the contact Newton cannot solve ends the run as in one process
   REQUIRE(serial.summary.status == contact::DynamicStatus::kSolverFailure);
   CHECK(parallel.summary.steps == serial.summary.steps);
   CHECK(parallel.summary.steps < 200);  // stopped before end_time
-  CHECK(parallel.summary.message == serial.summary.message);
   CHECK(parallel.summary.inaccurate_steps == serial.summary.inaccurate_steps);
+  const std::string &p = parallel.summary.message, &s = serial.summary.message;
+  if (step == "condensed") {
+    CHECK(p == s);
+    return;
+  }
+  // The sparse step's one Newton iterate depends on its diagonal scaling (m_max / M_ii on
+  // ranks, W probed in one process), so its residuals differ; the step, time and the
+  // reason do not.
+  REQUIRE(p.find(" after ") != std::string::npos);
+  REQUIRE(s.find(" after ") != std::string::npos);
+  CHECK(p.substr(0, p.find(": ")) == s.substr(0, s.find(": ")));
+  CHECK(p.substr(p.find(" after ")) == s.substr(s.find(" after ")));
 }
 
-TEST_CASE("what the condensed step on ranks cannot run is refused on every rank") {
-  // auto above the gathered limit (33 x 33 contact nodes x 3 components > 3000).
-  std::string text = kTetBox;
+TEST_CASE("auto runs the sparse step above the gathered limit, as one process does") {
+  // 33 x 33 contact nodes x 3 components = 3267 > 3000 contact unknowns; 5 steps of
+  // 1e-5 s (dt_crit = 1.7e-5 s).
+  std::string text = WithStep(kTetBox, "auto");
   text.replace(text.find("cells = [4, 3, 2]"), 17, "cells = [32, 32, 1]");
   text.replace(text.find("element = \"tet4\""), 16, "element = \"hex8\"");
-  text.replace(text.find("step = \"condensed\""), 18, "step = \"auto\"");
+  text.replace(text.find("dt = 2e-5"), 9, "dt = 1e-5");
+  text.replace(text.find("end_time = 0.004"), 16, "end_time = 5e-5");
   const contact::Scene large = LoadSceneText(text, "large");
-  CHECK(contact::petsc::WhyNotDistributed(large).empty());
-  CHECK_THROWS_WITH(
-      contact::petsc::RunSceneDistributed(large, PETSC_COMM_WORLD, false),
-      Catch::Matchers::Contains("3000") && Catch::Matchers::Contains("3267"));
+  REQUIRE(contact::petsc::WhyNotDistributed(large).empty());
+  const contact::SceneResult parallel =
+      contact::petsc::RunSceneDistributed(large, PETSC_COMM_WORLD, false);
+  INFO(parallel.summary.message);
+  REQUIRE(parallel.summary.status == contact::DynamicStatus::kCompleted);
+  CHECK(parallel.summary.step_method == contact::StepMethod::kSparse);
+  if (Rank() != 0) return;
+  contact::Scene sparse = large;
+  sparse.dynamics.step_method = contact::StepMethod::kSparse;
+  const contact::SceneResult serial = contact::RunScene(sparse, false);
+  REQUIRE(serial.summary.status == contact::DynamicStatus::kCompleted);
+  const double u_max = serial.summary.u.lpNorm<Eigen::Infinity>();
+  const double u_difference =
+      (parallel.summary.u - serial.summary.u).lpNorm<Eigen::Infinity>();
+  INFO("final u: " << u_difference << " m of " << u_max << " m");
+  CHECK(u_difference <= kSameTrajectory * u_max);
+  contact::test::CheckSameMeasures(sparse, serial.summary, parallel.summary,
+                                   sparse.dynamics.ncp.tolerance);
+}
+
+TEST_CASE("what the implicit steps on ranks cannot run is refused on every rank") {
   // The lagged bound and the full step: refused from the scene file alone.
   std::string lagged = kTetBox;
   lagged.replace(lagged.find("step = \"condensed\""), 18,
                  "step = \"condensed\"\nfriction = \"lagged-bound\"");
   CHECK_THAT(contact::petsc::WhyNotDistributed(LoadSceneText(lagged, "lagged")),
              Catch::Matchers::Contains("lagged"));
+  // (The sparse step with the lagged bound: refused by the scene file's reader.)
+  CHECK_THROWS_WITH(LoadSceneText(WithStep(lagged, "sparse"), "lagged_sparse"),
+                    Catch::Matchers::Contains("lagged"));
   std::string full = kTetBox;
   full.replace(full.find("step = \"condensed\""), 18, "step = \"full\"");
   CHECK_THAT(contact::petsc::WhyNotDistributed(LoadSceneText(full, "full")),

@@ -86,35 +86,26 @@ StepMethod ResolveDistributedStep(const Scene& scene, const SceneModel& built) {
           StepMethod::kExplicit)
         return StepMethod::kExplicit;
     }
+    // Gathered (W formed on rank 0) up to the limit, matrix-free (sparse) above it.
     const int unknowns = CountContactUnknowns(model.dim, model.contact_nodes);
-    if (unknowns > kMaxGatheredContactUnknowns)
-      throw std::invalid_argument(
-          scene.source +
-          ": solver.step = \"auto\" on MPI ranks runs the condensed step "
-          "with the contact set gathered onto rank 0, up to " +
-          std::to_string(kMaxGatheredContactUnknowns) +
-          " contact unknowns; this scene has " + std::to_string(unknowns) + " (" +
-          std::to_string(model.contact_nodes.size()) +
-          " contact nodes): set solver.step = \"condensed\" to gather them anyway, "
-          "solver.step = \"explicit\" with mass = \"lumped\", or run in one process "
-          "(the sparse step)");
-    method = StepMethod::kCondensed;
+    method = unknowns > kMaxGatheredContactUnknowns ? StepMethod::kSparse
+                                                    : StepMethod::kCondensed;
   }
-  if (method == StepMethod::kCondensed && options.friction_coefficient > 0.0 &&
+  if ((method == StepMethod::kCondensed || method == StepMethod::kSparse) &&
+      options.friction_coefficient > 0.0 &&
       options.friction_formulation == FrictionFormulation::kLaggedBound)
     throw std::invalid_argument(
-        scene.source +
-        ": on MPI ranks the condensed step poses friction as implicit "
-        "Coulomb (solver.friction = \"coulomb-fc\", the default), not with the lagged "
-        "bound (lagged-bound); the explicit step (mass = \"lumped\") takes the lagged "
-        "bound");
+        scene.source + ": on MPI ranks the " + ToString(method) +
+        " step poses friction as implicit Coulomb (solver.friction = \"coulomb-fc\", "
+        "the default), not with the lagged bound (lagged-bound); the explicit step "
+        "(mass = \"lumped\") takes the lagged bound");
   return method;
 }
 
 CondensedGatheredStep::CondensedGatheredStep(MPI_Comm comm, const Scene& scene,
                                              const DistributedBody& body,
                                              const std::vector<ContactNode>* nodes,
-                                             double m_max)
+                                             double m_max, bool matrix_free)
     : comm_(comm),
       rank_(0),
       scene_(scene),
@@ -132,8 +123,20 @@ CondensedGatheredStep::CondensedGatheredStep(MPI_Comm comm, const Scene& scene,
   CreateMassSolver();
   factor_seconds_ = Seconds(start);
   BuildContactScatter(nodes);
+  products_ = std::make_unique<DelassusProducts>(
+      comm_, [this] { return MultiplyW(); },
+      [this](const Eigen::VectorXd& F) {
+        PetscScalar* x = nullptr;
+        CONTACT_PETSC_CHECK(VecGetArray(contact_, &x));
+        for (int i = 0; i < num_unknowns_; ++i) x[i] = F(i);
+        CONTACT_PETSC_CHECK(VecRestoreArray(contact_, &x));
+      },
+      [this](Eigen::VectorXd* x) { ReadContact(x); });
   start = Clock::now();
-  FormDelassus();
+  if (matrix_free)
+    SetUpOperator();
+  else
+    FormDelassus();
   delassus_seconds_ = Seconds(start);
   SetInitialState();
 }
@@ -303,29 +306,78 @@ void CondensedGatheredStep::FormDelassus() {
     if (rank_ == 0) CONTACT_PETSC_CHECK(VecSetValue(contact_, j, 1.0, INSERT_VALUES));
     CONTACT_PETSC_CHECK(VecAssemblyBegin(contact_));
     CONTACT_PETSC_CHECK(VecAssemblyEnd(contact_));
-    ScatterContact(rhs_);
-    if (!SolveS(rhs_, y_, 0.0))
-      throw std::invalid_argument("contact::petsc: " + failure_);
-    GatherContact(y_, &column);
+    if (!MultiplyW()) throw std::invalid_argument("contact::petsc: " + failure_);
+    ReadContact(&column);
     if (rank_ == 0) W.col(j) = column;
   }
-  std::string error;
+  if (rank_ == 0) W = 0.5 * (W + W.transpose());
+  SetUpContactSolver(
+      [&] {
+        return std::make_unique<::contact::internal::CoulombStep>(
+            dim_, W, nodes_, scene_.friction_coefficient, FcOptions());
+      },
+      std::string());
+}
+
+void CondensedGatheredStep::SetUpContactSolver(
+    const std::function<std::unique_ptr<::contact::internal::CoulombStep>()>& make,
+    std::string error) {
   if (rank_ == 0) {
-    W = 0.5 * (W + W.transpose());
-    ncp::fc::Options fc;  // as the serial step: the hybrid, the scene's Newton limits
-    fc.max_iterations = scene_.dynamics.ncp.max_iterations;
-    fc.log_to_stderr = scene_.dynamics.ncp.log_to_stderr;
-    try {
-      coulomb_ = std::make_unique<::contact::internal::CoulombStep>(
-          dim_, W, nodes_, scene_.friction_coefficient, fc);
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
+    if (error.empty()) try {
+        coulomb_ = make();
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
     x_free_.resize(num_unknowns_);
     u_contact_.resize(num_unknowns_);
     gap0_.resize(static_cast<Eigen::Index>(nodes_.size()));
   }
   ThrowFromRankZero(comm_, error);
+}
+
+ncp::fc::Options CondensedGatheredStep::FcOptions() const {
+  ncp::fc::Options fc;  // as the serial step: the hybrid, the scene's Newton limits
+  fc.max_iterations = scene_.dynamics.ncp.max_iterations;
+  fc.log_to_stderr = scene_.dynamics.ncp.log_to_stderr;
+  return fc;
+}
+
+bool CondensedGatheredStep::MultiplyW() {
+  ScatterContact(rhs_);
+  if (!SolveS(rhs_, y_, 0.0)) return false;
+  GatherContact(y_, nullptr);
+  return true;
+}
+
+// diag(W)_i ~ m_max / M_ii of the contact unknown's dof (W_ii = m_max (M^-1)_ii, and
+// 1 / M_ii <= (M^-1)_ii for M symmetric positive definite; equal for a diagonal M),
+// gathered onto rank 0; rank 0 sets up the serial sparse step's matrix-free CoulombStep
+// whose products with W are DelassusProducts'.
+void CondensedGatheredStep::SetUpOperator() {
+  CONTACT_PETSC_CHECK(MatGetDiagonal(body_.mass_matrix(), y_));
+  Eigen::VectorXd m;  // M_ii [kg] of the contact unknowns
+  GatherContact(y_, &m);
+  std::string error;
+  Eigen::VectorXd diagonal;
+  if (rank_ == 0) {
+    diagonal.resize(num_unknowns_);
+    for (int i = 0; i < num_unknowns_; ++i) {
+      diagonal(i) = m(i) > 0.0 ? m_max_ / m(i) : 0.0;
+      if (!(m(i) > 0.0) && error.empty())
+        error = "contact::petsc: a contact unknown has no mass (M_ii = " +
+                std::to_string(m(i)) + " kg): the sparse step needs M_ii > 0";
+    }
+  }
+  SetUpContactSolver(
+      [&] {
+        return std::make_unique<::contact::internal::CoulombStep>(
+            dim_,
+            [this](const Eigen::VectorXd& F, Eigen::VectorXd* x) {
+              products_->Apply(F, x);
+            },
+            diagonal, nodes_, scene_.friction_coefficient, FcOptions());
+      },
+      error);
 }
 
 // u^0, u^{-1}, du = u^0 - u^{-1}, f_F and the contact dofs from the node data rank 0
@@ -388,8 +440,14 @@ bool CondensedGatheredStep::Step(long k, bool stop_requested,
   MPI_Bcast(scales, 2, MPI_DOUBLE, 0, comm_);
   if (!SolveS(q_, y_, scales[0])) return false;
   GatherContact(y_, &x_free_);
-  // Rank 0: F into contact_; every rank learns whether it was found.
-  int solved = rank_ == 0 ? (SolveContact(scales[0], scales[1], rec) ? 1 : 0) : 0;
+  // Rank 0: F into contact_ (with the sparse step, the other ranks serve its products
+  // with W); every rank learns whether it was found.
+  int solved = 0;
+  if (!products_->Run(
+          [&] { solved = SolveContact(scales[0], scales[1], rec) ? 1 : 0; })) {
+    solved = 0;
+    if (rank_ == 0) failure_ = products_->failure();
+  }
   MPI_Bcast(&solved, 1, MPI_INT, 0, comm_);
   if (!solved) {
     BroadcastText(comm_, &failure_);
@@ -447,6 +505,10 @@ void CondensedGatheredStep::GatherContact(Vec from, Eigen::VectorXd* to) {
       VecScatterBegin(to_contact_, from, contact_, INSERT_VALUES, SCATTER_FORWARD));
   CONTACT_PETSC_CHECK(
       VecScatterEnd(to_contact_, from, contact_, INSERT_VALUES, SCATTER_FORWARD));
+  if (to) ReadContact(to);
+}
+
+void CondensedGatheredStep::ReadContact(Eigen::VectorXd* to) const {
   if (rank_ != 0) return;
   const PetscScalar* x = nullptr;
   CONTACT_PETSC_CHECK(VecGetArrayRead(contact_, &x));
@@ -482,6 +544,7 @@ bool CondensedGatheredStep::SolveContact(double force, double displacement,
   rec->newton_iterations = s.iterations;
   rec->jacobian_evaluations = s.iterations;  // one generalized Jacobian per Newton step
   rec->residual_evaluations = s.iterations + s.backtracks + 1;
+  rec->krylov_iterations = std::max(0, s.krylov_iterations);  // -1: dense (no GMRES)
   if (!ok) {
     char buffer[160];
     std::snprintf(buffer, sizeof buffer,

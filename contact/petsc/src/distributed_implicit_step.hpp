@@ -14,17 +14,20 @@
 // -mass_ksp_type cg -mass_pc_type gamg); W is formed once from one distributed solve per
 // contact unknown; x_free and u^k_c are gathered onto rank 0 by one VecScatter, rank 0
 // solves the small contact problem with the serial step's CoulombStep (the same code and
-// the same data as one process), and F is scattered back.
+// the same data as one process), and F is scattered back. The sparse step on ranks is
+// the same step with W never formed (matrix_free; distributed_sparse_step.hpp).
 #pragma once
 
 #include <petscksp.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "contact/scene.hpp"
 #include "distributed_body.hpp"
+#include "distributed_sparse_step.hpp"
 #include "step/coulomb_step.hpp"
 #include "step_record.hpp"
 
@@ -33,14 +36,16 @@ namespace contact::petsc::internal {
 /// With StepMethod::kAuto, the largest number of contact unknowns (free components of the
 /// contact nodes) the distributed run gathers onto rank 0 for the condensed step: W is
 /// dense there (8 n_u^2 bytes: 72 MB at the limit) and forming it takes n_u distributed
-/// solves. Above it, kAuto refuses the run; solver.step = "condensed" runs at any size.
+/// solves. Above it, kAuto runs the sparse step (W never formed); solver.step =
+/// "condensed" runs the gathered step at any size.
 constexpr int kMaxGatheredContactUnknowns = 3000;
 
-/// The step a scene runs on ranks: explicit or condensed (gathered). Rank 0, after
-/// BuildSceneModel: for kAuto, the explicit step when the serial choice
+/// The step a scene runs on ranks: explicit, condensed (gathered) or sparse. Rank 0,
+/// after BuildSceneModel: for kAuto, the explicit step when the serial choice
 /// (PredictStepCost) is explicit, else the condensed step when the contact unknowns are
-/// at most kMaxGatheredContactUnknowns. Throws std::invalid_argument naming the limit,
-/// or the friction formulation, when neither applies.
+/// at most kMaxGatheredContactUnknowns, else the sparse step. Throws
+/// std::invalid_argument naming the friction formulation when the condensed or sparse
+/// step is asked for with the lagged bound.
 StepMethod ResolveDistributedStep(const Scene& scene, const SceneModel& built);
 
 /// The number of contact unknowns of the contact nodes (free components).
@@ -54,8 +59,16 @@ class CondensedGatheredStep {
   /// the serial M_FF (the step scaling S = M / m_max), the same on every rank. Throws
   /// std::invalid_argument when W is not positive definite (a contact node with no mass)
   /// or a solve with M fails.
+  ///
+  /// matrix_free (the sparse step on ranks, distributed_sparse_step.hpp): W is never
+  /// formed; rank 0's contact Newton is the serial sparse step's (ncp::fc's operator
+  /// problem, GMRES) and each of its products with W is one distributed solve with M in
+  /// which every rank takes part (DelassusProducts). Its scaling diag(W) is taken as
+  /// m_max / M_ii (exact for a lumped M; within a factor of about 2 of W_ii for a
+  /// consistent one) instead of the serial step's probing.
   CondensedGatheredStep(MPI_Comm comm, const Scene& scene, const DistributedBody& body,
-                        const std::vector<ContactNode>* nodes, double m_max);
+                        const std::vector<ContactNode>* nodes, double m_max,
+                        bool matrix_free = false);
   ~CondensedGatheredStep();
   CondensedGatheredStep(const CondensedGatheredStep&) = delete;
   CondensedGatheredStep& operator=(const CondensedGatheredStep&) = delete;
@@ -77,21 +90,40 @@ class CondensedGatheredStep {
   /// Set-up [s]: the factor of M; W (n_u solves).
   double factor_seconds() const { return factor_seconds_; }
   double delassus_seconds() const { return delassus_seconds_; }
+  /// Products with W the run took (the matrix-free step: one distributed solve each).
+  long delassus_products() const { return products_ ? products_->products() : 0; }
 
  private:
   void CreateMassSolver();
   void BuildContactScatter(const std::vector<ContactNode>* nodes);
   void FormDelassus();
+  // The matrix-free form: rank 0's CoulombStep on DelassusProducts, diag(W) ~ m_max /
+  // M_ii.
+  void SetUpOperator();
+  // Collective: contact_ <- W contact_ (rank 0's entries; H' scattered to the owners, one
+  // solve with S, H gathered); false (failure_ set) if the solve did not converge.
+  bool MultiplyW();
+  // Rank 0: coulomb_ = make() unless `error` is set already (make's exception into it),
+  // the contact buffers sized; then every rank throws rank 0's error (collective).
+  void SetUpContactSolver(
+      const std::function<std::unique_ptr<::contact::internal::CoulombStep>()>& make,
+      std::string error);
+  // The fc settings of the serial step (coulomb_fc_step.cpp FcOptions).
+  ncp::fc::Options FcOptions() const;
   void SetInitialState();
   // x = S^-1 b = m_max M^-1 b; false (failure_ set) if the KSP did not converge.
   // step_force: the step's force scale F [N] (an iterative solve to a thousandth of its
-  // force accuracy), 0 for the set-up's solves (to rtol).
+  // force accuracy), 0 for the set-up's solves and the sparse step's products with W
+  // (to rtol).
   bool SolveS(Vec b, Vec x, double step_force);
   // Q^k, q, and this rank's maxima of the step's scales into part (dynamics.cpp
   // LoadStep).
   void LoadStep(double factor, RankStepPart* part);
-  // Global -> rank 0's Eigen vector of the contact unknowns (collective).
+  // Global -> contact_ and, with `to`, rank 0's Eigen vector of the contact unknowns
+  // (collective).
   void GatherContact(Vec from, Eigen::VectorXd* to);
+  // Rank 0: to <- contact_ (no-op on the other ranks).
+  void ReadContact(Eigen::VectorXd* to) const;
   // Rank 0's contact_ -> the global Vec `to`, zero off the contact unknowns (collective).
   void ScatterContact(Vec to);
   // Rank 0: gap0 from the gathered u^k_c; the penetration of u^k [m].
@@ -134,6 +166,9 @@ class CondensedGatheredStep {
   // serial step's solver of the contact problem and its buffers.
   std::vector<ContactNode> nodes_;
   std::unique_ptr<::contact::internal::CoulombStep> coulomb_;
+  // Every rank: the products with W while rank 0 solves the contact problem (the
+  // sparse step's; the condensed step's Run only brackets rank 0's solve).
+  std::unique_ptr<DelassusProducts> products_;
   Eigen::VectorXd x_free_, u_contact_, gap0_, r_contact_, u_next_contact_,
       u_previous_contact_;
   ContactSystem::Result contact_result_;

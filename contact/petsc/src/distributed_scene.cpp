@@ -646,11 +646,12 @@ std::string WhyNotDistributed(const Scene& scene) {
   const std::string supported =
       "on more than one MPI rank contact-sim runs the explicit step (solver.step = "
       "\"explicit\" with mass = \"lumped\"), the condensed step with the contact set "
-      "gathered (solver.step = \"condensed\", friction \"coulomb-fc\") and \"auto\" "
-      "choosing between them";
+      "gathered (solver.step = \"condensed\", friction \"coulomb-fc\"), the sparse "
+      "step (solver.step = \"sparse\", W never formed) and \"auto\" choosing among "
+      "them";
   const StepMethod method = scene.dynamics.step_method;
   if (method != StepMethod::kExplicit && method != StepMethod::kCondensed &&
-      method != StepMethod::kAuto)
+      method != StepMethod::kSparse && method != StepMethod::kAuto)
     return scene.source + ": the scene's step is '" + ToString(method) + "'; " +
            supported;
   if (method == StepMethod::kExplicit && scene.mass != MassKind::kLumped)
@@ -658,10 +659,11 @@ std::string WhyNotDistributed(const Scene& scene) {
            ": the explicit step needs mass = \"lumped\" (the scene's mass is "
            "consistent); " +
            supported;
-  if (method == StepMethod::kCondensed && scene.friction_coefficient > 0.0 &&
+  if ((method == StepMethod::kCondensed || method == StepMethod::kSparse) &&
+      scene.friction_coefficient > 0.0 &&
       scene.dynamics.friction_formulation == FrictionFormulation::kLaggedBound)
-    return scene.source +
-           ": the condensed step on MPI ranks poses friction as implicit Coulomb "
+    return scene.source + ": the " + ToString(method) +
+           " step on MPI ranks poses friction as implicit Coulomb "
            "(solver.friction = \"coulomb-fc\"), not with the lagged bound; " +
            supported;
   if (scene.dynamics.compare_with_ipopt)
@@ -707,7 +709,9 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
 
   const double setup_seconds = Seconds(start);
   const double setup_peak = rank == 0 && progress ? PeakResidentMiB() : -1.0;
-  const bool condensed = method == StepMethod::kCondensed;
+  // The condensed and the sparse step: the same step, W formed or applied (the sparse).
+  const bool condensed =
+      method == StepMethod::kCondensed || method == StepMethod::kSparse;
   const DistributedBody body(comm, scene, built.get(), node_data, condensed);
   node_data = {};
   const bool serial_stiffness = !SetUpWithoutSerialStiffness(scene);
@@ -723,7 +727,8 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   std::unique_ptr<CondensedGatheredStep> condensed_run;
   if (condensed)
     condensed_run = std::make_unique<CondensedGatheredStep>(
-        comm, scene, body, built ? &built->frames.nodes : nullptr, info.m_max);
+        comm, scene, body, built ? &built->frames.nodes : nullptr, info.m_max,
+        /*matrix_free=*/method == StepMethod::kSparse);
   if (progress && rank == 0)
     std::fprintf(stderr,
                  "  set-up on rank 0: %s %.3g s; DMPlex and distribution (%s) %.3g s, "
@@ -741,12 +746,14 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
                  "distribution and assembly\n",
                  setup_peak, PeakResidentMiB());
   if (progress && rank == 0 && condensed_run)
-    std::fprintf(stderr,
-                 "  condensed step on ranks: %d contact unknowns gathered on rank 0; "
-                 "solves with M by %s; factor %.3g s, W %.3g s\n",
-                 condensed_run->num_contact_unknowns(),
-                 condensed_run->mass_solver().c_str(), condensed_run->factor_seconds(),
-                 condensed_run->delassus_seconds());
+    std::fprintf(
+        stderr,
+        "  %s step on ranks: %d contact unknowns gathered on rank 0 (W %s); "
+        "solves with M by %s; factor %.3g s, W %.3g s\n",
+        ToString(method), condensed_run->num_contact_unknowns(),
+        method == StepMethod::kSparse ? "applied, one solve per product" : "formed",
+        condensed_run->mass_solver().c_str(), condensed_run->factor_seconds(),
+        condensed_run->delassus_seconds());
   DistributedOutput output(comm, scene, &result.files_written);
   std::unique_ptr<ExplicitRun> explicit_run;
   if (!condensed) explicit_run = std::make_unique<ExplicitRun>(comm, scene, body);
@@ -817,6 +824,7 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
       summary.newton_iterations += rec.newton_iterations;
       summary.jacobian_evaluations += rec.jacobian_evaluations;
       summary.residual_evaluations += rec.residual_evaluations;
+      summary.krylov_iterations += rec.krylov_iterations;
       if (!recorder->Record(&gathered, num_steps, &rec, &summary))
         decision = summary.status == DynamicStatus::kSolverFailure ? kStopUnrecorded
                                                                    : kStopAfterRecord;
@@ -854,6 +862,10 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
                         std::to_string(SizeOf(comm)) + " MPI ranks (" + ToString(method) +
                         " step, partitioner " + body.partitioner() + ")";
   }
+  if (progress && rank == 0 && method == StepMethod::kSparse)
+    std::fprintf(stderr,
+                 "  sparse step on ranks: %ld products with W (distributed solves)\n",
+                 condensed_run->delassus_products());
   ShareEnd(comm, &summary);
   const Eigen::VectorXd u = GatherFreeDofs(body, u_run(), info.num_free_dofs);
   if (rank == 0) summary.u = u;

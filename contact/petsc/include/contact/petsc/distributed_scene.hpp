@@ -21,23 +21,23 @@ namespace contact::petsc {
 /// Empty if RunSceneDistributed can run `scene` as far as the scene file tells;
 /// otherwise one sentence naming the scene's step (or setting) and what the distributed
 /// run supports. (With solver.step = "auto" the choice needs the mesh:
-/// RunSceneDistributed refuses a contact set above internal::kMaxGatheredContactUnknowns,
-/// docs/petsc.md.)
+/// RunSceneDistributed runs the sparse step above internal::kMaxGatheredContactUnknowns
+/// contact unknowns, the condensed step up to it; docs/petsc.md.)
 std::string WhyNotDistributed(const Scene& scene);
 
 /// Runs the scene on the ranks of `comm` (collective; every rank passes the same scene).
 /// Throws std::invalid_argument with WhyNotDistributed's sentence for a scene it cannot
 /// run. On rank 0 the result is complete: summary (status, records, u = the final
 /// displacement on the free dofs in the serial numbering) and files_written; on the other
-/// ranks the summary has the status, message and step count only. With either step
-/// (explicit, condensed) each step's record has the accuracy and energy measures of one
-/// process (the same definitions and scales, summed over the ranks in rank order), and
-/// the energy blow-up guard, accuracy-not-reached and scene.dynamics.stop_requested (read
-/// on every rank, agreed at the step's end) end the run with the status of one process.
-/// Files (rank 0 unless said): steps.csv, contact_stress.csv and displacement.csv (at
-/// output.stress_times and the end), node_history.csv (output.marked_point), as from one
-/// process, and the snapshots as one .vtu piece per rank (each rank writes its own), one
-/// .pvtu per snapshot and series.pvd.
+/// ranks the summary has the status, message and step count only. With any step
+/// (explicit, condensed, sparse) each step's record has the accuracy and energy measures
+/// of one process (the same definitions and scales, summed over the ranks in rank order),
+/// and the energy blow-up guard, accuracy-not-reached and scene.dynamics.stop_requested
+/// (read on every rank, agreed at the step's end) end the run with the status of one
+/// process. Files (rank 0 unless said): steps.csv, contact_stress.csv and
+/// displacement.csv (at output.stress_times and the end), node_history.csv
+/// (output.marked_point), as from one process, and the snapshots as one .vtu piece per
+/// rank (each rank writes its own), one .pvtu per snapshot and series.pvd.
 SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress);
 
 }  // namespace contact::petsc
