@@ -298,4 +298,20 @@ void DistributedBody::AddRows(const SparseMatrix& A, Mat target) const {
   }
 }
 
+void DistributedBody::UnpackStart(PetscScalar* u, PetscScalar* u_previous, PetscScalar* f,
+                                  std::vector<char>* contact_dof) const {
+  for (int i = 0; i < NumLocalVertices(); ++i) {
+    const double* data = Data(i);
+    const bool contact_node = Owns(i) && data[4 * dim_] >= 0;
+    for (int c = 0; c < dim_; ++c) {
+      const PetscInt k = OwnedIndex(i, c);
+      if (k < 0) continue;
+      u[k] = data[dim_ + c];
+      u_previous[k] = data[2 * dim_ + c];
+      f[k] = data[3 * dim_ + c];
+      (*contact_dof)[static_cast<size_t>(k)] = contact_node ? 1 : 0;
+    }
+  }
+}
+
 }  // namespace contact::petsc::internal

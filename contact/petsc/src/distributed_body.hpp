@@ -74,6 +74,11 @@ class DistributedBody {
   const double* Data(int vertex) const {
     return &data_[static_cast<size_t>(NodeData::Width(dim_) * vertex)];
   }
+  /// The start from the node data rank 0 sent, at this rank's owned entries of the global
+  /// Vecs: u^0 [m], u^{-1} [m], f_F [N], and contact_dof 1 at the dofs of owned contact
+  /// nodes (0 elsewhere). Each array holds the owned part of a Vec (VecGetArray).
+  void UnpackStart(PetscScalar* u, PetscScalar* u_previous, PetscScalar* f,
+                   std::vector<char>* contact_dof) const;
 
  private:
   void CreateAndDistribute(MPI_Comm comm, const SceneModel* built);

@@ -391,19 +391,8 @@ void CondensedGatheredStep::SetInitialState() {
   PetscInt n = 0;
   CONTACT_PETSC_CHECK(VecGetLocalSize(u_, &n));
   contact_dof_.assign(static_cast<size_t>(n), 0);
-  for (int i = 0; i < body_.NumLocalVertices(); ++i) {
-    const double* data = body_.Data(i);
-    const bool contact_node = body_.Owns(i) && data[4 * dim_] >= 0;
-    for (int c = 0; c < dim_; ++c) {
-      const PetscInt k = body_.OwnedIndex(i, c);
-      if (k < 0) continue;
-      u[k] = data[dim_ + c];
-      u_previous[k] = data[2 * dim_ + c];
-      du[k] = data[dim_ + c] - data[2 * dim_ + c];
-      f[k] = data[3 * dim_ + c];
-      contact_dof_[static_cast<size_t>(k)] = contact_node ? 1 : 0;
-    }
-  }
+  body_.UnpackStart(u, u_previous, f, &contact_dof_);
+  for (PetscInt k = 0; k < n; ++k) du[k] = u[k] - u_previous[k];
   CONTACT_PETSC_CHECK(VecRestoreArray(f_free_, &f));
   CONTACT_PETSC_CHECK(VecRestoreArray(du_, &du));
   CONTACT_PETSC_CHECK(VecRestoreArray(u_previous_, &u_previous));

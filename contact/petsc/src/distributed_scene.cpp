@@ -551,20 +551,14 @@ class ExplicitRun {
     CONTACT_PETSC_CHECK(VecGetArray(d_, &d));
     CONTACT_PETSC_CHECK(VecGetArrayRead(body_.lumped_mass(), &m));
     contact_dof_.assign(static_cast<size_t>(n_), 0);
+    body_.UnpackStart(u, u_previous, f, &contact_dof_);
+    for (PetscInt k = 0; k < n_; ++k) {
+      Mdu[k] = m[k] * (u[k] - u_previous[k]);  // M (u^0 - u^{-1})
+      d[k] = m[k] / m_max_;
+    }
     for (int i = 0; i < body_.NumLocalVertices(); ++i) {
       const double* data = body_.Data(i);
       const bool contact_node = body_.Owns(i) && data[4 * dim_] >= 0;
-      for (int c = 0; c < dim_; ++c) {
-        const PetscInt k = body_.OwnedIndex(i, c);
-        if (k < 0) continue;
-        u[k] = data[dim_ + c];
-        u_previous[k] = data[2 * dim_ + c];
-        const double du = data[dim_ + c] - data[2 * dim_ + c];  // u^0 - u^{-1}
-        Mdu[k] = m[k] * du;
-        f[k] = data[3 * dim_ + c];
-        d[k] = m[k] / m_max_;
-        contact_dof_[static_cast<size_t>(k)] = contact_node ? 1 : 0;
-      }
       if (!contact_node) continue;
       OwnedContactNode n;
       n.node.node = static_cast<int>(data[4 * dim_]);
