@@ -31,12 +31,16 @@ inline bool InDegenerateSet(NcpFunction function, double degenerate_tolerance, d
 
 // ---- step 1: the stopping tests
 // --------------------------------------------------------
-/// Round-off floor of row i (Options::roundoff_ulps): |Phi_i| <= threshold + ulps eps
-/// r_i, r_i the row's sensitivity |J||x| (solver.hpp, Options::roundoff_ulps).
+/// The stopping test's bound on |Phi_i| with the round-off floor of row i
+/// (Options::roundoff_ulps): threshold + ulps eps r_i, r_i the row's sensitivity |J||x|
+/// (solver.hpp, Options::roundoff_ulps).
+inline double RoundoffFloorBound(double threshold, double roundoff_ulps, double r_i) {
+  return threshold + roundoff_ulps * std::numeric_limits<double>::epsilon() * r_i;
+}
+/// Row i within its round-off floor: |Phi_i| <= RoundoffFloorBound.
 inline bool RowWithinRoundoffFloor(double phi_i, double threshold, double roundoff_ulps,
                                    double r_i) {
-  return std::abs(phi_i) <=
-         threshold + roundoff_ulps * std::numeric_limits<double>::epsilon() * r_i;
+  return std::abs(phi_i) <= RoundoffFloorBound(threshold, roundoff_ulps, r_i);
 }
 
 /// The stagnation test (Options::stagnation_window, stagnation_tolerance): the smallest

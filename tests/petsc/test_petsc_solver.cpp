@@ -44,6 +44,7 @@ struct Both {
   Summary serial, parallel;
   Vector x_serial, x_parallel;
   bool symmetric_newton = false;  // the PETSc solve's KspReport::symmetric_newton
+  int linear_iterations = -1, residual_test_iterations = -1;  // its KspReport's
 };
 
 // The box MCP solved by ncp::Solver and by ncp::petsc::Solver on PETSC_COMM_WORLD.
@@ -67,6 +68,8 @@ Both SolveBoth(TestProblem& problem, const Vector& x0, const Options& options,
     ncp::petsc::Solver solver(PETSC_COMM_WORLD, options, prefix);
     solver.Solve(F.Problem(lower, upper), x, &out.parallel);
     out.symmetric_newton = solver.ksp_report().symmetric_newton;
+    out.linear_iterations = solver.ksp_report().linear_iterations;
+    out.residual_test_iterations = solver.ksp_report().residual_test_iterations;
     out.x_parallel = F.Gather(x);
   }
   VecDestroy(&x);
@@ -364,6 +367,53 @@ TEST_CASE("CG + BoomerAMG on the symmetrized Newton system: the serial iterates"
     INFO(problem.name << " from " << start.label << " with " << ncp::ToString(function));
     CheckSameAnswer(problem, SolveBoth(problem, start.x, options, "cg_"));
   }
+}
+
+TEST_CASE("a loose KSP runs on until its residual passes the outer stopping test",
+          "[petsc][mpi]") {
+  // CG + Jacobi stopped by its own test at rtol 0.1 alone gives inexact Newton steps and
+  // more of them; -<prefix>newton_residual_fraction (default 0.5) continues each solve
+  // until every row of J d + Phi is within half the stopping test's bound, so each
+  // min-Newton step with an unchanged active set ends the solve, as the direct solve's.
+  TestProblem problem = Obstacle2D(16, ObstacleKind::kLowerBump, ObstacleVariable::kGap);
+  Options options;
+  options.ncp_function = NcpFunction::kMin;
+  const Vector& x0 = problem.starts.front().x;
+  for (const char* prefix : {"loose_", "looseoff_"}) {
+    const std::string p = std::string("-") + prefix;
+    PetscOptionsSetValue(nullptr, (p + "ksp_type").c_str(), "cg");
+    PetscOptionsSetValue(nullptr, (p + "pc_type").c_str(), "jacobi");
+    PetscOptionsSetValue(nullptr, (p + "ksp_rtol").c_str(), "0.1");
+    PetscOptionsSetValue(nullptr, (p + "ksp_norm_type").c_str(), "unpreconditioned");
+  }
+  PetscOptionsSetValue(nullptr, "-looseoff_newton_residual_fraction", "0");
+  const Both on = SolveBoth(problem, x0, options, "loose_");
+  INFO("with the test: " << on.parallel.BriefReport());
+  CHECK(on.residual_test_iterations > 0);
+  CHECK(on.residual_test_iterations < on.linear_iterations);
+  CheckSameAnswer(problem, on);
+  // The control: the same KSP on its own test takes other (more) Newton steps.
+  const Both off = SolveBoth(problem, x0, options, "looseoff_");
+  INFO("without: " << off.parallel.BriefReport());
+  CHECK(off.residual_test_iterations == 0);
+  CHECK(off.parallel.iterations > on.parallel.iterations);
+}
+
+TEST_CASE("-<prefix>newton_residual_fraction outside [0, 1] is rejected",
+          "[petsc][mpi]") {
+  TestProblem problem = RandomBoxMcp(20);
+  PetscOptionsSetValue(nullptr, "-badfraction_ksp_type", "gmres");
+  PetscOptionsSetValue(nullptr, "-badfraction_newton_residual_fraction", "1.5");
+  Vec x = MakeVec(PETSC_COMM_WORLD, problem.starts.front().x);
+  {
+    DistributedFunction F(*problem.F, x, problem.starts.front().x);
+    ncp::petsc::Solver solver(PETSC_COMM_WORLD, Options(), "badfraction_");
+    Summary summary;
+    CHECK_THROWS_WITH(solver.Solve(F.Problem(nullptr, nullptr), x, &summary),
+                      Catch::Contains("-badfraction_newton_residual_fraction = 1.5: "
+                                      "accepted a number in [0, 1]"));
+  }
+  VecDestroy(&x);
 }
 
 TEST_CASE(

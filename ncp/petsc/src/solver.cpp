@@ -505,6 +505,78 @@ class InactiveSetMultigrid {
   std::vector<Vec> decoupled_;      // [l]: 1 - m_l of the coarse levels
 };
 
+// The Krylov solve of a Newton system continued past the KSP's own test (rtol, atol)
+// until its residual, in the units of Phi, passes the outer stopping test with the margin
+// `fraction` (-<prefix>newton_residual_fraction, docs/petsc.md): every row
+//
+//   |w_r (b - A d)_r| <= fraction (tolerance + roundoff_ulps eps s_r),
+//
+// with w_r the factor from the KSP's row r to the row of J d + Phi (1, or in symmetric
+// mode c_F,r on a kept row and c_I,r on an eliminated one) and s_r the round-off
+// sensitivity of the stopping test at x. Where the Newton matrix does not change between
+// x and x + d (the min function on a linear F with an unchanged active set) Phi(x + d) =
+// J d + Phi exactly, so the step that lands on the final active set is also the last one;
+// elsewhere Phi(x + d) differs by O(||d||^2) terms, for which 1 - fraction of the
+// tolerance is left. The residual is formed (KSPBuildResidual: one product with A) only
+// once the KSP's own test has passed. Margin of the Newton KSP's test against the outer
+// stopping test (OuterResidualTest): half the tolerance for the linear residual, half for
+// what the step changes beyond it.
+constexpr double kDefaultResidualFraction = 0.5;
+
+class OuterResidualTest {
+ public:
+  ~OuterResidualTest() {
+    if (default_context_) KSPConvergedDefaultDestroy(default_context_);
+  }
+  double fraction() const { return fraction_; }
+  long long continued() const { return continued_; }
+  void ResetCount() { continued_ = 0; }
+
+  // The test in place of ksp's (after KSPSetFromOptions); fraction 0 leaves ksp's own.
+  void Install(KSP ksp, double fraction) {
+    fraction_ = fraction;
+    if (fraction_ == 0.0) return;
+    NCP_PETSC_CHECK(KSPConvergedDefaultCreate(&default_context_));
+    NCP_PETSC_CHECK(
+        KSPSetConvergenceTest(ksp, &OuterResidualTest::Converged, this, nullptr));
+  }
+
+  // The rows' weights w and bounds for the next solve (Vecs laid out like its right-hand
+  // side, kept by the caller until Disarm), and two work vectors of that layout.
+  void Arm(Vec weight, Vec bound, Vec residual, Vec work) {
+    weight_ = weight;
+    bound_ = bound;
+    residual_ = residual;
+    work_ = work;
+  }
+  void Disarm() { weight_ = bound_ = residual_ = work_ = nullptr; }
+
+ private:
+  static PetscErrorCode Converged(KSP ksp, PetscInt it, PetscReal rnorm,
+                                  KSPConvergedReason* reason, void* context) {
+    auto* self = static_cast<OuterResidualTest*>(context);
+    PetscCall(KSPConvergedDefault(ksp, it, rnorm, reason, self->default_context_));
+    if (*reason <= 0 || !self->weight_) return 0;
+    Vec r = nullptr;
+    PetscCall(KSPBuildResidual(ksp, self->work_, self->residual_, &r));
+    PetscCall(VecPointwiseMult(self->work_, r, self->weight_));
+    PetscCall(VecAbs(self->work_));
+    PetscCall(VecPointwiseDivide(self->work_, self->work_, self->bound_));
+    PetscReal largest = 0.0;
+    PetscCall(VecMax(self->work_, nullptr, &largest));
+    if (largest > 1.0) {
+      *reason = KSP_CONVERGED_ITERATING;
+      ++self->continued_;
+    }
+    return 0;
+  }
+
+  double fraction_ = 0.0;
+  void* default_context_ = nullptr;
+  Vec weight_ = nullptr, bound_ = nullptr, residual_ = nullptr, work_ = nullptr;
+  long long continued_ = 0;  // iterations past the KSP's own test
+};
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------
@@ -541,6 +613,8 @@ struct Solver::Impl {
   Mat normal = nullptr, lm_jacobian = nullptr;
   // PCMG restricted to the inactive set (Solver::SetMultigridGrid), or no grid.
   InactiveSetMultigrid multigrid;
+  // The Newton KSP's test tied to the outer stopping test (OuterResidualTest).
+  OuterResidualTest outer_test;
   // MUMPS' ICNTL(14) after a factorization ran out of workspace (KspSolve), 0: default.
   int newton_workspace_percent = 0, lm_workspace_percent = 0;
 
@@ -625,7 +699,23 @@ struct Solver::Impl {
         PetscOptionsGetBool(nullptr, prefix.c_str(), "-symmetric_newton", &flag, &set));
     symmetric_newton = flag == PETSC_TRUE;
     report.symmetric_newton = symmetric_newton;
+    InstallOuterResidualTest();
     ksp_configured = true;
+  }
+
+  // -<prefix>newton_residual_fraction f in [0, 1] (default kDefaultResidualFraction):
+  // the Newton KSP runs until its residual passes f times the outer stopping test
+  // (OuterResidualTest); 0 keeps the KSP's own test alone.
+  void InstallOuterResidualTest() {
+    PetscReal fraction = kDefaultResidualFraction;
+    PetscBool set = PETSC_FALSE;
+    NCP_PETSC_CHECK(PetscOptionsGetReal(nullptr, prefix.c_str(),
+                                        "-newton_residual_fraction", &fraction, &set));
+    if (!(fraction >= 0.0 && fraction <= 1.0))
+      throw std::invalid_argument(
+          "ncp::petsc::Solver: -" + prefix + "newton_residual_fraction = " +
+          FormatNumber("%g", fraction) + ": accepted a number in [0, 1] (0: off)");
+    outer_test.Install(ksp, fraction);
   }
 
   // KspReport's names of the KSP, PC and factorization package in use.
@@ -794,9 +884,13 @@ class Iteration {
       y_ = y_owned_;
     }
     for (OwnedVec* v : {&phi_, &phi_trial_, &grad_, &d_, &x_trial_, &c_f_, &c_i_, &z_,
-                        &f_z_, &work_, &work2_, &fixed_values_, &diag_g_})
+                        &f_z_, &work_, &work2_, &fixed_values_, &diag_g_, &sensitivity_})
       v->DuplicateOf(y_);
+    NCP_PETSC_CHECK(VecSet(sensitivity_, 0.0));  // no round-off floor: stays 0
     impl_.Configure();
+    if (impl_.outer_test.fraction() > 0.0)
+      for (OwnedVec* v : {&ksp_row_weight_, &ksp_row_bound_, &ksp_residual_, &ksp_work_})
+        v->DuplicateOf(y_);
     const bool new_matrix = impl_.PrepareNewtonMatrix(p_.jacobian_matrix, layout_);
     G_ = impl_.SourceMatrix(p_.jacobian_matrix);
     s_.symbolic_factorizations = new_matrix ? 1 : 0;
@@ -810,6 +904,8 @@ class Iteration {
     progress_.ResetRecord(o_, s_.num_variables);
     if (o_.hybrid) best_y_.DuplicateOf(y_);
     impl_.report.linear_iterations = 0;
+    impl_.report.residual_test_iterations = 0;
+    impl_.outer_test.ResetCount();
     if (layout_.total_slacks > 0) {
       CopyXPart(x_, y_);
       if (!SetSlacks(y_)) {
@@ -1103,21 +1199,28 @@ class Iteration {
   // rows.
   bool WithinRoundoffFloor() {
     if (o_.roundoff_ulps == 0.0) return false;
+    RoundoffSensitivity();
+    bool within = true;
+    {
+      LocalRead phi(phi_), sensitivity(sensitivity_);
+      for (PetscInt r = 0; r < local_ && within; ++r)
+        within = internal::RowWithinRoundoffFloor(phi[r], o_.tolerance, o_.roundoff_ulps,
+                                                  sensitivity[r]);
+    }
+    return !AnyRank(comm_, !within);
+  }
+
+  // sensitivity_ = the rows' r of the round-off floor at y (WithinRoundoffFloor).
+  void RoundoffSensitivity() {
     UpdateAbsoluteSource();
     NCP_PETSC_CHECK(VecCopy(y_, work2_));
     NCP_PETSC_CHECK(VecAbs(work2_));
     NCP_PETSC_CHECK(MatMult(impl_.abs_source, work2_, work_));  // |G||y|
-    bool within = true;
-    {
-      LocalRead phi(phi_), abs_gy(work_), abs_y(work2_), c_f(c_f_), c_i(c_i_);
-      for (PetscInt r = 0; r < local_ && within; ++r) {
-        const double sensitivity =
-            std::abs(c_f[r]) * abs_gy[r] + std::abs(c_i[r]) * abs_y[layout_.AColumn(r)];
-        within = internal::RowWithinRoundoffFloor(phi[r], o_.tolerance, o_.roundoff_ulps,
-                                                  sensitivity);
-      }
-    }
-    return !AnyRank(comm_, !within);
+    LocalRead abs_gy(work_), abs_y(work2_), c_f(c_f_), c_i(c_i_);
+    LocalWrite sensitivity(sensitivity_);
+    for (PetscInt r = 0; r < local_; ++r)
+      sensitivity[r] =
+          std::abs(c_f[r]) * abs_gy[r] + std::abs(c_i[r]) * abs_y[layout_.AColumn(r)];
   }
 
   // ---- trace, log, callback for iterate k; false when the callback stopped ------------
@@ -1270,6 +1373,8 @@ class Iteration {
         NCP_PETSC_CHECK(KSPGetConvergedReason(ksp, &reason));
         NCP_PETSC_CHECK(KSPGetIterationNumber(ksp, &its));
         impl_.report.linear_iterations += static_cast<int>(its);
+        impl_.report.residual_test_iterations =
+            static_cast<int>(impl_.outer_test.continued());
       }
       if (!AnyRank(comm_, code != 0 || reason == KSP_DIVERGED_PC_FAILED))
         return !AnyRank(comm_, reason <= 0) && AllFinite(comm_, out);
@@ -1340,8 +1445,10 @@ class Iteration {
       s_.linear_solver_time_s += Seconds(t0);
       return false;
     }
+    if (impl_.outer_test.fraction() > 0.0) ArmOuterResidualTest();
     bool solved =
         KspSolve(impl_.ksp, impl_.newton, &impl_.newton_workspace_percent, work_, d_);
+    impl_.outer_test.Disarm();
     if (solved) {
       MultNewton(d_, work_);  // J d + Phi
       NCP_PETSC_CHECK(VecAXPY(work_, 1.0, phi_));
@@ -1351,6 +1458,25 @@ class Iteration {
     }
     s_.linear_solver_time_s += Seconds(t0);
     return solved;
+  }
+
+  // The rows' weights and bounds of OuterResidualTest for this Newton system: the KSP's
+  // row r is row r of J (weight 1), or in symmetric mode row r of J divided by c_F,r (a
+  // kept row) or by c_I,r (an eliminated one); the bound is the fraction of the stopping
+  // test's bound on |Phi_r| at this iterate (tolerance and round-off floor; sensitivity_
+  // is this iterate's: WithinRoundoffFloor ran before the direction, or 0 without floor).
+  void ArmOuterResidualTest() {
+    {
+      LocalRead c_f(c_f_), c_i(c_i_), sensitivity(sensitivity_);
+      LocalWrite weight(ksp_row_weight_), bound(ksp_row_bound_);
+      const double fraction = impl_.outer_test.fraction();
+      for (PetscInt r = 0; r < local_; ++r) {
+        weight[r] = !impl_.symmetric_newton ? 1.0 : c_f[r] != 0.0 ? c_f[r] : c_i[r];
+        bound[r] = fraction * internal::RoundoffFloorBound(o_.tolerance, o_.roundoff_ulps,
+                                                           sensitivity[r]);
+      }
+    }
+    impl_.outer_test.Arm(ksp_row_weight_, ksp_row_bound_, ksp_residual_, ksp_work_);
   }
 
   // The same system J d = rhs made symmetric (the serial kCholmod backend's
@@ -1580,6 +1706,9 @@ class Iteration {
       work_, work2_;
   OwnedVec fixed_values_;  // d_i of the rows the symmetrized system eliminates
   OwnedVec diag_g_;        // G_{r, AColumn(r)} (GDiagonalAtA)
+  OwnedVec sensitivity_;   // r of the round-off floor at y (RoundoffSensitivity)
+  // OuterResidualTest's rows: weights, bounds, and its work vectors.
+  OwnedVec ksp_row_weight_, ksp_row_bound_, ksp_residual_, ksp_work_;
   Clock::time_point start_;
   NcpFunction function_ = NcpFunction::kFischerBurmeister;
   int restarts_left_ = 0, first_k_ = 0;  // first_k_: iterate of the last (re)start

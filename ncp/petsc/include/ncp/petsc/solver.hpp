@@ -80,6 +80,10 @@ struct KspReport {
   std::string factor_solver_type;  ///< e.g. "mumps" (empty without a factorization)
   /// KSP iterations summed over all Newton (and Levenberg-Marquardt) systems
   int linear_iterations = -1;
+  /// Of those, the Newton KSP's iterations past its own test (rtol, atol) until its
+  /// residual passed -<prefix>newton_residual_fraction times the outer stopping test
+  /// (docs/petsc.md)
+  int residual_test_iterations = -1;
   /// The KSP solved the symmetrized Newton system (rows scaled, fixed rows eliminated;
   /// docs/petsc.md): on by default for CG-like KSPs and Cholesky/ICC, else off;
   /// -<prefix>symmetric_newton true|false decides.
