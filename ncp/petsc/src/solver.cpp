@@ -188,20 +188,100 @@ void ForEachLocalValue(Mat M, Function&& f) {
   }
 }
 
-// *abs_copy = |M| entry by entry (created on first use with M's pattern).
-void AbsoluteCopy(Mat M, Mat* abs_copy) {
-  if (*abs_copy == nullptr)
-    NCP_PETSC_CHECK(MatDuplicate(M, MAT_COPY_VALUES, abs_copy));
-  else
-    NCP_PETSC_CHECK(MatCopy(M, *abs_copy, SAME_NONZERO_PATTERN));
-  ForEachLocalValue<true>(*abs_copy,
-                          [](PetscScalar& v) { v = std::abs(PetscRealPart(v)); });
-}
-
 void DestroyMat(Mat* M) {
   if (*M) MatDestroy(M);
   *M = nullptr;
 }
+
+// out = |M| v for an AIJ matrix M and a Vec v >= 0 laid out like M's columns, from M's
+// own arrays (no copy of M): on each rank the rows of its diagonal block times its part
+// of v plus the rows of its off-diagonal block times the ghost entries of v, gathered
+// by a scatter made once for M's pattern (Prepare).
+class AbsoluteProduct {
+ public:
+  ~AbsoluteProduct() { Clear(); }
+  AbsoluteProduct() = default;
+  AbsoluteProduct(const AbsoluteProduct&) = delete;
+  AbsoluteProduct& operator=(const AbsoluteProduct&) = delete;
+
+  // For M's pattern (again whenever it or M changes).
+  void Prepare(Mat M) {
+    Clear();
+    bool parallel = false;
+    if (!IsAij(M, &parallel))
+      throw std::invalid_argument(
+          "ncp::petsc::Solver: the Jacobian matrix must be of type AIJ "
+          "(MATSEQAIJ or MATMPIAIJ)");
+    if (!parallel) return;
+    Mat diagonal = nullptr, off_diagonal = nullptr;
+    const PetscInt* ghost_columns = nullptr;  // global columns of the off-diagonal block
+    NCP_PETSC_CHECK(MatMPIAIJGetSeqAIJ(M, &diagonal, &off_diagonal, &ghost_columns));
+    PetscInt rows = 0, ghosts = 0;
+    NCP_PETSC_CHECK(MatGetSize(off_diagonal, &rows, &ghosts));
+    IS columns = nullptr;
+    NCP_PETSC_CHECK(ISCreateGeneral(PETSC_COMM_SELF, ghosts, ghost_columns,
+                                    PETSC_COPY_VALUES, &columns));
+    NCP_PETSC_CHECK(VecCreateSeq(PETSC_COMM_SELF, ghosts, &ghost_values_));
+    Vec layout = nullptr;
+    NCP_PETSC_CHECK(MatCreateVecs(M, &layout, nullptr));
+    NCP_PETSC_CHECK(VecScatterCreate(layout, columns, ghost_values_, nullptr, &scatter_));
+    VecDestroy(&layout);
+    ISDestroy(&columns);
+  }
+
+  void Mult(Mat M, Vec v, Vec out) {
+    bool parallel = false;
+    IsAij(M, &parallel);
+    Mat blocks[2] = {M, nullptr};
+    if (parallel) {
+      NCP_PETSC_CHECK(MatMPIAIJGetSeqAIJ(M, &blocks[0], &blocks[1], nullptr));
+      NCP_PETSC_CHECK(
+          VecScatterBegin(scatter_, v, ghost_values_, INSERT_VALUES, SCATTER_FORWARD));
+      NCP_PETSC_CHECK(
+          VecScatterEnd(scatter_, v, ghost_values_, INSERT_VALUES, SCATTER_FORWARD));
+    }
+    NCP_PETSC_CHECK(VecSet(out, 0.0));
+    LocalWrite o(out);
+    {
+      LocalRead local(v);
+      AddBlockProduct(blocks[0], local, o);
+    }
+    if (parallel) {
+      LocalRead ghost(ghost_values_);
+      AddBlockProduct(blocks[1], ghost, o);
+    }
+  }
+
+ private:
+  // o += |B| x for a sequential AIJ block B (CSR arrays read in place).
+  static void AddBlockProduct(Mat B, const LocalRead& x, LocalWrite& o) {
+    PetscInt rows = 0;
+    const PetscInt *start = nullptr, *column = nullptr;
+    PetscBool done = PETSC_FALSE;
+    NCP_PETSC_CHECK(
+        MatGetRowIJ(B, 0, PETSC_FALSE, PETSC_FALSE, &rows, &start, &column, &done));
+    if (!done) throw std::runtime_error("ncp::petsc::Solver: MatGetRowIJ gave no rows");
+    const PetscScalar* values = nullptr;
+    NCP_PETSC_CHECK(MatSeqAIJGetArrayRead(B, &values));
+    for (PetscInt i = 0; i < rows; ++i) {
+      double sum = 0.0;
+      for (PetscInt k = start[i]; k < start[i + 1]; ++k)
+        sum += std::abs(PetscRealPart(values[k])) * x[column[k]];
+      o[i] += sum;
+    }
+    NCP_PETSC_CHECK(MatSeqAIJRestoreArrayRead(B, &values));
+    NCP_PETSC_CHECK(
+        MatRestoreRowIJ(B, 0, PETSC_FALSE, PETSC_FALSE, &rows, &start, &column, &done));
+  }
+
+  void Clear() {
+    if (scatter_) VecScatterDestroy(&scatter_);
+    if (ghost_values_) VecDestroy(&ghost_values_);
+  }
+
+  VecScatter scatter_ = nullptr;
+  Vec ghost_values_ = nullptr;  // the off-diagonal block's columns of v
+};
 
 // The kind of row r of the mixed form (file comment): kSplit is the equation F_i - w + v
 // of a two-sided component, kLowerSlack / kUpperSlack its pairs (x_i - l_i, w) and
@@ -600,8 +680,8 @@ struct Solver::Impl {
   Mat newton = nullptr;
   Mat source = nullptr;
   PetscObjectState source_state = -1;
-  bool same_pattern = true;  // the operator's pattern is F''s (no diagonal entry added)
-  Mat abs_source = nullptr;  // |G| (round-off floor, backward error)
+  bool same_pattern = true;    // the operator's pattern is F''s (no diagonal entry added)
+  AbsoluteProduct abs_source;  // |G| v (round-off floor, backward error)
   bool symmetric_newton = false;
   // With two-sided bounds: G of the file comment for the layout `layout_rows`.
   SlackMatrix slack;
@@ -620,7 +700,6 @@ struct Solver::Impl {
 
   ~Impl() {
     DestroyMat(&newton);
-    DestroyMat(&abs_source);
     DestroyMat(&normal);
     DestroyMat(&lm_jacobian);
     if (ksp) KSPDestroy(&ksp);
@@ -647,7 +726,6 @@ struct Solver::Impl {
     const bool same_layout = !AnyRank(comm, layout.rows != layout_rows);
     if (newton && source == F && state == source_state && same_layout) return false;
     DestroyMat(&newton);
-    DestroyMat(&abs_source);
     DestroyMat(&normal);
     DestroyMat(&lm_jacobian);
     layout_rows = layout.rows;
@@ -656,6 +734,7 @@ struct Solver::Impl {
     else
       slack.Clear();
     NCP_PETSC_CHECK(MatDuplicate(SourceMatrix(F), MAT_COPY_VALUES, &newton));
+    abs_source.Prepare(SourceMatrix(F));
     PetscBool missing = PETSC_FALSE;
     PetscInt row = 0;
     NCP_PETSC_CHECK(MatMissingDiagonal(newton, &missing, &row));
@@ -1033,7 +1112,6 @@ class Iteration {
       return false;
     }
     if (layout_.total_slacks > 0) impl_.slack.Refresh(p_.jacobian_matrix, layout_);
-    abs_source_current_ = false;
     GDiagonalAtA();
     PhiPartials();
     if (!impl_.symmetric_newton) FillNewtonMatrix(impl_.newton);  // else by Symmetrize
@@ -1145,10 +1223,9 @@ class Iteration {
   // out_r = |c_F,r| (|G||v|)_r + (|c_F,r G_ra + c_I,r| - |c_F,r G_ra|) |v_a| with
   // G_ra = diag_g_ (v and out distinct, neither work2_).
   void MultAbsNewton(Vec v, Vec out) {
-    UpdateAbsoluteSource();
     NCP_PETSC_CHECK(VecCopy(v, work2_));
     NCP_PETSC_CHECK(VecAbs(work2_));
-    NCP_PETSC_CHECK(MatMult(impl_.abs_source, work2_, out));
+    impl_.abs_source.Mult(G_, work2_, out);
     LocalRead abs_v(work2_), c_f(c_f_), c_i(c_i_), diag(diag_g_);
     LocalWrite o(out);
     for (PetscInt r = 0; r < local_; ++r) {
@@ -1156,13 +1233,6 @@ class Iteration {
       o[r] = std::abs(c_f[r]) * PetscRealPart(o[r]) +
              (std::abs(cfd + c_i[r]) - std::abs(cfd)) * abs_v[layout_.AColumn(r)];
     }
-  }
-
-  // |G| for the Jacobian of this iterate (once per Jacobian evaluation).
-  void UpdateAbsoluteSource() {
-    if (abs_source_current_) return;
-    AbsoluteCopy(G_, &impl_.abs_source);
-    abs_source_current_ = true;
   }
 
   // J = diag(c_F) G + diag(c_I) on the rows of x, c_I at (r, AColumn(r)) on slack rows,
@@ -1212,10 +1282,9 @@ class Iteration {
 
   // sensitivity_ = the rows' r of the round-off floor at y (WithinRoundoffFloor).
   void RoundoffSensitivity() {
-    UpdateAbsoluteSource();
     NCP_PETSC_CHECK(VecCopy(y_, work2_));
     NCP_PETSC_CHECK(VecAbs(work2_));
-    NCP_PETSC_CHECK(MatMult(impl_.abs_source, work2_, work_));  // |G||y|
+    impl_.abs_source.Mult(G_, work2_, work_);  // |G||y|
     LocalRead abs_gy(work_), abs_y(work2_), c_f(c_f_), c_i(c_i_);
     LocalWrite sensitivity(sensitivity_);
     for (PetscInt r = 0; r < local_; ++r)
@@ -1724,7 +1793,6 @@ class Iteration {
   int backtracks_ = 0, degenerate_count_ = 0;
   bool converged_ = false, have_jacobian_ = false, jacobian_ok_ = true;
   bool roundoff_limited_ = false, finished_ = false;
-  bool abs_source_current_ = false;  // impl_.abs_source is |G| of this iterate
 };
 
 // ---------------------------------------------------------------------------------------
