@@ -149,13 +149,15 @@ PetscErrorCode RunNcp(const RunConfig& config, const RunSettings& settings,
   for (int k = 0; k < num_grids; ++k) {
     if (k > 0) {  // refine: the interpolated coarse solution starts the finer solve
       DM finer;
-      Mat interpolation;
       Vec x_fine;
       PetscCall(DMRefine(level.da, comm, &finer));
-      PetscCall(DMCreateInterpolation(level.da, finer, &interpolation, nullptr));
+      // The finer grid remembers the grid it was refined from, and the interpolation
+      // between them is kept on it (ncp::petsc::GridInterpolation): the multigrid of
+      // SetMultigridGrid takes its coarse levels and their interpolations from there.
+      PetscCall(DMSetCoarseDM(finer, level.da));
+      Mat interpolation = ncp::petsc::GridInterpolation(level.da, finer);  // borrowed
       PetscCall(DMCreateGlobalVector(finer, &x_fine));
       PetscCall(MatInterpolate(interpolation, x, x_fine));
-      PetscCall(MatDestroy(&interpolation));
       PetscCall(VecDestroy(&x));
       PetscCall(level.Destroy());
       PetscCall(level.Create(finer));

@@ -430,18 +430,39 @@ TEST_CASE(
   PetscOptionsSetValue(nullptr, "-rmg_mg_levels_pc_type", "sor");
   PetscOptionsSetValue(nullptr, "-rmg_ksp_rtol", "1e-13");
   PetscOptionsSetValue(nullptr, "-rmg_ksp_norm_type", "unpreconditioned");
+  // Either the grid is made at its size (the levels by DMCoarsen) or it is refined
+  // from a 9 x 9 grid recorded as its coarse DM (a nested iteration's grid): then level 1
+  // is that grid with its interpolation kept by GridInterpolation, level 0 a coarsening.
   constexpr int kM = 17;
   const ObstacleVariable variable =
       GENERATE(ObstacleVariable::kGap, ObstacleVariable::kHeight);
+  const bool refined = GENERATE(false, true);
   TestProblem problem = Obstacle2D(kM, ObstacleKind::kLowerBump, variable);
   REQUIRE(problem.F->NumVariables() == kM * kM);
   int size = 1;
   MPI_Comm_size(PETSC_COMM_WORLD, &size);
   DM da = nullptr;
+  const int made = refined ? (kM + 1) / 2 : kM;
   REQUIRE(DMDACreate2d(PETSC_COMM_WORLD, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE,
-                       DMDA_STENCIL_STAR, kM, kM, 1, size, 1, 1, nullptr, nullptr,
+                       DMDA_STENCIL_STAR, made, made, 1, size, 1, 1, nullptr, nullptr,
                        &da) == 0);
   REQUIRE(DMSetUp(da) == 0);
+  if (refined) {
+    DM coarse = da;
+    REQUIRE(DMRefine(coarse, PETSC_COMM_WORLD, &da) == 0);
+    REQUIRE(DMSetCoarseDM(da, coarse) == 0);
+    Mat P = ncp::petsc::GridInterpolation(coarse, da);
+    PetscInt rows = 0, cols = 0;
+    MatGetSize(P, &rows, &cols);
+    CHECK(rows == kM * kM);
+    CHECK(cols == made * made);
+    CHECK(ncp::petsc::GridInterpolation(coarse, da) == P);  // made once, kept on da
+    DMDestroy(&coarse);                                     // da keeps it
+  }
+  PetscInt grid_size = 0;
+  DMDAGetInfo(da, nullptr, &grid_size, nullptr, nullptr, nullptr, nullptr, nullptr,
+              nullptr, nullptr, nullptr, nullptr, nullptr, nullptr);
+  REQUIRE(grid_size == kM);
   // A Vec of the grid's layout holding v (natural = PETSc ordering for row bands).
   auto grid_vec = [&](const Vector& v) {
     Vec out = nullptr;
@@ -452,7 +473,8 @@ TEST_CASE(
   Options options;
   options.ncp_function = NcpFunction::kMin;
   for (const StartPoint& start : problem.starts) {
-    INFO(problem.name << " from " << start.label);
+    INFO(problem.name << " from " << start.label
+                      << (refined ? " on a refined grid" : ""));
     Both r;
     r.x_serial = start.x;
     ncp::Solver(options).Solve(*problem.F, problem.lower, problem.upper, &r.x_serial,

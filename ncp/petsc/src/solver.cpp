@@ -474,6 +474,29 @@ class SlackMatrix {
   std::vector<bool> has_diagonal_;
 };
 
+}  // namespace
+
+Mat GridInterpolation(DM coarse, DM fine) {
+  PetscInt64 id = 0;
+  NCP_PETSC_CHECK(PetscObjectGetId(reinterpret_cast<PetscObject>(coarse), &id));
+  const std::string key = "ncp_petsc_interpolation_from_" + std::to_string(id);
+  PetscObject kept = nullptr;
+  NCP_PETSC_CHECK(
+      PetscObjectQuery(reinterpret_cast<PetscObject>(fine), key.c_str(), &kept));
+  // Made collectively when any rank lacks it (DMCreateInterpolation is collective).
+  if (!AnyRank(PetscObjectComm(reinterpret_cast<PetscObject>(fine)), kept == nullptr))
+    return reinterpret_cast<Mat>(kept);
+  Mat P = nullptr;
+  NCP_PETSC_CHECK(DMCreateInterpolation(coarse, fine, &P, nullptr));
+  NCP_PETSC_CHECK(PetscObjectCompose(reinterpret_cast<PetscObject>(fine), key.c_str(),
+                                     reinterpret_cast<PetscObject>(P)));
+  Mat borrowed = P;
+  NCP_PETSC_CHECK(MatDestroy(&P));  // `fine` holds it now
+  return borrowed;
+}
+
+namespace {
+
 // PCMG for the reduced Newton system of the symmetric mode (Iteration::Symmetrize) on a
 // structured grid, as a reduced-space active-set method restricts its multigrid to the
 // inactive set: the hierarchy is made once by coarsening the user's grid (DMCoarsen,
@@ -515,9 +538,23 @@ class InactiveSetMultigrid {
     dms_[count - 1] = grid_;
     const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(grid_));
     for (size_t l = count - 1; l >= 1; --l) {
-      NCP_PETSC_CHECK(DMCoarsen(dms_[l], comm, &dms_[l - 1]));
-      NCP_PETSC_CHECK(
-          DMCreateInterpolation(dms_[l - 1], dms_[l], &interpolation_[l], nullptr));
+      // The grid this one was refined from (DMGetCoarseDM, e.g. the previous grid of a
+      // nested iteration) with its interpolation made once (GridInterpolation), else a
+      // coarsening made here.
+      DM refined_from = nullptr;
+      NCP_PETSC_CHECK(DMGetCoarseDM(dms_[l], &refined_from));
+      if (!AnyRank(comm, refined_from == nullptr)) {
+        NCP_PETSC_CHECK(
+            PetscObjectReference(reinterpret_cast<PetscObject>(refined_from)));
+        dms_[l - 1] = refined_from;
+        interpolation_[l] = GridInterpolation(refined_from, dms_[l]);
+        NCP_PETSC_CHECK(
+            PetscObjectReference(reinterpret_cast<PetscObject>(interpolation_[l])));
+      } else {
+        NCP_PETSC_CHECK(DMCoarsen(dms_[l], comm, &dms_[l - 1]));
+        NCP_PETSC_CHECK(
+            DMCreateInterpolation(dms_[l - 1], dms_[l], &interpolation_[l], nullptr));
+      }
       NCP_PETSC_CHECK(MatCreateVecs(interpolation_[l], &decoupled_[l - 1], nullptr));
       NCP_PETSC_CHECK(
           PCMGSetInterpolation(pc, static_cast<PetscInt>(l), interpolation_[l]));

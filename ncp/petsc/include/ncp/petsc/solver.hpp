@@ -91,6 +91,14 @@ struct KspReport {
   int ranks = -1;  ///< size of the communicator
 };
 
+/// The interpolation from the grid `coarse` to the grid `fine` (DMCreateInterpolation),
+/// made at the first call for this pair and kept on `fine` (PetscObjectCompose): a
+/// nested iteration that interpolates its start points with it and the solver's
+/// multigrid on the refined grids (Solver::SetMultigridGrid, which follows
+/// DMGetCoarseDM) make each interpolation of the sequence once. Borrowed: valid while
+/// `fine` lives, not to be destroyed by the caller. Collective on fine's communicator.
+Mat GridInterpolation(DM coarse, DM fine);
+
 /// Keeps the KSP (and the symbolic factorization of a direct solver) between solves.
 class Solver {
  public:
@@ -113,15 +121,16 @@ class Solver {
 
   /// Multigrid restricted to the inactive set, for the symmetrized Newton systems
   /// (docs/petsc.md): with -<prefix>pc_type mg and a CG-like KSP, PCMG's hierarchy of
-  /// -<prefix>pc_mg_levels levels is made by coarsening `grid` (DMCoarsen,
-  /// DMCreateInterpolation), and at every Newton step the interpolation into each level
-  /// keeps only the rows of the unknowns still in the reduced system (the others were
-  /// eliminated: the active set of the min function), the coarse operators being Galerkin
-  /// products of that reduced system - the multigrid of a reduced-space active-set
-  /// method. `grid`'s global vectors must be laid out like x (checked at Solve, with the
-  /// PC type and the symmetric mode: std::invalid_argument otherwise). Do not also give
-  /// the grid to the KSP (KSPSetDM): PCMG is set up here. nullptr switches it off. The
-  /// Solver keeps a reference to `grid`.
+  /// -<prefix>pc_mg_levels levels is made from `grid` down: each level's coarser grid is
+  /// the one it was refined from (DMGetCoarseDM, with GridInterpolation) where set, else
+  /// DMCoarsen and DMCreateInterpolation; and at every Newton step the interpolation into
+  /// each level keeps only the rows of the unknowns still in the reduced system (the
+  /// others were eliminated: the active set of the min function), the coarse operators
+  /// being Galerkin products of that reduced system - the multigrid of a reduced-space
+  /// active-set method. `grid`'s global vectors must be laid out like x (checked at
+  /// Solve, with the PC type and the symmetric mode: std::invalid_argument otherwise). Do
+  /// not also give the grid to the KSP (KSPSetDM): PCMG is set up here. nullptr switches
+  /// it off. The Solver keeps a reference to `grid`.
   void SetMultigridGrid(DM grid);
 
   /// Solves the box MCP; x holds the start point on entry and the last iterate on return
