@@ -637,7 +637,10 @@ class InactiveSetMultigrid {
 // tolerance is left. The residual is formed (KSPBuildResidual: one product with A) only
 // once the KSP's own test has passed. Margin of the Newton KSP's test against the outer
 // stopping test (OuterResidualTest): half the tolerance for the linear residual, half for
-// what the step changes beyond it.
+// what the step changes beyond it. By default only for the min function, whose Phi(x + d)
+// is J d + Phi on every row whose active side does not change; for FB and penalized FB
+// the O(||d||^2) remainder decides, and continued solves only cost iterations
+// (docs/petsc.md).
 constexpr double kDefaultResidualFraction = 0.5;
 
 class OuterResidualTest {
@@ -646,12 +649,18 @@ class OuterResidualTest {
     if (default_context_) KSPConvergedDefaultDestroy(default_context_);
   }
   double fraction() const { return fraction_; }
+  // Whether it applies to a Newton system of `function`: the min function by default,
+  // every function when -<prefix>newton_residual_fraction was given.
+  bool AppliesTo(NcpFunction function) const {
+    return fraction_ > 0.0 && (explicit_ || function == NcpFunction::kMin);
+  }
   long long continued() const { return continued_; }
   void ResetCount() { continued_ = 0; }
 
   // The test in place of ksp's (after KSPSetFromOptions); fraction 0 leaves ksp's own.
-  void Install(KSP ksp, double fraction) {
+  void Install(KSP ksp, double fraction, bool given) {
     fraction_ = fraction;
+    explicit_ = given;
     if (fraction_ == 0.0) return;
     NCP_PETSC_CHECK(KSPConvergedDefaultCreate(&default_context_));
     NCP_PETSC_CHECK(
@@ -689,6 +698,7 @@ class OuterResidualTest {
   }
 
   double fraction_ = 0.0;
+  bool explicit_ = false;  // given in the options database
   void* default_context_ = nullptr;
   Vec weight_ = nullptr, bound_ = nullptr, residual_ = nullptr, work_ = nullptr;
   long long continued_ = 0;  // iterations past the KSP's own test
@@ -819,9 +829,9 @@ struct Solver::Impl {
     ksp_configured = true;
   }
 
-  // -<prefix>newton_residual_fraction f in [0, 1] (default kDefaultResidualFraction):
-  // the Newton KSP runs until its residual passes f times the outer stopping test
-  // (OuterResidualTest); 0 keeps the KSP's own test alone.
+  // -<prefix>newton_residual_fraction f in [0, 1] (default kDefaultResidualFraction for
+  // the min function): the Newton KSP runs until its residual passes f times the outer
+  // stopping test (OuterResidualTest); 0 keeps the KSP's own test alone.
   void InstallOuterResidualTest() {
     PetscReal fraction = kDefaultResidualFraction;
     PetscBool set = PETSC_FALSE;
@@ -831,7 +841,7 @@ struct Solver::Impl {
       throw std::invalid_argument(
           "ncp::petsc::Solver: -" + prefix + "newton_residual_fraction = " +
           FormatNumber("%g", fraction) + ": accepted a number in [0, 1] (0: off)");
-    outer_test.Install(ksp, fraction);
+    outer_test.Install(ksp, fraction, set == PETSC_TRUE);
   }
 
   // KspReport's names of the KSP, PC and factorization package in use.
@@ -1551,7 +1561,7 @@ class Iteration {
       s_.linear_solver_time_s += Seconds(t0);
       return false;
     }
-    if (impl_.outer_test.fraction() > 0.0) ArmOuterResidualTest();
+    if (impl_.outer_test.AppliesTo(function_)) ArmOuterResidualTest();
     bool solved =
         KspSolve(impl_.ksp, impl_.newton, &impl_.newton_workspace_percent, work_, d_);
     impl_.outer_test.Disarm();

@@ -81,8 +81,8 @@ struct KspReport {
   /// KSP iterations summed over all Newton (and Levenberg-Marquardt) systems
   int linear_iterations = -1;
   /// Of those, the Newton KSP's iterations past its own test (rtol, atol) until its
-  /// residual passed -<prefix>newton_residual_fraction times the outer stopping test
-  /// (docs/petsc.md)
+  /// residual passed -<prefix>newton_residual_fraction f times the outer stopping test
+  /// (f in [0, 1], default 0.5 for the min function's systems, 0: off; docs/petsc.md)
   int residual_test_iterations = -1;
   /// The KSP solved the symmetrized Newton system (rows scaled, fixed rows eliminated;
   /// docs/petsc.md): on by default for CG-like KSPs and Cholesky/ICC, else off;
