@@ -4,11 +4,13 @@
 
 #include <petscsys.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "contact/dynamics.hpp"
@@ -99,6 +101,39 @@ inline std::vector<double> CheckSameMeasures(const Scene& scene,
         &DynamicSummary::max_friction_residual, &DynamicSummary::energy_balance_error})
     CHECK(std::isfinite(parallel.*field));
   return {worst_energy, worst_force, worst_penetration, worst_accuracy};
+}
+
+// Lanczos stops when its Ritz value omega_max^2 moved by at most 1e-9 relative over two
+// checks (kCriticalStepTolerance); dt_crit ~ 1 / omega_max is then within about half
+// that of the exact value, checked with a margin of 20.
+constexpr double kCriticalStepAccuracy = 1e-8;
+
+// dt_crit estimated on the ranks (rank 0 has no serial K, nor a serial consistent M):
+// the serial Lanczos estimate within `same` relative (the round-off of the reordered
+// sums and of the other solver of M), and 2 / omega_max with omega_max^2 the largest
+// eigenvalue of the pencil (K, M) of the serial model by Eigen's dense generalized
+// eigensolver, within kCriticalStepAccuracy. Returns both relative differences (printed
+// by the caller for the docs).
+inline std::pair<double, double> CheckCriticalStep(const Scene& scene,
+                                                   const DynamicSummary& serial,
+                                                   const DynamicSummary& parallel,
+                                                   double same) {
+  const double dt_serial = serial.critical_time_step,
+               dt_ranks = parallel.critical_time_step;
+  REQUIRE(std::isfinite(dt_serial));
+  const double to_serial = std::abs(dt_ranks - dt_serial) / dt_serial;
+  const SceneModel built = BuildSceneModel(scene);
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> pencil(
+      Eigen::MatrixXd(built.model.K), Eigen::MatrixXd(built.model.M),
+      Eigen::EigenvaluesOnly);
+  REQUIRE(pencil.info() == Eigen::Success);
+  const double dt_exact = 2.0 / std::sqrt(pencil.eigenvalues().maxCoeff());
+  const double to_exact = std::abs(dt_ranks - dt_exact) / dt_exact;
+  INFO("dt_crit on the ranks " << dt_ranks << " s, serial " << dt_serial << " s, dense "
+                               << dt_exact << " s");
+  CHECK(to_serial <= same);
+  CHECK(to_exact <= kCriticalStepAccuracy);
+  return {to_serial, to_exact};
 }
 
 }  // namespace contact::test

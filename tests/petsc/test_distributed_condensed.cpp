@@ -48,6 +48,10 @@ constexpr double kSameTrajectory =
 // accuracy or at their round-off floor 1e-14 |b|_2, so the residuals differ by less than
 // the accuracy asked: within the scene's tolerance (1e-10) of F.
 constexpr double kSameMeasuresFactored = 1e-12;
+// dt_crit on the ranks against the serial estimate, relative: Lanczos on the ranks' K and
+// M (MUMPS's solves with M, or the lumped diagonal) against one process's (CHOLMOD's),
+// the same iteration on vectors that differ by round-off.
+constexpr double kSameCriticalStep = 1e-12;
 
 // A Tet4 box 0.2 m x 0.2 m x 0.1 m (consistent mass) falling at 0.5 m/s onto a plane
 // 1 mm below it, f_c = 0.3, with a sideways body force so that it slides.
@@ -230,10 +234,35 @@ TEST_CASE("the condensed and sparse steps on MPI ranks follow the serial traject
   const std::vector<double> worst = contact::test::CheckSameMeasures(
       scene, serial.summary, parallel.summary,
       ranks == 1 ? kSameMeasuresFactored : scene.dynamics.ncp.tolerance);
+  // dt_crit on the ranks (a prescribed start: rank 0 assembled neither K nor M).
+  const auto [to_serial, to_dense] = contact::test::CheckCriticalStep(
+      scene, serial.summary, parallel.summary, kSameCriticalStep);
   std::printf(
       "%s: worst differences to one process: energy %.2g, residuals %.2g F, "
-      "penetration %.2g D, accuracies %.2g; final u %.2g m of %.2g m\n",
-      name, worst[0], worst[1], worst[2], worst[3], u_difference, u_max);
+      "penetration %.2g D, accuracies %.2g; final u %.2g m of %.2g m; dt_crit %.17g s, "
+      "%.2g from the serial estimate, %.2g from the dense eigenvalue\n",
+      name, worst[0], worst[1], worst[2], worst[3], u_difference, u_max,
+      parallel.summary.critical_time_step, to_serial, to_dense);
+}
+
+TEST_CASE(
+    "dt above dt_crit of a consistent mass on MPI ranks is refused as in one "
+    "process") {
+  // kTetBox (consistent mass) with dt = 1e-3 s, above its dt_crit: refused on every
+  // rank before any step, with the serial message (dt_crit to its 6 printed digits).
+  const std::string step = GENERATE("condensed", "sparse");
+  std::string text = WithStep(kTetBox, step);
+  text.replace(text.find("dt = 2e-5"), 9, "dt = 1e-3");
+  const contact::Scene scene = LoadSceneText(text, "refused_" + step);
+  const contact::SceneResult parallel =
+      contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, false);
+  CHECK(parallel.summary.status == contact::DynamicStatus::kRefusedUnstable);
+  CHECK(parallel.summary.records.empty());
+  if (Rank() != 0) return;
+  const contact::SceneResult serial = contact::RunScene(scene, false);
+  REQUIRE(serial.summary.status == contact::DynamicStatus::kRefusedUnstable);
+  CHECK(parallel.summary.message == serial.summary.message);
+  CHECK_THAT(parallel.summary.message, Catch::Matchers::Contains("time.allow_unstable"));
 }
 
 // The block of tests/contact/test_physical_accuracy.cpp ("a thrown block stops after

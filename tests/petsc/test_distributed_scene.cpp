@@ -7,7 +7,6 @@
 #define CATCH_CONFIG_RUNNER
 #include <petscsys.h>
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -25,10 +24,6 @@ using contact::test::Rank;
 
 constexpr double kSameTrajectory =
     1e-12;  // relative to the largest value of the quantity
-// Lanczos stops when its Ritz value omega_max^2 moved by at most 1e-9 relative over two
-// checks (kCriticalStepTolerance); dt_crit ~ 1 / omega_max is then within about half
-// that of the exact value, checked with a margin of 20.
-constexpr double kCriticalStepAccuracy = 1e-8;
 
 // A Hex8 box 0.2 m wide falling at 0.5 m/s onto a plane 1 mm below it, with friction and
 // a sideways body force (so that it slides).
@@ -186,20 +181,9 @@ TEST_CASE("the explicit step on MPI ranks follows the serial trajectory") {
   contact::test::CheckSameMeasures(scene, serial.summary, parallel.summary,
                                    kSameTrajectory);
 
-  // dt_crit, estimated on the ranks' K and lumped mass (rank 0 has no serial K): the
-  // serial Lanczos estimate up to the round-off of the reordered sums, and 2 / omega_max
-  // with omega_max^2 the largest eigenvalue of the pencil (K, M) by a dense solve, to
-  // the estimate's tolerance.
-  const double dt_serial = serial.summary.critical_time_step,
-               dt_ranks = parallel.summary.critical_time_step;
-  CHECK(std::abs(dt_ranks - dt_serial) <= kSameTrajectory * dt_serial);
-  const contact::SceneModel built = contact::BuildSceneModel(scene);
-  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> pencil(
-      Eigen::MatrixXd(built.model.K), Eigen::MatrixXd(built.model.M),
-      Eigen::EigenvaluesOnly);
-  REQUIRE(pencil.info() == Eigen::Success);
-  const double dt_exact = 2.0 / std::sqrt(pencil.eigenvalues().maxCoeff());
-  CHECK(std::abs(dt_ranks - dt_exact) <= kCriticalStepAccuracy * dt_exact);
+  // dt_crit, estimated on the ranks' K and lumped mass.
+  contact::test::CheckCriticalStep(scene, serial.summary, parallel.summary,
+                                   kSameTrajectory);
 }
 
 TEST_CASE("an unstable explicit step blows up on MPI ranks as in one process") {

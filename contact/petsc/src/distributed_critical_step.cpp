@@ -1,5 +1,6 @@
 #include "distributed_critical_step.hpp"
 
+#include <stdexcept>
 #include <vector>
 
 #include "contact/dynamics.hpp"
@@ -20,7 +21,8 @@ double DeterministicDot(MPI_Comm comm, const Eigen::VectorXd& x,
   return sum;
 }
 
-CriticalTimeStep DistributedCriticalTimeStep(const DistributedBody& body) {
+CriticalTimeStep DistributedCriticalTimeStep(const DistributedBody& body,
+                                             const MassSolve& solve_consistent) {
   const Mat K = body.stiffness();
   const Vec m = body.lumped_mass();
   MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(m));
@@ -39,10 +41,29 @@ CriticalTimeStep DistributedCriticalTimeStep(const DistributedBody& body) {
   CONTACT_PETSC_CHECK(VecGetArrayRead(m, &values));
   for (PetscInt k = 0; k < local_size; ++k) mass(k) = PetscRealPart(values[k]);
   CONTACT_PETSC_CHECK(VecRestoreArrayRead(m, &values));
-  // K x on Eigen vectors: two Vecs of the DM's layout lent their memory.
+  // The products and solves on Eigen vectors: two Vecs of the DM's layout lent their
+  // memory.
   Vec x = nullptr, y = nullptr;
   CONTACT_PETSC_CHECK(DMGetGlobalVector(body.dm(), &x));
   CONTACT_PETSC_CHECK(DMGetGlobalVector(body.dm(), &y));
+  const auto apply = [&](const std::function<void(Vec, Vec)>& operation,
+                         const Eigen::VectorXd& in, Eigen::VectorXd* out) {
+    out->resize(in.size());
+    CONTACT_PETSC_CHECK(VecPlaceArray(x, const_cast<PetscScalar*>(in.data())));
+    CONTACT_PETSC_CHECK(VecPlaceArray(y, out->data()));
+    try {
+      operation(x, y);
+    } catch (...) {
+      VecResetArray(y);
+      VecResetArray(x);
+      throw;
+    }
+    CONTACT_PETSC_CHECK(VecResetArray(y));
+    CONTACT_PETSC_CHECK(VecResetArray(x));
+  };
+  const auto multiply = [](Mat A) {
+    return [A](Vec in, Vec out) { CONTACT_PETSC_CHECK(MatMult(A, in, out)); };
+  };
 
   ::contact::internal::LanczosOperators op;
   op.global_size = global_size;
@@ -50,24 +71,39 @@ CriticalTimeStep DistributedCriticalTimeStep(const DistributedBody& body) {
     return serial_index[static_cast<size_t>(k)];
   };
   op.multiply_K = [&](const Eigen::VectorXd& in, Eigen::VectorXd* out) {
-    out->resize(in.size());
-    CONTACT_PETSC_CHECK(VecPlaceArray(x, const_cast<PetscScalar*>(in.data())));
-    CONTACT_PETSC_CHECK(VecPlaceArray(y, out->data()));
-    CONTACT_PETSC_CHECK(MatMult(K, x, y));
-    CONTACT_PETSC_CHECK(VecResetArray(y));
-    CONTACT_PETSC_CHECK(VecResetArray(x));
+    apply(multiply(K), in, out);
   };
-  op.multiply_M = [&mass](const Eigen::VectorXd& in, Eigen::VectorXd* out) {
-    *out = in.cwiseProduct(mass);
-  };
-  op.solve_M = [&mass](const Eigen::VectorXd& b, Eigen::VectorXd* out) {
-    *out = b.cwiseQuotient(mass);  // (MassInverse::Solve of a diagonal M)
-  };
+  if (solve_consistent) {
+    const Mat M = body.mass_matrix();
+    if (!M)
+      throw std::logic_error(
+          "DistributedCriticalTimeStep: a consistent mass needs the body's mass matrix");
+    op.multiply_M = [&, M](const Eigen::VectorXd& in, Eigen::VectorXd* out) {
+      apply(multiply(M), in, out);
+    };
+    op.solve_M = [&](const Eigen::VectorXd& b, Eigen::VectorXd* out) {
+      apply(solve_consistent, b, out);
+    };
+  } else {
+    op.multiply_M = [&mass](const Eigen::VectorXd& in, Eigen::VectorXd* out) {
+      *out = in.cwiseProduct(mass);
+    };
+    op.solve_M = [&mass](const Eigen::VectorXd& b, Eigen::VectorXd* out) {
+      *out = b.cwiseQuotient(mass);  // (MassInverse::Solve of a diagonal M)
+    };
+  }
   op.dot = [comm](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
     return DeterministicDot(comm, a, b);
   };
-  const CriticalTimeStep crit = ::contact::internal::Lanczos(
-      op, local_size, kCriticalStepTolerance, kCriticalStepMaxIterations);
+  CriticalTimeStep crit;
+  try {
+    crit = ::contact::internal::Lanczos(op, local_size, kCriticalStepTolerance,
+                                        kCriticalStepMaxIterations);
+  } catch (...) {
+    DMRestoreGlobalVector(body.dm(), &y);
+    DMRestoreGlobalVector(body.dm(), &x);
+    throw;
+  }
   CONTACT_PETSC_CHECK(DMRestoreGlobalVector(body.dm(), &y));
   CONTACT_PETSC_CHECK(DMRestoreGlobalVector(body.dm(), &x));
   return crit;

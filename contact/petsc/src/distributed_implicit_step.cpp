@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include "mass_inverse.hpp"
 #include "petsc_check.hpp"
@@ -105,7 +107,8 @@ StepMethod ResolveDistributedStep(const Scene& scene, const SceneModel& built) {
 CondensedGatheredStep::CondensedGatheredStep(MPI_Comm comm, const Scene& scene,
                                              const DistributedBody& body,
                                              const std::vector<ContactNode>* nodes,
-                                             double m_max, bool matrix_free)
+                                             double m_max, bool matrix_free,
+                                             bool complete_start)
     : comm_(comm),
       rank_(0),
       scene_(scene),
@@ -114,6 +117,7 @@ CondensedGatheredStep::CondensedGatheredStep(MPI_Comm comm, const Scene& scene,
       dt_(scene.dynamics.dt),
       m_max_(m_max),
       force_scale_(m_max / (scene.dynamics.dt * scene.dynamics.dt)),
+      matrix_free_(matrix_free),
       tolerance_(scene.dynamics.ncp.tolerance) {
   MPI_Comm_rank(comm, &rank_);
   if (!body.mass_matrix())
@@ -132,13 +136,16 @@ CondensedGatheredStep::CondensedGatheredStep(MPI_Comm comm, const Scene& scene,
         CONTACT_PETSC_CHECK(VecRestoreArray(contact_, &x));
       },
       [this](Eigen::VectorXd* x) { ReadContact(x); });
-  start = Clock::now();
-  if (matrix_free)
+  SetInitialState(complete_start);
+}
+
+void CondensedGatheredStep::SetUpContact() {
+  const auto start = Clock::now();
+  if (matrix_free_)
     SetUpOperator();
   else
     FormDelassus();
   delassus_seconds_ = Seconds(start);
-  SetInitialState();
 }
 
 CondensedGatheredStep::~CondensedGatheredStep() {
@@ -206,6 +213,14 @@ constexpr double kStepSolveFraction = 1e-3;
 constexpr double kRoundoffRtol = 1e-14;
 
 bool CondensedGatheredStep::SolveS(Vec b, Vec x, double step_force) {
+  if (!SolveM(b, x, step_force)) return false;
+  CONTACT_PETSC_CHECK(VecScale(x, m_max_));  // S^-1 = m_max M^-1
+  return true;
+}
+
+bool CondensedGatheredStep::SolveMass(Vec b, Vec x) { return SolveM(b, x, 0.0); }
+
+bool CondensedGatheredStep::SolveM(Vec b, Vec x, double step_force) {
   PetscBool preonly = PETSC_FALSE;
   CONTACT_PETSC_CHECK(
       PetscObjectTypeCompare(reinterpret_cast<PetscObject>(ksp_), KSPPREONLY, &preonly));
@@ -227,7 +242,6 @@ bool CondensedGatheredStep::SolveS(Vec b, Vec x, double step_force) {
                ") did not converge: " + KSPConvergedReasons[reason];
     return false;
   }
-  CONTACT_PETSC_CHECK(VecScale(x, m_max_));  // S^-1 = m_max M^-1
   return true;
 }
 
@@ -381,24 +395,68 @@ void CondensedGatheredStep::SetUpOperator() {
 }
 
 // u^0, u^{-1}, du = u^0 - u^{-1}, f_F and the contact dofs from the node data rank 0
-// sent; M du and K u^0.
-void CondensedGatheredStep::SetInitialState() {
-  PetscScalar *u = nullptr, *u_previous = nullptr, *du = nullptr, *f = nullptr;
+// sent (with complete_start, u^{-1} += dt^2 / 2 M^-1 (f(t_0) - K u^0)); M du and K u^0.
+void CondensedGatheredStep::SetInitialState(bool complete_start) {
+  PetscScalar *u = nullptr, *u_previous = nullptr, *f = nullptr;
   CONTACT_PETSC_CHECK(VecGetArray(u_, &u));
   CONTACT_PETSC_CHECK(VecGetArray(u_previous_, &u_previous));
-  CONTACT_PETSC_CHECK(VecGetArray(du_, &du));
   CONTACT_PETSC_CHECK(VecGetArray(f_free_, &f));
   PetscInt n = 0;
   CONTACT_PETSC_CHECK(VecGetLocalSize(u_, &n));
   contact_dof_.assign(static_cast<size_t>(n), 0);
   body_.UnpackStart(u, u_previous, f, &contact_dof_);
-  for (PetscInt k = 0; k < n; ++k) du[k] = u[k] - u_previous[k];
   CONTACT_PETSC_CHECK(VecRestoreArray(f_free_, &f));
-  CONTACT_PETSC_CHECK(VecRestoreArray(du_, &du));
   CONTACT_PETSC_CHECK(VecRestoreArray(u_previous_, &u_previous));
   CONTACT_PETSC_CHECK(VecRestoreArray(u_, &u));
-  CONTACT_PETSC_CHECK(MatMult(body_.mass_matrix(), du_, Mdu_previous_));
   CONTACT_PETSC_CHECK(MatMult(body_.stiffness(), u_, Ku_));
+  if (complete_start) {
+    // M a^0 = f(t_0) - K u^0 (rhs_ and y_ as buffers), u^{-1} += dt^2 / 2 a^0.
+    const double t0 = scene_.dynamics.start_time;
+    CONTACT_PETSC_CHECK(VecAXPBYPCZ(rhs_,
+                                    ::contact::internal::LoadHistoryFactor(
+                                        scene_.load_history, t0, scene_.ramp_time, t0),
+                                    -1.0, 0.0, f_free_, Ku_));
+    const bool solved = SolveMass(rhs_, y_);
+    ThrowFromRankZero(comm_, solved ? std::string()
+                                    : "contact::petsc: the prescribed "
+                                      "start's acceleration: " +
+                                          failure_);
+    CONTACT_PETSC_CHECK(VecAXPY(u_previous_, 0.5 * dt_ * dt_, y_));
+  }
+  CONTACT_PETSC_CHECK(VecWAXPY(du_, -1.0, u_previous_, u_));
+  CONTACT_PETSC_CHECK(MatMult(body_.mass_matrix(), du_, Mdu_previous_));
+}
+
+::contact::internal::EnergyBalance CondensedGatheredStep::StartEnergy() const {
+  double local[3] = {0.0, 0.0, 0.0};  // du' M du, (u^{-1})' K u^0, (u^0)' K u^0
+  PetscInt n = 0;
+  CONTACT_PETSC_CHECK(VecGetLocalSize(u_, &n));
+  const PetscScalar *u = nullptr, *u_previous = nullptr, *du = nullptr, *Ku = nullptr,
+                    *Mdu = nullptr;
+  const std::pair<Vec, const PetscScalar**> read[] = {{u_, &u},
+                                                      {u_previous_, &u_previous},
+                                                      {du_, &du},
+                                                      {Ku_, &Ku},
+                                                      {Mdu_previous_, &Mdu}};
+  for (const auto& [v, a] : read) CONTACT_PETSC_CHECK(VecGetArrayRead(v, a));
+  for (PetscInt i = 0; i < n; ++i) {
+    local[0] += du[i] * Mdu[i];
+    local[1] += u_previous[i] * Ku[i];
+    local[2] += u[i] * Ku[i];
+  }
+  for (const auto& [v, a] : read) CONTACT_PETSC_CHECK(VecRestoreArrayRead(v, a));
+  int size = 1;
+  MPI_Comm_size(comm_, &size);
+  std::vector<double> parts(3 * static_cast<size_t>(size));
+  MPI_Allgather(local, 3, MPI_DOUBLE, parts.data(), 3, MPI_DOUBLE, comm_);
+  double sum[3] = {0.0, 0.0, 0.0};  // in rank order: the same bits on every rank
+  for (int r = 0; r < size; ++r)
+    for (int j = 0; j < 3; ++j) sum[j] += parts[3 * static_cast<size_t>(r) + j];
+  ::contact::internal::EnergyBalance energy;  // (EnergyBalance's constructor's terms)
+  energy.kinetic0 = 0.5 * sum[0] / (dt_ * dt_);
+  energy.energy0 = energy.kinetic0 + 0.5 * sum[1];
+  energy.strain0 = 0.5 * sum[2];
+  return energy;
 }
 
 bool CondensedGatheredStep::Step(long k, bool stop_requested,

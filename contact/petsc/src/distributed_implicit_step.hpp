@@ -66,9 +66,17 @@ class CondensedGatheredStep {
   /// which every rank takes part (DelassusProducts). Its scaling diag(W) is taken as
   /// m_max / M_ii (exact for a lumped M; within a factor of about 2 of W_ii for a
   /// consistent one) instead of the serial step's probing.
+  ///
+  /// The constructor factors M and sets up the start; the contact problem's set-up (W
+  /// formed, or the matrix-free operator) waits for SetUpContact, so that the run can
+  /// check dt against dt_crit with this step's solver first (SolveMass).
+  /// complete_start: the node data's u^{-1} is u^0 - dt v^0 without its acceleration
+  /// term (rank 0 had no M); it is completed here as the serial prescribed start does
+  /// (dynamics.cpp SetInitialState): u^{-1} += dt^2 / 2 M^-1 (f(t_0) - K u^0), by one
+  /// solve with M.
   CondensedGatheredStep(MPI_Comm comm, const Scene& scene, const DistributedBody& body,
                         const std::vector<ContactNode>* nodes, double m_max,
-                        bool matrix_free = false);
+                        bool matrix_free = false, bool complete_start = false);
   ~CondensedGatheredStep();
   CondensedGatheredStep(const CondensedGatheredStep&) = delete;
   CondensedGatheredStep& operator=(const CondensedGatheredStep&) = delete;
@@ -81,6 +89,19 @@ class CondensedGatheredStep {
   /// M failed; failure() says why. A non-finite increment is reported in *part.
   bool Step(long k, bool stop_requested, const StepRecorder* recorder, RankStepPart* part,
             std::vector<NodeResult>* results, StepRecord* rec);
+
+  /// Collective: W formed on rank 0 (the condensed step) or the matrix-free operator
+  /// (matrix_free), and rank 0's solver of the contact problem. Once, before Step.
+  void SetUpContact();
+
+  /// Collective: x = M^-1 b [global Vecs of the body's DM] by the step's solver of M (to
+  /// its relative tolerance); false (failure() says why) if the solve did not converge.
+  bool SolveMass(Vec b, Vec x);
+
+  /// Collective: the energy balance's start from u^0, u^{-1}, K u^0 and M (u^0 -
+  /// u^{-1}) on the ranks (EnergyBalance's constructor, its three dot products summed
+  /// in rank order), the same on every rank.
+  ::contact::internal::EnergyBalance StartEnergy() const;
 
   Vec displacement() const { return u_; }
   const std::string& failure() const { return failure_; }
@@ -110,12 +131,14 @@ class CondensedGatheredStep {
       std::string error);
   // The fc settings of the serial step (coulomb_fc_step.cpp FcOptions).
   ncp::fc::Options FcOptions() const;
-  void SetInitialState();
+  void SetInitialState(bool complete_start);
   // x = S^-1 b = m_max M^-1 b; false (failure_ set) if the KSP did not converge.
   // step_force: the step's force scale F [N] (an iterative solve to a thousandth of its
   // force accuracy), 0 for the set-up's solves and the sparse step's products with W
   // (to rtol).
   bool SolveS(Vec b, Vec x, double step_force);
+  // x = M^-1 b, as SolveS without the scaling.
+  bool SolveM(Vec b, Vec x, double step_force);
   // Q^k, q, and this rank's maxima of the step's scales into part (dynamics.cpp
   // LoadStep).
   void LoadStep(double factor, RankStepPart* part);
@@ -145,6 +168,7 @@ class CondensedGatheredStep {
   int dim_;
   double dt_, m_max_, force_scale_;
   int num_unknowns_ = 0;
+  bool matrix_free_ = false;
   std::string failure_, mass_solver_;
   double factor_seconds_ = 0, delassus_seconds_ = 0;
   KSP ksp_ = nullptr;

@@ -2,8 +2,9 @@
 //
 // Set-up on rank 0 (not yet distributed): the scene's model as contact-sim builds it
 // (BuildSceneModel), and contact::Simulation's critical time step and initial state; for
-// a lumped mass and a prescribed start the model without K, and the critical step by
-// Lanczos on the ranks after the distribution (SetUpWithoutSerialStiffness). Then
+// a prescribed start the model without K (and without a consistent M), and the critical
+// step by Lanczos on the ranks after the distribution (SetUpWithoutSerialMatrices; with
+// a consistent mass the ranks also complete the start with their solver of M). Then
 // the mesh and, per node, its Dirichlet components, u^0, u^{-1}, f_F and contact frame go
 // to DMPlex and its ranks (DistributedBody), and each rank steps its own free dofs:
 //   Q^k = K u^k - f^k - M (u^k - u^{k-1}) / dt^2,   q = Q^k dt^2 / m_max,
@@ -81,14 +82,32 @@ double PeakResidentMiB() {
   return -1.0;
 }
 
-// The scenes whose set-up needs no serial K on rank 0: a lumped mass and a prescribed
-// start (u^0 = 0, so K u^0 = 0 and the start is the serial one without K); dt_crit is
-// then estimated on the ranks (DistributedCriticalTimeStep). The static initial state
-// solves the static contact problem with K, and a consistent M needs its factor for the
-// start and for Lanczos: both are set up on rank 0 with the serial model.
-bool SetUpWithoutSerialStiffness(const Scene& scene) {
-  return scene.mass == MassKind::kLumped &&
-         scene.dynamics.initial_state == InitialState::kPrescribed;
+// The scenes whose set-up needs no serial K, and no serial consistent M, on rank 0: a
+// prescribed start (u^0 = 0, so K u^0 = 0); dt_crit is then estimated on the ranks
+// (DistributedCriticalTimeStep). With a lumped mass rank 0 completes the start with its
+// diagonal M (the serial start to the bit, StartCompletedOnRanks false); with a
+// consistent mass rank 0 sends u^{-1} = u^0 - dt v^0 and the ranks add dt^2 / 2 M^-1
+// (f(t_0) - K u^0) with their solver of M (CondensedGatheredStep's complete_start). The
+// static initial state solves the static contact problem with K: set up on rank 0 with
+// the serial model.
+bool SetUpWithoutSerialMatrices(const Scene& scene) {
+  return scene.dynamics.initial_state == InitialState::kPrescribed;
+}
+bool StartCompletedOnRanks(const Scene& scene) {
+  return SetUpWithoutSerialMatrices(scene) && scene.mass == MassKind::kConsistent;
+}
+
+// The largest |A_ij| of a parallel matrix (m_max of the step scaling S = M / m_max:
+// MaxAbsEntry of the serial M_FF, up to the round-off of the partition-boundary rows'
+// sums).
+double MaxAbsEntry(Mat A) {
+  Vec row_max = nullptr;
+  CONTACT_PETSC_CHECK(MatCreateVecs(A, nullptr, &row_max));
+  CONTACT_PETSC_CHECK(MatGetRowMaxAbs(A, row_max, nullptr));
+  PetscReal max = 0.0;
+  CONTACT_PETSC_CHECK(VecMax(row_max, nullptr, &max));
+  CONTACT_PETSC_CHECK(VecDestroy(&row_max));
+  return max;
 }
 
 // What rank 0 has computed before the distributed steps, and tells every rank.
@@ -108,13 +127,15 @@ struct RecorderStart {
 };
 
 // Rank 0: the model, the critical step and the initial state of the serial run, and the
-// NodeData of every mesh node. Without the serial K (SetUpWithoutSerialStiffness) the
-// critical step is left to the ranks (summary->critical_time_step = infinity here).
+// NodeData of every mesh node. Without the serial matrices (SetUpWithoutSerialMatrices)
+// the critical step is left to the ranks (summary->critical_time_step = infinity here),
+// and with a consistent mass the start's acceleration term, its energy and m_max too
+// (StartCompletedOnRanks: u^{-1} = u^0 - dt v^0 here, info->m_max = 0).
 std::vector<double> SerialSetUp(const Scene& scene, SceneModel* built,
                                 DynamicSummary* summary, StartInfo* info,
                                 RecorderStart* recorder) {
-  *built = SetUpWithoutSerialStiffness(scene)
-               ? ::contact::internal::BuildSceneModelWithoutStiffness(scene)
+  *built = SetUpWithoutSerialMatrices(scene)
+               ? ::contact::internal::BuildSceneModelWithoutMatrices(scene)
                : BuildSceneModel(scene);
   const Mesh& mesh = built->body->mesh();
   const int dim = mesh.dim;
@@ -124,36 +145,42 @@ std::vector<double> SerialSetUp(const Scene& scene, SceneModel* built,
   DynamicOptions options = built->options;
   options.progress = false;
   options.on_step = nullptr;
-  // (The serial step is never taken here: for the condensed step on ranks the full
-  // step, whose set-up is cheapest, stands in, so that rank 0 does not form W.)
-  options.step_method =
-      method == StepMethod::kExplicit ? StepMethod::kExplicit : StepMethod::kFull;
-  const Simulation initial(built->model,
-                           options);  // checks dt against dt_crit, u^0, u^{-1}
-  *summary = initial.summary();
-  info->critical_time_step = summary->critical_time_step;
   info->num_dofs = mesh.NumDofs();
   info->num_free_dofs = built->dofs.NumFreeDofs();
   info->num_contact_nodes = static_cast<int>(built->frames.nodes.size());
   info->num_elements = mesh.NumElements();
-  if (initial.state() == SimulationState::kFailed) {
-    info->refused = 1;
-    return {};
-  }
-  const Eigen::VectorXd& u0 = initial.displacement();
-  const Eigen::VectorXd u_previous = u0 - options.dt * initial.velocity();
-  const Eigen::VectorXd f = ::contact::internal::SceneLoadVector(scene, *built);
-  const ContactNodeStates start = initial.contact();
-  {
+  Eigen::VectorXd u0, u_previous;
+  recorder->lambda0 = Eigen::VectorXd::Zero(info->num_contact_nodes);
+  if (StartCompletedOnRanks(scene)) {
+    summary->critical_time_step = std::numeric_limits<double>::infinity();
+    info->critical_time_step = summary->critical_time_step;
+    u0 = options.u0;
+    u_previous = u0 - options.dt * options.v0;
+  } else {
+    // (The serial step is never taken here: for the condensed step on ranks the full
+    // step, whose set-up is cheapest, stands in, so that rank 0 does not form W.)
+    options.step_method =
+        method == StepMethod::kExplicit ? StepMethod::kExplicit : StepMethod::kFull;
+    const Simulation initial(built->model,
+                             options);  // checks dt against dt_crit, u^0, u^{-1}
+    *summary = initial.summary();
+    info->critical_time_step = summary->critical_time_step;
+    if (initial.state() == SimulationState::kFailed) {
+      info->refused = 1;
+      return {};
+    }
+    u0 = initial.displacement();
+    u_previous = u0 - options.dt * initial.velocity();
     const Eigen::VectorXd du = u0 - u_previous;
     Eigen::VectorXd Ku(u0.size()), Mdu(u0.size());
     ::contact::internal::SymmetricMultiply(built->model.K, u0, &Ku);
     ::contact::internal::SymmetricMultiply(built->model.M, du, &Mdu);
     recorder->energy =
         ::contact::internal::EnergyBalance(u0, u_previous, Ku, Mdu, options.dt);
-    recorder->lambda0 =
-        start.normal_force.unaryExpr([](double l) { return std::isfinite(l) ? l : 0.0; });
+    recorder->lambda0 = initial.contact().normal_force.unaryExpr(
+        [](double l) { return std::isfinite(l) ? l : 0.0; });
   }
+  const Eigen::VectorXd f = ::contact::internal::SceneLoadVector(scene, *built);
   const int width = NodeData::Width(dim);
   std::vector<double> data(
       static_cast<size_t>(width) * static_cast<size_t>(mesh.NumNodes()), 0.0);
@@ -179,9 +206,7 @@ std::vector<double> SerialSetUp(const Scene& scene, SceneModel* built,
       d[4 * dim + 7 + a] = node.tangent2(a);
     }
     d[4 * dim + 10] = node.gap;
-    const double lambda0 = start.normal_force(static_cast<Eigen::Index>(c));
-    d[4 * dim + 11] =
-        std::isfinite(lambda0) ? lambda0 : 0.0;  // (prescribed start: unknown = 0)
+    d[4 * dim + 11] = recorder->lambda0(static_cast<Eigen::Index>(c));
   }
   return data;
 }
@@ -708,37 +733,60 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
       method == StepMethod::kCondensed || method == StepMethod::kSparse;
   const DistributedBody body(comm, scene, built.get(), node_data, condensed);
   node_data = {};
-  const bool serial_stiffness = !SetUpWithoutSerialStiffness(scene);
-  const auto lanczos_start = Clock::now();
-  if (!serial_stiffness) {
-    // dt_crit on the ranks; every rank has the same estimate, so the same outcome.
-    summary.predicted_cost = StepCostPrediction();  // (the serial prediction needs K)
-    if (!::contact::internal::AcceptCriticalStep(
-            internal::DistributedCriticalTimeStep(body), scene.dynamics, &summary))
-      return result;
-  }
-  const double lanczos_seconds = Seconds(lanczos_start);
+  const double assembly_peak = rank == 0 && progress ? PeakResidentMiB() : -1.0;
+  const bool serial_matrices = !SetUpWithoutSerialMatrices(scene);
+  const bool start_on_ranks = StartCompletedOnRanks(scene);
+  if (start_on_ranks && !condensed)  // (WhyNotDistributed refuses it)
+    throw std::logic_error("contact::petsc: a consistent mass needs the implicit step");
+  if (start_on_ranks) info.m_max = MaxAbsEntry(body.mass_matrix());
+  // The condensed and sparse steps' solver of M (factored here) completes the start and,
+  // with a consistent mass, serves dt_crit; their contact problem waits for dt's check.
   std::unique_ptr<CondensedGatheredStep> condensed_run;
   if (condensed)
     condensed_run = std::make_unique<CondensedGatheredStep>(
         comm, scene, body, built ? &built->frames.nodes : nullptr, info.m_max,
-        /*matrix_free=*/method == StepMethod::kSparse);
+        /*matrix_free=*/method == StepMethod::kSparse, start_on_ranks);
+  const auto lanczos_start = Clock::now();
+  if (!serial_matrices) {
+    // dt_crit on the ranks; every rank has the same estimate, so the same outcome.
+    summary.predicted_cost = StepCostPrediction();  // (the serial prediction needs K)
+    internal::MassSolve solve_consistent;
+    if (scene.mass == MassKind::kConsistent)
+      solve_consistent = [&condensed_run](Vec b, Vec x) {
+        if (!condensed_run->SolveMass(b, x))
+          throw std::invalid_argument("contact::petsc: dt_crit by Lanczos: " +
+                                      condensed_run->failure());
+      };
+    if (!::contact::internal::AcceptCriticalStep(
+            internal::DistributedCriticalTimeStep(body, solve_consistent), scene.dynamics,
+            &summary))
+      return result;
+  }
+  const double lanczos_seconds = Seconds(lanczos_start);
+  if (condensed_run) condensed_run->SetUpContact();
+  if (start_on_ranks) recorder_start.energy = condensed_run->StartEnergy();
   if (progress && rank == 0)
     std::fprintf(stderr,
                  "  set-up on rank 0: %s %.3g s; DMPlex and distribution (%s) %.3g s, "
                  "section %.3g s, assembly of K and M %.3g s\n",
-                 serial_stiffness ? "model, dt_crit and initial state"
+                 serial_matrices  ? "model, dt_crit and initial state"
+                 : start_on_ranks ? "mesh, contact frames and load"
                                   : "mesh, contact frames, lumped mass and initial state",
                  setup_seconds, body.partitioner().c_str(), body.distribute_seconds(),
                  body.section_seconds(), body.assemble_seconds());
-  if (progress && rank == 0 && !serial_stiffness)
-    std::fprintf(stderr, "  dt_crit = %.6g s by Lanczos on the ranks' K: %.3g s\n",
-                 summary.critical_time_step, lanczos_seconds);
+  if (progress && rank == 0 && !serial_matrices)
+    std::fprintf(stderr, "  dt_crit = %.6g s by Lanczos on the ranks' K and %s: %.3g s\n",
+                 summary.critical_time_step,
+                 scene.mass == MassKind::kConsistent ? "M (solves with M)" : "lumped M",
+                 lanczos_seconds);
+  if (progress && rank == 0 && start_on_ranks)
+    std::fprintf(stderr,
+                 "  the start completed on the ranks: u^-1 += dt^2/2 M^-1 (f - K u^0)\n");
   if (progress && rank == 0)
     std::fprintf(stderr,
                  "  rank 0's peak memory: %.0f MiB after its set-up, %.0f MiB after the "
-                 "distribution and assembly\n",
-                 setup_peak, PeakResidentMiB());
+                 "distribution and assembly, %.0f MiB after the set-up of the step\n",
+                 setup_peak, assembly_peak, PeakResidentMiB());
   if (progress && rank == 0 && condensed_run)
     std::fprintf(
         stderr,

@@ -14,12 +14,12 @@ double LoadHistoryFactor(LoadHistory history, double t0, double ramp_time, doubl
 /// f_F [N]: the scene's body force and traction on the free dofs of `built` (factor 1).
 Vector SceneLoadVector(const Scene& scene, const SceneModel& built);
 
-/// BuildSceneModel of a scene with a lumped mass, without the stiffness: the mesh, the
-/// Dirichlet map, the contact frames, the lumped M_FF, the load and the run's options,
-/// but model.K is n x n without entries (contact/petsc/ assembles K on its ranks). With
-/// it, the prescribed start (u^0 = 0, so K u^0 = 0) is the serial one to the bit; the
-/// critical step is not (dt_crit = infinity). Throws std::logic_error for a consistent
-/// mass.
-SceneModel BuildSceneModelWithoutStiffness(const Scene& scene);
+/// BuildSceneModel without the matrices contact/petsc/ assembles on its ranks: the mesh,
+/// the Dirichlet map, the contact frames, the load and the run's options; model.K is n x
+/// n without entries, and so is model.M for a consistent mass (for a lumped mass M is the
+/// lumped M_FF, diagonal). With a lumped M the prescribed start (u^0 = 0, so K u^0 = 0)
+/// is the serial one to the bit; the critical step is not (dt_crit = infinity), and a
+/// consistent M has neither (the ranks solve with their M).
+SceneModel BuildSceneModelWithoutMatrices(const Scene& scene);
 
 }  // namespace contact::internal

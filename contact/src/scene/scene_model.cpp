@@ -149,15 +149,15 @@ std::function<void(double, Eigen::VectorXd*)> SceneLoad(
   return LoadHistoryOf(scene, built.dofs.RestrictVector(f_full));
 }
 
-SceneModel internal::BuildSceneModelWithoutStiffness(const Scene& scene) {
-  if (scene.mass != MassKind::kLumped)
-    throw std::logic_error(
-        "BuildSceneModelWithoutStiffness: the scene's mass is not lumped");
+SceneModel internal::BuildSceneModelWithoutMatrices(const Scene& scene) {
   return NamingTheScene(scene, [&] {
     SceneModel out = BuildGeometry(scene, SceneMesh(scene));
     const Eigen::Index n = out.dofs.NumFreeDofs();
     out.model.K.resize(n, n);  // (no entries)
-    out.model.M = LumpedMassOnFreeDofs(*out.body, out.dofs);
+    if (scene.mass == MassKind::kLumped)
+      out.model.M = LumpedMassOnFreeDofs(*out.body, out.dofs);
+    else
+      out.model.M.resize(n, n);  // (no entries)
     out.model.load = LoadHistoryOf(scene, SceneLoadVector(scene, out));
     out.options = RunOptions(scene, out);
     return out;
