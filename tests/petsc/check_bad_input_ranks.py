@@ -138,8 +138,8 @@ def same_as_serial(a, name, scene, ranks_args=(), petsc_options=None):
 
 
 def pieces(directory):
-    """The last snapshot's .vtu pieces of series.pvd, each read alone, and the whole."""
-    series = ET.parse(os.path.join(directory, "series.pvd")).getroot()
+    """The last snapshot's .vtu pieces of solution.pvd, each read alone, and the whole."""
+    series = ET.parse(os.path.join(directory, "solution.pvd")).getroot()
     last = [d.get("file") for d in series.iter("DataSet")][-1]
     reader = vtk.vtkXMLPUnstructuredGridReader()
     reader.SetFileName(os.path.join(directory, last))
