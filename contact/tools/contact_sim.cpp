@@ -86,6 +86,10 @@ class MpiSession {
       std::exit(1);
     }
     active_ = true;
+    // PETSc's errors reach the user as one line (contact::petsc's exception carries
+    // PETSc's message, e.g. "Unable to find requested KSP type nonsense"), not PETSc's
+    // traceback.
+    PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank_);
     MPI_Comm_size(PETSC_COMM_WORLD, &size_);
     // A one-process MPI stub (e.g. of a sequential MUMPS) found before libmpi makes every
@@ -126,6 +130,23 @@ class MpiSession {
   }
   int rank() const { return rank_; }
   int size() const { return size_; }
+  /// A warning (rank 0) for each PETSc option (PETSC_OPTIONS) that the run did not use:
+  /// misspelt, or for a solver the scene's step does not have (-mass_ksp_type with the
+  /// explicit step).
+  void WarnAboutUnusedPetscOptions() const {
+#ifdef CONTACT_SIM_WITH_PETSC
+    if (!active_ || rank_ != 0) return;
+    PetscInt count = 0;
+    char **names = nullptr, **values = nullptr;
+    if (PetscOptionsLeftGet(nullptr, &count, &names, &values) != 0) return;
+    for (PetscInt i = 0; i < count; ++i)
+      std::fprintf(stderr,
+                   "contact-sim: warning: PETSc option -%s%s%s was not used by this run "
+                   "(misspelt, or for a solver this step does not have)\n",
+                   names[i], values[i] ? " " : "", values[i] ? values[i] : "");
+    PetscOptionsLeftRestore(nullptr, &count, &names, &values);
+#endif
+  }
   /// A failure of this rank alone: printed (on rank > 0 with its rank), then every rank
   /// is stopped (MPI_Abort) - the others may be waiting for this one.
   [[noreturn]] void AbortRun(const std::string& what) const {
@@ -437,6 +458,7 @@ int main(int argc, char** argv) {
                  "continues the run\n",
                  r.checkpoint_step, scene.output_directory.c_str());
   if (completed || (!quiet && s.steps > 0)) PrintReport(table, scene, r);
+  if (!quiet) mpi.WarnAboutUnusedPetscOptions();
   if (!r.files_written.empty() && !quiet)
     std::fprintf(stderr, "  wrote %zu files into %s\n", r.files_written.size(),
                  scene.output_directory.c_str());

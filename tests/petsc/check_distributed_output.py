@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """contact-sim on 2 MPI ranks against the serial contact-sim on the same scene, through the
-files a user opens: series.pvd lists one .pvtu per snapshot, VTK's own parallel reader
+files a user opens: solution.pvd lists one .pvtu per snapshot, VTK's own parallel reader
 (vtkXMLPUnstructuredGridReader) reads the last one - its cells are the mesh's, its points
 (the pieces share their partition-boundary vertices) the mesh's nodes once merged, its
 displacement the serial displacement.csv to its 10 printed digits - steps.csv has the
@@ -190,8 +190,8 @@ def main():
                          if abs(float(r["time"]) - 0.004) < 1e-9])
     assert u_serial.shape == xyz.shape, (u_serial.shape, xyz.shape)
 
-    # series.pvd -> the last .pvtu, read by VTK's parallel reader.
-    series = ET.parse(os.path.join(mpi_dir, "series.pvd")).getroot()
+    # solution.pvd -> the last .pvtu, read by VTK's parallel reader.
+    series = ET.parse(os.path.join(mpi_dir, "solution.pvd")).getroot()
     files = [d.get("file") for d in series.iter("DataSet")]
     assert len(files) == 1 + 200 // 50, files  # step 0, every 50th step (the last among them)
     reader = vtk.vtkXMLPUnstructuredGridReader()

@@ -256,7 +256,7 @@ Eigen::VectorXd GatherFreeDofs(const DistributedBody& body, Vec v, int num_free_
 // The files of the run: on rank 0 the CSVs of one process (steps.csv, contact_stress.csv,
 // node_history.csv, displacement.csv; not the mesh CSVs); per snapshot one .vtu
 // piece per rank (its cells, the displacement of their vertices and the rank as a cell
-// field), the .pvtu that joins them and series.pvd listing the .pvtu files (rank 0).
+// field), the .pvtu that joins them and solution.pvd listing the .pvtu files (rank 0).
 class DistributedOutput {
  public:
   DistributedOutput(MPI_Comm comm, const Scene& scene,
@@ -345,7 +345,7 @@ class DistributedOutput {
     std::snprintf(name, sizeof name, "snapshot_%06d.pvtu", step);
     WritePvtu((directory_ / name).string(), {displacement}, {rank}, pieces);
     series_.emplace_back(time, name);
-    WritePvd((directory_ / "series.pvd").string(), series_);
+    WritePvd((directory_ / "solution.pvd").string(), series_);
     for (const std::string& p : pieces)
       files_written_->push_back((directory_ / p).string());
     files_written_->push_back((directory_ / name).string());
@@ -356,7 +356,7 @@ class DistributedOutput {
     if (directory_.empty() || rank_ != 0) return;
     for (ncp::OutputFile* csv : {&steps_, &history_, &stress_, &displacement_})
       if (csv->is_open()) csv->Close();
-    files_written_->push_back((directory_ / "series.pvd").string());
+    files_written_->push_back((directory_ / "solution.pvd").string());
   }
 
  private:

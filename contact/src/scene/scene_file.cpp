@@ -412,7 +412,7 @@ void ReadSolver(const Table& v, Scene* s) {
 void ReadOutput(const Table& out, const fs::path& base, Scene* s) {
   if (out.Has("directory")) {
     const fs::path d = out.String("directory");
-    s->output_directory = (d.is_relative() ? base / d : d).string();
+    s->output_directory = (d.is_relative() ? base / d : d).lexically_normal().string();
   }
   if (out.Has("stress_times")) s->stress_times = out.Numbers("stress_times", kTimeOrZero);
   s->snapshot_every = out.Integer("snapshot_every", Range{0, kMaxTimeSteps, ""}, 0);

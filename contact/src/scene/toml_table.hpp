@@ -63,7 +63,7 @@ class Table {
   /// A number in `range` (integers are accepted and converted exactly when |n| < 2^53).
   double Number(const std::string& key, const Range& range) const {
     const toml::value& v = Get(key);
-    const double x = ToDouble(key, v, v);
+    const double x = ToDouble(key, v, v, range);
     CheckRange(key, x, range, v);
     return x;
   }
@@ -74,20 +74,21 @@ class Table {
   int Integer(const std::string& key, const Range& range, int fallback) const {
     if (!Has(key)) return used_.insert(key), fallback;
     const toml::value& v = Get(key);
-    if (!v.is_integer()) Fail(key, "must be an integer in" + range.Describe(), &v);
-    const double x = ToDouble(key, v, v);
+    if (!v.is_integer())
+      Fail(key, "must be an integer in" + range.Describe() + Got(v), &v);
+    const double x = ToDouble(key, v, v, range);
     CheckRange(key, x, range, v);
     return static_cast<int>(v.as_integer());
   }
   bool Boolean(const std::string& key, bool fallback) const {
     if (!Has(key)) return used_.insert(key), fallback;
     const toml::value& v = Get(key);
-    if (!v.is_boolean()) Fail(key, "must be true or false", &v);
+    if (!v.is_boolean()) Fail(key, "must be true or false" + Got(v), &v);
     return v.as_boolean();
   }
   std::string String(const std::string& key) const {
     const toml::value& v = Get(key);
-    if (!v.is_string()) Fail(key, "must be a string", &v);
+    if (!v.is_string()) Fail(key, "must be a string" + Got(v), &v);
     return v.as_string().str;
   }
   std::string String(const std::string& key, const std::string& fallback) const {
@@ -109,7 +110,8 @@ class Table {
   std::vector<double> Numbers(const std::string& key, const Range& range,
                               int expected_size = -1) const {
     const toml::value& v = Get(key);
-    if (!v.is_array()) Fail(key, "must be an array of numbers in" + range.Describe(), &v);
+    if (!v.is_array())
+      Fail(key, "must be an array of numbers in" + range.Describe() + Got(v), &v);
     if (expected_size >= 0 && static_cast<int>(v.as_array().size()) != expected_size)
       Fail(key,
            "must have " + std::to_string(expected_size) + " entries, got " +
@@ -117,7 +119,7 @@ class Table {
            &v);
     std::vector<double> out;
     for (const toml::value& e : v.as_array()) {
-      out.push_back(ToDouble(key, e, v));
+      out.push_back(ToDouble(key, e, v, range));
       CheckRange(key, out.back(), range, v, out.size() - 1);
     }
     return out;
@@ -181,10 +183,11 @@ class Table {
   /// The value of a TOML number as a double. toml11 3.7 saturates an integer literal
   /// beyond the int64 range to INT64_MIN / INT64_MAX without an error, so those two are
   /// refused.
-  double ToDouble(const std::string& key, const toml::value& e,
-                  const toml::value& at) const {
+  double ToDouble(const std::string& key, const toml::value& e, const toml::value& at,
+                  const Range& range) const {
     if (e.is_floating()) return e.as_floating();
-    if (!e.is_integer()) Fail(key, "must be a number, got a " + TypeName(e), &at);
+    if (!e.is_integer())
+      Fail(key, "must be a number in" + range.Describe() + Got(e), &at);
     const std::int64_t i = e.as_integer();
     if (i == std::numeric_limits<std::int64_t>::max() ||
         i == std::numeric_limits<std::int64_t>::min())
@@ -205,6 +208,15 @@ class Table {
     std::ostringstream s;
     s << v.type();
     return s.str();
+  }
+  /// ", got a string "2e-5"": the type of a value of the wrong type, and the value itself
+  /// when it is a string, a boolean or a number (not a table or array).
+  static std::string Got(const toml::value& v) {
+    std::string got = ", got a " + TypeName(v);
+    if (v.is_string()) return got + " \"" + v.as_string().str + "\"";
+    if (v.is_boolean() || v.is_integer() || v.is_floating())
+      return got + " " + toml::format(v);
+    return got;
   }
   std::string Join(const std::string& key) const {
     return path_.empty() ? key : path_ + "." + key;

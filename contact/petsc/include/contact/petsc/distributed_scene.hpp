@@ -37,7 +37,7 @@ std::string WhyNotDistributed(const Scene& scene);
 /// process. Files (rank 0 unless said): steps.csv, contact_stress.csv and
 /// displacement.csv (at output.stress_times and the end), node_history.csv
 /// (output.marked_point), as from one process, and the snapshots as one .vtu piece per
-/// rank (each rank writes its own), one .pvtu per snapshot and series.pvd.
+/// rank (each rank writes its own), one .pvtu per snapshot and solution.pvd.
 SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress);
 
 }  // namespace contact::petsc
