@@ -230,10 +230,14 @@ TEST_CASE(
 
 TEST_CASE("matrix-free over two parts: the same decisions on both, the whole solved",
           "[fc][operator][data]") {
+  // GMRES's dot products in sequence (modified Gram-Schmidt, one reduction each) or at
+  // once (classical twice, one reduction per pass).
+  const bool classical = GENERATE(false, true);
   int solved = 0, same_as_serial = 0;
   const int files = test::ForEachDataProblem([&](const FrictionProblem& p) {
     Options options;
     options.max_iterations = 300;
+    options.krylov_classical_gram_schmidt = classical;
     // (One contact: part 0 empty - a part without contacts takes part all the same.)
     TwoParts parts(p, p.num_contacts / 2);
     std::array<OperatorProblem, 2> op = {parts.Part(0), parts.Part(1)};
@@ -242,7 +246,8 @@ TEST_CASE("matrix-free over two parts: the same decisions on both, the whole sol
     std::thread other([&] { Solve(options, op[1], &r[1], &summary[1]); });
     Solve(options, op[0], &r[0], &summary[0]);
     other.join();
-    INFO(p.name << ": " << summary[0].message);
+    INFO(p.name << (classical ? ", classical" : ", modified")
+                << " Gram-Schmidt: " << summary[0].message);
     CHECK(summary[0].termination == summary[1].termination);
     CHECK(summary[0].iterations == summary[1].iterations);
     CHECK(summary[0].krylov_iterations == summary[1].krylov_iterations);
@@ -266,8 +271,10 @@ TEST_CASE("matrix-free over two parts: the same decisions on both, the whole sol
   });
   REQUIRE(files >= 15);
   CHECK(solved == files);
-  std::printf("two parts: %d of %d data problems solved, %d with the serial counts\n",
-              solved, files, same_as_serial);
+  std::printf(
+      "two parts, %s Gram-Schmidt: %d of %d data problems solved, %d with the serial "
+      "counts\n",
+      classical ? "classical" : "modified", solved, files, same_as_serial);
 }
 
 TEST_CASE("matrix-free over two parts: a bad part is refused on both", "[fc][operator]") {

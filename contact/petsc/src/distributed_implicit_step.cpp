@@ -364,6 +364,12 @@ ncp::fc::Options CondensedGatheredStep::FcOptions() const {
   ncp::fc::Options fc;  // as the serial step: the hybrid, the scene's Newton limits
   fc.max_iterations = scene_.dynamics.ncp.max_iterations;
   fc.log_to_stderr = scene_.dynamics.ncp.log_to_stderr;
+  // The contact Newton over the ranks: GMRES's dot products two reductions per iteration
+  // (classical Gram-Schmidt twice) instead of k + 1 (modified; the serial step's, kept on
+  // one rank, where nothing is reduced).
+  int ranks = 1;
+  MPI_Comm_size(comm_, &ranks);
+  fc.krylov_classical_gram_schmidt = distributed() && ranks > 1;
   return fc;
 }
 

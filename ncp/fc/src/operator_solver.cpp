@@ -106,6 +106,7 @@ class OperatorNewton {
     P_inverse_.resize(static_cast<size_t>(nc));
     const int m = std::min(kRestart, options_->krylov_max_iterations);
     krylov_basis_.resize(static_cast<Eigen::Index>(d) * nc, m + 1);
+    projection_.resize(m + 1);
   }
 
   /// rho per contact from the given diagonal (internal::RhoFromDiagonal).
@@ -203,6 +204,30 @@ class OperatorNewton {
     }
   }
 
+  /// H(0..k, k) and w <- w minus its projection on the basis V(:, 0..k)
+  /// (Options::krylov_classical_gram_schmidt: classical Gram-Schmidt twice, one reduction
+  /// of the k + 1 dot products per pass; otherwise modified Gram-Schmidt).
+  void Orthogonalize(int k, Vector* w) {
+    Eigen::MatrixXd& V = krylov_basis_;
+    Eigen::MatrixXd& H = hessenberg_;
+    if (!options_->krylov_classical_gram_schmidt) {
+      for (int i = 0; i <= k; ++i) {
+        H(i, k) = Dot(V.col(i), *w);
+        *w -= H(i, k) * V.col(i);
+      }
+      return;
+    }
+    H.col(k).head(k + 1).setZero();
+    auto h = projection_.head(k + 1);  // (sized in Resize: no allocation)
+    for (int pass = 0; pass < 2; ++pass) {
+      h.noalias() = V.leftCols(k + 1).transpose() * *w;
+      if (problem_->reduction.sum)
+        problem_->reduction.sum(h.data(), static_cast<int>(k + 1));
+      w->noalias() -= V.leftCols(k + 1) * h;
+      H.col(k).head(k + 1) += h;
+    }
+  }
+
   /// Right-preconditioned restarted GMRES (modified Gram-Schmidt, Givens rotations) for
   /// (J + delta I) d = b from d = 0, until ||b - (J + delta I) d|| <= eta ||b|| or
   /// krylov_max_iterations. Returns the relative residual reached.
@@ -232,10 +257,7 @@ class OperatorNewton {
       for (; k < m; ++k) {
         ApplyPreconditioner(V.col(k), &z);
         ApplyJacobian(z, &w);
-        for (int i = 0; i <= k; ++i) {
-          H(i, k) = Dot(V.col(i), w);
-          w -= H(i, k) * V.col(i);
-        }
+        Orthogonalize(k, &w);
         H(k + 1, k) = Norm(w);
         if (H(k + 1, k) > 0.0) V.col(k + 1) = w / H(k + 1, k);
         for (int i = 0; i < k; ++i) {  // earlier rotations on the new column
@@ -376,7 +398,8 @@ class OperatorNewton {
   std::vector<double> recent_psi_;
   // GMRES: basis, Hessenberg matrix, Givens rotations and right side, work vectors.
   Eigen::MatrixXd krylov_basis_, hessenberg_;
-  Vector givens_rhs_, givens_cos_, givens_sin_, y_, combination_, residual_, w_, z_, Wx_;
+  Vector givens_rhs_, givens_cos_, givens_sin_, y_, combination_, residual_, w_, z_, Wx_,
+      projection_;
 };
 
 }  // namespace internal
