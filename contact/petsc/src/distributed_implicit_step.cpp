@@ -87,8 +87,7 @@ ContactSolve SparseContactSolve() {
   throw std::invalid_argument(
       "contact::petsc: PETSc option -contact_newton is '" + v +
       "'; accepted: distributed (the sparse step's contact unknowns on the ranks that "
-      "own "
-      "their contact nodes, the default) or gathered (on rank 0)");
+      "own their contact nodes, the default) or gathered (on rank 0)");
 }
 
 StepMethod ResolveDistributedStep(const Scene& scene, const SceneModel& built) {
@@ -447,15 +446,19 @@ void CondensedGatheredStep::SetUpDistributed() {
   CONTACT_PETSC_CHECK(MatGetDiagonal(body_.mass_matrix(), y_));
   Eigen::VectorXd m, diagonal(local);
   ReadOwned(y_, &m);
-  double smallest = std::numeric_limits<double>::infinity();
+  // bad: over the ranks, how many M_ii are not > 0 (NaN included) and the smallest of
+  // them (-inf: only NaNs).
+  double bad[2] = {0.0, -std::numeric_limits<double>::infinity()};  // count, -M_ii
   for (int i = 0; i < local; ++i) {
-    smallest = std::min(smallest, m(i));
     diagonal(i) = m(i) > 0.0 ? m_max_ / m(i) : 0.0;
+    if (!(m(i) > 0.0)) bad[0] += 1.0, bad[1] = std::max(bad[1], -m(i));
   }
-  MPI_Allreduce(MPI_IN_PLACE, &smallest, 1, MPI_DOUBLE, MPI_MIN, comm_);
-  if (!(smallest > 0.0))
+  MPI_Allreduce(MPI_IN_PLACE, bad, 2, MPI_DOUBLE, MPI_MAX, comm_);
+  if (bad[0] > 0.0)
     throw std::invalid_argument("contact::petsc: a contact unknown has no mass (M_ii = " +
-                                std::to_string(smallest) +
+                                (bad[1] > -std::numeric_limits<double>::infinity()
+                                     ? std::to_string(-bad[1])
+                                     : std::string("nan")) +
                                 " kg): the sparse step needs M_ii > 0");
   coulomb_ = std::make_unique<::contact::internal::CoulombStep>(
       dim_, [this](const Eigen::VectorXd& F, Eigen::VectorXd* x) { MultiplyOwned(F, x); },
