@@ -1,8 +1,19 @@
 // ncp::fc::Solve on an OperatorProblem (W given by its action only): every problem of the
 // data directory posed matrix-free from its W, each claimed solution checked with
-// CoulombViolation on the matrix (no ncp::fc code), and compared with the matrix solver.
+// CoulombViolation on the matrix (no ncp::fc code), and compared with the matrix solver;
+// and each problem split into two parts solved by two threads with OperatorProblem's
+// reduction (the distributed form): both parts take the same decisions and together
+// solve the whole problem.
+#include <algorithm>
+#include <array>
 #include <catch2/catch.hpp>
+#include <condition_variable>
+#include <cstdio>
 #include <filesystem>
+#include <limits>
+#include <mutex>
+#include <string>
+#include <thread>
 
 #include "fc_support.hpp"
 #include "ncp/fc/error.hpp"
@@ -29,6 +40,85 @@ OperatorProblem AsOperator(const FrictionProblem& p, double skew = 1.0) {
   op.name = p.name;
   return op;
 }
+
+/// Two parts of a problem, contacts [0, split) and [split, n_c), each solved by its own
+/// thread: the reduction of a part waits for the other at a barrier and adds (or takes
+/// the larger of) slot 0 and slot 1 in that order, so both get the same bits; W r is
+/// applied to r joined from both parts, each part computing its rows.
+class TwoParts {
+ public:
+  TwoParts(const FrictionProblem& p, int split) : p_(p), joined_(p.size()) {
+    const int d = p.dimension;
+    offset_ = {0, d * split};
+    count_ = {d * split, d * (p.num_contacts - split)};
+    contacts_ = {split, p.num_contacts - split};
+    for (int k = 0; k < 2; ++k)
+      rows_[k] = Eigen::SparseMatrix<double, Eigen::RowMajor>(
+          p.W.middleRows(offset_[k], count_[k]));
+  }
+
+  OperatorProblem Part(int k) {
+    OperatorProblem op;
+    op.dimension = p_.dimension;
+    op.num_contacts = contacts_[k];
+    op.q = p_.q.segment(offset_[k], count_[k]);
+    op.mu = p_.mu.segment(k == 0 ? 0 : contacts_[0], contacts_[k]);
+    op.diagonal =
+        Eigen::VectorXd(p_.W.diagonal()).segment(offset_[k], count_[k]).cwiseMax(0.0);
+    op.name = p_.name + " part " + std::to_string(k);
+    op.apply_W = [this, k](const Eigen::VectorXd& r, Eigen::VectorXd* Wr) {
+      joined_.segment(offset_[k], count_[k]) = r;
+      Barrier();
+      *Wr = rows_[k] * joined_;
+      Barrier();
+    };
+    op.reduction.sum = [this, k](double* v, int n) {
+      Combine(k, v, n, [](double a, double b) { return a + b; });
+    };
+    op.reduction.max = [this, k](double* v, int n) {
+      Combine(k, v, n, [](double a, double b) { return std::max(a, b); });
+    };
+    return op;
+  }
+
+  /// The parts' r joined into one vector of the whole problem.
+  Eigen::VectorXd Join(const std::array<Eigen::VectorXd, 2>& r) const {
+    Eigen::VectorXd out(p_.size());
+    for (int k = 0; k < 2; ++k) out.segment(offset_[k], count_[k]) = r[k];
+    return out;
+  }
+
+ private:
+  template <typename Op>
+  void Combine(int k, double* v, int n, Op op) {
+    slot_[k].assign(v, v + n);
+    Barrier();
+    for (int i = 0; i < n; ++i) v[i] = op(slot_[0][i], slot_[1][i]);
+    Barrier();
+  }
+
+  void Barrier() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    const long generation = generation_;
+    if (++arrived_ == 2) {
+      arrived_ = 0;
+      ++generation_;
+      wake_.notify_all();
+    } else {
+      wake_.wait(lock, [&] { return generation_ != generation; });
+    }
+  }
+
+  const FrictionProblem& p_;
+  std::array<int, 2> offset_{}, count_{}, contacts_{};
+  std::array<Eigen::SparseMatrix<double, Eigen::RowMajor>, 2> rows_;
+  Eigen::VectorXd joined_;
+  std::array<std::vector<double>, 2> slot_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  int arrived_ = 0;
+  long generation_ = 0;
+};
 
 }  // namespace
 
@@ -136,4 +226,76 @@ TEST_CASE(
   r.resize(0);
   Solve(options, p, &r, &summary);
   CHECK(summary.termination != Termination::kConverged);
+}
+
+TEST_CASE("matrix-free over two parts: the same decisions on both, the whole solved",
+          "[fc][operator][data]") {
+  // GMRES's dot products in sequence (modified Gram-Schmidt, one reduction each) or at
+  // once (classical twice, one reduction per pass).
+  const bool classical = GENERATE(false, true);
+  int solved = 0, same_as_serial = 0;
+  const int files = test::ForEachDataProblem([&](const FrictionProblem& p) {
+    Options options;
+    options.max_iterations = 300;
+    options.krylov_classical_gram_schmidt = classical;
+    // (One contact: part 0 empty - a part without contacts takes part all the same.)
+    TwoParts parts(p, p.num_contacts / 2);
+    std::array<OperatorProblem, 2> op = {parts.Part(0), parts.Part(1)};
+    std::array<Eigen::VectorXd, 2> r;
+    std::array<Summary, 2> summary;
+    std::thread other([&] { Solve(options, op[1], &r[1], &summary[1]); });
+    Solve(options, op[0], &r[0], &summary[0]);
+    other.join();
+    INFO(p.name << (classical ? ", classical" : ", modified")
+                << " Gram-Schmidt: " << summary[0].message);
+    CHECK(summary[0].termination == summary[1].termination);
+    CHECK(summary[0].iterations == summary[1].iterations);
+    CHECK(summary[0].krylov_iterations == summary[1].krylov_iterations);
+    CHECK(summary[0].attempts == summary[1].attempts);
+    CHECK(summary[0].final_error == summary[1].final_error);
+    CHECK(summary[0].num_contacts == p.num_contacts);
+    const Eigen::VectorXd joined = parts.Join(r);
+    CHECK_THAT(summary[0].final_error, WithinAbs(NaturalMapError(p, joined),
+                                                 1e-12 * (1.0 + summary[0].final_error)));
+    if (summary[0].IsSolutionUsable()) {
+      ++solved;
+      CHECK(summary[0].final_error <= options.tolerance);
+      CHECK(test::CoulombViolation(p, joined) <= 1e-6);
+    }
+    Eigen::VectorXd serial_r;
+    Summary serial;
+    Solve(options, AsOperator(p), &serial_r, &serial);
+    if (serial.iterations == summary[0].iterations &&
+        serial.krylov_iterations == summary[0].krylov_iterations)
+      ++same_as_serial;
+  });
+  REQUIRE(files >= 15);
+  CHECK(solved == files);
+  std::printf(
+      "two parts, %s Gram-Schmidt: %d of %d data problems solved, %d with the serial "
+      "counts\n",
+      classical ? "classical" : "modified", solved, files, same_as_serial);
+}
+
+TEST_CASE("matrix-free over two parts: a bad part is refused on both", "[fc][operator]") {
+  const FrictionProblem p =
+      ReadProblem(std::string(NCP_FC_DATA_DIR) + "/Capsules-i101-404.dat");
+  TwoParts parts(p, p.num_contacts / 2);
+  std::array<OperatorProblem, 2> op = {parts.Part(0), parts.Part(1)};
+  op[1].q(0) = std::numeric_limits<double>::quiet_NaN();
+  std::array<Eigen::VectorXd, 2> r;
+  std::array<Summary, 2> summary;
+  std::array<std::string, 2> what;
+  const auto run = [&](int k) {
+    try {
+      Solve(Options(), op[k], &r[k], &summary[k]);
+    } catch (const std::invalid_argument& e) {
+      what[k] = e.what();
+    }
+  };
+  std::thread other(run, 1);
+  run(0);
+  other.join();
+  CHECK_THAT(what[0], Catch::Contains("invalid on another part"));
+  CHECK_THAT(what[1], Catch::Contains("q has non-finite entries"));
 }

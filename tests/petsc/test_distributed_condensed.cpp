@@ -19,6 +19,10 @@
 //  * "auto" runs the sparse step above kMaxGatheredContactUnknowns and follows the
 //    serial sparse step there, its measures too; the lagged-bound friction and the full
 //    step are refused.
+// The sparse step runs its contact Newton over the contact unknowns of each rank's own
+// contact nodes (the default); the Tet4 box also with them gathered on rank 0
+// (PETSC option -contact_newton gathered), and a wrong value of that option is refused
+// on every rank.
 #define CATCH_CONFIG_RUNNER
 #include <petscsys.h>
 
@@ -28,6 +32,7 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <tuple>
 
 #include "contact/dynamics.hpp"
 #include "contact/petsc/distributed_scene.hpp"
@@ -175,15 +180,20 @@ TEST_CASE("the condensed and sparse steps on MPI ranks follow the serial traject
   const auto [name, text] =
       GENERATE(std::make_pair("tet_box", kTetBox), std::make_pair("two_cells", kTwoCells),
                std::make_pair("tet_column", kTetColumn));
-  const auto [step, method] =
-      GENERATE(std::make_pair("condensed", contact::StepMethod::kCondensed),
-               std::make_pair("sparse", contact::StepMethod::kSparse));
+  // newton: the sparse step's -contact_newton (the default, distributed, or gathered).
+  const auto [step, method, newton] =
+      GENERATE(std::make_tuple("condensed", contact::StepMethod::kCondensed, ""),
+               std::make_tuple("sparse", contact::StepMethod::kSparse, ""),
+               std::make_tuple("sparse", contact::StepMethod::kSparse, "gathered"));
+  if (*newton && std::string(name) != "tet_box") return;  // (the same on every rank)
   const contact::Scene scene =
       LoadSceneText(WithStep(text, step), std::string(name) + "_" + step);
   REQUIRE(contact::petsc::WhyNotDistributed(scene).empty());
+  if (*newton) PetscOptionsSetValue(nullptr, "-contact_newton", newton);
   const contact::SceneResult parallel =
       contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, false);
-  INFO(name << ", " << step << ": " << parallel.summary.message);
+  if (*newton) PetscOptionsClearValue(nullptr, "-contact_newton");
+  INFO(name << ", " << step << " " << newton << ": " << parallel.summary.message);
   REQUIRE(parallel.summary.status == contact::DynamicStatus::kCompleted);
   REQUIRE(parallel.summary.step_method == method);
   if (Rank() != 0) return;
@@ -238,10 +248,12 @@ TEST_CASE("the condensed and sparse steps on MPI ranks follow the serial traject
   const auto [to_serial, to_dense] = contact::test::CheckCriticalStep(
       scene, serial.summary, parallel.summary, kSameCriticalStep);
   std::printf(
-      "%s: worst differences to one process: energy %.2g, residuals %.2g F, "
-      "penetration %.2g D, accuracies %.2g; final u %.2g m of %.2g m; dt_crit %.17g s, "
-      "%.2g from the serial estimate, %.2g from the dense eigenvalue\n",
-      name, worst[0], worst[1], worst[2], worst[3], u_difference, u_max,
+      "%s, %s %s: worst differences to one process: energy %.2g, residuals %.2g F, "
+      "penetration %.2g D, accuracies %.2g; final u %.2g m of %.2g m; normal force "
+      "sums %.2g N of %.2g N, friction %.2g N of %.2g N; dt_crit %.17g s, %.2g from the "
+      "serial estimate, %.2g from the dense eigenvalue\n",
+      name, step, newton, worst[0], worst[1], worst[2], worst[3], u_difference, u_max,
+      normal_difference, normal_max, friction_difference, friction_max,
       parallel.summary.critical_time_step, to_serial, to_dense);
 }
 
@@ -422,6 +434,16 @@ TEST_CASE("auto runs the sparse step above the gathered limit, as one process do
   CHECK(u_difference <= kSameTrajectory * u_max);
   contact::test::CheckSameMeasures(sparse, serial.summary, parallel.summary,
                                    sparse.dynamics.ncp.tolerance);
+}
+
+TEST_CASE("a wrong -contact_newton is refused on every rank, naming the value") {
+  const contact::Scene scene = LoadSceneText(WithStep(kTwoCells, "sparse"), "bad_newton");
+  PetscOptionsSetValue(nullptr, "-contact_newton", "rank0");
+  CHECK_THROWS_WITH(contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, false),
+                    Catch::Matchers::Contains("-contact_newton is 'rank0'") &&
+                        Catch::Matchers::Contains("distributed") &&
+                        Catch::Matchers::Contains("gathered"));
+  PetscOptionsClearValue(nullptr, "-contact_newton");
 }
 
 TEST_CASE("what the implicit steps on ranks cannot run is refused on every rank") {

@@ -7,12 +7,14 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 #include <vector>
 
 #include "mass_inverse.hpp"
 #include "petsc_check.hpp"
+#include "rank_reduction.hpp"
 #include "scene/scene_load.hpp"
 #include "step/step_method.hpp"
 #include "step_accuracy.hpp"
@@ -76,6 +78,20 @@ int CountContactUnknowns(int dim, const std::vector<ContactNode>& nodes) {
   return count;
 }
 
+ContactSolve SparseContactSolve() {
+  char value[64] = "";
+  PetscBool set = PETSC_FALSE;
+  CONTACT_PETSC_CHECK(PetscOptionsGetString(nullptr, nullptr, "-contact_newton", value,
+                                            sizeof value, &set));
+  const std::string v = value;
+  if (!set || v == "distributed") return ContactSolve::kDistributed;
+  if (v == "gathered") return ContactSolve::kGatheredOperator;
+  throw std::invalid_argument(
+      "contact::petsc: PETSc option -contact_newton is '" + v +
+      "'; accepted: distributed (the sparse step's contact unknowns on the ranks that "
+      "own their contact nodes, the default) or gathered (on rank 0)");
+}
+
 StepMethod ResolveDistributedStep(const Scene& scene, const SceneModel& built) {
   const DynamicOptions& options = built.options;
   const DynamicModel& model = built.model;
@@ -107,7 +123,7 @@ StepMethod ResolveDistributedStep(const Scene& scene, const SceneModel& built) {
 CondensedGatheredStep::CondensedGatheredStep(MPI_Comm comm, const Scene& scene,
                                              const DistributedBody& body,
                                              const std::vector<ContactNode>* nodes,
-                                             double m_max, bool matrix_free,
+                                             double m_max, ContactSolve solve,
                                              bool complete_start)
     : comm_(comm),
       rank_(0),
@@ -117,15 +133,19 @@ CondensedGatheredStep::CondensedGatheredStep(MPI_Comm comm, const Scene& scene,
       dt_(scene.dynamics.dt),
       m_max_(m_max),
       force_scale_(m_max / (scene.dynamics.dt * scene.dynamics.dt)),
-      matrix_free_(matrix_free),
       tolerance_(scene.dynamics.ncp.tolerance) {
   MPI_Comm_rank(comm, &rank_);
+  solve_ = solve;
   if (!body.mass_matrix())
     throw std::logic_error("CondensedGatheredStep: the body has no mass matrix");
   for (Vec* v : Vectors()) CONTACT_PETSC_CHECK(DMCreateGlobalVector(body.dm(), v));
   auto start = Clock::now();
   CreateMassSolver();
   factor_seconds_ = Seconds(start);
+  if (distributed()) {  // (its contact set-up waits for SetUpContact too)
+    SetInitialState(complete_start);
+    return;
+  }
   BuildContactScatter(nodes);
   products_ = std::make_unique<DelassusProducts>(
       comm_, [this] { return MultiplyW(); },
@@ -141,7 +161,9 @@ CondensedGatheredStep::CondensedGatheredStep(MPI_Comm comm, const Scene& scene,
 
 void CondensedGatheredStep::SetUpContact() {
   const auto start = Clock::now();
-  if (matrix_free_)
+  if (distributed())
+    SetUpDistributed();
+  else if (solve_ == ContactSolve::kGatheredOperator)
     SetUpOperator();
   else
     FormDelassus();
@@ -353,6 +375,12 @@ ncp::fc::Options CondensedGatheredStep::FcOptions() const {
   ncp::fc::Options fc;  // as the serial step: the hybrid, the scene's Newton limits
   fc.max_iterations = scene_.dynamics.ncp.max_iterations;
   fc.log_to_stderr = scene_.dynamics.ncp.log_to_stderr;
+  // The contact Newton over the ranks: GMRES's dot products two reductions per iteration
+  // (classical Gram-Schmidt twice) instead of k + 1 (modified; the serial step's, kept on
+  // one rank, where nothing is reduced).
+  int ranks = 1;
+  MPI_Comm_size(comm_, &ranks);
+  fc.krylov_classical_gram_schmidt = distributed() && ranks > 1;
   return fc;
 }
 
@@ -392,6 +420,93 @@ void CondensedGatheredStep::SetUpOperator() {
             diagonal, nodes_, scene_.friction_coefficient, FcOptions());
       },
       error);
+}
+
+// Every rank: its owned contact nodes in the serial node order (the node data's contact
+// node index), their free components numbered on its contact unknowns, and its part of
+// the contact Newton: the serial sparse step's CoulombStep over them with W applied by
+// MultiplyOwned and every global quantity reduced over the ranks (RankReduction; unset
+// on one rank: the serial Newton, bit for bit). diag(W)_i ~ m_max / M_ii as in
+// SetUpOperator.
+void CondensedGatheredStep::SetUpDistributed() {
+  std::vector<std::pair<int, int>> owned;  // (serial contact node index, local vertex)
+  for (int i = 0; i < body_.NumLocalVertices(); ++i)
+    if (body_.Owns(i) && body_.Data(i)[4 * dim_] >= 0)
+      owned.emplace_back(static_cast<int>(body_.Data(i)[4 * dim_]), i);
+  std::sort(owned.begin(), owned.end());
+  for (const auto& [index, vertex] : owned) {
+    const double* data = body_.Data(vertex);
+    ContactNode node;
+    node.node = index;
+    for (int a = 0; a < dim_; ++a) {
+      if (body_.OwnedIndex(vertex, a) < 0) continue;
+      node.dofs[a] = static_cast<int>(owned_unknowns_.size());
+      owned_unknowns_.push_back(body_.OwnedIndex(vertex, a));
+    }
+    for (int c = 0; c < 3; ++c) {
+      node.normal(c) = data[4 * dim_ + 1 + c];
+      node.tangent1(c) = data[4 * dim_ + 4 + c];
+      node.tangent2(c) = data[4 * dim_ + 7 + c];
+    }
+    node.gap = data[4 * dim_ + 10];
+    nodes_.push_back(node);
+    node_index_.push_back(index);
+  }
+  const int local = static_cast<int>(owned_unknowns_.size());
+  MPI_Allreduce(&local, &num_unknowns_, 1, MPI_INT, MPI_SUM, comm_);
+  // M_ii [kg] of the owned contact unknowns; the smallest over the ranks decides for all.
+  CONTACT_PETSC_CHECK(MatGetDiagonal(body_.mass_matrix(), y_));
+  Eigen::VectorXd m, diagonal(local);
+  ReadOwned(y_, &m);
+  // bad: over the ranks, how many M_ii are not > 0 (NaN included) and the smallest of
+  // them (-inf: only NaNs).
+  double bad[2] = {0.0, -std::numeric_limits<double>::infinity()};  // count, -M_ii
+  for (int i = 0; i < local; ++i) {
+    diagonal(i) = m(i) > 0.0 ? m_max_ / m(i) : 0.0;
+    if (!(m(i) > 0.0)) bad[0] += 1.0, bad[1] = std::max(bad[1], -m(i));
+  }
+  MPI_Allreduce(MPI_IN_PLACE, bad, 2, MPI_DOUBLE, MPI_MAX, comm_);
+  if (bad[0] > 0.0)
+    throw std::invalid_argument("contact::petsc: a contact unknown has no mass (M_ii = " +
+                                (bad[1] > -std::numeric_limits<double>::infinity()
+                                     ? std::to_string(-bad[1])
+                                     : std::string("nan")) +
+                                " kg): the sparse step needs M_ii > 0");
+  coulomb_ = std::make_unique<::contact::internal::CoulombStep>(
+      dim_, [this](const Eigen::VectorXd& F, Eigen::VectorXd* x) { MultiplyOwned(F, x); },
+      diagonal, nodes_, scene_.friction_coefficient, FcOptions(), RankReduction(comm_));
+  x_free_.resize(local);
+  u_contact_.resize(local);
+  gap0_.resize(static_cast<Eigen::Index>(nodes_.size()));
+}
+
+void CondensedGatheredStep::ReadOwned(Vec from, Eigen::VectorXd* to) const {
+  const PetscScalar* x = nullptr;
+  CONTACT_PETSC_CHECK(VecGetArrayRead(from, &x));
+  to->resize(static_cast<Eigen::Index>(owned_unknowns_.size()));
+  for (size_t i = 0; i < owned_unknowns_.size(); ++i)
+    (*to)(static_cast<Eigen::Index>(i)) = x[owned_unknowns_[i]];
+  CONTACT_PETSC_CHECK(VecRestoreArrayRead(from, &x));
+}
+
+void CondensedGatheredStep::WriteOwned(const Eigen::VectorXd& from, Vec to) {
+  CONTACT_PETSC_CHECK(VecZeroEntries(to));
+  PetscScalar* x = nullptr;
+  CONTACT_PETSC_CHECK(VecGetArray(to, &x));
+  for (size_t i = 0; i < owned_unknowns_.size(); ++i)
+    x[owned_unknowns_[i]] = from(static_cast<Eigen::Index>(i));
+  CONTACT_PETSC_CHECK(VecRestoreArray(to, &x));
+}
+
+void CondensedGatheredStep::MultiplyOwned(const Eigen::VectorXd& F, Eigen::VectorXd* x) {
+  ++owned_products_;
+  WriteOwned(F, rhs_);
+  if (!SolveS(rhs_, y_, 0.0)) {  // (the KSP's outcome is the same on every rank)
+    product_failure_ = failure_;
+    x->setConstant(F.size(), std::numeric_limits<double>::quiet_NaN());
+    return;
+  }
+  ReadOwned(y_, x);
 }
 
 // u^0, u^{-1}, du = u^0 - u^{-1}, f_F and the contact dofs from the node data rank 0
@@ -469,16 +584,23 @@ bool CondensedGatheredStep::Step(long k, bool stop_requested,
       scene_.load_history, scene_.dynamics.start_time, scene_.ramp_time,
       scene_.dynamics.start_time + static_cast<double>(k) * dt_);
   LoadStep(factor, part);
-  // The maxima of the step's scales and u^k_c onto rank 0, which sets the scales of the
-  // step (every rank solves with M to them); y = S^-1 q and -H y onto rank 0.
-  double maxima[3] = {part->max[RankStepPart::kF], part->max[RankStepPart::kKu],
-                      part->max[RankStepPart::kDu]};
-  MPI_Reduce(rank_ == 0 ? MPI_IN_PLACE : maxima, maxima, 3, MPI_DOUBLE, MPI_MAX, 0,
+  // The maxima of the step's scales and of the penetration of u^k_c (rank 0's, from the
+  // gathered u^k_c; kDistributed: each rank's, from its nodes) onto rank 0, which sets
+  // the scales of the step (every rank solves with M to them); y = S^-1 q and -H y onto
+  // rank 0 (kDistributed: read on each rank).
+  if (distributed()) {
+    ReadOwned(u_, &u_contact_);
+    part->max[RankStepPart::kPenetration] = SetGaps();
+  }
+  double maxima[4] = {part->max[RankStepPart::kF], part->max[RankStepPart::kKu],
+                      part->max[RankStepPart::kDu],
+                      part->max[RankStepPart::kPenetration]};
+  MPI_Reduce(rank_ == 0 ? MPI_IN_PLACE : maxima, maxima, 4, MPI_DOUBLE, MPI_MAX, 0,
              comm_);
-  GatherContact(u_, &u_contact_);
+  if (!distributed()) GatherContact(u_, &u_contact_);
   double scales[2] = {0.0, 0.0};  // F [N], D [m]
   if (rank_ == 0) {
-    const double penetration = SetGaps();
+    const double penetration = distributed() ? maxima[3] : SetGaps();
     part->max[RankStepPart::kPenetration] = penetration;
     const ::contact::internal::StepScales s =
         recorder->Scales(maxima[0], maxima[1], maxima[2], penetration);
@@ -486,14 +608,22 @@ bool CondensedGatheredStep::Step(long k, bool stop_requested,
   }
   MPI_Bcast(scales, 2, MPI_DOUBLE, 0, comm_);
   if (!SolveS(q_, y_, scales[0])) return false;
-  GatherContact(y_, &x_free_);
-  // Rank 0: F into contact_ (with the sparse step, the other ranks serve its products
-  // with W); every rank learns whether it was found.
   int solved = 0;
-  if (!products_->Run(
-          [&] { solved = SolveContact(scales[0], scales[1], rec) ? 1 : 0; })) {
-    solved = 0;
-    if (rank_ == 0) failure_ = products_->failure();
+  if (distributed()) {
+    // Every rank its part of the contact problem; the outcome is the same on every rank.
+    ReadOwned(y_, &x_free_);
+    product_failure_.clear();
+    solved = SolveContact(scales[0], scales[1], rec) ? 1 : 0;
+    if (!product_failure_.empty()) solved = 0, failure_ = product_failure_;
+  } else {
+    // Rank 0: F into force_ (with the sparse step, the other ranks serve its products
+    // with W); every rank learns whether it was found.
+    GatherContact(y_, &x_free_);
+    if (!products_->Run(
+            [&] { solved = SolveContact(scales[0], scales[1], rec) ? 1 : 0; })) {
+      solved = 0;
+      if (rank_ == 0) failure_ = products_->failure();
+    }
   }
   MPI_Bcast(&solved, 1, MPI_INT, 0, comm_);
   if (!solved) {
@@ -501,7 +631,17 @@ bool CondensedGatheredStep::Step(long k, bool stop_requested,
     return false;
   }
   // du = S^-1 (H' F - q).
-  ScatterContact(rhs_);
+  if (distributed()) {
+    WriteOwned(force_, rhs_);
+  } else {
+    if (rank_ == 0) {
+      PetscScalar* F = nullptr;
+      CONTACT_PETSC_CHECK(VecGetArray(contact_, &F));
+      for (int i = 0; i < num_unknowns_; ++i) F[i] = force_(i);
+      CONTACT_PETSC_CHECK(VecRestoreArray(contact_, &F));
+    }
+    ScatterContact(rhs_);
+  }
   CONTACT_PETSC_CHECK(VecAXPY(rhs_, -1.0, q_));
   if (!SolveS(rhs_, du_, scales[0])) return false;
   Advance(factor, part);
@@ -600,10 +740,7 @@ bool CondensedGatheredStep::SolveContact(double force, double displacement,
     failure_ = buffer + s.message;
     return false;
   }
-  PetscScalar* F = nullptr;
-  CONTACT_PETSC_CHECK(VecGetArray(contact_, &F));
-  for (int i = 0; i < num_unknowns_; ++i) F[i] = outcome.force(i);
-  CONTACT_PETSC_CHECK(VecRestoreArray(contact_, &F));
+  force_ = outcome.force;
   contact_result_ = outcome.contact;
   return true;
 }
@@ -648,16 +785,22 @@ void CondensedGatheredStep::Advance(double factor, RankStepPart* part) {
 }
 
 void CondensedGatheredStep::Results(std::vector<NodeResult>* results) {
-  GatherContact(r_, &r_contact_);
-  GatherContact(u_next_, &u_next_contact_);
-  GatherContact(u_previous_, &u_previous_contact_);
-  if (rank_ != 0) return;
+  if (distributed()) {
+    ReadOwned(r_, &r_contact_);
+    ReadOwned(u_next_, &u_next_contact_);
+    ReadOwned(u_previous_, &u_previous_contact_);
+  } else {
+    GatherContact(r_, &r_contact_);
+    GatherContact(u_next_, &u_next_contact_);
+    GatherContact(u_previous_, &u_previous_contact_);
+    if (rank_ != 0) return;
+  }
   results->resize(nodes_.size());
   for (size_t j = 0; j < nodes_.size(); ++j) {
     const ContactNode& node = nodes_[j];
     const auto c = static_cast<Eigen::Index>(j);
     NodeResult& out = (*results)[j];
-    out.index = static_cast<int>(j);
+    out.index = distributed() ? node_index_[j] : static_cast<int>(j);
     out.normal_force = contact_result_.normal_force(c);
     out.gap = contact_result_.gap(c);
     for (int a = 0; a < dim_ - 1; ++a) {

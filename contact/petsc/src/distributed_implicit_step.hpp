@@ -15,7 +15,10 @@
 // contact unknown; x_free and u^k_c are gathered onto rank 0 by one VecScatter, rank 0
 // solves the small contact problem with the serial step's CoulombStep (the same code and
 // the same data as one process), and F is scattered back. The sparse step on ranks is
-// the same step with W never formed (matrix_free; distributed_sparse_step.hpp).
+// the same step with W never formed (ContactSolve below): either rank 0 runs the contact
+// Newton on the gathered contact unknowns while all ranks serve its products with W
+// (distributed_sparse_step.hpp), or every rank runs it on the contact unknowns of the
+// contact nodes it owns, with every global quantity reduced (rank_reduction.hpp).
 #pragma once
 
 #include <petscksp.h>
@@ -51,6 +54,26 @@ StepMethod ResolveDistributedStep(const Scene& scene, const SceneModel& built);
 /// The number of contact unknowns of the contact nodes (free components).
 int CountContactUnknowns(int dim, const std::vector<ContactNode>& nodes);
 
+/// How the step's contact problem is held and solved on ranks.
+enum class ContactSolve {
+  /// The condensed step: W formed on rank 0 (n_u distributed solves), rank 0 solves.
+  kGatheredDense,
+  /// The sparse step, W never formed, contact unknowns gathered on rank 0: rank 0 runs
+  /// the serial sparse step's contact Newton; every product with W is one distributed
+  /// solve with M served by all ranks (DelassusProducts).
+  kGatheredOperator,
+  /// The sparse step, contact unknowns where their contact nodes are owned: every rank
+  /// runs the same contact Newton (ncp::fc's operator problem with RankReduction) on its
+  /// own contact nodes; a product with W sets H' F on the owned dofs, solves with M, and
+  /// reads H y back on the same rank - no gather, nothing of size n_u on one rank.
+  kDistributed,
+};
+
+/// The sparse step's ContactSolve on ranks: kDistributed, or kGatheredOperator when the
+/// PETSc options database says -contact_newton gathered. Collective (every rank reads the
+/// same options). Throws std::invalid_argument naming the value otherwise.
+ContactSolve SparseContactSolve();
+
 class CondensedGatheredStep {
  public:
   /// Collective. `body` must have its mass matrix (DistributedBody's
@@ -60,23 +83,26 @@ class CondensedGatheredStep {
   /// std::invalid_argument when W is not positive definite (a contact node with no mass)
   /// or a solve with M fails.
   ///
-  /// matrix_free (the sparse step on ranks, distributed_sparse_step.hpp): W is never
-  /// formed; rank 0's contact Newton is the serial sparse step's (ncp::fc's operator
-  /// problem, GMRES) and each of its products with W is one distributed solve with M in
-  /// which every rank takes part (DelassusProducts). Its scaling diag(W) is taken as
-  /// m_max / M_ii (exact for a lumped M; within a factor of about 2 of W_ii for a
-  /// consistent one) instead of the serial step's probing.
+  /// solve (ContactSolve): kGatheredDense forms W; with kGatheredOperator and
+  /// kDistributed (the sparse step on ranks) W is never formed and the contact Newton is
+  /// the serial sparse step's (ncp::fc's operator problem, GMRES), each of its products
+  /// with W one distributed solve with M. Its scaling diag(W) is taken as m_max / M_ii
+  /// (exact for a lumped M; within a factor of about 2 of W_ii for a consistent one)
+  /// instead of the serial step's probing. With kDistributed `nodes` is not read (each
+  /// rank takes its owned contact nodes from the body).
   ///
   /// The constructor factors M and sets up the start; the contact problem's set-up (W
-  /// formed, or the matrix-free operator) waits for SetUpContact, so that the run can
-  /// check dt against dt_crit with this step's solver first (SolveMass).
+  /// formed, the matrix-free operator, or each rank's part of the distributed Newton)
+  /// waits for SetUpContact, so that the run can check dt against dt_crit with this
+  /// step's solver first (SolveMass).
   /// complete_start: the node data's u^{-1} is u^0 - dt v^0 without its acceleration
   /// term (rank 0 had no M); it is completed here as the serial prescribed start does
   /// (dynamics.cpp SetInitialState): u^{-1} += dt^2 / 2 M^-1 (f(t_0) - K u^0), by one
   /// solve with M.
   CondensedGatheredStep(MPI_Comm comm, const Scene& scene, const DistributedBody& body,
                         const std::vector<ContactNode>* nodes, double m_max,
-                        bool matrix_free = false, bool complete_start = false);
+                        ContactSolve solve = ContactSolve::kGatheredDense,
+                        bool complete_start = false);
   ~CondensedGatheredStep();
   CondensedGatheredStep(const CondensedGatheredStep&) = delete;
   CondensedGatheredStep& operator=(const CondensedGatheredStep&) = delete;
@@ -91,7 +117,7 @@ class CondensedGatheredStep {
             std::vector<NodeResult>* results, StepRecord* rec);
 
   /// Collective: W formed on rank 0 (the condensed step) or the matrix-free operator
-  /// (matrix_free), and rank 0's solver of the contact problem. Once, before Step.
+  /// (the solve), and rank 0's solver of the contact problem. Once, before Step.
   void SetUpContact();
 
   /// Collective: x = M^-1 b [global Vecs of the body's DM] by the step's solver of M (to
@@ -112,7 +138,10 @@ class CondensedGatheredStep {
   double factor_seconds() const { return factor_seconds_; }
   double delassus_seconds() const { return delassus_seconds_; }
   /// Products with W the run took (the matrix-free step: one distributed solve each).
-  long delassus_products() const { return products_ ? products_->products() : 0; }
+  long delassus_products() const {
+    return distributed() ? owned_products_ : products_ ? products_->products() : 0;
+  }
+  ContactSolve contact_solve() const { return solve_; }
 
  private:
   void CreateMassSolver();
@@ -121,6 +150,17 @@ class CondensedGatheredStep {
   // The matrix-free form: rank 0's CoulombStep on DelassusProducts, diag(W) ~ m_max /
   // M_ii.
   void SetUpOperator();
+  // kDistributed: this rank's owned contact nodes (numbered on its contact unknowns, in
+  // the serial node order) and its part of the contact Newton (CoulombStep with
+  // RankReduction), diag(W) ~ m_max / M_ii as SetUpOperator.
+  void SetUpDistributed();
+  bool distributed() const { return solve_ == ContactSolve::kDistributed; }
+  // kDistributed: the owned contact unknowns of a global Vec; *x = W F on them
+  // (collective: H' F on the owned dofs, one solve with S, H y read back), NaN entries if
+  // the solve failed.
+  void ReadOwned(Vec from, Eigen::VectorXd* to) const;
+  void WriteOwned(const Eigen::VectorXd& from, Vec to);
+  void MultiplyOwned(const Eigen::VectorXd& F, Eigen::VectorXd* x);
   // Collective: contact_ <- W contact_ (rank 0's entries; H' scattered to the owners, one
   // solve with S, H gathered); false (failure_ set) if the solve did not converge.
   bool MultiplyW();
@@ -149,10 +189,11 @@ class CondensedGatheredStep {
   void ReadContact(Eigen::VectorXd* to) const;
   // Rank 0's contact_ -> the global Vec `to`, zero off the contact unknowns (collective).
   void ScatterContact(Vec to);
-  // Rank 0: gap0 from the gathered u^k_c; the penetration of u^k [m].
+  // Rank 0 (kDistributed: every rank, its nodes): gap0 from u^k_c; the penetration of
+  // u^k [m].
   double SetGaps();
-  // Rank 0: the contact problem of the step from the gathered x_free and gap0, against
-  // the step's scales F [N] and D [m].
+  // Rank 0 (kDistributed: every rank, its part): the contact problem of the step from
+  // x_free and gap0, against the step's scales F [N] and D [m]; F into force_.
   bool SolveContact(double force, double displacement, StepRecord* rec);
   // u^{k+1}, M du, K u^{k+1}, r and this rank's sums and maxima (dynamics.cpp
   // MeasureStep); the state moved on to the next step.
@@ -168,7 +209,6 @@ class CondensedGatheredStep {
   int dim_;
   double dt_, m_max_, force_scale_;
   int num_unknowns_ = 0;
-  bool matrix_free_ = false;
   std::string failure_, mass_solver_;
   double factor_seconds_ = 0, delassus_seconds_ = 0;
   KSP ksp_ = nullptr;
@@ -186,15 +226,24 @@ class CondensedGatheredStep {
       Ku_ = nullptr, Mdu_previous_ = nullptr, Q_ = nullptr, f_free_ = nullptr,
       q_ = nullptr, y_ = nullptr, rhs_ = nullptr, Mdu_ = nullptr, r_ = nullptr;
   std::vector<char> contact_dof_;  // per owned entry: a dof of a contact node
-  // Rank 0: the contact nodes numbered on the contact unknowns, their gaps s_c, the
-  // serial step's solver of the contact problem and its buffers.
+  // Rank 0 (kDistributed: every rank, its owned ones): the contact nodes numbered on the
+  // contact unknowns, their gaps s_c, the serial step's solver of the contact problem and
+  // its buffers.
+  ContactSolve solve_;
   std::vector<ContactNode> nodes_;
+  // kDistributed: per node of nodes_ its index in the serial order; per contact unknown
+  // its index in the owned part of the global Vecs; the products with W; why the last
+  // failed product failed.
+  std::vector<int> node_index_;
+  std::vector<PetscInt> owned_unknowns_;
+  long owned_products_ = 0;
+  std::string product_failure_;
   std::unique_ptr<::contact::internal::CoulombStep> coulomb_;
   // Every rank: the products with W while rank 0 solves the contact problem (the
   // sparse step's; the condensed step's Run only brackets rank 0's solve).
   std::unique_ptr<DelassusProducts> products_;
   Eigen::VectorXd x_free_, u_contact_, gap0_, r_contact_, u_next_contact_,
-      u_previous_contact_;
+      u_previous_contact_, force_, product_in_;
   ContactSystem::Result contact_result_;
   double tolerance_ = 0.0;
   PetscReal rtol_ = 0.0;  // the KSP's relative tolerance (1e-12 or the options')

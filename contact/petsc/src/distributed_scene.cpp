@@ -745,7 +745,9 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   if (condensed)
     condensed_run = std::make_unique<CondensedGatheredStep>(
         comm, scene, body, built ? &built->frames.nodes : nullptr, info.m_max,
-        /*matrix_free=*/method == StepMethod::kSparse, start_on_ranks);
+        method == StepMethod::kSparse ? internal::SparseContactSolve()
+                                      : internal::ContactSolve::kGatheredDense,
+        start_on_ranks);
   const auto lanczos_start = Clock::now();
   if (!serial_matrices) {
     // dt_crit on the ranks; every rank has the same estimate, so the same outcome.
@@ -790,9 +792,12 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   if (progress && rank == 0 && condensed_run)
     std::fprintf(
         stderr,
-        "  %s step on ranks: %d contact unknowns gathered on rank 0 (W %s); "
+        "  %s step on ranks: %d contact unknowns %s (W %s); "
         "solves with M by %s; factor %.3g s, W %.3g s\n",
         ToString(method), condensed_run->num_contact_unknowns(),
+        condensed_run->contact_solve() == internal::ContactSolve::kDistributed
+            ? "on the ranks that own their contact nodes"
+            : "gathered on rank 0",
         method == StepMethod::kSparse ? "applied, one solve per product" : "formed",
         condensed_run->mass_solver().c_str(), condensed_run->factor_seconds(),
         condensed_run->delassus_seconds());

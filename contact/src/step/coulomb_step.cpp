@@ -35,7 +35,7 @@ CoulombStep::CoulombStep(int dim, const Eigen::MatrixXd& W,
 
 CoulombStep::CoulombStep(int dim, Operator apply_W, const Eigen::VectorXd& W_diagonal,
                          std::vector<ContactNode> nodes, double friction_coefficient,
-                         const ncp::fc::Options& fc_options)
+                         const ncp::fc::Options& fc_options, ncp::fc::Reduction reduction)
     : dim_(dim),
       nodes_(std::move(nodes)),
       apply_W_(std::move(apply_W)),
@@ -47,6 +47,7 @@ CoulombStep::CoulombStep(int dim, Operator apply_W, const Eigen::VectorXd& W_dia
   operator_problem_.num_contacts = problem_.num_contacts;
   operator_problem_.mu = problem_.mu;
   operator_problem_.name = problem_.name;
+  operator_problem_.reduction = std::move(reduction);
   // W' r' = (F / D) E W E' r' with the scales of the current step.
   operator_problem_.apply_W = [this](const Eigen::VectorXd& r, Eigen::VectorXd* Wr) {
     spread_.noalias() = E_.transpose() * r;
@@ -112,7 +113,7 @@ void CoulombStep::SolveScaled(const Eigen::VectorXd& q_fc, double F, double D,
   // round-off of W' r' + q', which grows with the contact set: at 484 nodes ~2e-16
   // relative, above the margin's 1e-15, and every step ran ~100 Newton steps through all
   // of the hybrid's attempts before this).
-  const double q_norm = q.norm();
+  const double q_norm = Norm(q);
   ncp::fc::Options& options = solve_options_;
   options = options_;
   options.tolerance = asked / (1.0 + q_norm);
@@ -148,7 +149,8 @@ double CoulombStep::Motion(const Eigen::VectorXd& r, const Eigen::VectorXd& x_fr
   for (Eigen::Index c = 0; c < problem_.num_contacts; ++c) u_(dim_ * c) += gap0(c);
   u_ /= D;
   r_scaled_ = r / F;
-  return ncp::fc::NaturalMapResidual(dim_, problem_.mu, r_scaled_, u_);
+  return std::sqrt(operator_problem_.reduction.Sum(
+      ncp::fc::NaturalMapSquaredResidual(dim_, problem_.mu, r_scaled_, u_)));
 }
 
 bool CoulombStep::Solve(const Eigen::VectorXd& x_free, const Eigen::VectorXd& gap0,
@@ -174,9 +176,11 @@ bool CoulombStep::Solve(const Eigen::VectorXd& x_free, const Eigen::VectorXd& ga
   // round-off of u', 16 ulp of its terms, as ContactSystem). The margin is best effort
   // (round-off of W' r' can stop Newton short of it): the step is solved when the
   // required bound holds at the returned (projected) r, recomputed.
-  const double roundoff = ContactSystem::kRoundoffUlps *
-                          std::numeric_limits<double>::epsilon() *
-                          q_fc.lpNorm<Eigen::Infinity>() / D;
+  const double roundoff =
+      ContactSystem::kRoundoffUlps * std::numeric_limits<double>::epsilon() *
+      operator_problem_.reduction.Max(q_fc.size() ? q_fc.lpNorm<Eigen::Infinity>()
+                                                  : 0.0) /
+      D;
   const double asked = kNaturalMapMargin * tolerance + roundoff,
                required = tolerance + roundoff;
   Eigen::VectorXd& r = r_;  // system units
@@ -184,14 +188,16 @@ bool CoulombStep::Solve(const Eigen::VectorXd& x_free, const Eigen::VectorXd& ga
   // The start: the previous step's forces. One product with W gives the motion and the
   // residual at them; a step they already solve (no contact change) is done - the
   // solver's own check of its start point, without its per-solve set-up (W's scale, q).
-  if (r_previous_.size() == q_fc.size()) {
+  // (Distributed: only if every part has them - a part without contacts always has.)
+  if (operator_problem_.reduction.Max(r_previous_.size() == q_fc.size() ? 0.0 : 1.0) ==
+      0.0) {
     r = r_previous_;
     residual = Motion(r, x_free, gap0, F, D, out);
   } else {
     r.setZero(q_fc.size());
   }
   if (residual <= asked) {
-    SolvedAtStart(residual / (1.0 + q_fc.norm() / D), &out->summary);
+    SolvedAtStart(residual / (1.0 + Norm(q_fc) / D), &out->summary);
   } else {
     r /= F;  // the solver's unknowns r' = r / F
     SolveScaled(q_fc, F, D, asked, required, &r, &out->summary);
@@ -240,6 +246,10 @@ void CoulombStep::RestorePreviousForces(const Eigen::VectorXd& r) {
                                 std::to_string(r.size()) + " entries, this run has " +
                                 std::to_string(E_.rows()) + " local components");
   r_previous_ = r;
+}
+
+double CoulombStep::Norm(const Eigen::VectorXd& v) const {
+  return std::sqrt(operator_problem_.reduction.Sum(v.squaredNorm()));
 }
 
 }  // namespace contact::internal

@@ -68,10 +68,15 @@ class CoulombStep {
   /// x = W F on the contact unknowns (x may not alias F).
   using Operator = std::function<void(const Eigen::VectorXd& F, Eigen::VectorXd* x)>;
   /// Matrix-free: W given by apply_W on `num_unknowns` contact unknowns and an
-  /// approximation of its diagonal (> 0), otherwise as above.
+  /// approximation of its diagonal (> 0), otherwise as above. Distributed (`reduction`
+  /// set, ncp/fc/operator_problem.hpp): nodes, W_diagonal and the vectors of Solve are
+  /// this process's part of the contact set (its contact nodes, numbered on its contact
+  /// unknowns), apply_W is collective, and every norm and maximum of the step (its
+  /// stopping test included) is reduced over the parts, so that every part takes the same
+  /// decisions; each part calls Solve for every step.
   CoulombStep(int dim, Operator apply_W, const Eigen::VectorXd& W_diagonal,
               std::vector<ContactNode> nodes, double friction_coefficient,
-              const ncp::fc::Options& fc_options);
+              const ncp::fc::Options& fc_options, ncp::fc::Reduction reduction = {});
 
   /// The step's outcome, system units.
   struct Outcome {
@@ -120,6 +125,8 @@ class CoulombStep {
   /// The summary of a step its start point solves (no Newton step), error relative to 1
   /// + ||q'||_2 as ncp::fc's.
   void SolvedAtStart(double error, ncp::fc::Summary* summary) const;
+  /// ||v||_2 over all parts (the serial norm() when not distributed).
+  double Norm(const Eigen::VectorXd& v) const;
 
   int dim_;
   std::vector<ContactNode> nodes_;
@@ -134,7 +141,8 @@ class CoulombStep {
   ncp::fc::FrictionProblem problem_;         // sizes, mu; W = W_fc unscaled (dense form)
   std::unique_ptr<ncp::fc::Solver> solver_;  // problem_ kept for the run (dense form)
   ncp::fc::Options solve_options_;           // options_ with this step's tolerances
-  ncp::fc::OperatorProblem operator_problem_;  // the same, matrix-free
+  ncp::fc::OperatorProblem operator_problem_;  // the same, matrix-free (its reduction:
+                                               // over the parts, when distributed)
   ncp::fc::OperatorSolver operator_solver_;    // its workspaces kept for the run
   double operator_scale_ = 1.0;                // F / D of the current step (matrix-free)
   Eigen::VectorXd spread_, applied_;           // buffers of the matrix-free product

@@ -19,6 +19,11 @@ void ProjectOnCone(double mu, int dimension, double* z) {
 
 double NaturalMapResidual(int dimension, const Vector& mu, const Vector& r,
                           const Vector& u) {
+  return std::sqrt(NaturalMapSquaredResidual(dimension, mu, r, u));
+}
+
+double NaturalMapSquaredResidual(int dimension, const Vector& mu, const Vector& r,
+                                 const Vector& u) {
   const int d = dimension;
   double sum = 0.0;
   for (Eigen::Index a = 0; a < mu.size(); ++a) {
@@ -31,7 +36,7 @@ double NaturalMapResidual(int dimension, const Vector& mu, const Vector& r,
     ProjectOnCone(mu[a], d, z);
     for (int i = 0; i < d; ++i) sum += (ra[i] - z[i]) * (ra[i] - z[i]);
   }
-  return std::sqrt(sum);
+  return sum;
 }
 
 double NaturalMapError(const FrictionProblem& problem, const Vector& r) {

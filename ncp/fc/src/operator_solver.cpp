@@ -60,6 +60,7 @@ class OperatorNewton {
     summary_ = summary;
     start_ = Clock::now();
     Resize(problem.dimension, problem.num_contacts);
+    q_norm_ = Norm(problem.q);
     ComputeRho();
     MultiplyW(*r, &u_);
     u_ += problem.q;
@@ -105,12 +106,13 @@ class OperatorNewton {
     P_inverse_.resize(static_cast<size_t>(nc));
     const int m = std::min(kRestart, options_->krylov_max_iterations);
     krylov_basis_.resize(static_cast<Eigen::Index>(d) * nc, m + 1);
+    projection_.resize(m + 1);
   }
 
   /// rho per contact from the given diagonal (internal::RhoFromDiagonal).
   void ComputeRho() {
     const Vector& diagonal = problem_->diagonal;
-    const double largest = diagonal.size() ? diagonal.maxCoeff() : 0.0;
+    const double largest = Max(diagonal.size() ? diagonal.maxCoeff() : 0.0);
     rho_.resize(static_cast<size_t>(nc_));
     for (int a = 0; a < nc_; ++a)
       rho_[static_cast<size_t>(a)] = internal::RhoFromDiagonal(
@@ -122,8 +124,25 @@ class OperatorNewton {
     ++summary_->operator_applications;
   }
 
+  // Sums and maxima over the parts of a distributed problem (OperatorProblem::reduction;
+  // the local value itself when serial: the serial bits, Eigen's norm() being
+  // sqrt(squaredNorm())).
+  double Sum(double local) const { return problem_->reduction.Sum(local); }
+  double Max(double local) const { return problem_->reduction.Max(local); }
+  template <typename A, typename B>
+  double Dot(const A& a, const B& b) const {
+    return Sum(a.dot(b));
+  }
+  template <typename A>
+  double Norm(const A& a) const {
+    return std::sqrt(Sum(a.squaredNorm()));
+  }
+  // True on every part if `local` holds on any.
+  bool Any(bool local) const { return Max(local ? 1.0 : 0.0) > 0.0; }
+
   double Error(const Vector& r, const Vector& u) const {
-    return NaturalMapResidual(d_, problem_->mu, r, u) / (1.0 + problem_->q.norm());
+    return std::sqrt(Sum(NaturalMapSquaredResidual(d_, problem_->mu, r, u))) /
+           (1.0 + q_norm_);
   }
 
   /// Phi(r, u) of the attempt's formulation into *phi, with the blocks A_, B_; returns
@@ -135,7 +154,7 @@ class OperatorNewton {
       internal::EvaluateLaw(formulation_, d_, problem_->mu(a), rho_[a], scale,
                             r.data() + d_ * a, u.data() + d_ * a, phi->data() + d_ * a,
                             &A_[a], &B_[a]);
-    return 0.5 * phi->squaredNorm();
+    return 0.5 * Sum(phi->squaredNorm());
   }
 
   /// The shift delta = regularization max(1, max |J_aa|) of solver.cpp (J's diagonal
@@ -150,7 +169,7 @@ class OperatorNewton {
       for (int i = 0; i < d_; ++i)
         largest = std::max(largest, std::abs(P_inverse_[a](i, i)));
     }
-    delta_ = options_->regularization * largest;
+    delta_ = options_->regularization * Max(largest);
     for (int a = 0; a < nc_; ++a) {
       Block P = P_inverse_[a] + delta_ * Block::Identity();
       if (d_ == 2) P(2, 2) = 1.0;
@@ -185,13 +204,37 @@ class OperatorNewton {
     }
   }
 
+  /// H(0..k, k) and w <- w minus its projection on the basis V(:, 0..k)
+  /// (Options::krylov_classical_gram_schmidt: classical Gram-Schmidt twice, one reduction
+  /// of the k + 1 dot products per pass; otherwise modified Gram-Schmidt).
+  void Orthogonalize(int k, Vector* w) {
+    Eigen::MatrixXd& V = krylov_basis_;
+    Eigen::MatrixXd& H = hessenberg_;
+    if (!options_->krylov_classical_gram_schmidt) {
+      for (int i = 0; i <= k; ++i) {
+        H(i, k) = Dot(V.col(i), *w);
+        *w -= H(i, k) * V.col(i);
+      }
+      return;
+    }
+    H.col(k).head(k + 1).setZero();
+    auto h = projection_.head(k + 1);  // (sized in Resize: no allocation)
+    for (int pass = 0; pass < 2; ++pass) {
+      h.noalias() = V.leftCols(k + 1).transpose() * *w;
+      if (problem_->reduction.sum)
+        problem_->reduction.sum(h.data(), static_cast<int>(k + 1));
+      w->noalias() -= V.leftCols(k + 1) * h;
+      H.col(k).head(k + 1) += h;
+    }
+  }
+
   /// Right-preconditioned restarted GMRES (modified Gram-Schmidt, Givens rotations) for
   /// (J + delta I) d = b from d = 0, until ||b - (J + delta I) d|| <= eta ||b|| or
   /// krylov_max_iterations. Returns the relative residual reached.
   double Gmres(const Vector& b, double eta, Vector* d) {
     const Eigen::Index n = b.size();
     d->setZero(n);
-    const double b_norm = b.norm();
+    const double b_norm = Norm(b);
     if (b_norm == 0.0) return 0.0;
     Vector &residual = residual_, &w = w_, &z = z_;
     residual = b;
@@ -199,7 +242,7 @@ class OperatorNewton {
     int used = 0;
     while (used < options_->krylov_max_iterations) {
       const int m = std::min(kRestart, options_->krylov_max_iterations - used);
-      const double beta = residual.norm();
+      const double beta = Norm(residual);
       // The basis has the columns of a full cycle (Resize); the last cycle may use fewer.
       Eigen::MatrixXd& V = krylov_basis_;
       Eigen::MatrixXd& H = hessenberg_;
@@ -214,11 +257,8 @@ class OperatorNewton {
       for (; k < m; ++k) {
         ApplyPreconditioner(V.col(k), &z);
         ApplyJacobian(z, &w);
-        for (int i = 0; i <= k; ++i) {
-          H(i, k) = V.col(i).dot(w);
-          w -= H(i, k) * V.col(i);
-        }
-        H(k + 1, k) = w.norm();
+        Orthogonalize(k, &w);
+        H(k + 1, k) = Norm(w);
         if (H(k + 1, k) > 0.0) V.col(k + 1) = w / H(k + 1, k);
         for (int i = 0; i < k; ++i) {  // earlier rotations on the new column
           const double t = cs(i) * H(i, k) + sn(i) * H(i + 1, k);
@@ -251,7 +291,7 @@ class OperatorNewton {
       if (relative <= eta) break;
       ApplyJacobian(*d, &w);  // true residual for the restart
       residual = b - w;
-      relative = residual.norm() / b_norm;
+      relative = Norm(residual) / b_norm;
       if (relative <= eta) break;
     }
     return relative;
@@ -275,9 +315,10 @@ class OperatorNewton {
     while (true) {
       if (summary_->iterations >= options_->max_iterations)
         return Termination::kMaxIterations;
+      // (Distributed: the time limit is reached when it is on any part.)
       if (options_->max_time_s > 0.0 &&
-          std::chrono::duration<double>(Clock::now() - start_).count() >
-              options_->max_time_s)
+          Any(std::chrono::duration<double>(Clock::now() - start_).count() >
+              options_->max_time_s))
         return Termination::kTimeLimit;
       Precondition();
       const double phi_norm = std::sqrt(2.0 * psi);
@@ -291,7 +332,7 @@ class OperatorNewton {
                                   std::max(phi0 > 0.0 ? phi_norm / phi0 : 1.0, needed));
       minus_phi_ = -phi;
       const double reached = Gmres(minus_phi_, eta, &direction);
-      if (!(reached < 1.0) || !direction.allFinite()) {
+      if (!(reached < 1.0) || Any(!direction.allFinite())) {
         ++summary_->linear_solver_failures;
         return Termination::kLinearSolverFailure;
       }
@@ -351,12 +392,14 @@ class OperatorNewton {
   Formulation formulation_ = Formulation::kAlartCurnier;
   double rho_factor_ = 1.0;
   double delta_ = 0.0;
+  double q_norm_ = 0.0;  // ||q||_2 (over all parts)
   // Newton: iterate, motion u = W r + q, Phi, direction, trial point, psi window.
   Vector r_, u_, phi_, minus_phi_, direction_, Wd_, trial_r_, trial_u_, trial_phi_;
   std::vector<double> recent_psi_;
   // GMRES: basis, Hessenberg matrix, Givens rotations and right side, work vectors.
   Eigen::MatrixXd krylov_basis_, hessenberg_;
-  Vector givens_rhs_, givens_cos_, givens_sin_, y_, combination_, residual_, w_, z_, Wx_;
+  Vector givens_rhs_, givens_cos_, givens_sin_, y_, combination_, residual_, w_, z_, Wx_,
+      projection_;
 };
 
 }  // namespace internal
@@ -369,17 +412,28 @@ void OperatorSolver::Solve(const Options& options, const OperatorProblem& proble
                            Vector* r, Summary* summary) {
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("ncp::fc::Options: " + why);
-  problem.Validate();
-  if (!r || !summary)
-    throw std::invalid_argument("ncp::fc::Solve: r and summary must not be null");
-  if (r->size() == 0) r->setZero(problem.size());
-  if (r->size() != problem.size())
-    throw std::invalid_argument("ncp::fc::Solve: start point must have " +
-                                std::to_string(problem.size()) + " entries, got " +
-                                std::to_string(r->size()));
-  if (!r->allFinite())
-    throw std::invalid_argument("ncp::fc::Solve: start point not finite");
-  internal::ResetSummary(options, problem.num_contacts, summary);
+  // Distributed: the parts check their own contacts and all throw if one fails (no part
+  // may go on into the collective products alone).
+  try {
+    problem.Validate();
+    if (!r || !summary)
+      throw std::invalid_argument("ncp::fc::Solve: r and summary must not be null");
+    if (r->size() == 0) r->setZero(problem.size());
+    if (r->size() != problem.size())
+      throw std::invalid_argument("ncp::fc::Solve: start point must have " +
+                                  std::to_string(problem.size()) + " entries, got " +
+                                  std::to_string(r->size()));
+    if (!r->allFinite())
+      throw std::invalid_argument("ncp::fc::Solve: start point not finite");
+    why.clear();
+  } catch (const std::invalid_argument& e) {
+    why = e.what();
+  }
+  if (problem.reduction.Max(why.empty() ? 0.0 : 1.0) > 0.0)
+    throw std::invalid_argument(
+        why.empty() ? "ncp::fc::Solve: the problem is invalid on another part" : why);
+  internal::ResetSummary(
+      options, static_cast<int>(problem.reduction.Sum(problem.num_contacts)), summary);
   summary->formulation_final = options.formulation;
   summary->symbolic_factorizations = summary->krylov_iterations =
       summary->operator_applications = 0;

@@ -22,4 +22,9 @@ double NaturalMapError(const FrictionProblem& problem, const Vector& r);
 double NaturalMapResidual(int dimension, const Vector& mu, const Vector& r,
                           const Vector& u);
 
+/// ||e||_2^2 of NaturalMapResidual (its square root is NaturalMapResidual, to the bit):
+/// the part of the contacts given, summed over the parts of a distributed problem.
+double NaturalMapSquaredResidual(int dimension, const Vector& mu, const Vector& r,
+                                 const Vector& u);
+
 }  // namespace ncp::fc

@@ -18,6 +18,15 @@
 /// Converged on the natural-map error of error.hpp (same measure and tolerance as the
 /// matrix solvers), checked with u = W r + q recomputed, not updated.
 /// Cost per Newton step: (GMRES iterations + 2) products with W.
+///
+/// Distributed (OperatorProblem::reduction set): the contacts are split among processes,
+/// each holding the r, q, mu and diagonal of its own contacts and W acting on them
+/// (apply_W collective: every part calls it at the same point). Every dot product, norm
+/// and maximum of the Newton and of GMRES is the local one reduced over the parts; with
+/// the same reduced value on every part, every branch (line search, GMRES restarts, the
+/// hybrid's attempts, the time limit) is taken alike and the small GMRES work (Hessenberg
+/// matrix, Givens rotations) is repeated identically on every part. Empty (the default):
+/// one part, the serial solver, bit for bit.
 #pragma once
 
 #include <functional>
@@ -28,6 +37,25 @@
 #include "ncp/types.hpp"
 
 namespace ncp::fc {
+
+/// Sums and maxima over the parts of a distributed problem, in place on `count` values;
+/// each must give the same bits on every part (e.g. every part's values gathered and
+/// added in part order), so that every part takes the same decisions. Unset: one part.
+struct Reduction {
+  std::function<void(double* values, int count)> sum;
+  std::function<void(double* values, int count)> max;
+
+  bool distributed() const { return static_cast<bool>(sum); }
+  /// The sum (maximum) over the parts of `local`; `local` itself with one part.
+  double Sum(double local) const {
+    if (sum) sum(&local, 1);
+    return local;
+  }
+  double Max(double local) const {
+    if (max) max(&local, 1);
+    return local;
+  }
+};
 
 struct OperatorProblem {
   int dimension = 3;     ///< 2 (normal + 1 tangent) or 3 (normal + 2 tangents)
@@ -42,6 +70,9 @@ struct OperatorProblem {
   Vector q;          ///< free relative motion, size dimension n_c
   Vector mu;         ///< friction coefficient per contact, >= 0
   std::string name;  ///< for reports
+  /// Distributed: this part's contacts only (dimension, num_contacts, q, mu, diagonal
+  /// local; apply_W collective) and the reduction over the parts; unset: serial.
+  Reduction reduction;
 
   int size() const { return dimension * num_contacts; }
   /// Throws std::invalid_argument (expected vs actual) unless the sizes agree, apply_W is

@@ -130,6 +130,13 @@ struct Options {
   /// 50). A Newton step whose GMRES stops short of the forcing term is still taken when
   /// it reduces ||J d + Phi|| below ||Phi|| (then still a descent direction).
   int krylov_max_iterations = 200;
+  /// GMRES's orthogonalization of each new Krylov vector against the basis
+  /// (operator_problem.hpp only): false, modified Gram-Schmidt (k + 1 dot products in
+  /// sequence at iteration k); true, classical Gram-Schmidt applied twice (the k + 1 dot
+  /// products at once, two passes: as orthogonal as modified Gram-Schmidt, Giraud,
+  /// Langou and Rozloznik 2005). On a distributed problem each sequence of dot products
+  /// is one reduction over the parts: 2 instead of k + 1 per iteration.
+  bool krylov_classical_gram_schmidt = false;
   /// One line per iteration on stderr.
   bool log_to_stderr = false;
 
