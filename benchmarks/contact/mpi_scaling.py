@@ -38,6 +38,7 @@ import json
 import math
 import os
 import re
+import signal
 import statistics
 import subprocess
 import sys
@@ -151,12 +152,43 @@ def matmult_seconds(log_path):
     return (seconds / count if count else float("nan")), count
 
 
+def descendants(pid):
+    """The ids of pid's child processes and theirs (Linux /proc)."""
+    out = []
+    try:
+        for task in os.listdir(f"/proc/{pid}/task"):
+            with open(f"/proc/{pid}/task/{task}/children") as f:
+                out += [int(c) for c in f.read().split()]
+    except OSError:
+        return []
+    return out + [d for c in out for d in descendants(c)]
+
+
+def stop(proc):
+    """Ends a case over --time-limit: SIGTERM to mpiexec or contact-sim (contact-sim stops
+    after the step in progress; mpiexec passes the signal on to its ranks), then, after a
+    grace of 30 s, SIGKILL to it and to every process it started (by their ids)."""
+    family = descendants(proc.pid)
+    proc.terminate()
+    try:
+        proc.communicate(timeout=30)
+    except subprocess.TimeoutExpired:
+        pass
+    for pid in [proc.pid] + family:
+        try:
+            os.kill(pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    proc.wait()
+
+
 def launch(args, case, ranks, log=None, quiet=True):
     """contact-sim on case/scene.toml: under mpiexec on `ranks` ranks (--distributed), or
     in one process without MPI (ranks = 0). Each process under /usr/bin/time (its peak
     resident set size [kB] into rss.RANK). Returns the --json summary, stderr, the
     seconds of steps.csv, the peak memory per rank [MiB], the wall time and the load
-    average before and after."""
+    average before and after; over args.time_limit seconds the case is stopped and only
+    {"time_limit": True}, the wall time and the load come back."""
     env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
                OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                OMPI_MCA_mpi_yield_when_idle="1")  # (waiting ranks yield the core)
@@ -171,19 +203,26 @@ def launch(args, case, ranks, log=None, quiet=True):
         cmd = [args.mpiexec, "-n", str(ranks), "--oversubscribe"] + cmd
     load_before = os.getloadavg()[0]
     start = time.time()
-    done = subprocess.run(cmd, env=env, capture_output=True, text=True)
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)
+    try:
+        stdout, stderr = proc.communicate(timeout=args.time_limit)
+    except subprocess.TimeoutExpired:
+        stop(proc)
+        return {"time_limit": True, "wall": time.time() - start,
+                "load_before": load_before, "load_after": os.getloadavg()[0]}
     wall = time.time() - start
     load_after = os.getloadavg()[0]
-    if done.returncode != 0:
-        sys.stderr.write(done.stdout + done.stderr)
-        raise SystemExit(f"mpi_scaling: {case} failed ({done.returncode})")
+    if proc.returncode != 0:
+        sys.stderr.write(stdout + stderr)
+        raise SystemExit(f"mpi_scaling: {case} failed ({proc.returncode})")
     with open(os.path.join(case, "out", "steps.csv")) as f:
         seconds = [float(row["seconds"]) for row in csv.DictReader(f)]
     rss = []
     for r in range(max(1, ranks)):
         with open(os.path.join(case, f"rss.{r}")) as f:
             rss.append(int(f.read().split()[-1]) / 1024.0)  # MiB
-    return {"summary": json.loads(done.stdout), "stderr": done.stderr, "seconds": seconds,
+    return {"summary": json.loads(stdout), "stderr": stderr, "seconds": seconds,
             "rss": rss, "wall": wall, "load_before": load_before, "load_after": load_after}
 
 
@@ -194,6 +233,8 @@ def run_case(args, n, ranks, workdir):
         f.write(scene_text(n, args.steps))
     log = os.path.join(case, "log_view.txt")
     run = launch(args, case, ranks, log)
+    if run.get("time_limit"):
+        raise SystemExit(f"mpi_scaling: {case} over --time-limit {args.time_limit} s")
     summary, seconds, rss = run["summary"], run["seconds"], run["rss"]
     kx, count = matmult_seconds(log)
     step = statistics.median(seconds[1:] if len(seconds) > 2 else seconds)
@@ -234,6 +275,13 @@ def run_sparse_case(args, n, ranks, workdir, serial):
         f.write(slab_scene_text(n, args.steps))
     log = os.path.join(case, "log_view.txt") if ranks else None
     run = launch(args, case, ranks, log, quiet=False)
+    if run.get("time_limit"):
+        return {"cells": n * n * SLAB_LAYERS, "dofs": 3 * (n + 1) ** 2 * (SLAB_LAYERS + 1),
+                "contact_nodes": (n + 1) ** 2,
+                "run": "serial" if ranks == 0 else "distributed", "ranks": max(1, ranks),
+                "steps": 0, "status": f"stopped: over --time-limit {args.time_limit:g} s",
+                "wall_s": run["wall"], "load_before": run["load_before"],
+                "load_after": run["load_after"]}
     s, seconds, rss, err = run["summary"], run["seconds"], run["rss"], run["stderr"]
     steps = max(1, s["steps"])
     step = statistics.median(seconds[1:] if len(seconds) > 2 else seconds)
@@ -275,10 +323,11 @@ def run_sparse_case(args, n, ranks, workdir, serial):
         row["time_over_serial"] = 1.0
         row["_u"] = u
     else:
-        ref = serial["_u"]
+        ref = serial.get("_u")  # (None: the serial run was stopped by --time-limit)
         row["u_diff_to_serial_m"] = max(
-            abs(a - b) for node, v in u.items() for a, b in zip(v, ref[node]))
-        row["time_over_serial"] = step / serial["time_per_step_s"]
+            abs(a - b) for node, v in u.items()
+            for a, b in zip(v, ref[node])) if ref else float("nan")
+        row["time_over_serial"] = step / serial.get("time_per_step_s", float("nan"))
     row["u_diff_relative"] = row["u_diff_to_serial_m"] / u_max if u_max > 0 else 0.0
     row.update(wall_s=run["wall"], load_before=run["load_before"],
                load_after=run["load_after"])
@@ -323,7 +372,8 @@ def plot_sparse(rows, path):
         ("distributed", r, m, f"{r} rank{'s' if r > 1 else ''} (PETSc)")
         for r, m in ((1, "o"), (2, "s"), (3, "D"), (4, "v"))]
     for run, ranks, marker, label in runs:
-        r = [x for x in rows if x["run"] == run and x["ranks"] == ranks]
+        r = [x for x in rows
+             if x["run"] == run and x["ranks"] == ranks and "time_per_step_s" in x]
         if not r:
             continue
         nodes = [x["contact_nodes"] for x in r]
@@ -349,9 +399,10 @@ def plot_sparse(rows, path):
 def write_results(rows, out, name, plot_rows):
     """The CSV (columns of the first row; keys starting with _ are not written) and the
     plot, after every case (a stopped run keeps its finished cases)."""
-    fields = [k for k in rows[0] if not k.startswith("_")]
+    widest = max(rows, key=len)  # (a case stopped by --time-limit has fewer columns)
+    fields = [k for k in widest if not k.startswith("_")]
     with open(os.path.join(out, name + ".csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
+        w = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore", restval="nan")
         w.writeheader()
         w.writerows(rows)
     plot_rows(rows, os.path.join(out, name + ".png"))
@@ -375,6 +426,9 @@ def main():
     p.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
     p.add_argument("--steps", type=int, default=None,
                    help="steps per case (explicit: 30, sparse: 4)")
+    p.add_argument("--time-limit", type=float, default=None,
+                   help="seconds per case; a sparse case over it is stopped and its row "
+                        "says so (the series goes on), an explicit one ends the run")
     p.add_argument("--out", required=True, help="directory of the CSV and the plot")
     p.add_argument("--workdir", default="/tmp/mpi_scaling")
     args = p.parse_args()
