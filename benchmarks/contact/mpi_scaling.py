@@ -185,9 +185,9 @@ def stop(proc):
 def launch(args, case, ranks, log=None, quiet=True):
     """contact-sim on case/scene.toml: under mpiexec on `ranks` ranks (--distributed), or
     in one process without MPI (ranks = 0). Each process under /usr/bin/time (its peak
-    resident set size [kB] into rss.RANK). Returns the --json summary, stderr, the
-    seconds of steps.csv, the peak memory per rank [MiB], the wall time and the load
-    average before and after; over args.time_limit seconds the case is stopped and only
+    resident set size [kB] and CPU time [s] into rss.RANK). Returns the --json summary,
+    stderr, the seconds of steps.csv, the peak memory [MiB] and the CPU time per rank,
+    the wall time and the load average before and after; over args.time_limit seconds the case is stopped and only
     {"time_limit": True}, the wall time and the load come back."""
     env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
                OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
@@ -195,7 +195,7 @@ def launch(args, case, ranks, log=None, quiet=True):
     if log:
         env["PETSC_OPTIONS"] = f"-log_view :{log}"
     rank = "$OMPI_COMM_WORLD_RANK" if ranks > 0 else "0"
-    rank_cmd = (f'exec /usr/bin/time -f %M -o {case}/rss.{rank} '
+    rank_cmd = (f'exec /usr/bin/time -f "%M %U %S" -o {case}/rss.{rank} '
                 f'{args.contact_sim} {case}/scene.toml {"--distributed " if ranks else ""}'
                 f'{"--quiet " if quiet else ""}--json --output {case}/out')
     cmd = ["sh", "-c", rank_cmd]
@@ -218,12 +218,15 @@ def launch(args, case, ranks, log=None, quiet=True):
         raise SystemExit(f"mpi_scaling: {case} failed ({proc.returncode})")
     with open(os.path.join(case, "out", "steps.csv")) as f:
         seconds = [float(row["seconds"]) for row in csv.DictReader(f)]
-    rss = []
+    rss, cpu = [], []
     for r in range(max(1, ranks)):
         with open(os.path.join(case, f"rss.{r}")) as f:
-            rss.append(int(f.read().split()[-1]) / 1024.0)  # MiB
+            kib, user, system = f.read().split()[-3:]
+        rss.append(int(kib) / 1024.0)  # MiB
+        cpu.append(float(user) + float(system))  # [s]
     return {"summary": json.loads(stdout), "stderr": stderr, "seconds": seconds,
-            "rss": rss, "wall": wall, "load_before": load_before, "load_after": load_after}
+            "rss": rss, "cpu": cpu, "wall": wall, "load_before": load_before,
+            "load_after": load_after}
 
 
 def run_case(args, n, ranks, workdir):
@@ -317,6 +320,11 @@ def run_sparse_case(args, n, ranks, workdir, serial):
         row[f"{key}_count"], row[f"{key}_s"] = count, sec
     row["peak_rss_rank0_MiB"] = rss[0]
     row["peak_rss_other_ranks_MiB"] = max(rss[1:]) if len(rss) > 1 else float("nan")
+    # CPU time of the whole run per rank (set-up included; waiting ranks poll, so on
+    # ranks it also counts the waits): on a loaded machine wall times count the time
+    # other processes held the cores.
+    row["cpu_s_rank0"] = run["cpu"][0]
+    row["cpu_s_other_ranks"] = max(run["cpu"][1:]) if len(rss) > 1 else float("nan")
     row["u_max_m"] = u_max
     if serial is None:
         row["u_diff_to_serial_m"] = 0.0
