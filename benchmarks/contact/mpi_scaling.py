@@ -213,6 +213,8 @@ def launch(args, case, ranks, log=None, quiet=True):
                 "load_before": load_before, "load_after": os.getloadavg()[0]}
     wall = time.time() - start
     load_after = os.getloadavg()[0]
+    with open(os.path.join(case, "stderr.txt"), "w") as f:
+        f.write(stderr)
     if proc.returncode != 0:
         sys.stderr.write(stdout + stderr)
         raise SystemExit(f"mpi_scaling: {case} failed ({proc.returncode})")
@@ -320,6 +322,10 @@ def run_sparse_case(args, n, ranks, workdir, serial):
         row[f"{key}_count"], row[f"{key}_s"] = count, sec
     row["peak_rss_rank0_MiB"] = rss[0]
     row["peak_rss_other_ranks_MiB"] = max(rss[1:]) if len(rss) > 1 else float("nan")
+    # Rank 0's peak after its serial set-up (the model with K and M, dt_crit, the start),
+    # before the distribution.
+    row["rank0_setup_peak_MiB"] = stderr_number(
+        err, r"rank 0's peak memory: ([0-9.]+) MiB after its set-up")
     # CPU time of the whole run per rank (set-up included; waiting ranks poll, so on
     # ranks it also counts the waits): on a loaded machine wall times count the time
     # other processes held the cores.
