@@ -47,12 +47,14 @@ using contact::test::Rank;
 constexpr double kSameTrajectory =
     1e-9;  // relative to the largest value of the quantity (issue 27, item 3)
 // The accuracy and energy measures of each step against one process's, relative to their
-// scales (CheckSameMeasures): with MUMPS's factor of M (one rank) the explicit step's
-// tolerance (test_distributed_scene.cpp); with CG + Jacobi (more ranks: the executable
-// binds the sequential MUMPS) the solves with M stop at a thousandth of the step's force
-// accuracy or at their round-off floor 1e-14 |b|_2, so the residuals differ by less than
-// the accuracy asked: within the scene's tolerance (1e-10) of F.
-constexpr double kSameMeasuresFactored = 1e-12;
+// scales (CheckSameMeasures): with MUMPS's factor of M (one rank) 1e-11 - the residuals
+// are the round-off two direct solves leave (CHOLMOD's factor of M in one process,
+// MUMPS's of M without its zero entries on the rank, each in its own elimination order),
+// a hundredth of the accuracy asked (tolerance 1e-10 of F); with CG + Jacobi (more ranks:
+// the executable binds the sequential MUMPS) the solves with M stop at a thousandth of
+// the step's force accuracy or at their round-off floor 1e-14 |b|_2, so the residuals
+// differ by less than the accuracy asked: within the scene's tolerance (1e-10) of F.
+constexpr double kSameMeasuresFactored = 1e-11;
 // dt_crit on the ranks against the serial estimate, relative: Lanczos on the ranks' K and
 // M (MUMPS's solves with M, or the lumped diagonal) against one process's (CHOLMOD's),
 // the same iteration on vectors that differ by round-off.

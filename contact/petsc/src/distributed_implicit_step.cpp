@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "compressed_matrix.hpp"
 #include "mass_inverse.hpp"
 #include "petsc_check.hpp"
 #include "rank_reduction.hpp"
@@ -190,7 +191,11 @@ void CondensedGatheredStep::CreateMassSolver() {
   const bool mumps = ranks == 1 || ParallelMumpsBound();
   CONTACT_PETSC_CHECK(KSPCreate(comm_, &ksp_));
   CONTACT_PETSC_CHECK(KSPSetOptionsPrefix(ksp_, "mass_"));
-  CONTACT_PETSC_CHECK(KSPSetOperators(ksp_, body_.mass_matrix(), body_.mass_matrix()));
+  // The factor and the solves on M without its zero entries (compressed_matrix.hpp): a
+  // third of the 3D factor's entries and of a solve's work.
+  Mat mass = CopyWithoutZeros(body_.mass_matrix());
+  CONTACT_PETSC_CHECK(KSPSetOperators(ksp_, mass, mass));
+  CONTACT_PETSC_CHECK(MatDestroy(&mass));  // (the KSP holds its reference)
   CONTACT_PETSC_CHECK(KSPSetType(ksp_, mumps ? KSPPREONLY : KSPCG));
   PC pc = nullptr;
   CONTACT_PETSC_CHECK(KSPGetPC(ksp_, &pc));
