@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "contact/dynamics.hpp"
+#include "contact/petsc/distributed_scene.hpp"
 #include "contact/scene.hpp"
 
 namespace contact::test {
@@ -134,6 +135,39 @@ inline std::pair<double, double> CheckCriticalStep(const Scene& scene,
   CHECK(to_serial <= same);
   CHECK(to_exact <= kCriticalStepAccuracy);
   return {to_serial, to_exact};
+}
+
+/// Runs `scene` (its dt above dt_crit, not allowed) on the ranks and in one process
+/// (rank 0): refused on every rank before any step, with the serial message.
+inline void CheckRefusedAsSerial(const Scene& scene) {
+  const SceneResult parallel = petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, false);
+  CHECK(parallel.summary.status == DynamicStatus::kRefusedUnstable);
+  CHECK(parallel.summary.records.empty());
+  if (Rank() != 0) return;
+  const SceneResult serial = RunScene(scene, false);
+  REQUIRE(serial.summary.status == DynamicStatus::kRefusedUnstable);
+  CHECK(parallel.summary.message == serial.summary.message);
+  CHECK_THAT(parallel.summary.message, Catch::Matchers::Contains("time.allow_unstable"));
+}
+
+/// main() of the scene tests: every rank runs every test (the runs are collective), a
+/// failure on any rank fails the test; a failure prints doubles in full. `options`:
+/// PETSc options set before the tests (name, value).
+inline int RunTestsOnRanks(
+    int argc, char** argv,
+    const std::vector<std::pair<const char*, const char*>>& options = {}) {
+  if (PetscInitializeNoArguments() != 0) return 1;  // (PETSc options: PETSC_OPTIONS)
+  for (const auto& [name, value] : options)
+    if (PetscOptionsSetValue(nullptr, name, value) != 0) return 1;
+  int result = 0;
+  {
+    Catch::StringMaker<double>::precision = 17;
+    Catch::Session session;
+    result = session.run(argc, argv);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &result, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+  PetscFinalize();
+  return result;
 }
 
 }  // namespace contact::test

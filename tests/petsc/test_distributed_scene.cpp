@@ -212,15 +212,7 @@ TEST_CASE("dt above dt_crit estimated on MPI ranks is refused as in one process"
   std::string text = kBox3d;
   text.replace(text.find("dt = 2e-5"), 9, "dt = 4e-4");
   const contact::Scene scene = LoadSceneText(text, "refused");
-  const contact::SceneResult parallel =
-      contact::petsc::RunSceneDistributed(scene, PETSC_COMM_WORLD, false);
-  CHECK(parallel.summary.status == contact::DynamicStatus::kRefusedUnstable);
-  CHECK(parallel.summary.records.empty());
-  if (Rank() != 0) return;
-  const contact::SceneResult serial = contact::RunScene(scene, false);
-  REQUIRE(serial.summary.status == contact::DynamicStatus::kRefusedUnstable);
-  CHECK(parallel.summary.message == serial.summary.message);
-  CHECK_THAT(parallel.summary.message, Catch::Matchers::Contains("time.allow_unstable"));
+  contact::test::CheckRefusedAsSerial(scene);
 }
 
 TEST_CASE(
@@ -235,17 +227,4 @@ TEST_CASE(
                     Catch::Matchers::Contains("'full'"));
 }
 
-int main(int argc, char** argv) {
-  if (PetscInitializeNoArguments() != 0) return 1;  // (PETSc options: PETSC_OPTIONS)
-  int result = 0;
-  {
-    Catch::StringMaker<double>::precision =
-        17;                  // (a failure shows the differences in full)
-    Catch::Session session;  // every rank runs every test: the runs are collective
-    result = session.run(argc, argv);
-  }
-  // A failure on any rank fails the test.
-  MPI_Allreduce(MPI_IN_PLACE, &result, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
-  PetscFinalize();
-  return result;
-}
+int main(int argc, char** argv) { return contact::test::RunTestsOnRanks(argc, argv); }

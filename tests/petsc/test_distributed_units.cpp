@@ -371,18 +371,8 @@ TEST_CASE("the same scene in SI and in mm-tonne-s gives the same answer on MPI r
 }
 
 int main(int argc, char** argv) {
-  if (PetscInitializeNoArguments() != 0) return 1;  // (PETSc options: PETSC_OPTIONS)
   // The same partition for both runs of a scene (PT-Scotch's can change from run to run,
   // and with it the order of the sums over ranks).
-  if (PetscOptionsSetValue(nullptr, "-petscpartitioner_type", "simple") != 0) return 1;
-  int result = 0;
-  {
-    Catch::StringMaker<double>::precision = 17;
-    Catch::Session session;  // every rank runs every test: the runs are collective
-    result = session.run(argc, argv);
-  }
-  // A failure on any rank fails the test.
-  MPI_Allreduce(MPI_IN_PLACE, &result, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
-  PetscFinalize();
-  return result;
+  return contact::test::RunTestsOnRanks(argc, argv,
+                                        {{"-petscpartitioner_type", "simple"}});
 }
