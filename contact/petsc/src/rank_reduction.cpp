@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 namespace contact::petsc::internal {
@@ -55,6 +56,18 @@ ncp::fc::Reduction RankReduction(MPI_Comm comm) {
   reduction.sum = [combiner](double* values, int count) { combiner->Sum(values, count); };
   reduction.max = [combiner](double* values, int count) { combiner->Max(values, count); };
   return reduction;
+}
+
+void BroadcastText(MPI_Comm comm, std::string* s) {
+  int length = static_cast<int>(s->size());
+  MPI_Bcast(&length, 1, MPI_INT, 0, comm);
+  s->resize(static_cast<size_t>(length));
+  MPI_Bcast(s->data(), length, MPI_CHAR, 0, comm);
+}
+
+void ThrowFromRankZero(MPI_Comm comm, std::string message) {
+  BroadcastText(comm, &message);
+  if (!message.empty()) throw std::invalid_argument(message);
 }
 
 }  // namespace contact::petsc::internal

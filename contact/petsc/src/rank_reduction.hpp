@@ -11,6 +11,8 @@
 
 #include <mpi.h>
 
+#include <string>
+
 #include "ncp/fc/operator_problem.hpp"
 
 namespace contact::petsc::internal {
@@ -18,5 +20,13 @@ namespace contact::petsc::internal {
 /// The reduction over the ranks of `comm` (which must outlive its uses). With one rank it
 /// is unset: the serial solver, bit for bit.
 ncp::fc::Reduction RankReduction(MPI_Comm comm);
+
+/// Collective: rank 0's *s on every rank.
+void BroadcastText(MPI_Comm comm, std::string* s);
+
+/// Collective: throws rank 0's message (std::invalid_argument) on every rank (empty:
+/// nothing to throw), so that a failure of rank 0's part leaves no rank waiting in a
+/// collective call.
+void ThrowFromRankZero(MPI_Comm comm, std::string message);
 
 }  // namespace contact::petsc::internal
