@@ -146,7 +146,7 @@ class Solver {
 
  private:
   struct Impl;
-  friend class Iteration;  // one solve (solver.cpp)
+  friend class Iteration;  // one solve (iteration.cpp)
   std::unique_ptr<Impl> impl_;
 };
 

@@ -1,0 +1,1011 @@
+// ncp::petsc::Solver: Algorithm 1 of the thesis (section 3.1), the globalized semismooth
+// Newton method of De Luca, Facchinei and Kanzow (1996), over distributed PETSc Vec/Mat:
+// the iteration of one solve on the rows of the mixed form (mixed_layout.hpp).
+//
+// Every decision (z-vector rule, descent test, Armijo, restarts, stopping tests) is taken
+// by the functions of ncp/src/globalization.hpp and ncp_function_internal.hpp, the serial
+// solver's own, from norms and dot products reduced over the communicator: every rank
+// takes the same decision, so no rank can wait in a collective call the others skipped.
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "globalization.hpp"
+#include "input_checks.hpp"
+#include "ncp_function_internal.hpp"
+#include "solver_impl.hpp"
+#include "strategy.hpp"
+
+namespace ncp::petsc {
+
+// ---------------------------------------------------------------------------------------
+// One solve, phase by phase; Run() has the layout of ncp::Solver::Iteration::Run
+// (ncp/src/solver.cpp) and takes its decisions from globalization.hpp.
+
+class Iteration {
+ public:
+  Iteration(Solver::Impl& impl, const BoxMcp& problem, Vec x, Summary& summary,
+            const MixedLayout& layout)
+      : impl_(impl),
+        o_(impl.options),
+        comm_(impl.comm),
+        p_(problem),
+        x_(x),
+        s_(summary),
+        layout_(layout),
+        lower_(layout.lower),
+        upper_(layout.upper),
+        local_(layout.LocalRows()) {}
+
+  enum class Direction { kNewton, kRegularized, kGradient };
+
+  // The solve; x holds the x part of the last iterate afterwards.
+  void Run() {
+    RunIterations();
+    if (layout_.total_slacks > 0) CopyXPart(y_, x_);
+  }
+
+ private:
+  void RunIterations() {
+    if (!Start()) return;
+    for (int k = 0;;) {
+      phi_inf_ = NormInf(phi_);
+      psi_ = 0.5 * Dot(phi_, phi_);
+      converged_ = phi_inf_ <= o_.tolerance;
+      roundoff_limited_ = false;
+      have_jacobian_ = !converged_ && k < o_.max_iterations;
+      jacobian_ok_ = true;
+      degenerate_count_ = 0;
+      if (have_jacobian_ && !EvaluateJacobian(k)) return;
+      if (have_jacobian_ && jacobian_ok_)
+        converged_ = roundoff_limited_ = WithinRoundoffFloor();
+      if (!Report(k)) return;
+      if (TestStop(k)) {
+        if (Restart(k) || SwitchStrategy(k, SwitchReason::kStuck)) continue;
+        return;
+      }
+      if (LeaveStrategy(k)) continue;
+      const Direction direction = ChooseDirection(k);
+      if (finished_) {
+        if (SwitchStrategy(k, SwitchReason::kStuck)) continue;
+        return;
+      }
+      if (!LineSearch(k, direction)) {
+        if (Restart(k) || SwitchStrategy(k, SwitchReason::kStuck)) continue;
+        return;
+      }
+      Accept(direction);
+      ++k;
+    }
+  }
+
+  // ---- Start: work vectors, Phi(x^0)
+  // -----------------------------------------------------
+  bool Start() {
+    start_ = Clock::now();
+    InitializeSummary();
+    for (OwnedVec* v : {&f_, &f_trial_, &x_part_}) v->DuplicateOf(x_);
+    y_ = x_;
+    if (layout_.total_slacks > 0) {
+      y_owned_.Create(comm_, local_);
+      y_ = y_owned_;
+    }
+    for (OwnedVec* v : {&phi_, &phi_trial_, &grad_, &d_, &x_trial_, &c_f_, &c_i_, &z_,
+                        &f_z_, &work_, &work2_, &fixed_values_, &diag_g_, &sensitivity_})
+      v->DuplicateOf(y_);
+    NCP_PETSC_CHECK(VecSet(sensitivity_, 0.0));  // no round-off floor: stays 0
+    impl_.Configure();
+    if (impl_.outer_test.fraction() > 0.0)
+      for (OwnedVec* v : {&ksp_row_weight_, &ksp_row_bound_, &ksp_residual_, &ksp_work_})
+        v->DuplicateOf(y_);
+    const bool new_matrix = impl_.PrepareNewtonMatrix(p_.jacobian_matrix, layout_);
+    G_ = impl_.SourceMatrix(p_.jacobian_matrix);
+    s_.symbolic_factorizations = new_matrix ? 1 : 0;
+    impl_.DescribeKsp();
+    function_ = o_.ncp_function;
+    restarts_left_ = o_.merit_restarts;
+    first_k_ = 0;
+    regularized_ = o_.regularized_direction;
+    strategy_start_ = 0;
+    schedule_.Reset(o_);
+    progress_.ResetRecord(o_, s_.num_variables);
+    if (o_.hybrid) best_y_.DuplicateOf(y_);
+    impl_.report.linear_iterations = 0;
+    impl_.report.residual_test_iterations = 0;
+    impl_.outer_test.ResetCount();
+    if (layout_.total_slacks > 0) {
+      CopyXPart(x_, y_);
+      if (!SetSlacks(y_)) {
+        NCP_PETSC_CHECK(VecSet(phi_, std::numeric_limits<double>::quiet_NaN()));
+        Finish(TerminationType::kEvaluationFailure,
+               "F cannot be evaluated (or is not finite) at the start point");
+        return false;
+      }
+    }
+    if (!Evaluate(y_, f_, phi_)) {
+      NCP_PETSC_CHECK(VecSet(phi_, std::numeric_limits<double>::quiet_NaN()));
+      Finish(TerminationType::kEvaluationFailure,
+             "the problem cannot be evaluated at the start point");
+      return false;
+    }
+    s_.initial_phi_inf = NormInf(phi_);
+    if (!AllFinite(comm_, phi_)) {
+      Finish(TerminationType::kNonFiniteValues, "Phi(x0) has NaN or Inf entries");
+      return false;
+    }
+    stagnation_.Reset(o_.stagnation_window);
+    armijo_reference_.Reset(o_.nonmonotone_memory);
+    if (o_.log_to_stderr)
+      PetscFPrintf(comm_, PETSC_STDERR, "%5s %12s %12s %12s %10s %4s %4s %5s\n", "iter",
+                   "|Phi|_inf", "psi", "|grad|_inf", "step", "bt", "dir", "|gam|");
+    return true;
+  }
+
+  void InitializeSummary() {
+    s_ = Summary();
+    s_.num_variables = static_cast<int>(SumRanks(comm_, local_));
+    long long equations = 0;
+    for (Row r : layout_.rows)
+      equations += r == Row::kFree || r == Row::kFixed || r == Row::kSplit;
+    s_.num_equations = static_cast<int>(SumRanks(comm_, equations));
+    s_.num_pairs = s_.num_variables - s_.num_equations;
+    s_.ncp_function = o_.ncp_function;
+    s_.linear_solver_requested = s_.linear_solver_used = LinearSolverType::kAuto;
+    s_.iterations = s_.jacobian_evaluations = s_.residual_evaluations = 0;
+    s_.gradient_steps = s_.regularized_steps = s_.merit_restarts = 0;
+    // Options::minimum_norm_step and scale_newton_system act on the serial LU only
+    // (docs/petsc.md): a KSP that fails goes to the LM direction or -grad psi at once.
+    s_.minimum_norm_steps = s_.equilibrated_factorizations = 0;
+    s_.linear_solver_failures = s_.descent_test_failures = s_.backtracks = 0;
+    s_.cholesky_fallbacks = s_.projected_start_components = 0;
+    s_.evaluation_time_s = s_.linear_solver_time_s = 0.0;
+    s_.predicted_factorization_flops =
+        std::numeric_limits<double>::quiet_NaN();  // none predicted
+  }
+
+  // ---- Phi(x) row by row (mixed_layout.hpp); false when F cannot be evaluated on some
+  // rank
+  // ----
+  bool Evaluate(Vec point, Vec f, Vec phi) {
+    ++s_.residual_evaluations;
+    const auto t0 = Clock::now();
+    const PetscErrorCode code = p_.residual(XPart(point), f);
+    s_.evaluation_time_s += Seconds(t0);
+    if (AnyRank(comm_, code != 0)) return false;
+    LocalRead ya(point), fa(f);
+    LocalWrite out(phi);
+    for (PetscInt r = 0; r < local_; ++r) {
+      const auto rr = static_cast<size_t>(r);
+      double a = 0.0, b = 0.0;
+      if (PairValues(r, ya, fa, &a, &b)) {
+        out[r] = internal::PhiValue(function_, o_.penalized_fb_lambda, a, b);
+        continue;
+      }
+      const Row row = layout_.row(r);
+      if (row == Row::kFree) out[r] = fa[r];
+      if (row == Row::kFixed) out[r] = ya[r] - lower_[rr];
+      if (row == Row::kSplit) {
+        const PetscInt k = layout_.Link(r);
+        out[r] = fa[r] - ya[layout_.WRow(k)] + ya[layout_.VRow(k)];
+      }
+    }
+    return true;
+  }
+
+  // The x part of the unknowns y (y itself without slacks; else a copy in x_part_).
+  Vec XPart(Vec y) {
+    if (layout_.total_slacks == 0) return y;
+    CopyXPart(y, x_part_);
+    return x_part_;
+  }
+  // The local x entries from one layout to the other (y -> x or x -> y).
+  void CopyXPart(Vec from, Vec to) {
+    LocalRead a(from);
+    LocalWrite b(to);
+    for (PetscInt i = 0; i < layout_.components; ++i) b[i] = a[i];
+  }
+
+  // The slacks of y from F at its x part: w = max(F_i, 0), v = max(-F_i, 0)
+  // (box_mcp.cpp's InitialSlacks, an evaluation not counted in the Summary); false when F
+  // cannot be evaluated or is not finite there.
+  bool SetSlacks(Vec y) {
+    if (AnyRank(comm_, p_.residual(XPart(y), f_trial_) != 0) ||
+        !AllFinite(comm_, f_trial_))
+      return false;
+    LocalRead fa(f_trial_);
+    LocalWrite ya(y);
+    for (PetscInt r = 0; r < layout_.components; ++r) {
+      if (layout_.row(r) != Row::kSplit) continue;
+      const PetscInt k = layout_.Link(r);
+      ya[layout_.WRow(k)] = std::max(fa[r], 0.0);
+      ya[layout_.VRow(k)] = std::max(-fa[r], 0.0);
+    }
+    return true;
+  }
+
+  // ---- J^k in the B-subdifferential and grad psi = J' Phi (eq. 24)
+  // --------------------- false only when the solve has finished (non-finite Jacobian).
+  bool EvaluateJacobian(int k) {
+    ++s_.jacobian_evaluations;
+    const auto t0 = Clock::now();
+    jacobian_ok_ = !AnyRank(comm_, p_.jacobian(XPart(y_), p_.jacobian_matrix) != 0);
+    s_.evaluation_time_s += Seconds(t0);
+    if (!jacobian_ok_) return true;
+    bool finite = true;
+    ForEachLocalValue<false>(p_.jacobian_matrix, [&](const PetscScalar& v) {
+      finite = finite && std::isfinite(PetscRealPart(v));
+    });
+    if (AnyRank(comm_, !finite)) {
+      Finish(TerminationType::kNonFiniteValues,
+             "the Jacobian has NaN or Inf entries at iteration " + std::to_string(k));
+      return false;
+    }
+    if (layout_.total_slacks > 0) impl_.slack.Refresh(p_.jacobian_matrix, layout_);
+    GDiagonalAtA();
+    PhiPartials();
+    if (!impl_.symmetric_newton) FillNewtonMatrix(impl_.newton);  // else by Symmetrize
+    // grad psi = J' Phi = G' (c_F Phi) + c_I,r Phi_r added at y_AColumn(r)
+    NCP_PETSC_CHECK(VecPointwiseMult(work_, c_f_, phi_));
+    NCP_PETSC_CHECK(MatMultTranspose(G_, work_, grad_));
+    {
+      LocalRead c_i(c_i_), phi(phi_);
+      LocalWrite grad(grad_);
+      for (PetscInt r = 0; r < local_; ++r)
+        grad[layout_.AColumn(r)] += c_i[r] * PetscRealPart(phi[r]);
+    }
+    return true;
+  }
+
+  // diag_g_ = G_{r, AColumn(r)}: the diagonal of G (of F') on the rows of x, 0 on the
+  // slack rows (G's stored zeros at (w, i) and (v, i)).
+  void GDiagonalAtA() {
+    NCP_PETSC_CHECK(MatGetDiagonal(G_, diag_g_));
+    LocalWrite diag(diag_g_);
+    for (PetscInt r = layout_.components; r < local_; ++r) diag[r] = 0.0;
+  }
+
+  // c_F, c_I of every row (c_I: the coefficient of the A side, c_A of mixed_layout.hpp on
+  // a slack row): the partials (da, db) of phi at (A_r, B_r) with the signs of A and B,
+  // the z-vector rule on the degenerate set (z = 1 at the variable of every degenerate
+  // pair, the row's own unknown; DFK 1996, eq. 27): za = A' z = +-z_AColumn(r),
+  // zb = B' z = +-(G z)_r.
+  void PhiPartials() {
+    long long degenerate = 0;
+    {
+      LocalRead ya(y_), fa(f_);
+      LocalWrite z(z_);
+      for (PetscInt r = 0; r < local_; ++r) {
+        z[r] = 0.0;
+        double a = 0.0, b = 0.0;
+        if (!PairValues(r, ya, fa, &a, &b)) continue;
+        if (internal::InDegenerateSet(function_, o_.degenerate_tolerance, a, b)) {
+          z[r] = 1.0;
+          ++degenerate;
+        }
+      }
+    }
+    degenerate_count_ = static_cast<int>(SumRanks(comm_, degenerate));
+    if (degenerate_count_ > 0) NCP_PETSC_CHECK(MatMult(G_, z_, f_z_));
+    LocalRead ya(y_), fa(f_), z(z_);
+    std::unique_ptr<LocalRead> fz(degenerate_count_ > 0 ? new LocalRead(f_z_) : nullptr);
+    LocalWrite c_f(c_f_), c_i(c_i_);
+    for (PetscInt r = 0; r < local_; ++r) {
+      const Row row = layout_.row(r);
+      double a = 0.0, b = 0.0;
+      if (!PairValues(r, ya, fa, &a, &b)) {
+        c_f[r] = row == Row::kFixed ? 0.0 : 1.0;
+        c_i[r] = row == Row::kFixed ? 1.0 : 0.0;
+        continue;
+      }
+      // A = +-(x_i - bound), B = +-F_i or the slack.
+      const double sign_a = row == Row::kLower || row == Row::kLowerSlack ? 1.0 : -1.0;
+      const double sign_b = row == Row::kUpper ? -1.0 : 1.0;
+      const bool gamma = z[r] == 1.0;
+      const internal::PhiPartials dp =
+          internal::PhiDerivatives(function_, o_.penalized_fb_lambda, a, b, gamma,
+                                   gamma ? sign_a * z[layout_.AColumn(r)] : 0.0,
+                                   gamma ? sign_b * (*fz)[r] : 0.0, o_.min_tie_takes_b);
+      c_i[r] = sign_a * dp.da;
+      c_f[r] = sign_b * dp.db;
+    }
+  }
+
+  // (A_r, B_r) of a pair row; false for an equation row.
+  bool PairValues(PetscInt r, const LocalRead& ya, const LocalRead& fa, double* a,
+                  double* b) const {
+    const PetscInt i = layout_.AColumn(r);  // the component
+    const auto ii = static_cast<size_t>(i);
+    switch (layout_.row(r)) {
+      case Row::kLower:
+        *a = ya[i] - lower_[ii];
+        *b = fa[i];
+        return true;
+      case Row::kUpper:
+        *a = upper_[ii] - ya[i];
+        *b = -fa[i];
+        return true;
+      case Row::kLowerSlack:
+        *a = ya[i] - lower_[ii];
+        *b = ya[r];
+        return true;
+      case Row::kUpperSlack:
+        *a = upper_[ii] - ya[i];
+        *b = ya[r];
+        return true;
+      default:
+        return false;
+    }
+  }
+
+  // out = J v: out_r = c_F,r (G v)_r + c_I,r v_a with a = AColumn(r) (r itself on the
+  // rows of x; FillNewtonMatrix's J without forming it; v and out distinct).
+  void MultNewton(Vec v, Vec out) {
+    NCP_PETSC_CHECK(MatMult(G_, v, out));
+    LocalRead vv(v), c_f(c_f_), c_i(c_i_);
+    LocalWrite o(out);
+    for (PetscInt r = 0; r < local_; ++r)
+      o[r] =
+          c_f[r] * PetscRealPart(o[r]) + c_i[r] * PetscRealPart(vv[layout_.AColumn(r)]);
+  }
+
+  // out = |J| |v|: row r of J is c_F,r G_r plus c_I,r at a = AColumn(r), so
+  // out_r = |c_F,r| (|G||v|)_r + (|c_F,r G_ra + c_I,r| - |c_F,r G_ra|) |v_a| with
+  // G_ra = diag_g_ (v and out distinct, neither work2_).
+  void MultAbsNewton(Vec v, Vec out) {
+    NCP_PETSC_CHECK(VecCopy(v, work2_));
+    NCP_PETSC_CHECK(VecAbs(work2_));
+    impl_.abs_source.Mult(G_, work2_, out);
+    LocalRead abs_v(work2_), c_f(c_f_), c_i(c_i_), diag(diag_g_);
+    LocalWrite o(out);
+    for (PetscInt r = 0; r < local_; ++r) {
+      const double cfd = c_f[r] * diag[r];
+      o[r] = std::abs(c_f[r]) * PetscRealPart(o[r]) +
+             (std::abs(cfd + c_i[r]) - std::abs(cfd)) * abs_v[layout_.AColumn(r)];
+    }
+  }
+
+  // J = diag(c_F) G + diag(c_I) on the rows of x, c_I at (r, AColumn(r)) on slack rows,
+  // into the matrix J (impl_.newton or impl_.lm_jacobian, both on newton's pattern).
+  void FillNewtonMatrix(Mat J) {
+    NCP_PETSC_CHECK(MatCopy(
+        G_, J, impl_.same_pattern ? SAME_NONZERO_PATTERN : DIFFERENT_NONZERO_PATTERN));
+    NCP_PETSC_CHECK(MatDiagonalScale(J, c_f_, nullptr));
+    if (layout_.total_slacks == 0) {
+      NCP_PETSC_CHECK(MatDiagonalSet(J, c_i_, ADD_VALUES));
+      return;
+    }
+    PetscInt first = 0, last = 0;
+    NCP_PETSC_CHECK(VecGetOwnershipRange(y_, &first, &last));
+    NCP_PETSC_CHECK(VecCopy(c_i_, work_));
+    {
+      LocalRead c_i(c_i_);
+      LocalWrite diagonal(work_);
+      for (PetscInt r = layout_.components; r < local_; ++r) {
+        diagonal[r] = 0.0;
+        const PetscInt row = first + r, col = first + layout_.AColumn(r);
+        const PetscScalar value = c_i[r];
+        NCP_PETSC_CHECK(MatSetValues(J, 1, &row, 1, &col, &value, INSERT_VALUES));
+      }
+    }
+    NCP_PETSC_CHECK(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+    NCP_PETSC_CHECK(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+    NCP_PETSC_CHECK(MatDiagonalSet(J, work_, ADD_VALUES));
+  }
+
+  // ---- the round-off floor of the test (Options::roundoff_ulps)
+  // ------------------------- r_r = |c_F,r| (|G||y|)_r + |c_I,r| |y_AColumn(r)|, the
+  // serial solver's |da| |J_A||x| + |db| |J_B||x| (and |J_E||x| for equations) for these
+  // rows.
+  bool WithinRoundoffFloor() {
+    if (o_.roundoff_ulps == 0.0) return false;
+    RoundoffSensitivity();
+    bool within = true;
+    {
+      LocalRead phi(phi_), sensitivity(sensitivity_);
+      for (PetscInt r = 0; r < local_ && within; ++r)
+        within = internal::RowWithinRoundoffFloor(phi[r], o_.tolerance, o_.roundoff_ulps,
+                                                  sensitivity[r]);
+    }
+    return !AnyRank(comm_, !within);
+  }
+
+  // sensitivity_ = the rows' r of the round-off floor at y (WithinRoundoffFloor).
+  void RoundoffSensitivity() {
+    NCP_PETSC_CHECK(VecCopy(y_, work2_));
+    NCP_PETSC_CHECK(VecAbs(work2_));
+    impl_.abs_source.Mult(G_, work2_, work_);  // |G||y|
+    LocalRead abs_gy(work_), abs_y(work2_), c_f(c_f_), c_i(c_i_);
+    LocalWrite sensitivity(sensitivity_);
+    for (PetscInt r = 0; r < local_; ++r)
+      sensitivity[r] =
+          std::abs(c_f[r]) * abs_gy[r] + std::abs(c_i[r]) * abs_y[layout_.AColumn(r)];
+  }
+
+  // ---- trace, log, callback for iterate k; false when the callback stopped ------------
+  bool Report(int k) {
+    record_.iteration = k;
+    record_.phi_inf = phi_inf_;
+    record_.psi = psi_;
+    record_.grad_psi_inf = have_jacobian_ && jacobian_ok_ ? NormInf(grad_) : 0.0;
+    record_.degenerate_pairs = degenerate_count_;
+    const bool reported = o_.keep_trace || o_.log_to_stderr || o_.callback;
+    record_.time_s = reported ? Seconds(start_) : 0.0;
+    if (o_.keep_trace) s_.trace.push_back(record_);
+    if (o_.log_to_stderr)
+      PetscFPrintf(comm_, PETSC_STDERR, "%5d %12.4e %12.4e %12.4e %10.3e %4d %4s %5d\n",
+                   k, phi_inf_, psi_, record_.grad_psi_inf, record_.step_length,
+                   record_.backtracks,
+                   record_.gradient_step      ? "grad"
+                   : record_.regularized_step ? "reg"
+                                              : "newt",
+                   degenerate_count_);
+    if (o_.callback && AnyRank(comm_, !o_.callback(record_))) {
+      Finish(
+          TerminationType::kUserAbort,
+          "the iteration callback stopped the solve at iteration " + std::to_string(k));
+      return false;
+    }
+    return true;
+  }
+
+  // ---- step 1 and the safeguards; true when the solve ends here
+  // ------------------------
+  bool TestStop(int k) {
+    if (converged_) {
+      s_.roundoff_limited = roundoff_limited_;
+      Finish(TerminationType::kConverged,
+             internal::ConvergedMessage(o_, false, roundoff_limited_, phi_inf_, k));
+      return true;
+    }
+    if (k >= o_.max_iterations) {
+      Finish(TerminationType::kMaxIterations,
+             internal::MaxIterationsMessage(o_, phi_inf_));
+      return true;
+    }
+    if (OutOfTime("at iteration ", k)) return true;
+    if (!jacobian_ok_) {
+      Finish(TerminationType::kEvaluationFailure,
+             "the Jacobian callback failed at iteration " + std::to_string(k));
+      return true;
+    }
+    grad_inf_ = NormInf(grad_);
+    if (stagnation_.Stagnated(static_cast<size_t>(k - first_k_), psi_, o_)) {
+      Finish(TerminationType::kStationaryPoint,
+             internal::StagnationMessage(o_, phi_inf_, grad_inf_));
+      return true;
+    }
+    if (grad_inf_ == 0.0) {
+      Finish(TerminationType::kStationaryPoint, internal::ZeroGradientMessage(phi_inf_));
+      return true;
+    }
+    return false;
+  }
+
+  // Options::max_seconds passed on any rank? (collective only under a finite limit)
+  bool OutOfTime(const char* where, int k) {
+    if (!std::isfinite(o_.max_seconds)) return false;
+    if (!AnyRank(comm_, Seconds(start_) > o_.max_seconds)) return false;
+    Finish(TerminationType::kTimeLimit,
+           internal::TimeLimitMessage(o_, where, k, phi_inf_));
+    return true;
+  }
+
+  // ---- step 2: the direction d and slope_ = grad psi' d; true for d = -grad psi
+  // --------
+  // Newton J d = -Phi (eq. 21) kept if it passes the descent test (eq. 22); else, with
+  // Options::regularized_direction, the Levenberg-Marquardt direction; else -grad psi.
+  Direction ChooseDirection(int k) {
+    const bool newton_solved = NewtonDirection();
+    if (newton_solved && PassesDescentTest()) return Direction::kNewton;
+    if (newton_solved)
+      ++s_.descent_test_failures;
+    else
+      ++s_.linear_solver_failures;
+    if (!o_.gradient_fallback) {
+      if (!newton_solved)
+        Finish(TerminationType::kLinearSolverFailure,
+               "the Newton system is singular or the KSP solve (" +
+                   impl_.report.ksp_type + " + " + impl_.report.pc_type +
+                   ") failed at iteration " + std::to_string(k) +
+                   " and gradient_fallback is off");
+      return Direction::kNewton;  // Algorithm 1 without step 2's fallback
+    }
+    if (regularized_ && RegularizedDirection() && PassesDescentTest()) {
+      ++s_.regularized_steps;
+      return Direction::kRegularized;
+    }
+    NCP_PETSC_CHECK(VecCopy(grad_, d_));
+    NCP_PETSC_CHECK(VecScale(d_, -1.0));
+    slope_ = -Dot(grad_, grad_);
+    ++s_.gradient_steps;
+    return Direction::kGradient;
+  }
+
+  // grad psi' d <= -rho ||d||^p (eq. 22); sets the slope.
+  bool PassesDescentTest() {
+    slope_ = Dot(grad_, d_);
+    PetscReal norm = 0.0;
+    NCP_PETSC_CHECK(VecNorm(d_, NORM_2, &norm));
+    return internal::PassesDescentTest(slope_, norm, o_);
+  }
+
+  // Levenberg-Marquardt direction (J'J + mu I) d = -J' Phi with mu = ||Phi||_2 (Fan and
+  // Yuan 2005), the serial solver's, by the KSP lm_ksp (default MUMPS LU); false when the
+  // KSP failed or d is not finite.
+  bool RegularizedDirection() {
+    const auto t0 = Clock::now();
+    impl_.PrepareNormalMatrix(ExplicitJacobian(), std::sqrt(2.0 * psi_));
+    NCP_PETSC_CHECK(VecCopy(grad_, work_));
+    NCP_PETSC_CHECK(VecScale(work_, -1.0));
+    const bool solved =
+        KspSolve(impl_.lm_ksp, impl_.normal, &impl_.lm_workspace_percent, work_, d_);
+    s_.linear_solver_time_s += Seconds(t0);
+    return solved;
+  }
+
+  // J as a matrix: impl_.newton, or with symmetric_newton (where newton holds the
+  // symmetrized system) impl_.lm_jacobian, created on first use and filled here.
+  Mat ExplicitJacobian() {
+    if (!impl_.symmetric_newton) return impl_.newton;
+    if (!impl_.lm_jacobian)
+      NCP_PETSC_CHECK(
+          MatDuplicate(impl_.newton, MAT_DO_NOT_COPY_VALUES, &impl_.lm_jacobian));
+    FillNewtonMatrix(impl_.lm_jacobian);
+    return impl_.lm_jacobian;
+  }
+
+  // out = op^-1 rhs by ksp; false (on every rank) when the KSP failed or out is not
+  // finite. A failed factorization is set up afresh (ResetFactorization): MUMPS skips
+  // every numeric factorization after a failed one (its INFOG(1) stays < 0), while the
+  // serial backends factorize each Newton matrix anew. When MUMPS ran out of its
+  // estimated workspace (pivots delayed by the zero entries of slack rows, for one) the
+  // same system is factorized again with ICNTL(14) doubled, kept in *workspace_percent
+  // for the later factorizations of this KSP.
+  bool KspSolve(KSP ksp, Mat op, int* workspace_percent, Vec rhs, Vec out) {
+    constexpr int kWorkspaceRetries = 4;  // up to 2^4 times the first estimate's margin
+    for (int attempt = 0;; ++attempt) {
+      const PetscErrorCode code = KSPSolve(ksp, rhs, out);
+      KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
+      if (code == 0) {
+        PetscInt its = 0;
+        NCP_PETSC_CHECK(KSPGetConvergedReason(ksp, &reason));
+        NCP_PETSC_CHECK(KSPGetIterationNumber(ksp, &its));
+        impl_.report.linear_iterations += static_cast<int>(its);
+        impl_.report.residual_test_iterations =
+            static_cast<int>(impl_.outer_test.continued());
+      }
+      if (!AnyRank(comm_, code != 0 || reason == KSP_DIVERGED_PC_FAILED))
+        return !AnyRank(comm_, reason <= 0) && AllFinite(comm_, out);
+      const int more = MumpsWorkspaceToRetry(ksp);
+      if (more > 0) *workspace_percent = more;
+      ResetFactorization(ksp, op, *workspace_percent);
+      if (more == 0 || attempt == kWorkspaceRetries) return false;
+    }
+  }
+
+  // ICNTL(14) to factorize again with when ksp's PC is a MUMPS factorization that failed
+  // for want of workspace (INFOG(1) = -8, -9, -11, -12, -14, -15, -17: MUMPS' "increase
+  // ICNTL(14)" errors), else 0. The same answer on every rank.
+  int MumpsWorkspaceToRetry(KSP ksp) {
+    Mat F = MumpsFactor(ksp);
+    PetscInt info = 0, percent = 0;
+    if (F) {
+      NCP_PETSC_CHECK(MatMumpsGetInfog(F, 1, &info));
+      NCP_PETSC_CHECK(MatMumpsGetIcntl(F, 14, &percent));
+    }
+    const bool short_of_workspace = info == -8 || info == -9 || info == -11 ||
+                                    info == -12 || info == -14 || info == -15 ||
+                                    info == -17;
+    if (!AnyRank(comm_, short_of_workspace)) return 0;
+    return static_cast<int>(
+        std::max<long long>(50, 2 * -MinRanks(comm_, -static_cast<long long>(percent))));
+  }
+
+  // The factorization of ksp's PC from scratch at the next solve, with MUMPS' ICNTL(14)
+  // = workspace_percent when that is > 0.
+  void ResetFactorization(KSP ksp, Mat op, int workspace_percent) {
+    PC pc = nullptr;
+    NCP_PETSC_CHECK(KSPGetPC(ksp, &pc));
+    NCP_PETSC_CHECK(PCReset(pc));
+    NCP_PETSC_CHECK(KSPSetOperators(ksp, op, op));
+    if (workspace_percent <= 0 || !UsesMumps(pc)) return;
+    NCP_PETSC_CHECK(PCFactorSetUpMatSolverType(pc));
+    Mat F = nullptr;
+    NCP_PETSC_CHECK(PCFactorGetMatrix(pc, &F));
+    NCP_PETSC_CHECK(MatMumpsSetIcntl(F, 14, workspace_percent));
+  }
+
+  static bool UsesMumps(PC pc) {
+    PetscBool factor = PETSC_FALSE;
+    NCP_PETSC_CHECK(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &factor,
+                                              PCLU, PCCHOLESKY, ""));
+    MatSolverType type = nullptr;
+    if (factor) NCP_PETSC_CHECK(PCFactorGetMatSolverType(pc, &type));
+    return type && std::string(type) == MATSOLVERMUMPS;
+  }
+  // MUMPS' factor matrix of ksp's PC (after a solve), or nullptr for another PC.
+  static Mat MumpsFactor(KSP ksp) {
+    PC pc = nullptr;
+    NCP_PETSC_CHECK(KSPGetPC(ksp, &pc));
+    if (!UsesMumps(pc)) return nullptr;
+    Mat F = nullptr;
+    NCP_PETSC_CHECK(PCFactorGetMatrix(pc, &F));
+    return F;
+  }
+
+  // J d = -Phi (eq. 21) by the KSP; false when the KSP diverged, d is not finite or fails
+  // the backward-error guard of globalization.hpp.
+  bool NewtonDirection() {
+    const auto t0 = Clock::now();
+    NCP_PETSC_CHECK(VecCopy(phi_, work_));
+    NCP_PETSC_CHECK(VecScale(work_, -1.0));
+    if (impl_.symmetric_newton && !Symmetrize(work_)) {
+      s_.linear_solver_time_s += Seconds(t0);
+      return false;
+    }
+    if (impl_.outer_test.AppliesTo(function_)) ArmOuterResidualTest();
+    bool solved =
+        KspSolve(impl_.ksp, impl_.newton, &impl_.newton_workspace_percent, work_, d_);
+    impl_.outer_test.Disarm();
+    if (solved) {
+      MultNewton(d_, work_);  // J d + Phi
+      NCP_PETSC_CHECK(VecAXPY(work_, 1.0, phi_));
+      const double residual_inf = NormInf(work_);
+      MultAbsNewton(d_, work_);  // |J||d|
+      solved = internal::NewtonSolutionAccurate(residual_inf, phi_inf_, NormInf(work_));
+    }
+    s_.linear_solver_time_s += Seconds(t0);
+    return solved;
+  }
+
+  // The rows' weights and bounds of OuterResidualTest for this Newton system: the KSP's
+  // row r is row r of J (weight 1), or in symmetric mode row r of J divided by c_F,r (a
+  // kept row) or by c_I,r (an eliminated one); the bound is the fraction of the stopping
+  // test's bound on |Phi_r| at this iterate (tolerance and round-off floor; sensitivity_
+  // is this iterate's: WithinRoundoffFloor ran before the direction, or 0 without floor).
+  void ArmOuterResidualTest() {
+    {
+      LocalRead c_f(c_f_), c_i(c_i_), sensitivity(sensitivity_);
+      LocalWrite weight(ksp_row_weight_), bound(ksp_row_bound_);
+      const double fraction = impl_.outer_test.fraction();
+      for (PetscInt r = 0; r < local_; ++r) {
+        weight[r] = !impl_.symmetric_newton ? 1.0 : c_f[r] != 0.0 ? c_f[r] : c_i[r];
+        bound[r] = fraction * internal::RoundoffFloorBound(o_.tolerance, o_.roundoff_ulps,
+                                                           sensitivity[r]);
+      }
+    }
+    impl_.outer_test.Arm(ksp_row_weight_, ksp_row_bound_, ksp_residual_, ksp_work_);
+  }
+
+  // The same system J d = rhs made symmetric (the serial kCholmod backend's
+  // transformation, types.hpp): a row with c_F != 0 is divided by c_F, giving diag(c_I /
+  // c_F) + F'_i with c_I / c_F >= 0 for FB, min and penalized FB (both partials are <=
+  // 0); a row with c_F = 0 fixes d_i = rhs_i / c_I and is eliminated from the others
+  // (MatZeroRowsColumns). For a symmetric positive (semi)definite F' (obstacle problems)
+  // the result is symmetric positive definite: CG and AMG apply. rhs is replaced by the
+  // symmetric system's right-hand side; false when a row is zero (c_F = c_I = 0) on some
+  // rank.
+  bool Symmetrize(Vec rhs) {
+    Mat S = impl_.newton;
+    NCP_PETSC_CHECK(MatCopy(
+        G_, S, impl_.same_pattern ? SAME_NONZERO_PATTERN : DIFFERENT_NONZERO_PATTERN));
+    PetscInt first = 0, last = 0;
+    NCP_PETSC_CHECK(VecGetOwnershipRange(y_, &first, &last));
+    std::vector<PetscInt> fixed_rows;
+    bool zero_row = false;
+    {
+      LocalRead c_f(c_f_), c_i(c_i_);
+      LocalWrite b(rhs), ratio(work2_), known(fixed_values_);
+      for (PetscInt i = 0; i < local_; ++i) {
+        ratio[i] = 0.0;
+        known[i] = 0.0;
+        if (c_f[i] != 0.0) {
+          ratio[i] = c_i[i] / c_f[i];
+          b[i] = PetscRealPart(b[i]) / c_f[i];
+        } else if (c_i[i] != 0.0) {
+          known[i] = PetscRealPart(b[i]) / c_i[i];
+          fixed_rows.push_back(first + i);
+        } else {
+          zero_row = true;
+        }
+      }
+    }
+    if (AnyRank(comm_, zero_row)) return false;
+    NCP_PETSC_CHECK(MatDiagonalSet(S, work2_, ADD_VALUES));
+    NCP_PETSC_CHECK(MatZeroRowsColumns(S, static_cast<PetscInt>(fixed_rows.size()),
+                                       fixed_rows.data(), 1.0, fixed_values_, rhs));
+    if (impl_.multigrid.grid()) {  // 1 on the eliminated rows of S, 0 on the others
+      NCP_PETSC_CHECK(VecSet(work2_, 0.0));
+      {
+        LocalWrite eliminated(work2_);
+        for (PetscInt row : fixed_rows) eliminated[row - first] = 1.0;
+      }
+      PC pc = nullptr;
+      NCP_PETSC_CHECK(KSPGetPC(impl_.ksp, &pc));
+      impl_.multigrid.Update(pc, S, work2_);
+    }
+    return true;
+  }
+
+  // ---- step 3: Armijo line search (internal::ArmijoLineSearch)
+  // ----------------------------
+  bool LineSearch(int k, Direction direction) {
+    const double reference =
+        armijo_reference_.Update(static_cast<size_t>(k - first_k_), psi_);
+    using Trial = internal::LineSearchTrial;
+    const internal::LineSearchResult r = internal::ArmijoLineSearch(
+        o_, reference, slope_,
+        [&] { return OutOfTime("in the line search of iteration ", k); },
+        [&](double t) {
+          NCP_PETSC_CHECK(VecWAXPY(x_trial_, t, d_, y_));
+          PetscBool unchanged = PETSC_FALSE;
+          NCP_PETSC_CHECK(VecEqual(x_trial_, y_, &unchanged));
+          if (unchanged) return Trial{Trial::kUnchanged, 0.0};
+          if (!Evaluate(x_trial_, f_trial_, phi_trial_))
+            return Trial{Trial::kNotEvaluable, 0.0};
+          if (!AllFinite(comm_, phi_trial_)) return Trial{Trial::kNonFinite, 0.0};
+          return Trial{Trial::kEvaluated, 0.5 * Dot(phi_trial_, phi_trial_)};
+        });
+    if (r.out_of_time) {
+      s_.backtracks += r.backtracks;
+      return false;
+    }
+    s_.backtracks += std::min(r.backtracks, o_.max_backtracks);
+    step_ = r.step;
+    backtracks_ = r.backtracks;
+    if (!r.accepted) {
+      const internal::Ending ending = internal::LineSearchFailure(
+          o_, r,
+          direction == Direction::kGradient      ? "gradient"
+          : direction == Direction::kRegularized ? "regularized"
+                                                 : "Newton",
+          k, phi_inf_, grad_inf_);
+      Finish(ending.termination, ending.message);
+    }
+    return r.accepted;
+  }
+
+  // The point a restart or a new strategy continues from (box_mcp.cpp's RestartPoint): x
+  // projected onto [l, u], the slacks recomputed from F there; false when F cannot be
+  // evaluated there.
+  bool RestartPoint(Vec y) {
+    ProjectOntoBox(lower_, upper_, y);
+    return layout_.total_slacks == 0 || SetSlacks(y);
+  }
+
+  // ---- the hybrid default (Options::hybrid, strategy.hpp) -----------------------------
+  // Records iterate k; true when the strategy was left for slow progress or its budget
+  // and the next one continues from its best point.
+  bool LeaveStrategy(int k) {
+    if (!o_.hybrid) return false;
+    const auto kk = static_cast<size_t>(k - first_k_);
+    Observe(kk, k);
+    SwitchReason reason = SwitchReason::kStuck;
+    return progress_.ShouldLeave(kk, k - strategy_start_, o_, &reason) &&
+           SwitchStrategy(k, reason);
+  }
+
+  // psi(x^k) to the progress record, x^k kept when it is the strategy's best point.
+  void Observe(size_t kk, int k) {
+    if (progress_.Record(kk, psi_, k)) NCP_PETSC_CHECK(VecCopy(y_, best_y_));
+  }
+
+  // The next strategy of the schedule continues from the smallest-psi point of this one
+  // (its RestartPoint), at iterate k (ncp::Solver's SwitchStrategy, step by step); false
+  // (nothing changed) when no strategy is left or the point cannot be evaluated. kStuck
+  // applies to a solve that ended at a non-solution stationary point, in a failed line
+  // search or a failed Newton solve.
+  bool SwitchStrategy(int k, SwitchReason reason) {
+    if (!o_.hybrid) return false;
+    const bool stuck = s_.termination == TerminationType::kStationaryPoint ||
+                       s_.termination == TerminationType::kLineSearchFailure ||
+                       s_.termination == TerminationType::kLinearSolverFailure;
+    if (reason == SwitchReason::kStuck && !(finished_ && stuck)) return false;
+    const Strategy from{function_, regularized_};
+    if (!schedule_.Advance(from)) return false;
+    const Strategy& to = schedule_.current();
+    Observe(static_cast<size_t>(k - first_k_), k);  // (TestStop may have come first)
+    NCP_PETSC_CHECK(VecCopy(best_y_, x_trial_));
+    function_ = to.ncp_function;  // Evaluate() uses function_
+    if (!RestartPoint(x_trial_) || !Evaluate(x_trial_, f_trial_, phi_trial_) ||
+        !AllFinite(comm_, phi_trial_)) {
+      function_ = from.ncp_function;
+      return false;
+    }
+    s_.strategy_switches.push_back(progress_.SwitchRecord(k, from, to, reason));
+    NCP_PETSC_CHECK(VecCopy(x_trial_, y_));
+    f_.Swap(f_trial_);
+    phi_.Swap(phi_trial_);
+    regularized_ = to.regularized_direction;
+    if (o_.keep_trace && !s_.trace.empty()) s_.trace.pop_back();  // iterate k anew
+    finished_ = false;
+    s_.termination = TerminationType::kNotSolved;
+    first_k_ = strategy_start_ = k;
+    if (o_.log_to_stderr)
+      PetscFPrintf(comm_, PETSC_STDERR,
+                   "strategy %s -> %s at iteration %d (%s), from iteration %d\n",
+                   internal::StrategyName(from).c_str(),
+                   internal::StrategyName(to).c_str(), k, ToString(reason),
+                   progress_.best_iteration());
+    return true;
+  }
+
+  // ---- restart strategy (Options::merit_restarts): continue from mid(l, u, x^k), the
+  // slacks recomputed (box_mcp.cpp's RestartPoint)
+  bool Restart(int k) {
+    if (!internal::MeritRestartApplies(s_.termination, restarts_left_, function_))
+      return false;
+    const NcpFunction stuck_function = function_;
+    function_ = internal::OtherMeritFunction(function_);
+    NCP_PETSC_CHECK(VecCopy(y_, x_trial_));
+    if (!RestartPoint(x_trial_) || !Evaluate(x_trial_, f_trial_, phi_trial_) ||
+        !AllFinite(comm_, phi_trial_)) {
+      function_ = stuck_function;
+      return false;
+    }
+    NCP_PETSC_CHECK(VecCopy(x_trial_, y_));
+    f_.Swap(f_trial_);
+    phi_.Swap(phi_trial_);
+    --restarts_left_;
+    ++s_.merit_restarts;
+    if (o_.keep_trace && !s_.trace.empty())
+      s_.trace.pop_back();  // iterate k is reported anew
+    finished_ = false;
+    s_.termination = TerminationType::kNotSolved;
+    first_k_ = k;
+    if (o_.log_to_stderr)
+      PetscFPrintf(comm_, PETSC_STDERR, "restart %d at iteration %d with %s\n",
+                   s_.merit_restarts, k, ToString(function_));
+    return true;
+  }
+
+  // ---- step 4: x^{k+1} = x^k + t d
+  // -------------------------------------------------------
+  void Accept(Direction direction) {
+    NCP_PETSC_CHECK(VecCopy(x_trial_, y_));
+    f_.Swap(f_trial_);
+    phi_.Swap(phi_trial_);
+    ++s_.iterations;
+    PetscReal norm = 0.0;
+    NCP_PETSC_CHECK(VecNorm(d_, NORM_2, &norm));
+    record_.step_length = step_;
+    record_.direction_norm = norm;
+    record_.backtracks = backtracks_;
+    record_.gradient_step = direction == Direction::kGradient;
+    record_.regularized_step = direction == Direction::kRegularized;
+  }
+
+  void Finish(TerminationType type, const std::string& message) {
+    finished_ = true;
+    s_.termination = type;
+    s_.message = message;
+    if (s_.merit_restarts > 0) s_.message += internal::RestartSuffix(s_.merit_restarts);
+    s_.message += internal::StrategySwitchSuffix(s_.strategy_switches);
+    s_.final_phi_inf = NormInf(phi_);
+    s_.final_psi = 0.5 * Dot(phi_, phi_);
+    s_.total_time_s = Seconds(start_);
+  }
+
+  Solver::Impl& impl_;
+  const Options& o_;
+  MPI_Comm comm_;
+  const BoxMcp& p_;
+  Vec x_;  // the caller's x (layout of F)
+  Summary& s_;
+  const MixedLayout& layout_;
+  const std::vector<double>& lower_;  // of the rank's components, normalized
+  const std::vector<double>& upper_;  // (+-inf = no bound)
+  const PetscInt local_;              // rows of y on this rank
+  Vec y_ = nullptr;                   // the unknowns: x_ itself, or y_owned_ with slacks
+  OwnedVec y_owned_, x_part_;         // x_part_: the x part of a y (XPart)
+  Mat G_ = nullptr;                   // G of mixed_layout.hpp
+  // f_, f_trial_ laid out like x; x_trial_ (the trial y) and the others like y.
+  OwnedVec f_, f_trial_, phi_, phi_trial_, grad_, d_, x_trial_, c_f_, c_i_, z_, f_z_,
+      work_, work2_;
+  OwnedVec fixed_values_;  // d_i of the rows the symmetrized system eliminates
+  OwnedVec diag_g_;        // G_{r, AColumn(r)} (GDiagonalAtA)
+  OwnedVec sensitivity_;   // r of the round-off floor at y (RoundoffSensitivity)
+  // OuterResidualTest's rows: weights, bounds, and its work vectors.
+  OwnedVec ksp_row_weight_, ksp_row_bound_, ksp_residual_, ksp_work_;
+  Clock::time_point start_;
+  NcpFunction function_ = NcpFunction::kFischerBurmeister;
+  int restarts_left_ = 0, first_k_ = 0;  // first_k_: iterate of the last (re)start
+  bool regularized_ = false;             // the current strategy tries the LM direction
+  int strategy_start_ = 0;  // iterate the current strategy of the hybrid began at
+  internal::StrategySchedule schedule_;
+  internal::StrategyProgress progress_;
+  OwnedVec best_y_;  // the current strategy's smallest-psi point (Options::hybrid)
+  internal::StagnationTest stagnation_;
+  internal::NonmonotoneReference armijo_reference_;
+  IterationRecord record_;
+  double phi_inf_ = 0.0, psi_ = 0.0, grad_inf_ = 0.0, slope_ = 0.0, step_ = 0.0;
+  int backtracks_ = 0, degenerate_count_ = 0;
+  bool converged_ = false, have_jacobian_ = false, jacobian_ok_ = true;
+  bool roundoff_limited_ = false, finished_ = false;
+};
+
+void Solver::Solve(const BoxMcp& problem, Vec x, Summary* summary) {
+  Impl& impl = *impl_;
+  const Options& o = impl.options;
+  if (x == nullptr || summary == nullptr) Misuse("x and summary must not be null");
+  if (!problem.residual || !problem.jacobian)
+    Misuse("BoxMcp::residual and BoxMcp::jacobian must be set");
+  if (problem.jacobian_matrix == nullptr) Misuse("BoxMcp::jacobian_matrix must be set");
+  int compare = MPI_UNEQUAL;
+  MPI_Comm_compare(PetscObjectComm(reinterpret_cast<PetscObject>(x)), impl.comm,
+                   &compare);
+  if (compare != MPI_IDENT && compare != MPI_CONGRUENT)
+    Misuse("the start point lives on another communicator than the solver");
+  if (problem.lower) CheckLayout(impl.comm, x, problem.lower, "lower");
+  if (problem.upper) CheckLayout(impl.comm, x, problem.upper, "upper");
+  CheckMatrixLayout(impl.comm, x, problem.jacobian_matrix);
+  bool parallel = false;
+  if (AnyRank(impl.comm, !IsAij(problem.jacobian_matrix, &parallel)))
+    Misuse("the Jacobian matrix must be of type AIJ (MATSEQAIJ or MATMPIAIJ)");
+
+  // Local bounds, normalized (|b| >= infinite_bound is no bound), and the rows.
+  PetscInt local = 0, first = 0, last = 0;
+  NCP_PETSC_CHECK(VecGetLocalSize(x, &local));
+  NCP_PETSC_CHECK(VecGetOwnershipRange(x, &first, &last));
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<double> lower(static_cast<size_t>(local), -kInf),
+      upper(static_cast<size_t>(local), kInf);
+  for (auto [bound, out] :
+       {std::pair<Vec, std::vector<double>*>{problem.lower, &lower},
+        std::pair<Vec, std::vector<double>*>{problem.upper, &upper}}) {
+    if (!bound) continue;
+    LocalRead a(bound);
+    for (PetscInt i = 0; i < local; ++i)
+      (*out)[static_cast<size_t>(i)] = NormalizeBound(a[i], o.infinite_bound);
+  }
+  CheckBoundsAndStart(impl.comm, first, lower, upper, x);
+  const MixedLayout layout(impl.comm, std::move(lower), std::move(upper));
+  impl.Configure();
+  if (impl.multigrid.grid())
+    CheckMultigridGrid(impl.comm, impl.ksp, impl.prefix, impl.symmetric_newton,
+                       impl.multigrid, x);
+  if (impl.symmetric_newton && layout.total_slacks > 0)
+    Misuse(
+        "two-sided bounds (l < u, both finite) at " +
+        std::to_string(layout.total_slacks) +
+        " components make the Newton matrix of the slack form unsymmetric, and the "
+        "KSP asks for the symmetrized Newton system (a CG-like KSP, Cholesky/ICC or -" +
+        impl.prefix +
+        "symmetric_newton true): use a KSP for unsymmetric systems (the default LU, "
+        "GMRES) and -" +
+        impl.prefix + "symmetric_newton false");
+
+  // Options::project_start_point: x0 <- mid(l, u, x0).
+  const long long moved =
+      o.project_start_point
+          ? SumRanks(impl.comm, ProjectOntoBox(layout.lower, layout.upper, x))
+          : 0;
+
+  Iteration(impl, problem, x, *summary, layout).Run();
+
+  summary->projected_start_components = static_cast<int>(moved);
+  if (moved > 0)
+    summary->message +=
+        " (" + std::to_string(moved) +
+        " components of the start point were outside [l, u] and were projected onto it)";
+  // The returned x lies in [l, u] whatever the status (FB iterates may leave the box),
+  // as ncp::Solver's.
+  double largest = 0.0;
+  const long long outside =
+      SumRanks(impl.comm, ProjectOntoBox(layout.lower, layout.upper, x, &largest));
+  double largest_all = 0.0;
+  MPI_Allreduce(&largest, &largest_all, 1, MPI_DOUBLE, MPI_MAX, impl.comm);
+  summary->projected_final_components = static_cast<int>(outside);
+  if (outside > 0)
+    summary->message += " (" + std::to_string(outside) +
+                        " components of the last iterate were outside [l, u], by up to " +
+                        FormatNumber("%.3e", largest_all) +
+                        ", and were projected onto it)";
+}
+
+}  // namespace ncp::petsc
