@@ -275,7 +275,8 @@ TEST_CASE(
 // v0 / (mu g)"; examples/validation/physics_checks.cpp, Sliding): 0.2 m x 0.05 m, 4 x 2
 // Quad4, E = 2e11 Pa, consistent mass (the default), dt = 0.95 dt_crit, thrown at v0 =
 // mu g t_stop with t_stop = 600 dt, run to 1.15 t_stop; no solver section (defaults).
-TEST_CASE("on 2 ranks a thrown block stops after v0 / (mu g), by default and sparse") {
+TEST_CASE("on 2 ranks a thrown block stops after v0 / (mu g), by default and sparse",
+          "[long]") {
   // "": no solver section (defaults: auto, the condensed step on ranks).
   const auto [solver, method] = GENERATE(
       std::make_pair("", contact::StepMethod::kCondensed),
