@@ -34,11 +34,12 @@ def main(path):
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
     cols = ["solver", "ranks", "n", "ksp", "newton_iterations", "total_newton_iterations", "ksp_iterations",
-            "seconds", "cpu_seconds", "error_vs_exact", "error_l2", "status", "peak_rss_mib"]
+            "seconds", "cpu_seconds", "error_vs_exact", "error_l2", "status", "peak_rss_mib",
+            "runs"]
     print("| " + " | ".join(cols) + " |")
     print("|" + "---|" * len(cols))
     for r in rows:
-        print("| " + " | ".join(fmt(r[c]) if c not in ("solver", "ranks", "n", "status", "ksp") else r[c]
+        print("| " + " | ".join(fmt(r.get(c, "")) if c not in ("solver", "ranks", "n", "status", "ksp") else r[c]
                                 for c in cols) + " |")
     print()
     print(f"Ours ({OURS}) against the fastest converged SNESVI row with error_vs_exact <= ours * 1.01:")
