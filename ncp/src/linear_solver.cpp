@@ -126,12 +126,6 @@ void DenseLU::Solve(const Eigen::Ref<const Vector>& rhs, Eigen::Ref<Vector> x) {
 
 namespace {
 
-// 2^-e for 2^e <= m < 2^(e+1); 1 for m = 0 or not finite (nothing to scale by).
-double InversePowerOfTwo(double m) {
-  if (!(m > 0.0) || !std::isfinite(m)) return 1.0;
-  return std::ldexp(1.0, -std::ilogb(m));
-}
-
 // max/min over the entries of `norms` that are > 0 (1 when there are none).
 double Spread(const Vector& norms) {
   double largest = 0.0, smallest = std::numeric_limits<double>::infinity();

@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 #include <Eigen/QR>
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -54,6 +55,14 @@ class DenseLU {
   Eigen::PartialPivLU<DenseMatrix> partial_;
   Vector permuted_;  // its first n entries; grown only
 };
+
+/// 2^-e for 2^e <= m < 2^(e+1): the scale of a row or column of max-norm m in
+/// Equilibration (and in its distributed counterpart, ncp/petsc); 1 for m = 0 or not
+/// finite (nothing to scale by).
+inline double InversePowerOfTwo(double m) {
+  if (!(m > 0.0) || !std::isfinite(m)) return 1.0;
+  return std::ldexp(1.0, -std::ilogb(m));
+}
 
 /// Row and column scaling of a square matrix by powers of two (exact in floating point):
 /// As = diag(r) A diag(c), r_i = 2^-e with 2^e <= max_j |a_ij| < 2^(e+1), then c_j the

@@ -52,12 +52,7 @@ Both SolveBoth(TestProblem& problem, const Vector& x0, const Options& options,
                const std::string& prefix = "ncp_") {
   Both out;
   out.x_serial = x0;
-  // The least-norm step and the equilibrated retry act on the serial LU only; over PETSc
-  // a failed Newton solve goes to the LM direction or -grad psi at once (docs/petsc.md).
-  Options serial_options = options;
-  serial_options.minimum_norm_step = false;
-  serial_options.scale_newton_system = false;
-  ncp::Solver(serial_options)
+  ncp::Solver(options)
       .Solve(*problem.F, problem.lower, problem.upper, &out.x_serial, &out.serial);
 
   Vec x = MakeVec(PETSC_COMM_WORLD, x0);
@@ -279,6 +274,8 @@ TEST_CASE("Levenberg-Marquardt directions (regularized_direction): the serial it
     Options options;
     options.hybrid = false;
     options.regularized_direction = true;
+    options.minimum_norm_step = false;  // else these singular systems take that step
+    options.scale_newton_system = false;
     options.ncp_function = c.function;
     for (const StartPoint& start : c.problem.starts) {
       if (start.label != c.start) continue;
@@ -714,4 +711,15 @@ int main(int argc, char** argv) {
   MPI_Allreduce(&result, &worst, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
   PetscFinalize();
   return worst;
+}
+
+TEST_CASE("DEBUGMN", "[debugmn]") {
+  TestProblem problem = HarkMcp();
+  Options options;
+  options.log_to_stderr = true;
+  for (const StartPoint& start : problem.starts) {
+    if (start.label != "zero") continue;
+    const Both r = SolveBoth(problem, start.x, options);
+    CheckSameAnswer(problem, r);
+  }
 }
