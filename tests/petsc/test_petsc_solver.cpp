@@ -21,6 +21,7 @@
 #include "ncp_collection/mcplib_nlp.hpp"
 #include "ncp_collection/obstacle.hpp"
 #include "ncp_collection/random_lcp.hpp"
+#include "ncp_collection/small_problems.hpp"
 #include "petsc_support.hpp"
 
 using ncp::NcpFunction;
@@ -52,8 +53,8 @@ Both SolveBoth(TestProblem& problem, const Vector& x0, const Options& options,
                const std::string& prefix = "ncp_") {
   Both out;
   out.x_serial = x0;
-  ncp::Solver(options)
-      .Solve(*problem.F, problem.lower, problem.upper, &out.x_serial, &out.serial);
+  ncp::Solver(options).Solve(*problem.F, problem.lower, problem.upper, &out.x_serial,
+                             &out.serial);
 
   Vec x = MakeVec(PETSC_COMM_WORLD, x0);
   Vec lower = MakeVec(PETSC_COMM_WORLD, problem.lower);
@@ -713,13 +714,45 @@ int main(int argc, char** argv) {
   return worst;
 }
 
-TEST_CASE("DEBUGMN", "[debugmn]") {
-  TestProblem problem = HarkMcp();
-  Options options;
-  options.log_to_stderr = true;
-  for (const StartPoint& start : problem.starts) {
-    if (start.label != "zero") continue;
-    const Both r = SolveBoth(problem, start.x, options);
-    CheckSameAnswer(problem, r);
+TEST_CASE("singular Newton systems: the least-norm step of the serial solver",
+          "[petsc][mpi]") {
+  // Default options (minimum_norm_step and scale_newton_system on). At these starts the
+  // serial dense LU calls J singular and takes the least-norm step; MUMPS' null-pivot
+  // detection calls the same J singular and MinimumNormSolver gives the same step (to
+  // round-off), on 1, 2 and 4 ranks. Switched off over PETSc, the least-norm steps are
+  // gone and the iteration count differs: the test sees the feature.
+  struct Case {
+    TestProblem problem;
+    std::string start;
+    NcpFunction function;
+  };
+  std::vector<Case> cases;
+  cases.push_back({HarkMcp(), "gams", NcpFunction::kFischerBurmeister});
+  cases.push_back({ModifiedMathiesen(), "1100", NcpFunction::kMin});
+  for (Case& c : cases) {
+    Options options;
+    options.ncp_function = c.function;
+    for (const StartPoint& start : c.problem.starts) {
+      if (start.label != c.start) continue;
+      INFO(c.problem.name << " from " << start.label << " with "
+                          << ncp::ToString(c.function));
+      const Both r = SolveBoth(c.problem, start.x, options);
+      CheckSameAnswer(c.problem, r);
+      CHECK(r.serial.minimum_norm_steps > 0);
+      CHECK(r.parallel.minimum_norm_steps == r.serial.minimum_norm_steps);
+      CHECK(r.parallel.linear_solver_failures == r.serial.linear_solver_failures);
+      CHECK(r.parallel.descent_test_failures == r.serial.descent_test_failures);
+      CHECK(r.parallel.equilibrated_factorizations ==
+            r.serial.equilibrated_factorizations);
+      CHECK(r.parallel.backtracks == r.serial.backtracks);
+
+      Options off = options;
+      off.minimum_norm_step = false;
+      const Both without = SolveBoth(c.problem, start.x, off);
+      INFO("without the least-norm step: " << without.parallel.BriefReport());
+      CHECK(without.parallel.termination == TerminationType::kConverged);
+      CHECK(without.parallel.minimum_norm_steps == 0);
+      CHECK(without.parallel.iterations != r.serial.iterations);
+    }
   }
 }

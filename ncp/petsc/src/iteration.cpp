@@ -18,6 +18,7 @@
 #include "globalization.hpp"
 #include "input_checks.hpp"
 #include "ncp_function_internal.hpp"
+#include "rank_revealing.hpp"
 #include "solver_impl.hpp"
 #include "strategy.hpp"
 
@@ -42,7 +43,7 @@ class Iteration {
         upper_(layout.upper),
         local_(layout.LocalRows()) {}
 
-  enum class Direction { kNewton, kRegularized, kGradient };
+  enum class Direction { kNewton, kMinimumNorm, kRegularized, kGradient };
 
   // The solve; x holds the x part of the last iterate afterwards.
   void Run() {
@@ -106,6 +107,8 @@ class Iteration {
     const bool new_matrix = impl_.PrepareNewtonMatrix(p_.jacobian_matrix, layout_);
     G_ = impl_.SourceMatrix(p_.jacobian_matrix);
     s_.symbolic_factorizations = new_matrix ? 1 : 0;
+    if (new_matrix && DetectsNullPivots())
+      ResetFactorization(impl_.ksp, impl_.newton, impl_.newton_workspace_percent);
     impl_.DescribeKsp();
     function_ = o_.ncp_function;
     restarts_left_ = o_.merit_restarts;
@@ -158,8 +161,6 @@ class Iteration {
     s_.linear_solver_requested = s_.linear_solver_used = LinearSolverType::kAuto;
     s_.iterations = s_.jacobian_evaluations = s_.residual_evaluations = 0;
     s_.gradient_steps = s_.regularized_steps = s_.merit_restarts = 0;
-    // Options::minimum_norm_step and scale_newton_system act on the serial LU only
-    // (docs/petsc.md): a KSP that fails goes to the LM direction or -grad psi at once.
     s_.minimum_norm_steps = s_.equilibrated_factorizations = 0;
     s_.linear_solver_failures = s_.descent_test_failures = s_.backtracks = 0;
     s_.cholesky_fallbacks = s_.projected_start_components = 0;
@@ -497,7 +498,9 @@ class Iteration {
 
   // ---- step 2: the direction d and slope_ = grad psi' d; true for d = -grad psi
   // --------
-  // Newton J d = -Phi (eq. 21) kept if it passes the descent test (eq. 22); else, with
+  // Newton J d = -Phi (eq. 21) kept if it passes the descent test (eq. 22); a Newton
+  // system the direct solve calls singular or fails on: the least-norm step
+  // (Options::minimum_norm_step) if it passes the test; else, with
   // Options::regularized_direction, the Levenberg-Marquardt direction; else -grad psi.
   Direction ChooseDirection(int k) {
     const bool newton_solved = NewtonDirection();
@@ -506,6 +509,11 @@ class Iteration {
       ++s_.descent_test_failures;
     else
       ++s_.linear_solver_failures;
+    if (!newton_solved && o_.minimum_norm_step && DirectMumpsSolve() &&
+        MinimumNormDirection() && PassesDescentTest()) {
+      ++s_.minimum_norm_steps;
+      return Direction::kMinimumNorm;
+    }
     if (!o_.gradient_fallback) {
       if (!newton_solved)
         Finish(TerminationType::kLinearSolverFailure,
@@ -607,17 +615,25 @@ class Iteration {
   }
 
   // The factorization of ksp's PC from scratch at the next solve, with MUMPS' ICNTL(14)
-  // = workspace_percent when that is > 0.
+  // = workspace_percent when that is > 0, and for the Newton KSP MUMPS' null-pivot
+  // detection when DetectsNullPivots().
   void ResetFactorization(KSP ksp, Mat op, int workspace_percent) {
     PC pc = nullptr;
     NCP_PETSC_CHECK(KSPGetPC(ksp, &pc));
     NCP_PETSC_CHECK(PCReset(pc));
     NCP_PETSC_CHECK(KSPSetOperators(ksp, op, op));
-    if (workspace_percent <= 0 || !UsesMumps(pc)) return;
+    const bool null_pivots = ksp == impl_.ksp && DetectsNullPivots();
+    if ((workspace_percent <= 0 && !null_pivots) || !UsesMumps(pc)) return;
     NCP_PETSC_CHECK(PCFactorSetUpMatSolverType(pc));
     Mat F = nullptr;
     NCP_PETSC_CHECK(PCFactorGetMatrix(pc, &F));
-    NCP_PETSC_CHECK(MatMumpsSetIcntl(F, 14, workspace_percent));
+    if (workspace_percent > 0)
+      NCP_PETSC_CHECK(MatMumpsSetIcntl(F, 14, workspace_percent));
+    if (null_pivots) {
+      PetscInt n = 0;
+      NCP_PETSC_CHECK(MatGetSize(op, &n, nullptr));
+      ArmNullPivotDetection(F, n);
+    }
   }
 
   static bool UsesMumps(PC pc) {
@@ -638,8 +654,12 @@ class Iteration {
     return F;
   }
 
-  // J d = -Phi (eq. 21) by the KSP; false when the KSP diverged, d is not finite or fails
-  // the backward-error guard of globalization.hpp.
+  // J d = -Phi (eq. 21) by the KSP; false when the KSP diverged, MUMPS found null pivots
+  // (DetectsNullPivots), d is not finite or fails the backward-error guard of
+  // globalization.hpp. An LU that failed or called J singular is tried again on J
+  // equilibrated when J's rows or columns spread over more than 2^20
+  // (Options::scale_newton_system, the serial dense LU's rule; nothing is computed for
+  // the scaling while the LU of J succeeds).
   bool NewtonDirection() {
     const auto t0 = Clock::now();
     NCP_PETSC_CHECK(VecCopy(phi_, work_));
@@ -649,16 +669,90 @@ class Iteration {
       return false;
     }
     if (impl_.outer_test.AppliesTo(function_)) ArmOuterResidualTest();
-    bool solved =
-        KspSolve(impl_.ksp, impl_.newton, &impl_.newton_workspace_percent, work_, d_);
+    bool factored =
+        KspSolve(impl_.ksp, impl_.newton, &impl_.newton_workspace_percent, work_, d_) &&
+        !FoundNullPivots();
     impl_.outer_test.Disarm();
-    if (solved) {
-      MultNewton(d_, work_);  // J d + Phi
-      NCP_PETSC_CHECK(VecAXPY(work_, 1.0, phi_));
-      const double residual_inf = NormInf(work_);
-      MultAbsNewton(d_, work_);  // |J||d|
-      solved = internal::NewtonSolutionAccurate(residual_inf, phi_inf_, NormInf(work_));
-    }
+    if (!factored && o_.scale_newton_system && DetectsNullPivots() &&
+        impl_.equilibration.Compute(impl_.newton))
+      factored = EquilibratedNewtonSolve();
+    const bool solved = factored && SolvesNewtonSystem();
+    s_.linear_solver_time_s += Seconds(t0);
+    return solved;
+  }
+
+  // Whether d_ solves J d = -Phi as accurately as a backward-stable solve would (the
+  // guard of globalization.hpp); overwrites work_.
+  bool SolvesNewtonSystem() {
+    MultNewton(d_, work_);  // J d + Phi
+    NCP_PETSC_CHECK(VecAXPY(work_, 1.0, phi_));
+    const double residual_inf = NormInf(work_);
+    MultAbsNewton(d_, work_);  // |J||d|
+    return internal::NewtonSolutionAccurate(residual_inf, phi_inf_, NormInf(work_));
+  }
+
+  // J d = -Phi as Js y = diag(r) (-Phi), d = diag(c) y with Js = diag(r) J diag(c) of
+  // impl_.equilibration, factorized by the Newton KSP (J restored exactly afterwards:
+  // the scales are powers of two). false when the LU failed or called Js singular.
+  bool EquilibratedNewtonSolve() {
+    ++s_.equilibrated_factorizations;
+    const DistributedEquilibration& e = impl_.equilibration;
+    e.Scale(impl_.newton);
+    NCP_PETSC_CHECK(VecPointwiseMult(work_, e.row(), phi_));
+    NCP_PETSC_CHECK(VecScale(work_, -1.0));
+    const bool factored =
+        KspSolve(impl_.ksp, impl_.newton, &impl_.newton_workspace_percent, work_, d_) &&
+        !FoundNullPivots();
+    e.Unscale(impl_.newton);
+    if (factored) NCP_PETSC_CHECK(VecPointwiseMult(d_, d_, e.column()));
+    return factored;
+  }
+
+  // Whether the Newton systems are solved by a direct MUMPS factorization (KSPPREONLY
+  // with PCLU or PCCHOLESKY and MATSOLVERMUMPS; the default): the solves
+  // Options::minimum_norm_step acts on. An iterative KSP that fails goes to the LM
+  // direction or -grad psi at once.
+  bool DirectMumpsSolve() const {
+    PetscBool preonly = PETSC_FALSE;
+    NCP_PETSC_CHECK(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(impl_.ksp),
+                                           KSPPREONLY, &preonly));
+    PC pc = nullptr;
+    NCP_PETSC_CHECK(KSPGetPC(impl_.ksp, &pc));
+    return preonly && UsesMumps(pc);
+  }
+
+  // Whether the Newton KSP's MUMPS LU runs with null-pivot detection
+  // (ArmNullPivotDetection), so that it calls a singular J singular as the serial dense
+  // LU does: with Options::minimum_norm_step or scale_newton_system, a direct MUMPS LU
+  // and J itself as the operator (not the symmetrized system).
+  bool DetectsNullPivots() const {
+    if (!(o_.minimum_norm_step || o_.scale_newton_system) || impl_.symmetric_newton ||
+        !DirectMumpsSolve())
+      return false;
+    PC pc = nullptr;
+    NCP_PETSC_CHECK(KSPGetPC(impl_.ksp, &pc));
+    PetscBool lu = PETSC_FALSE;
+    NCP_PETSC_CHECK(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCLU, &lu));
+    return lu == PETSC_TRUE;
+  }
+
+  // Whether the last Newton factorization found null pivots (INFOG(28) > 0).
+  bool FoundNullPivots() {
+
+    return DetectsNullPivots() && MumpsNullPivots(MumpsFactor(impl_.ksp)) > 0;
+  }
+
+  // The least-norm solution of J d = -Phi in the unknowns of J equilibrated
+  // (MinimumNormSolver: MUMPS' null-pivot detection and null-space basis), kept when it
+  // solves the system to the backward error asked of the Newton solve: a singular but
+  // consistent Newton system (the serial MinimumNormDirection). false when it failed or
+  // does not solve the system.
+  bool MinimumNormDirection() {
+    const auto t0 = Clock::now();
+    NCP_PETSC_CHECK(VecCopy(phi_, work_));
+    NCP_PETSC_CHECK(VecScale(work_, -1.0));
+    const bool solved =
+        impl_.minimum_norm->Solve(ExplicitJacobian(), work_, d_) && SolvesNewtonSystem();
     s_.linear_solver_time_s += Seconds(t0);
     return solved;
   }
@@ -763,6 +857,7 @@ class Iteration {
           o_, r,
           direction == Direction::kGradient      ? "gradient"
           : direction == Direction::kRegularized ? "regularized"
+          : direction == Direction::kMinimumNorm ? "minimum-norm"
                                                  : "Newton",
           k, phi_inf_, grad_inf_);
       Finish(ending.termination, ending.message);
@@ -878,6 +973,7 @@ class Iteration {
     record_.backtracks = backtracks_;
     record_.gradient_step = direction == Direction::kGradient;
     record_.regularized_step = direction == Direction::kRegularized;
+    record_.minimum_norm_step = direction == Direction::kMinimumNorm;
   }
 
   void Finish(TerminationType type, const std::string& message) {

@@ -69,6 +69,7 @@ Solver::Solver(MPI_Comm comm, const Options& options, const std::string& options
   impl_->prefix = options_prefix;
   impl_->ksp = DirectKsp(comm, options_prefix);
   impl_->lm_ksp = DirectKsp(comm, options_prefix + "lm_");
+  impl_->minimum_norm = std::make_unique<MinimumNormSolver>(options_prefix + "mn_");
   int size = 0;
   MPI_Comm_size(comm, &size);
   impl_->report.ranks = size;

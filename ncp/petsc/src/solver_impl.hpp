@@ -3,6 +3,7 @@
 
 #include <petscksp.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "mixed_layout.hpp"
 #include "outer_residual_test.hpp"
 #include "petsc_support.hpp"
+#include "rank_revealing.hpp"
 
 namespace ncp::petsc {
 
@@ -50,6 +52,10 @@ struct Solver::Impl {
   OuterResidualTest outer_test;
   // MUMPS' ICNTL(14) after a factorization ran out of workspace (KspSolve), 0: default.
   int newton_workspace_percent = 0, lm_workspace_percent = 0;
+  // Options::scale_newton_system: the scales of the last Newton matrix the LU failed on.
+  DistributedEquilibration equilibration;
+  // Options::minimum_norm_step: MUMPS with null-pivot detection, options <prefix>mn_.
+  std::unique_ptr<MinimumNormSolver> minimum_norm;
 
   ~Impl() {
     DestroyMat(&newton);
