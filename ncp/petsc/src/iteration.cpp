@@ -441,9 +441,10 @@ class Iteration {
       PetscFPrintf(comm_, PETSC_STDERR, "%5d %12.4e %12.4e %12.4e %10.3e %4d %4s %5d\n",
                    k, phi_inf_, psi_, record_.grad_psi_inf, record_.step_length,
                    record_.backtracks,
-                   record_.gradient_step      ? "grad"
-                   : record_.regularized_step ? "reg"
-                                              : "newt",
+                   record_.gradient_step       ? "grad"
+                   : record_.regularized_step  ? "reg"
+                   : record_.minimum_norm_step ? "mnrm"
+                                               : "newt",
                    degenerate_count_);
     if (o_.callback && AnyRank(comm_, !o_.callback(record_))) {
       Finish(
@@ -738,7 +739,6 @@ class Iteration {
 
   // Whether the last Newton factorization found null pivots (INFOG(28) > 0).
   bool FoundNullPivots() {
-
     return DetectsNullPivots() && MumpsNullPivots(MumpsFactor(impl_.ksp)) > 0;
   }
 
