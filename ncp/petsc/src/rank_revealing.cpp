@@ -147,6 +147,32 @@ void NullVector(Mat F, Mat A, int j, Vec* w) {
   VecDestroy(&Av);
 }
 
+// y <- y - N a with (N'N) a = N'y (N = basis, k columns): y made orthogonal to span(N).
+// false when the Gram matrix N'N is not positive definite (dependent probes).
+bool ProjectOntoComplement(std::vector<Vec>& basis, Vec y) {
+  const auto k = static_cast<Eigen::Index>(basis.size());
+  if (k == 0) return true;
+  DenseMatrix gram(k, k);
+  Vector projections(k);
+  std::vector<PetscScalar> dots(basis.size());
+  for (Eigen::Index i = 0; i < k; ++i) {
+    NCP_PETSC_CHECK(VecMDot(basis[static_cast<size_t>(i)], static_cast<PetscInt>(k),
+                            basis.data(), dots.data()));
+    for (Eigen::Index j = 0; j < k; ++j)
+      gram(i, j) = PetscRealPart(dots[static_cast<size_t>(j)]);
+  }
+  NCP_PETSC_CHECK(VecMDot(y, static_cast<PetscInt>(k), basis.data(), dots.data()));
+  for (Eigen::Index j = 0; j < k; ++j)
+    projections(j) = PetscRealPart(dots[static_cast<size_t>(j)]);
+  const Eigen::LLT<DenseMatrix> llt(gram);
+  if (llt.info() != Eigen::Success || !projections.allFinite()) return false;
+  const Vector a = llt.solve(projections);
+  std::vector<PetscScalar> minus_a(basis.size());
+  for (Eigen::Index j = 0; j < k; ++j) minus_a[static_cast<size_t>(j)] = -a(j);
+  NCP_PETSC_CHECK(VecMAXPY(y, static_cast<PetscInt>(k), minus_a.data(), basis.data()));
+  return true;
+}
+
 // MUMPS through PETSc's factor matrix (MatGetFactor), one factorization per call (a
 // fallback: the pattern is analysed afresh); the null space from k probes (NullVector).
 bool MinimumNormSolver::Solve(Mat J, Vec rhs, Vec x) {
@@ -185,33 +211,9 @@ bool MinimumNormSolver::Solve(Mat J, Vec rhs, Vec x) {
   MatDestroy(&F);
   MatDestroy(&scaled);
   if (any_failed) return false;
-  // y = y0 - N a with (N'N) a = N'y0: y orthogonal to the null space.
-  const auto k = static_cast<Eigen::Index>(basis.size());
-  if (k > 0) {
-    DenseMatrix gram(k, k);
-    Vector projections(k);
-    std::vector<PetscScalar> dots(basis.size());
-    for (Eigen::Index i = 0; i < k; ++i) {
-      NCP_PETSC_CHECK(VecMDot(basis[static_cast<size_t>(i)], static_cast<PetscInt>(k),
-                              basis.data(), dots.data()));
-      for (Eigen::Index j = 0; j < k; ++j)
-        gram(i, j) = PetscRealPart(dots[static_cast<size_t>(j)]);
-    }
-    NCP_PETSC_CHECK(VecMDot(x, static_cast<PetscInt>(k), basis.data(), dots.data()));
-    for (Eigen::Index j = 0; j < k; ++j)
-      projections(j) = PetscRealPart(dots[static_cast<size_t>(j)]);
-
-    const Eigen::LLT<DenseMatrix> llt(gram);
-    if (llt.info() != Eigen::Success || !projections.allFinite()) {
-      DestroyVecs(&basis);
-      return false;
-    }
-    const Vector a = llt.solve(projections);
-    std::vector<PetscScalar> minus_a(basis.size());
-    for (Eigen::Index j = 0; j < k; ++j) minus_a[static_cast<size_t>(j)] = -a(j);
-    NCP_PETSC_CHECK(VecMAXPY(x, static_cast<PetscInt>(k), minus_a.data(), basis.data()));
-  }
+  const bool projected = ProjectOntoComplement(basis, x);
   DestroyVecs(&basis);
+  if (!projected) return false;
   NCP_PETSC_CHECK(VecPointwiseMult(x, x, equilibration_.column()));
   PetscReal norm = 0.0;
   NCP_PETSC_CHECK(VecNorm(x, NORM_INFINITY, &norm));
