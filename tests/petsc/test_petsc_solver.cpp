@@ -704,16 +704,6 @@ TEST_CASE("invalid options are rejected before any work", "[petsc][mpi]") {
 
 // PETSc is initialized here, not by the library; the exit code is the worst over the
 // ranks.
-int main(int argc, char** argv) {
-  if (PetscInitializeNoArguments() != 0) return 1;
-  Catch::Session session;
-  int result = session.run(argc, argv);
-  int worst = 0;
-  MPI_Allreduce(&result, &worst, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
-  PetscFinalize();
-  return worst;
-}
-
 TEST_CASE("singular Newton systems: the least-norm step of the serial solver",
           "[petsc][mpi]") {
   // Default options (minimum_norm_step and scale_newton_system on). At these starts the
@@ -774,4 +764,14 @@ TEST_CASE("singular Newton systems: the least-norm step of the serial solver",
       CHECK(without.parallel.iterations != r.serial.iterations);
     }
   }
+}
+
+int main(int argc, char** argv) {
+  if (PetscInitializeNoArguments() != 0) return 1;
+  Catch::Session session;
+  int result = session.run(argc, argv);
+  int worst = 0;
+  MPI_Allreduce(&result, &worst, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+  PetscFinalize();
+  return worst;
 }
