@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "log_events.hpp"
 #include "petsc_support.hpp"
 
 namespace ncp::petsc {
@@ -81,6 +82,7 @@ class InactiveSetMultigrid {
   // The coarse operators for the reduced system S of this Newton step; eliminated: 1 - m
   // of the finest level (1 on the eliminated rows of S, 0 on the others).
   void Update(PC pc, Mat S, Vec eliminated) {
+    LogScope scope(SolverLogEvents().mg_update);
     Mat A = S;
     Vec decoupled = eliminated;
     for (size_t l = coarse_.size() - 1; l >= 1; --l) {

@@ -17,6 +17,7 @@
 
 #include "globalization.hpp"
 #include "input_checks.hpp"
+#include "log_events.hpp"
 #include "ncp_function_internal.hpp"
 #include "rank_revealing.hpp"
 #include "solver_impl.hpp"
@@ -88,6 +89,7 @@ class Iteration {
   // ---- Start: work vectors, Phi(x^0)
   // -----------------------------------------------------
   bool Start() {
+    LogScope scope(SolverLogEvents().start);
     start_ = Clock::now();
     InitializeSummary();
     for (OwnedVec* v : {&f_, &f_trial_, &x_part_}) v->DuplicateOf(x_);
@@ -173,6 +175,7 @@ class Iteration {
   // rank
   // ----
   bool Evaluate(Vec point, Vec f, Vec phi) {
+    LogScope scope(SolverLogEvents().evaluate);
     ++s_.residual_evaluations;
     const auto t0 = Clock::now();
     const PetscErrorCode code = p_.residual(XPart(point), f);
@@ -232,6 +235,7 @@ class Iteration {
   // ---- J^k in the B-subdifferential and grad psi = J' Phi (eq. 24)
   // --------------------- false only when the solve has finished (non-finite Jacobian).
   bool EvaluateJacobian(int k) {
+    LogScope scope(SolverLogEvents().jacobian);
     ++s_.jacobian_evaluations;
     const auto t0 = Clock::now();
     jacobian_ok_ = !AnyRank(comm_, p_.jacobian(XPart(y_), p_.jacobian_matrix) != 0);
@@ -404,6 +408,7 @@ class Iteration {
   // rows.
   bool WithinRoundoffFloor() {
     if (o_.roundoff_ulps == 0.0) return false;
+    LogScope scope(SolverLogEvents().roundoff);
     RoundoffSensitivity();
     bool within = true;
     {
@@ -685,6 +690,7 @@ class Iteration {
   // Whether d_ solves J d = -Phi as accurately as a backward-stable solve would (the
   // guard of globalization.hpp); overwrites work_.
   bool SolvesNewtonSystem() {
+    LogScope scope(SolverLogEvents().backward);
     MultNewton(d_, work_);  // J d + Phi
     NCP_PETSC_CHECK(VecAXPY(work_, 1.0, phi_));
     const double residual_inf = NormInf(work_);
@@ -785,6 +791,7 @@ class Iteration {
   // symmetric system's right-hand side; false when a row is zero (c_F = c_I = 0) on some
   // rank.
   bool Symmetrize(Vec rhs) {
+    LogScope scope(SolverLogEvents().symmetrize);
     Mat S = impl_.newton;
     NCP_PETSC_CHECK(MatCopy(
         G_, S, impl_.same_pattern ? SAME_NONZERO_PATTERN : DIFFERENT_NONZERO_PATTERN));
@@ -829,6 +836,7 @@ class Iteration {
   // ---- step 3: Armijo line search (internal::ArmijoLineSearch)
   // ----------------------------
   bool LineSearch(int k, Direction direction) {
+    LogScope scope(SolverLogEvents().line_search);
     const double reference =
         armijo_reference_.Update(static_cast<size_t>(k - first_k_), psi_);
     using Trial = internal::LineSearchTrial;
@@ -1026,6 +1034,7 @@ class Iteration {
 };
 
 void Solver::Solve(const BoxMcp& problem, Vec x, Summary* summary) {
+  LogScope scope(SolverLogEvents().solve);
   Impl& impl = *impl_;
   const Options& o = impl.options;
   if (x == nullptr || summary == nullptr) Misuse("x and summary must not be null");

@@ -9,6 +9,7 @@
 
 #include "absolute_product.hpp"
 #include "inactive_set_multigrid.hpp"
+#include "log_events.hpp"
 #include "mixed_layout.hpp"
 #include "outer_residual_test.hpp"
 #include "petsc_support.hpp"
@@ -80,6 +81,7 @@ struct Solver::Impl {
   // J's structure for the matrix F' and the layout (again when F' is another matrix or
   // changed pattern, or the bounds another layout). Returns true when J was (re)built.
   bool PrepareNewtonMatrix(Mat F, const MixedLayout& layout) {
+    LogScope scope(SolverLogEvents().newton_mat);
     PetscObjectState state = 0;
     NCP_PETSC_CHECK(MatGetNonzeroState(F, &state));
     const bool same_layout = !AnyRank(comm, layout.rows != layout_rows);
