@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "globalization.hpp"
+#include "huge_page_memory.hpp"
 #include "input_checks.hpp"
 #include "log_events.hpp"
 #include "ncp_function_internal.hpp"
@@ -92,20 +93,14 @@ class Iteration {
     LogScope scope(SolverLogEvents().start);
     start_ = Clock::now();
     InitializeSummary();
-    for (OwnedVec* v : {&f_, &f_trial_, &x_part_}) v->DuplicateOf(x_);
     y_ = x_;
     if (layout_.total_slacks > 0) {
       y_owned_.Create(comm_, local_);
       y_ = y_owned_;
     }
-    for (OwnedVec* v : {&phi_, &phi_trial_, &grad_, &d_, &x_trial_, &c_f_, &c_i_, &z_,
-                        &f_z_, &work_, &work2_, &fixed_values_, &diag_g_, &sensitivity_})
-      v->DuplicateOf(y_);
-    NCP_PETSC_CHECK(VecSet(sensitivity_, 0.0));  // no round-off floor: stays 0
     impl_.Configure();
-    if (impl_.outer_test.fraction() > 0.0)
-      for (OwnedVec* v : {&ksp_row_weight_, &ksp_row_bound_, &ksp_residual_, &ksp_work_})
-        v->DuplicateOf(y_);
+    MakeWorkVectors();
+    NCP_PETSC_CHECK(VecSet(sensitivity_, 0.0));  // no round-off floor: stays 0
     const bool new_matrix = impl_.PrepareNewtonMatrix(p_.jacobian_matrix, layout_);
     G_ = impl_.SourceMatrix(p_.jacobian_matrix);
     s_.symbolic_factorizations = new_matrix ? 1 : 0;
@@ -149,6 +144,32 @@ class Iteration {
       PetscFPrintf(comm_, PETSC_STDERR, "%5s %12s %12s %12s %10s %4s %4s %5s\n", "iter",
                    "|Phi|_inf", "psi", "|grad|_inf", "step", "bt", "dir", "|gam|");
     return true;
+  }
+
+  // The work vectors: those laid out like x in one block of memory, those laid out like y
+  // in another (huge_page_memory.hpp: on a new grid their first touch is most of the
+  // cost), or by VecDuplicate for Vec types other than the standard ones.
+  void MakeWorkVectors() {
+    std::vector<OwnedVec*> like_x = {&f_, &f_trial_};
+    if (layout_.total_slacks > 0) like_x.push_back(&x_part_);
+    std::vector<OwnedVec*> like_y = {
+        &phi_, &phi_trial_, &grad_, &d_,     &x_trial_,      &c_f_,    &c_i_,
+        &z_,   &f_z_,       &work_, &work2_, &fixed_values_, &diag_g_, &sensitivity_};
+    if (impl_.outer_test.fraction() > 0.0)
+      like_y.insert(like_y.end(),
+                    {&ksp_row_weight_, &ksp_row_bound_, &ksp_residual_, &ksp_work_});
+    for (const auto& [layout, vectors] :
+         {std::make_pair(Vec(x_), &like_x), std::make_pair(Vec(y_), &like_y)}) {
+      std::vector<Vec> made(vectors->size(), nullptr);
+      const bool in_block =
+          CreateVecsInBlock(layout, static_cast<int>(made.size()), made.data());
+      for (size_t k = 0; k < made.size(); ++k) {
+        if (in_block)
+          (*vectors)[k]->Adopt(made[k]);
+        else
+          (*vectors)[k]->DuplicateOf(layout);
+      }
+    }
   }
 
   void InitializeSummary() {

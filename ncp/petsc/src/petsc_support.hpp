@@ -61,6 +61,10 @@ class OwnedVec {
   OwnedVec(const OwnedVec&) = delete;
   OwnedVec& operator=(const OwnedVec&) = delete;
   void DuplicateOf(Vec layout) { NCP_PETSC_CHECK(VecDuplicate(layout, &v_)); }
+  void Adopt(Vec v) {  // owned from now on
+    if (v_) VecDestroy(&v_);
+    v_ = v;
+  }
   void Create(MPI_Comm comm, PetscInt local_size) {
     NCP_PETSC_CHECK(VecCreate(comm, &v_));
     NCP_PETSC_CHECK(VecSetSizes(v_, local_size, PETSC_DETERMINE));

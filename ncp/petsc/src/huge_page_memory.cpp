@@ -1,0 +1,125 @@
+#include "huge_page_memory.hpp"
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <new>
+#include <stdexcept>
+#include <string>
+
+#include "petsc_support.hpp"
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
+namespace ncp::petsc {
+namespace {
+
+constexpr std::size_t kHugePage = std::size_t{2} << 20;  // 2 MiB, x86-64 and arm64
+
+// A block of memory: mmap'd (zero, 2 MiB aligned, advised for huge pages) on Linux, else
+// from the C library.
+struct Block {
+  void* mapping = nullptr;  // what to unmap (Linux) or free
+  std::size_t mapped_bytes = 0;
+  void* data = nullptr;  // aligned start
+};
+
+PetscErrorCode FreeBlock(void* pointer) {
+  auto* block = static_cast<Block*>(pointer);
+#if defined(__linux__)
+  if (block->mapping) munmap(block->mapping, block->mapped_bytes);
+#else
+  std::free(block->mapping);
+#endif
+  delete block;
+  return 0;
+}
+
+// A container owning a block of `bytes` zero bytes at *data. Throws std::bad_alloc.
+PetscContainer NewBlock(std::size_t bytes, void** data) {
+  auto* block = new Block;
+  const std::size_t rounded =
+      (std::max<std::size_t>(bytes, 1) + kHugePage - 1) / kHugePage * kHugePage;
+#if defined(__linux__)
+  // Anonymous memory is zero; one huge page more to align the start to 2 MiB.
+  block->mapped_bytes = rounded + kHugePage;
+  void* mapping = mmap(nullptr, block->mapped_bytes, PROT_READ | PROT_WRITE,
+                       MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (mapping == MAP_FAILED) {
+    delete block;
+    throw std::bad_alloc();
+  }
+  block->mapping = mapping;
+  const auto address = reinterpret_cast<std::uintptr_t>(mapping);
+  block->data =
+      reinterpret_cast<void*>((address + kHugePage - 1) / kHugePage * kHugePage);
+#if defined(MADV_HUGEPAGE)
+  // Advice only: refused (THP off, an old kernel) it leaves ordinary pages.
+  (void)madvise(block->data, rounded, MADV_HUGEPAGE);
+#endif
+#else
+  block->mapping = std::calloc(rounded, 1);
+  if (!block->mapping) {
+    delete block;
+    throw std::bad_alloc();
+  }
+  block->data = block->mapping;
+#endif
+  PetscContainer container = nullptr;
+  const PetscErrorCode code = PetscContainerCreate(PETSC_COMM_SELF, &container);
+  if (code != 0) FreeBlock(block);
+  Check(code, "PetscContainerCreate");
+  NCP_PETSC_CHECK(PetscContainerSetPointer(container, block));
+  NCP_PETSC_CHECK(PetscContainerSetUserDestroy(container, FreeBlock));
+  *data = block->data;
+  return container;
+}
+
+// `object` keeps `container` (and so the block) alive until it is destroyed.
+void Keep(PetscObject object, PetscContainer container) {
+  NCP_PETSC_CHECK(PetscObjectCompose(object, "ncp_petsc_huge_page_block",
+                                     reinterpret_cast<PetscObject>(container)));
+}
+
+std::size_t CacheLines(std::size_t bytes) { return (bytes + 63) / 64 * 64; }
+
+}  // namespace
+
+bool CreateVecsInBlock(Vec layout, int count, Vec* out) {
+  PetscBool seq = PETSC_FALSE, mpi = PETSC_FALSE;
+  NCP_PETSC_CHECK(
+      PetscObjectTypeCompare(reinterpret_cast<PetscObject>(layout), VECSEQ, &seq));
+  NCP_PETSC_CHECK(
+      PetscObjectTypeCompare(reinterpret_cast<PetscObject>(layout), VECMPI, &mpi));
+  // The same answer on every rank: the ranks' parts of a Vec have one type.
+  if (!seq && !mpi) return false;
+  PetscInt local = 0, global = 0;
+  NCP_PETSC_CHECK(VecGetLocalSize(layout, &local));
+  NCP_PETSC_CHECK(VecGetSize(layout, &global));
+  // Each array starts on a 64-byte boundary (a cache line).
+  const std::size_t stride =
+      CacheLines(static_cast<std::size_t>(local) * sizeof(PetscScalar)) /
+      sizeof(PetscScalar);
+  const std::size_t bytes =
+      stride * static_cast<std::size_t>(count) * sizeof(PetscScalar);
+  void* data = nullptr;
+  PetscContainer container = NewBlock(bytes, &data);
+  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(layout));
+  auto* scalars = static_cast<PetscScalar*>(data);
+  for (int k = 0; k < count; ++k) {
+    PetscScalar* array = scalars + stride * static_cast<std::size_t>(k);
+    if (seq)
+      NCP_PETSC_CHECK(VecCreateSeqWithArray(comm, 1, local, array, &out[k]));
+    else
+      NCP_PETSC_CHECK(VecCreateMPIWithArray(comm, 1, local, global, array, &out[k]));
+    Keep(reinterpret_cast<PetscObject>(out[k]), container);
+  }
+  NCP_PETSC_CHECK(PetscContainerDestroy(&container));
+  return true;
+}
+
+}  // namespace ncp::petsc
