@@ -122,4 +122,48 @@ bool CreateVecsInBlock(Vec layout, int count, Vec* out) {
   return true;
 }
 
+Mat DuplicateSeqAijInBlock(Mat A) {
+  PetscBool seq = PETSC_FALSE, missing = PETSC_TRUE;
+  NCP_PETSC_CHECK(
+      PetscObjectTypeCompare(reinterpret_cast<PetscObject>(A), MATSEQAIJ, &seq));
+  if (!seq) return nullptr;
+  PetscInt first_missing = 0, rows = 0, columns = 0;
+  NCP_PETSC_CHECK(MatMissingDiagonal(A, &missing, &first_missing));
+  if (missing) return nullptr;
+  NCP_PETSC_CHECK(MatGetSize(A, &rows, &columns));
+  const PetscInt *row_start = nullptr, *column = nullptr;
+  PetscInt n = 0;
+  PetscBool done = PETSC_FALSE;
+  NCP_PETSC_CHECK(
+      MatGetRowIJ(A, 0, PETSC_FALSE, PETSC_FALSE, &n, &row_start, &column, &done));
+  if (!done) throw std::runtime_error("ncp::petsc::Solver: MatGetRowIJ gave no rows");
+  const auto nonzeros = static_cast<std::size_t>(row_start[n]);
+  const auto starts = static_cast<std::size_t>(n) + 1;
+  // values | row starts | column indices, each from a 64-byte boundary
+  const std::size_t value_bytes = CacheLines(nonzeros * sizeof(PetscScalar));
+  const std::size_t start_bytes = CacheLines(starts * sizeof(PetscInt));
+  const std::size_t column_bytes = CacheLines(nonzeros * sizeof(PetscInt));
+  void* data = nullptr;
+  PetscContainer container = NewBlock(value_bytes + start_bytes + column_bytes, &data);
+  auto* base = static_cast<char*>(data);
+  auto* values = reinterpret_cast<PetscScalar*>(base);
+  auto* starts_copy = reinterpret_cast<PetscInt*>(base + value_bytes);
+  auto* columns_copy = reinterpret_cast<PetscInt*>(base + value_bytes + start_bytes);
+  std::memcpy(starts_copy, row_start, starts * sizeof(PetscInt));
+  std::memcpy(columns_copy, column, nonzeros * sizeof(PetscInt));
+  NCP_PETSC_CHECK(
+      MatRestoreRowIJ(A, 0, PETSC_FALSE, PETSC_FALSE, &n, &row_start, &column, &done));
+  const PetscScalar* a = nullptr;
+  NCP_PETSC_CHECK(MatSeqAIJGetArrayRead(A, &a));
+  std::memcpy(static_cast<void*>(values), a, nonzeros * sizeof(PetscScalar));
+  NCP_PETSC_CHECK(MatSeqAIJRestoreArrayRead(A, &a));
+  Mat copy = nullptr;
+  NCP_PETSC_CHECK(
+      MatCreateSeqAIJWithArrays(PetscObjectComm(reinterpret_cast<PetscObject>(A)), rows,
+                                columns, starts_copy, columns_copy, values, &copy));
+  Keep(reinterpret_cast<PetscObject>(copy), container);
+  NCP_PETSC_CHECK(PetscContainerDestroy(&container));
+  return copy;
+}
+
 }  // namespace ncp::petsc

@@ -1,5 +1,5 @@
-// Work vectors of the solver whose arrays lie in memory advised for transparent huge
-// pages.
+// Work vectors and a matrix copy of the solver whose arrays lie in memory advised for
+// transparent huge pages.
 //
 // Why: a solve on a new grid first-touches all of its fresh arrays, and on Linux every
 // 4 KiB page of fresh anonymous memory is a page fault. Where the kernel's transparent
@@ -14,6 +14,7 @@
 // last reference).
 #pragma once
 
+#include <petscmat.h>
 #include <petscvec.h>
 
 namespace ncp::petsc {
@@ -22,5 +23,10 @@ namespace ncp::petsc {
 // block. Only for the standard types VECSEQ and VECMPI: false (nothing made) for another
 // type of `layout`, whose Vecs the caller makes by VecDuplicate.
 bool CreateVecsInBlock(Vec layout, int count, Vec* out);
+
+// A copy of the matrix A (pattern and values) whose CSR arrays lie in one block: for A of
+// type MATSEQAIJ with every diagonal entry stored, else nullptr (the caller duplicates A
+// by MatDuplicate). New nonzeros cannot be added to the copy (MatCreateSeqAIJWithArrays).
+Mat DuplicateSeqAijInBlock(Mat A);
 
 }  // namespace ncp::petsc

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "absolute_product.hpp"
+#include "huge_page_memory.hpp"
 #include "inactive_set_multigrid.hpp"
 #include "log_events.hpp"
 #include "mixed_layout.hpp"
@@ -94,7 +95,9 @@ struct Solver::Impl {
       slack.Build(comm, F, layout);
     else
       slack.Clear();
-    NCP_PETSC_CHECK(MatDuplicate(SourceMatrix(F), MAT_COPY_VALUES, &newton));
+    // On one rank its arrays in a huge-page-advised block (huge_page_memory.hpp).
+    newton = DuplicateSeqAijInBlock(SourceMatrix(F));
+    if (!newton) NCP_PETSC_CHECK(MatDuplicate(SourceMatrix(F), MAT_COPY_VALUES, &newton));
     abs_source.Prepare(SourceMatrix(F));
     PetscBool missing = PETSC_FALSE;
     PetscInt row = 0;
