@@ -20,21 +20,21 @@ namespace {
 
 constexpr std::size_t kHugePage = std::size_t{2} << 20;  // 2 MiB, x86-64 and arm64
 
-// A block of memory: mmap'd (zero, 2 MiB aligned, advised for huge pages) on Linux, else
-// from the C library.
+// A block of memory: from 2 MiB up (Linux) an anonymous mmap, zero, 2 MiB aligned and
+// advised for huge pages; smaller blocks from calloc, whose recycled memory (glibc's
+// heap) faults less than a fresh mapping.
 struct Block {
-  void* mapping = nullptr;  // what to unmap (Linux) or free
-  std::size_t mapped_bytes = 0;
-  void* data = nullptr;  // aligned start
+  void* start = nullptr;         // what to unmap or free
+  std::size_t mapped_bytes = 0;  // 0: from calloc
+  void* data = nullptr;          // aligned start
 };
 
 PetscErrorCode FreeBlock(void* pointer) {
   auto* block = static_cast<Block*>(pointer);
 #if defined(__linux__)
-  if (block->mapping) munmap(block->mapping, block->mapped_bytes);
-#else
-  std::free(block->mapping);
+  if (block->mapped_bytes > 0) munmap(block->start, block->mapped_bytes);
 #endif
+  if (block->mapped_bytes == 0) std::free(block->start);
   delete block;
   return 0;
 }
@@ -42,33 +42,34 @@ PetscErrorCode FreeBlock(void* pointer) {
 // A container owning a block of `bytes` zero bytes at *data. Throws std::bad_alloc.
 PetscContainer NewBlock(std::size_t bytes, void** data) {
   auto* block = new Block;
-  const std::size_t rounded =
-      (std::max<std::size_t>(bytes, 1) + kHugePage - 1) / kHugePage * kHugePage;
 #if defined(__linux__)
-  // Anonymous memory is zero; one huge page more to align the start to 2 MiB.
-  block->mapped_bytes = rounded + kHugePage;
-  void* mapping = mmap(nullptr, block->mapped_bytes, PROT_READ | PROT_WRITE,
-                       MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-  if (mapping == MAP_FAILED) {
-    delete block;
-    throw std::bad_alloc();
-  }
-  block->mapping = mapping;
-  const auto address = reinterpret_cast<std::uintptr_t>(mapping);
-  block->data =
-      reinterpret_cast<void*>((address + kHugePage - 1) / kHugePage * kHugePage);
+  if (bytes >= kHugePage) {
+    const std::size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
+    // Anonymous memory is zero; one huge page more to align the start to 2 MiB.
+    block->mapped_bytes = rounded + kHugePage;
+    block->start = mmap(nullptr, block->mapped_bytes, PROT_READ | PROT_WRITE,
+                        MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (block->start == MAP_FAILED) {
+      delete block;
+      throw std::bad_alloc();
+    }
+    const auto address = reinterpret_cast<std::uintptr_t>(block->start);
+    block->data =
+        reinterpret_cast<void*>((address + kHugePage - 1) / kHugePage * kHugePage);
 #if defined(MADV_HUGEPAGE)
-  // Advice only: refused (THP off, an old kernel) it leaves ordinary pages.
-  (void)madvise(block->data, rounded, MADV_HUGEPAGE);
+    // Advice only: refused (THP off, an old kernel) it leaves ordinary pages.
+    (void)madvise(block->data, rounded, MADV_HUGEPAGE);
 #endif
-#else
-  block->mapping = std::calloc(rounded, 1);
-  if (!block->mapping) {
-    delete block;
-    throw std::bad_alloc();
   }
-  block->data = block->mapping;
 #endif
+  if (block->mapped_bytes == 0) {
+    block->start = std::calloc(std::max<std::size_t>(bytes, 1), 1);
+    if (!block->start) {
+      delete block;
+      throw std::bad_alloc();
+    }
+    block->data = block->start;
+  }
   PetscContainer container = nullptr;
   const PetscErrorCode code = PetscContainerCreate(PETSC_COMM_SELF, &container);
   if (code != 0) FreeBlock(block);
@@ -87,6 +88,66 @@ void Keep(PetscObject object, PetscContainer container) {
 
 std::size_t CacheLines(std::size_t bytes) { return (bytes + 63) / 64 * 64; }
 
+void MakeVecs(MPI_Comm comm, bool seq, PetscInt local, PetscInt global, int count,
+              Vec* out);
+
+// VECOP_DUPLICATE of the Vecs made here: duplicates in a block too (a KSP's work vectors
+// are duplicates of its solution Vec, by VecDuplicateVecs, which calls VecDuplicate for
+// each; PCMG's residuals are duplicates of its right-hand sides). A PETSc callback:
+// errors are returned, not thrown.
+PetscErrorCode DuplicateVecInBlock(Vec v, Vec* out) {
+  PetscFunctionBeginUser;
+  try {
+    CreateVecsInBlock(v, 1, out);
+  } catch (const std::exception&) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_MEM, "ncp::petsc: no memory for a work vector");
+  }
+  PetscFunctionReturn(0);
+}
+
+// MATOP_CREATE_VECS of the matrices given to CreateVecsOfMatInBlocks: MatCreateVecs'
+// right (column layout) and left (row layout) Vecs, each in a block.
+PetscErrorCode CreateVecsOfMat(Mat A, Vec* right, Vec* left) {
+  PetscFunctionBeginUser;
+  PetscMPIInt size = 0;
+  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(A));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscInt rows = 0, columns = 0, local_rows = 0, local_columns = 0;
+  PetscCall(MatGetSize(A, &rows, &columns));
+  PetscCall(MatGetLocalSize(A, &local_rows, &local_columns));
+  try {
+    if (right) MakeVecs(comm, size == 1, local_columns, columns, 1, right);
+    if (left) MakeVecs(comm, size == 1, local_rows, rows, 1, left);
+  } catch (const std::exception&) {
+    SETERRQ(comm, PETSC_ERR_MEM, "ncp::petsc: no memory for a matrix's vectors");
+  }
+  PetscFunctionReturn(0);
+}
+
+void MakeVecs(MPI_Comm comm, bool seq, PetscInt local, PetscInt global, int count,
+              Vec* out) {
+  // Each array starts on a 64-byte boundary (a cache line).
+  const std::size_t stride =
+      CacheLines(static_cast<std::size_t>(local) * sizeof(PetscScalar)) /
+      sizeof(PetscScalar);
+  const std::size_t bytes =
+      stride * static_cast<std::size_t>(count) * sizeof(PetscScalar);
+  void* data = nullptr;
+  PetscContainer container = NewBlock(bytes, &data);
+  auto* scalars = static_cast<PetscScalar*>(data);
+  for (int k = 0; k < count; ++k) {
+    PetscScalar* array = scalars + stride * static_cast<std::size_t>(k);
+    if (seq)
+      NCP_PETSC_CHECK(VecCreateSeqWithArray(comm, 1, local, array, &out[k]));
+    else
+      NCP_PETSC_CHECK(VecCreateMPIWithArray(comm, 1, local, global, array, &out[k]));
+    Keep(reinterpret_cast<PetscObject>(out[k]), container);
+    NCP_PETSC_CHECK(VecSetOperation(
+        out[k], VECOP_DUPLICATE, reinterpret_cast<void (*)(void)>(DuplicateVecInBlock)));
+  }
+  NCP_PETSC_CHECK(PetscContainerDestroy(&container));
+}
+
 }  // namespace
 
 bool CreateVecsInBlock(Vec layout, int count, Vec* out) {
@@ -100,26 +161,18 @@ bool CreateVecsInBlock(Vec layout, int count, Vec* out) {
   PetscInt local = 0, global = 0;
   NCP_PETSC_CHECK(VecGetLocalSize(layout, &local));
   NCP_PETSC_CHECK(VecGetSize(layout, &global));
-  // Each array starts on a 64-byte boundary (a cache line).
-  const std::size_t stride =
-      CacheLines(static_cast<std::size_t>(local) * sizeof(PetscScalar)) /
-      sizeof(PetscScalar);
-  const std::size_t bytes =
-      stride * static_cast<std::size_t>(count) * sizeof(PetscScalar);
-  void* data = nullptr;
-  PetscContainer container = NewBlock(bytes, &data);
-  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(layout));
-  auto* scalars = static_cast<PetscScalar*>(data);
-  for (int k = 0; k < count; ++k) {
-    PetscScalar* array = scalars + stride * static_cast<std::size_t>(k);
-    if (seq)
-      NCP_PETSC_CHECK(VecCreateSeqWithArray(comm, 1, local, array, &out[k]));
-    else
-      NCP_PETSC_CHECK(VecCreateMPIWithArray(comm, 1, local, global, array, &out[k]));
-    Keep(reinterpret_cast<PetscObject>(out[k]), container);
-  }
-  NCP_PETSC_CHECK(PetscContainerDestroy(&container));
+  MakeVecs(PetscObjectComm(reinterpret_cast<PetscObject>(layout)), seq == PETSC_TRUE,
+           local, global, count, out);
   return true;
+}
+
+void CreateVecsOfMatInBlocks(Mat A) {
+  PetscBool aij = PETSC_FALSE;
+  NCP_PETSC_CHECK(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(A), &aij,
+                                            MATSEQAIJ, MATMPIAIJ, ""));
+  if (!aij) return;
+  NCP_PETSC_CHECK(MatSetOperation(A, MATOP_CREATE_VECS,
+                                  reinterpret_cast<void (*)(void)>(CreateVecsOfMat)));
 }
 
 Mat DuplicateSeqAijInBlock(Mat A) {

@@ -1,13 +1,15 @@
-// Work vectors and a matrix copy of the solver whose arrays lie in memory advised for
-// transparent huge pages.
+// Work vectors (the solver's, and its KSP's and PCMG's) and a matrix copy whose arrays
+// lie in memory advised for transparent huge pages.
 //
 // Why: a solve on a new grid first-touches all of its fresh arrays, and on Linux every
 // 4 KiB page of fresh anonymous memory is a page fault. Where the kernel's transparent
 // huge pages are in `madvise` mode (/sys/kernel/mm/transparent_hugepage/enabled), a block
 // advised with MADV_HUGEPAGE is faulted in 2 MiB pages instead, 512 times fewer faults
 // (measured on the benchmark machine: docs/petsc.md). In `always` mode the advice changes
-// nothing, in `never` mode it is ignored. On Linux a block is an anonymous mmap (zero
-// without a pass over it, aligned to 2 MiB); elsewhere it comes from calloc.
+// nothing, in `never` mode it is ignored. On Linux a block of 2 MiB or more is an
+// anonymous mmap (zero without a pass over it, aligned to 2 MiB); smaller blocks, and all
+// elsewhere, come from calloc (a huge page for a small Vec would zero 2 MiB, and glibc
+// recycles small freed blocks without new page faults).
 //
 // Each block is owned by a PetscContainer composed with every object whose arrays lie in
 // it, so it is freed when the last of them is destroyed (also when a KSP or PC holds the
@@ -21,8 +23,15 @@ namespace ncp::petsc {
 
 // `count` Vecs of the type and layout of `layout`, zero, their arrays side by side in one
 // block. Only for the standard types VECSEQ and VECMPI: false (nothing made) for another
-// type of `layout`, whose Vecs the caller makes by VecDuplicate.
+// type of `layout`, whose Vecs the caller makes by VecDuplicate. Their VecDuplicate (and
+// so VecDuplicateVecs) makes Vecs in blocks too (so a KSP's work vectors, duplicates of
+// its solution Vec, do).
 bool CreateVecsInBlock(Vec layout, int count, Vec* out);
+
+// MatCreateVecs(A) from now on makes its Vecs in blocks (as CreateVecsInBlock): the
+// vectors PCMG and its smoothers create for a level whose operator is A. For MATSEQAIJ
+// and MATMPIAIJ; other types are left as they are.
+void CreateVecsOfMatInBlocks(Mat A);
 
 // A copy of the matrix A (pattern and values) whose CSR arrays lie in one block: for A of
 // type MATSEQAIJ with every diagonal entry stored, else nullptr (the caller duplicates A

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "huge_page_memory.hpp"
 #include "log_events.hpp"
 #include "petsc_support.hpp"
 
@@ -88,10 +89,12 @@ class InactiveSetMultigrid {
     for (size_t l = coarse_.size() - 1; l >= 1; --l) {
       NCP_PETSC_CHECK(VecScale(decoupled, -1.0));  // A_l,0 for the product ...
       NCP_PETSC_CHECK(MatDiagonalSet(A, decoupled, ADD_VALUES));
+      const bool first = coarse_[l - 1] == nullptr;
       NCP_PETSC_CHECK(MatPtAP(A, interpolation_[l],
-                              coarse_[l - 1] ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX,
+                              first ? MAT_INITIAL_MATRIX : MAT_REUSE_MATRIX,
                               PETSC_DEFAULT, &coarse_[l - 1]));
-      NCP_PETSC_CHECK(VecScale(decoupled, -1.0));  // ... and A_l again
+      if (first) CreateVecsOfMatInBlocks(coarse_[l - 1]);  // PCMG's level vectors
+      NCP_PETSC_CHECK(VecScale(decoupled, -1.0));          // ... and A_l again
       NCP_PETSC_CHECK(MatDiagonalSet(A, decoupled, ADD_VALUES));
       Mat coarse = coarse_[l - 1];
       Vec coarse_decoupled = decoupled_[l - 1];

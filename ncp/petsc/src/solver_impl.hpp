@@ -98,6 +98,7 @@ struct Solver::Impl {
     // On one rank its arrays in a huge-page-advised block (huge_page_memory.hpp).
     newton = DuplicateSeqAijInBlock(SourceMatrix(F));
     if (!newton) NCP_PETSC_CHECK(MatDuplicate(SourceMatrix(F), MAT_COPY_VALUES, &newton));
+    CreateVecsOfMatInBlocks(newton);  // the KSP's and PCMG's vectors on it
     abs_source.Prepare(SourceMatrix(F));
     PetscBool missing = PETSC_FALSE;
     PetscInt row = 0;
