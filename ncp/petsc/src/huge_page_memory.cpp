@@ -20,21 +20,15 @@ namespace {
 
 constexpr std::size_t kHugePage = std::size_t{2} << 20;  // 2 MiB, x86-64 and arm64
 
-// A block of memory: from 2 MiB up (Linux) an anonymous mmap, zero, 2 MiB aligned and
-// advised for huge pages; smaller blocks from calloc, whose recycled memory (glibc's
-// heap) faults less than a fresh mapping.
+// The block of a container: its memory and size (AllocateZeroed).
 struct Block {
-  void* start = nullptr;         // what to unmap or free
-  std::size_t mapped_bytes = 0;  // 0: from calloc
-  void* data = nullptr;          // aligned start
+  void* data = nullptr;
+  std::size_t bytes = 0;
 };
 
 PetscErrorCode FreeBlock(void* pointer) {
   auto* block = static_cast<Block*>(pointer);
-#if defined(__linux__)
-  if (block->mapped_bytes > 0) munmap(block->start, block->mapped_bytes);
-#endif
-  if (block->mapped_bytes == 0) std::free(block->start);
+  FreeZeroed(block->data, block->bytes);
   delete block;
   return 0;
 }
@@ -42,33 +36,12 @@ PetscErrorCode FreeBlock(void* pointer) {
 // A container owning a block of `bytes` zero bytes at *data. Throws std::bad_alloc.
 PetscContainer NewBlock(std::size_t bytes, void** data) {
   auto* block = new Block;
-#if defined(__linux__)
-  if (bytes >= kHugePage) {
-    const std::size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
-    // Anonymous memory is zero; one huge page more to align the start to 2 MiB.
-    block->mapped_bytes = rounded + kHugePage;
-    block->start = mmap(nullptr, block->mapped_bytes, PROT_READ | PROT_WRITE,
-                        MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-    if (block->start == MAP_FAILED) {
-      delete block;
-      throw std::bad_alloc();
-    }
-    const auto address = reinterpret_cast<std::uintptr_t>(block->start);
-    block->data =
-        reinterpret_cast<void*>((address + kHugePage - 1) / kHugePage * kHugePage);
-#if defined(MADV_HUGEPAGE)
-    // Advice only: refused (THP off, an old kernel) it leaves ordinary pages.
-    (void)madvise(block->data, rounded, MADV_HUGEPAGE);
-#endif
-  }
-#endif
-  if (block->mapped_bytes == 0) {
-    block->start = std::calloc(std::max<std::size_t>(bytes, 1), 1);
-    if (!block->start) {
-      delete block;
-      throw std::bad_alloc();
-    }
-    block->data = block->start;
+  block->bytes = bytes;
+  try {
+    block->data = AllocateZeroed(bytes);
+  } catch (...) {
+    delete block;
+    throw;
   }
   PetscContainer container = nullptr;
   const PetscErrorCode code = PetscContainerCreate(PETSC_COMM_SELF, &container);
@@ -149,6 +122,46 @@ void MakeVecs(MPI_Comm comm, bool seq, PetscInt local, PetscInt global, int coun
 }
 
 }  // namespace
+
+void* AllocateZeroed(std::size_t bytes) {
+#if defined(__linux__)
+  if (bytes >= kHugePage) {
+    const std::size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
+    // Anonymous memory is zero. One huge page more is mapped to align the start to
+    // 2 MiB, and the unaligned head and tail are unmapped again.
+    const std::size_t mapped = rounded + kHugePage;
+    void* start =
+        mmap(nullptr, mapped, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (start == MAP_FAILED) throw std::bad_alloc();
+    const auto address = reinterpret_cast<std::uintptr_t>(start);
+    const std::uintptr_t aligned = (address + kHugePage - 1) / kHugePage * kHugePage;
+    if (aligned > address) munmap(start, aligned - address);
+    if (address + mapped > aligned + rounded)
+      munmap(reinterpret_cast<void*>(aligned + rounded),
+             address + mapped - aligned - rounded);
+    void* data = reinterpret_cast<void*>(aligned);
+#if defined(MADV_HUGEPAGE)
+    // Advice only: refused (THP off, an old kernel) it leaves ordinary pages.
+    (void)madvise(data, rounded, MADV_HUGEPAGE);
+#endif
+    return data;
+  }
+#endif
+  void* data = std::calloc(std::max<std::size_t>(bytes, 1), 1);
+  if (!data) throw std::bad_alloc();
+  return data;
+}
+
+void FreeZeroed(void* data, std::size_t bytes) {
+  if (!data) return;
+#if defined(__linux__)
+  if (bytes >= kHugePage) {
+    munmap(data, (bytes + kHugePage - 1) / kHugePage * kHugePage);
+    return;
+  }
+#endif
+  std::free(data);
+}
 
 bool CreateVecsInBlock(Vec layout, int count, Vec* out) {
   PetscBool seq = PETSC_FALSE, mpi = PETSC_FALSE;

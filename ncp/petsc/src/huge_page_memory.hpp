@@ -19,7 +19,38 @@
 #include <petscmat.h>
 #include <petscvec.h>
 
+#include <cstddef>
+#include <vector>
+
 namespace ncp::petsc {
+
+// `bytes` zero bytes: from 2 MiB up (Linux) an anonymous mmap, 2 MiB aligned and advised
+// for huge pages; smaller, or elsewhere, from calloc. Throws std::bad_alloc.
+void* AllocateZeroed(std::size_t bytes);
+// Frees what AllocateZeroed(bytes) gave (nullptr: nothing).
+void FreeZeroed(void* data, std::size_t bytes);
+
+// A std::allocator on AllocateZeroed, for the solver's own arrays of one entry per local
+// row (LocalArray).
+template <class T>
+struct HugePageAllocator {
+  using value_type = T;
+  HugePageAllocator() = default;
+  template <class U>
+  HugePageAllocator(const HugePageAllocator<U>&) {}
+  T* allocate(std::size_t n) { return static_cast<T*>(AllocateZeroed(n * sizeof(T))); }
+  void deallocate(T* p, std::size_t n) { FreeZeroed(p, n * sizeof(T)); }
+  template <class U>
+  bool operator==(const HugePageAllocator<U>&) const {
+    return true;
+  }
+  template <class U>
+  bool operator!=(const HugePageAllocator<U>&) const {
+    return false;
+  }
+};
+template <class T>
+using LocalArray = std::vector<T, HugePageAllocator<T>>;
 
 // `count` Vecs of the type and layout of `layout`, zero, their arrays side by side in one
 // block. Only for the standard types VECSEQ and VECMPI: false (nothing made) for another

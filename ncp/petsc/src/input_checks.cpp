@@ -42,8 +42,8 @@ void CheckMatrixLayout(MPI_Comm comm, Vec x, Mat J) {
 
 // The first (lowest global index) bad entry of the bounds or the start point, reported
 // with its values on every rank (the owner contributes them to a sum, the others zeros).
-void CheckBoundsAndStart(MPI_Comm comm, PetscInt first, const std::vector<double>& lower,
-                         const std::vector<double>& upper, Vec x) {
+void CheckBoundsAndStart(MPI_Comm comm, PetscInt first, const LocalArray<double>& lower,
+                         const LocalArray<double>& upper, Vec x) {
   const auto n = static_cast<PetscInt>(lower.size());
   LocalRead xa(x);
   long long bad = LLONG_MAX;

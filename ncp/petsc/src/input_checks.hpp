@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "huge_page_memory.hpp"
 #include "inactive_set_multigrid.hpp"
 
 namespace ncp::petsc {
@@ -23,8 +24,8 @@ void CheckMatrixLayout(MPI_Comm comm, Vec x, Mat J);
 
 // No NaN bound, no l > u, no empty box, a finite start point; the first bad entry (lowest
 // global index) is reported with its values. first: the rank's first global row.
-void CheckBoundsAndStart(MPI_Comm comm, PetscInt first, const std::vector<double>& lower,
-                         const std::vector<double>& upper, Vec x);
+void CheckBoundsAndStart(MPI_Comm comm, PetscInt first, const LocalArray<double>& lower,
+                         const LocalArray<double>& upper, Vec x);
 
 // Solver::SetMultigridGrid's preconditions (PCMG, symmetric mode, the grid of x);
 // attaches the hierarchy at the first solve on the grid.

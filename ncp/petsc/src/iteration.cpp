@@ -1023,12 +1023,12 @@ class Iteration {
   Vec x_;  // the caller's x (layout of F)
   Summary& s_;
   const MixedLayout& layout_;
-  const std::vector<double>& lower_;  // of the rank's components, normalized
-  const std::vector<double>& upper_;  // (+-inf = no bound)
-  const PetscInt local_;              // rows of y on this rank
-  Vec y_ = nullptr;                   // the unknowns: x_ itself, or y_owned_ with slacks
-  OwnedVec y_owned_, x_part_;         // x_part_: the x part of a y (XPart)
-  Mat G_ = nullptr;                   // G of mixed_layout.hpp
+  const LocalArray<double>& lower_;  // of the rank's components, normalized
+  const LocalArray<double>& upper_;  // (+-inf = no bound)
+  const PetscInt local_;             // rows of y on this rank
+  Vec y_ = nullptr;                  // the unknowns: x_ itself, or y_owned_ with slacks
+  OwnedVec y_owned_, x_part_;        // x_part_: the x part of a y (XPart)
+  Mat G_ = nullptr;                  // G of mixed_layout.hpp
   // f_, f_trial_ laid out like x; x_trial_ (the trial y) and the others like y.
   OwnedVec f_, f_trial_, phi_, phi_trial_, grad_, d_, x_trial_, c_f_, c_i_, z_, f_z_,
       work_, work2_;
@@ -1079,11 +1079,10 @@ void Solver::Solve(const BoxMcp& problem, Vec x, Summary* summary) {
   NCP_PETSC_CHECK(VecGetLocalSize(x, &local));
   NCP_PETSC_CHECK(VecGetOwnershipRange(x, &first, &last));
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  std::vector<double> lower(static_cast<size_t>(local), -kInf),
+  LocalArray<double> lower(static_cast<size_t>(local), -kInf),
       upper(static_cast<size_t>(local), kInf);
-  for (auto [bound, out] :
-       {std::pair<Vec, std::vector<double>*>{problem.lower, &lower},
-        std::pair<Vec, std::vector<double>*>{problem.upper, &upper}}) {
+  for (auto [bound, out] : {std::pair<Vec, LocalArray<double>*>{problem.lower, &lower},
+                            std::pair<Vec, LocalArray<double>*>{problem.upper, &upper}}) {
     if (!bound) continue;
     LocalRead a(bound);
     for (PetscInt i = 0; i < local; ++i)

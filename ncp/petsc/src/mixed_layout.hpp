@@ -30,6 +30,7 @@
 #include <limits>
 #include <vector>
 
+#include "huge_page_memory.hpp"
 #include "petsc_support.hpp"
 
 namespace ncp::petsc {
@@ -50,8 +51,8 @@ inline double NormalizeBound(double bound, double infinite_bound) {
 
 // The first lower.size() local entries x of v <- mid(l, u, x), the projection onto the
 // box; returns how many moved on this rank and (in *largest) by how much at most.
-inline long long ProjectOntoBox(const std::vector<double>& lower,
-                                const std::vector<double>& upper, Vec v,
+inline long long ProjectOntoBox(const LocalArray<double>& lower,
+                                const LocalArray<double>& upper, Vec v,
                                 double* largest = nullptr) {
   long long moved = 0;
   double most = 0.0;
@@ -72,18 +73,20 @@ inline long long ProjectOntoBox(const std::vector<double>& lower,
 // The rows of the mixed form owned by this rank, in the order of its unknowns y: its
 // `components` rows of x, then the slacks w of its two-sided components, then their v.
 struct MixedLayout {
-  std::vector<Row> rows;  // kind of row r of y and of Phi
+  LocalArray<Row> rows;  // kind of row r of y and of Phi
   // kSplit: its slack k; kLowerSlack, kUpperSlack: its component i; otherwise r itself.
-  std::vector<PetscInt> link;
-  std::vector<double> lower, upper;  // bounds of the rank's components, normalized
+  LocalArray<PetscInt> link;
+  LocalArray<double> lower, upper;  // bounds of the rank's components, normalized
   PetscInt components = 0, slacks = 0;
   PetscInt total_slacks = 0;  // over all ranks
 
   // The rows of components with the (normalized) bounds lower, upper.
-  MixedLayout(MPI_Comm comm, std::vector<double> lower_bounds,
-              std::vector<double> upper_bounds)
+  MixedLayout(MPI_Comm comm, LocalArray<double> lower_bounds,
+              LocalArray<double> upper_bounds)
       : lower(std::move(lower_bounds)), upper(std::move(upper_bounds)) {
     components = static_cast<PetscInt>(lower.size());
+    rows.reserve(lower.size());
+    link.reserve(lower.size());
     std::vector<PetscInt> two_sided;
     for (PetscInt i = 0; i < components; ++i) {
       const auto ii = static_cast<size_t>(i);

@@ -42,7 +42,7 @@ struct Solver::Impl {
   bool symmetric_newton = false;
   // With two-sided bounds: G of mixed_layout.hpp for the layout `layout_rows`.
   SlackMatrix slack;
-  std::vector<Row> layout_rows;
+  LocalArray<Row> layout_rows;
   // The Levenberg-Marquardt system J'J + mu I (Options::regularized_direction and the
   // hybrid's "+lm" strategies) and its own KSP, options prefix <prefix>lm_.
   // With symmetric_newton J is not `newton`: lm_jacobian holds it, built on demand.
