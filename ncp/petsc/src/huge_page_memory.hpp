@@ -1,5 +1,5 @@
-// Work vectors (the solver's, and its KSP's and PCMG's) and a matrix copy whose arrays
-// lie in memory advised for transparent huge pages.
+// Work vectors (the solver's, and its KSP's and PCMG's), a matrix copy and per-row arrays
+// whose memory is advised for transparent huge pages.
 //
 // Why: a solve on a new grid first-touches all of its fresh arrays, and on Linux every
 // 4 KiB page of fresh anonymous memory is a page fault. Where the kernel's transparent
@@ -11,9 +11,10 @@
 // elsewhere, come from calloc (a huge page for a small Vec would zero 2 MiB, and glibc
 // recycles small freed blocks without new page faults).
 //
-// Each block is owned by a PetscContainer composed with every object whose arrays lie in
-// it, so it is freed when the last of them is destroyed (also when a KSP or PC holds the
-// last reference).
+// The block of Vecs or of a matrix is owned by a PetscContainer composed with every
+// object whose arrays lie in it, so it is freed when the last of them is destroyed (also
+// when a KSP or PC holds the last reference); a LocalArray owns its memory like a
+// std::vector.
 #pragma once
 
 #include <petscmat.h>
