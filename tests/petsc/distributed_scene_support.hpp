@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "catch_on_ranks.hpp"
 #include "contact/dynamics.hpp"
 #include "contact/petsc/distributed_scene.hpp"
 #include "contact/scene.hpp"
@@ -148,26 +149,6 @@ inline void CheckRefusedAsSerial(const Scene& scene) {
   REQUIRE(serial.summary.status == DynamicStatus::kRefusedUnstable);
   CHECK(parallel.summary.message == serial.summary.message);
   CHECK_THAT(parallel.summary.message, Catch::Matchers::Contains("time.allow_unstable"));
-}
-
-/// main() of the scene tests: every rank runs every test (the runs are collective), a
-/// failure on any rank fails the test; a failure prints doubles in full. `options`:
-/// PETSc options set before the tests (name, value).
-inline int RunTestsOnRanks(
-    int argc, char** argv,
-    const std::vector<std::pair<const char*, const char*>>& options = {}) {
-  if (PetscInitializeNoArguments() != 0) return 1;  // (PETSc options: PETSC_OPTIONS)
-  for (const auto& [name, value] : options)
-    if (PetscOptionsSetValue(nullptr, name, value) != 0) return 1;
-  int result = 0;
-  {
-    Catch::StringMaker<double>::precision = 17;
-    Catch::Session session;
-    result = session.run(argc, argv);
-  }
-  MPI_Allreduce(MPI_IN_PLACE, &result, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
-  PetscFinalize();
-  return result;
 }
 
 }  // namespace contact::test

@@ -457,4 +457,4 @@ TEST_CASE("what the implicit steps on ranks cannot run is refused on every rank"
              Catch::Matchers::Contains("'full'"));
 }
 
-int main(int argc, char** argv) { return contact::test::RunTestsOnRanks(argc, argv); }
+int main(int argc, char** argv) { return RunTestsOnRanks(argc, argv); }

@@ -227,4 +227,4 @@ TEST_CASE(
                     Catch::Matchers::Contains("'full'"));
 }
 
-int main(int argc, char** argv) { return contact::test::RunTestsOnRanks(argc, argv); }
+int main(int argc, char** argv) { return RunTestsOnRanks(argc, argv); }

@@ -373,6 +373,5 @@ TEST_CASE("the same scene in SI and in mm-tonne-s gives the same answer on MPI r
 int main(int argc, char** argv) {
   // The same partition for both runs of a scene (PT-Scotch's can change from run to run,
   // and with it the order of the sums over ranks).
-  return contact::test::RunTestsOnRanks(argc, argv,
-                                        {{"-petscpartitioner_type", "simple"}});
+  return RunTestsOnRanks(argc, argv, {{"-petscpartitioner_type", "simple"}});
 }

@@ -11,9 +11,10 @@
 #include <random>
 #include <vector>
 
+#include "catch_on_ranks.hpp"
+#include "distributed_function.hpp"
 #include "linear_solver.hpp"
 #include "ncp/types.hpp"
-#include "petsc_support.hpp"
 #include "rank_revealing.hpp"
 
 using ncp::DenseMatrix;
@@ -165,12 +166,4 @@ TEST_CASE("MinimumNormSolver: the serial least-norm solution of a singular syste
   MatDestroy(&M);
 }
 
-int main(int argc, char** argv) {
-  if (PetscInitializeNoArguments() != 0) return 1;
-  Catch::Session session;
-  int result = session.run(argc, argv);
-  int worst = 0;
-  MPI_Allreduce(&result, &worst, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
-  PetscFinalize();
-  return worst;
-}
+int main(int argc, char** argv) { return RunTestsOnRanks(argc, argv); }

@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "catch_on_ranks.hpp"
+#include "distributed_function.hpp"
 #include "ncp/petsc/solver.hpp"
 #include "ncp/solver.hpp"
 #include "ncp_collection/affine_function.hpp"
@@ -22,7 +24,6 @@
 #include "ncp_collection/obstacle.hpp"
 #include "ncp_collection/random_lcp.hpp"
 #include "ncp_collection/small_problems.hpp"
-#include "petsc_support.hpp"
 
 using ncp::NcpFunction;
 using ncp::Options;
@@ -766,12 +767,4 @@ TEST_CASE("singular Newton systems: the least-norm step of the serial solver",
   }
 }
 
-int main(int argc, char** argv) {
-  if (PetscInitializeNoArguments() != 0) return 1;
-  Catch::Session session;
-  int result = session.run(argc, argv);
-  int worst = 0;
-  MPI_Allreduce(&result, &worst, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
-  PetscFinalize();
-  return worst;
-}
+int main(int argc, char** argv) { return RunTestsOnRanks(argc, argv); }
