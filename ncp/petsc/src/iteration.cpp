@@ -8,10 +8,12 @@
 // takes the same decision, so no rank can wait in a collective call the others skipped.
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -56,9 +58,7 @@ class Iteration {
  private:
   void RunIterations() {
     if (!Start()) return;
-    for (int k = 0;;) {
-      phi_inf_ = NormInf(phi_);
-      psi_ = 0.5 * Dot(phi_, phi_);
+    for (int k = 0;;) {  // phi_inf_, psi_: of phi_, set wherever phi_ changes
       converged_ = phi_inf_ <= o_.tolerance;
       roundoff_limited_ = false;
       have_jacobian_ = !converged_ && k < o_.max_iterations;
@@ -66,7 +66,7 @@ class Iteration {
       degenerate_count_ = 0;
       if (have_jacobian_ && !EvaluateJacobian(k)) return;
       if (have_jacobian_ && jacobian_ok_)
-        converged_ = roundoff_limited_ = WithinRoundoffFloor();
+        converged_ = roundoff_limited_ = GradientNormAndRoundoffFloor();
       if (!Report(k)) return;
       if (TestStop(k)) {
         if (Restart(k) || SwitchStrategy(k, SwitchReason::kStuck)) continue;
@@ -133,8 +133,9 @@ class Iteration {
              "the problem cannot be evaluated at the start point");
       return false;
     }
-    s_.initial_phi_inf = NormInf(phi_);
-    if (!AllFinite(comm_, phi_)) {
+    const bool finite = ReducePhi(phi_, &phi_inf_, &psi_);
+    s_.initial_phi_inf = phi_inf_;
+    if (!finite) {
       Finish(TerminationType::kNonFiniteValues, "Phi(x0) has NaN or Inf entries");
       return false;
     }
@@ -258,19 +259,26 @@ class Iteration {
   bool EvaluateJacobian(int k) {
     LogScope scope(SolverLogEvents().jacobian);
     ++s_.jacobian_evaluations;
+    const long long degenerate = MarkDegenerateSet();
     const auto t0 = Clock::now();
-    jacobian_ok_ = !AnyRank(comm_, p_.jacobian(XPart(y_), p_.jacobian_matrix) != 0);
+    const bool failed = p_.jacobian(XPart(y_), p_.jacobian_matrix) != 0;
     s_.evaluation_time_s += Seconds(t0);
-    if (!jacobian_ok_) return true;
     bool finite = true;
-    ForEachLocalValue<false>(p_.jacobian_matrix, [&](const PetscScalar& v) {
-      finite = finite && std::isfinite(PetscRealPart(v));
-    });
-    if (AnyRank(comm_, !finite)) {
+    if (!failed)
+      ForEachLocalValue<false>(p_.jacobian_matrix, [&](const PetscScalar& v) {
+        finite = finite && std::isfinite(PetscRealPart(v));
+      });
+    // Callback failures, non-finite entries and the degenerate pairs: one reduction.
+    const std::array<long long, 3> counts =
+        SumRanks<3>(comm_, {failed ? 1 : 0, finite ? 0 : 1, degenerate});
+    jacobian_ok_ = counts[0] == 0;
+    if (!jacobian_ok_) return true;
+    if (counts[1] > 0) {
       Finish(TerminationType::kNonFiniteValues,
              "the Jacobian has NaN or Inf entries at iteration " + std::to_string(k));
       return false;
     }
+    degenerate_count_ = static_cast<int>(counts[2]);
     if (layout_.total_slacks > 0) impl_.slack.Refresh(p_.jacobian_matrix, layout_);
     GDiagonalAtA();
     PhiPartials();
@@ -295,27 +303,29 @@ class Iteration {
     for (PetscInt r = layout_.components; r < local_; ++r) diag[r] = 0.0;
   }
 
-  // c_F, c_I of every row (c_I: the coefficient of the A side, c_A of mixed_layout.hpp on
-  // a slack row): the partials (da, db) of phi at (A_r, B_r) with the signs of A and B,
-  // the z-vector rule on the degenerate set (z = 1 at the variable of every degenerate
-  // pair, the row's own unknown; DFK 1996, eq. 27): za = A' z = +-z_AColumn(r),
-  // zb = B' z = +-(G z)_r.
-  void PhiPartials() {
+  // The z-vector rule's set gamma at y (DFK 1996, eq. 27): z = 1 at the variable of every
+  // degenerate pair (the row's own unknown), 0 elsewhere; returns this rank's count.
+  long long MarkDegenerateSet() {
     long long degenerate = 0;
-    {
-      LocalRead ya(y_), fa(f_);
-      LocalWrite z(z_);
-      for (PetscInt r = 0; r < local_; ++r) {
-        z[r] = 0.0;
-        double a = 0.0, b = 0.0;
-        if (!PairValues(r, ya, fa, &a, &b)) continue;
-        if (internal::InDegenerateSet(function_, o_.degenerate_tolerance, a, b)) {
-          z[r] = 1.0;
-          ++degenerate;
-        }
+    LocalRead ya(y_), fa(f_);
+    LocalWrite z(z_);
+    for (PetscInt r = 0; r < local_; ++r) {
+      z[r] = 0.0;
+      double a = 0.0, b = 0.0;
+      if (!PairValues(r, ya, fa, &a, &b)) continue;
+      if (internal::InDegenerateSet(function_, o_.degenerate_tolerance, a, b)) {
+        z[r] = 1.0;
+        ++degenerate;
       }
     }
-    degenerate_count_ = static_cast<int>(SumRanks(comm_, degenerate));
+    return degenerate;
+  }
+
+  // c_F, c_I of every row (c_I: the coefficient of the A side, c_A of mixed_layout.hpp on
+  // a slack row): the partials (da, db) of phi at (A_r, B_r) with the signs of A and B,
+  // the z-vector rule on the degenerate set (z_ and degenerate_count_ of
+  // MarkDegenerateSet): za = A' z = +-z_AColumn(r), zb = B' z = +-(G z)_r.
+  void PhiPartials() {
     if (degenerate_count_ > 0) NCP_PETSC_CHECK(MatMult(G_, z_, f_z_));
     LocalRead ya(y_), fa(f_), z(z_);
     std::unique_ptr<LocalRead> fz(degenerate_count_ > 0 ? new LocalRead(f_z_) : nullptr);
@@ -423,25 +433,29 @@ class Iteration {
     NCP_PETSC_CHECK(MatDiagonalSet(J, work_, ADD_VALUES));
   }
 
-  // ---- the round-off floor of the test (Options::roundoff_ulps)
-  // ------------------------- r_r = |c_F,r| (|G||y|)_r + |c_I,r| |y_AColumn(r)|, the
-  // serial solver's |da| |J_A||x| + |db| |J_B||x| (and |J_E||x| for equations) for these
-  // rows.
-  bool WithinRoundoffFloor() {
-    if (o_.roundoff_ulps == 0.0) return false;
+  // ---- ||grad psi||_inf (grad_inf_) and the round-off floor of the test
+  // (Options::roundoff_ulps; never within when 0) in one reduction; true when every row
+  // is within the floor. Row r's sensitivity is r_r = |c_F,r| (|G||y|)_r + |c_I,r|
+  // |y_AColumn(r)|, the serial solver's |da| |J_A||x| + |db| |J_B||x| (and |J_E||x| for
+  // equations) for these rows.
+  bool GradientNormAndRoundoffFloor() {
     LogScope scope(SolverLogEvents().roundoff);
-    RoundoffSensitivity();
-    bool within = true;
-    {
+    bool within = o_.roundoff_ulps != 0.0;
+    if (within) {
+      RoundoffSensitivity();
       LocalRead phi(phi_), sensitivity(sensitivity_);
       for (PetscInt r = 0; r < local_ && within; ++r)
         within = internal::RowWithinRoundoffFloor(phi[r], o_.tolerance, o_.roundoff_ulps,
                                                   sensitivity[r]);
     }
-    return !AnyRank(comm_, !within);
+    const std::array<double, 2> largest =
+        MaxRanks<2>(comm_, {LocalNormInf(grad_), within ? 0.0 : 1.0});
+    grad_inf_ = largest[0];
+    return largest[1] == 0.0;
   }
 
-  // sensitivity_ = the rows' r of the round-off floor at y (WithinRoundoffFloor).
+  // sensitivity_ = the rows' r of the round-off floor at y
+  // (GradientNormAndRoundoffFloor).
   void RoundoffSensitivity() {
     NCP_PETSC_CHECK(VecCopy(y_, work2_));
     NCP_PETSC_CHECK(VecAbs(work2_));
@@ -458,7 +472,7 @@ class Iteration {
     record_.iteration = k;
     record_.phi_inf = phi_inf_;
     record_.psi = psi_;
-    record_.grad_psi_inf = have_jacobian_ && jacobian_ok_ ? NormInf(grad_) : 0.0;
+    record_.grad_psi_inf = have_jacobian_ && jacobian_ok_ ? grad_inf_ : 0.0;
     record_.degenerate_pairs = degenerate_count_;
     const bool reported = o_.keep_trace || o_.log_to_stderr || o_.callback;
     record_.time_s = reported ? Seconds(start_) : 0.0;
@@ -501,7 +515,6 @@ class Iteration {
              "the Jacobian callback failed at iteration " + std::to_string(k));
       return true;
     }
-    grad_inf_ = NormInf(grad_);
     if (stagnation_.Stagnated(static_cast<size_t>(k - first_k_), psi_, o_)) {
       Finish(TerminationType::kStationaryPoint,
              internal::StagnationMessage(o_, phi_inf_, grad_inf_));
@@ -530,6 +543,7 @@ class Iteration {
   // (Options::minimum_norm_step) if it passes the test; else, with
   // Options::regularized_direction, the Levenberg-Marquardt direction; else -grad psi.
   Direction ChooseDirection(int k) {
+    d_norm_ = -1.0;  // ||d||_2 not yet known
     const bool newton_solved = NewtonDirection();
     if (newton_solved && PassesDescentTest()) return Direction::kNewton;
     if (newton_solved)
@@ -556,17 +570,17 @@ class Iteration {
     }
     NCP_PETSC_CHECK(VecCopy(grad_, d_));
     NCP_PETSC_CHECK(VecScale(d_, -1.0));
-    slope_ = -Dot(grad_, grad_);
+    const auto [square, norm] = DotAndNorm2(grad_, grad_, d_);
+    slope_ = -square;
+    d_norm_ = norm;
     ++s_.gradient_steps;
     return Direction::kGradient;
   }
 
-  // grad psi' d <= -rho ||d||^p (eq. 22); sets the slope.
+  // grad psi' d <= -rho ||d||^p (eq. 22); sets the slope and ||d||_2.
   bool PassesDescentTest() {
-    slope_ = Dot(grad_, d_);
-    PetscReal norm = 0.0;
-    NCP_PETSC_CHECK(VecNorm(d_, NORM_2, &norm));
-    return internal::PassesDescentTest(slope_, norm, o_);
+    std::tie(slope_, d_norm_) = DotAndNorm2(grad_, d_, d_);
+    return internal::PassesDescentTest(slope_, d_norm_, o_);
   }
 
   // Levenberg-Marquardt direction (J'J + mu I) d = -J' Phi with mu = ||Phi||_2 (Fan and
@@ -614,8 +628,11 @@ class Iteration {
         impl_.report.residual_test_iterations =
             static_cast<int>(impl_.outer_test.continued());
       }
-      if (!AnyRank(comm_, code != 0 || reason == KSP_DIVERGED_PC_FAILED))
-        return !AnyRank(comm_, reason <= 0) && AllFinite(comm_, out);
+      // Failed (the PC included), not converged, out not finite: one reduction.
+      const std::array<long long, 3> counts = SumRanks<3>(
+          comm_, {code != 0 || reason == KSP_DIVERGED_PC_FAILED ? 1 : 0,
+                  reason <= 0 ? 1 : 0, code == 0 && !LocallyFinite(out) ? 1 : 0});
+      if (counts[0] == 0) return counts[1] == 0 && counts[2] == 0;
       const int more = MumpsWorkspaceToRetry(ksp);
       if (more > 0) *workspace_percent = more;
       ResetFactorization(ksp, op, *workspace_percent);
@@ -714,9 +731,14 @@ class Iteration {
     LogScope scope(SolverLogEvents().backward);
     MultNewton(d_, work_);  // J d + Phi
     NCP_PETSC_CHECK(VecAXPY(work_, 1.0, phi_));
-    const double residual_inf = NormInf(work_);
+    const double residual_inf = LocalNormInf(work_);
     MultAbsNewton(d_, work_);  // |J||d|
-    return internal::NewtonSolutionAccurate(residual_inf, phi_inf_, NormInf(work_));
+    // ||J d + Phi||_inf and || |J||d| ||_inf in one reduction (LocalNormInf: +inf for a
+    // non-finite entry, which fails the guard)
+    const std::array<double, 2> inf =
+        MaxRanks<2>(comm_, {residual_inf, LocalNormInf(work_)});
+    return std::isfinite(inf[0]) && std::isfinite(inf[1]) &&
+           internal::NewtonSolutionAccurate(inf[0], phi_inf_, inf[1]);
   }
 
   // J d = -Phi as Js y = diag(r) (-Phi), d = diag(c) y with Js = diag(r) J diag(c) of
@@ -788,7 +810,8 @@ class Iteration {
   // row r is row r of J (weight 1), or in symmetric mode row r of J divided by c_F,r (a
   // kept row) or by c_I,r (an eliminated one); the bound is the fraction of the stopping
   // test's bound on |Phi_r| at this iterate (tolerance and round-off floor; sensitivity_
-  // is this iterate's: WithinRoundoffFloor ran before the direction, or 0 without floor).
+  // is this iterate's: GradientNormAndRoundoffFloor ran before the direction, or 0
+  // without floor).
   void ArmOuterResidualTest() {
     {
       LocalRead c_f(c_f_), c_i(c_i_), sensitivity(sensitivity_);
@@ -871,8 +894,9 @@ class Iteration {
           if (unchanged) return Trial{Trial::kUnchanged, 0.0};
           if (!Evaluate(x_trial_, f_trial_, phi_trial_))
             return Trial{Trial::kNotEvaluable, 0.0};
-          if (!AllFinite(comm_, phi_trial_)) return Trial{Trial::kNonFinite, 0.0};
-          return Trial{Trial::kEvaluated, 0.5 * Dot(phi_trial_, phi_trial_)};
+          if (!ReducePhi(phi_trial_, &trial_phi_inf_, &trial_psi_))
+            return Trial{Trial::kNonFinite, 0.0};
+          return Trial{Trial::kEvaluated, trial_psi_};
         });
     if (r.out_of_time) {
       s_.backtracks += r.backtracks;
@@ -937,14 +961,12 @@ class Iteration {
     NCP_PETSC_CHECK(VecCopy(best_y_, x_trial_));
     function_ = to.ncp_function;  // Evaluate() uses function_
     if (!RestartPoint(x_trial_) || !Evaluate(x_trial_, f_trial_, phi_trial_) ||
-        !AllFinite(comm_, phi_trial_)) {
+        !ReducePhi(phi_trial_, &trial_phi_inf_, &trial_psi_)) {
       function_ = from.ncp_function;
       return false;
     }
     s_.strategy_switches.push_back(progress_.SwitchRecord(k, from, to, reason));
-    NCP_PETSC_CHECK(VecCopy(x_trial_, y_));
-    f_.Swap(f_trial_);
-    phi_.Swap(phi_trial_);
+    AcceptTrialPoint();
     regularized_ = to.regularized_direction;
     if (o_.keep_trace && !s_.trace.empty()) s_.trace.pop_back();  // iterate k anew
     finished_ = false;
@@ -968,13 +990,11 @@ class Iteration {
     function_ = internal::OtherMeritFunction(function_);
     NCP_PETSC_CHECK(VecCopy(y_, x_trial_));
     if (!RestartPoint(x_trial_) || !Evaluate(x_trial_, f_trial_, phi_trial_) ||
-        !AllFinite(comm_, phi_trial_)) {
+        !ReducePhi(phi_trial_, &trial_phi_inf_, &trial_psi_)) {
       function_ = stuck_function;
       return false;
     }
-    NCP_PETSC_CHECK(VecCopy(x_trial_, y_));
-    f_.Swap(f_trial_);
-    phi_.Swap(phi_trial_);
+    AcceptTrialPoint();
     --restarts_left_;
     ++s_.merit_restarts;
     if (o_.keep_trace && !s_.trace.empty())
@@ -991,18 +1011,34 @@ class Iteration {
   // ---- step 4: x^{k+1} = x^k + t d
   // -------------------------------------------------------
   void Accept(Direction direction) {
-    NCP_PETSC_CHECK(VecCopy(x_trial_, y_));
-    f_.Swap(f_trial_);
-    phi_.Swap(phi_trial_);
+    AcceptTrialPoint();
     ++s_.iterations;
-    PetscReal norm = 0.0;
-    NCP_PETSC_CHECK(VecNorm(d_, NORM_2, &norm));
+    if (d_norm_ < 0.0) NCP_PETSC_CHECK(VecNorm(d_, NORM_2, &d_norm_));
     record_.step_length = step_;
-    record_.direction_norm = norm;
+    record_.direction_norm = d_norm_;
     record_.backtracks = backtracks_;
     record_.gradient_step = direction == Direction::kGradient;
     record_.regularized_step = direction == Direction::kRegularized;
     record_.minimum_norm_step = direction == Direction::kMinimumNorm;
+  }
+
+  // y = the trial point, with its F, Phi, ||Phi||_inf and psi.
+  void AcceptTrialPoint() {
+    NCP_PETSC_CHECK(VecCopy(x_trial_, y_));
+    f_.Swap(f_trial_);
+    phi_.Swap(phi_trial_);
+    phi_inf_ = trial_phi_inf_;
+    psi_ = trial_psi_;
+  }
+
+  // ||phi||_inf and psi = phi'phi / 2 in one reduction; false when some entry of phi is
+  // not finite. A finite phi'phi proves every entry finite; only when it is not (an entry
+  // NaN or Inf, or the squares overflow) are the entries checked (AllFinite).
+  bool ReducePhi(Vec phi, double* inf, double* psi) {
+    const auto [norm, square] = NormInfAndSquare(phi);
+    *inf = norm;
+    *psi = 0.5 * square;
+    return std::isfinite(square) || AllFinite(comm_, phi);
   }
 
   void Finish(TerminationType type, const std::string& message) {
@@ -1049,6 +1085,8 @@ class Iteration {
   internal::NonmonotoneReference armijo_reference_;
   IterationRecord record_;
   double phi_inf_ = 0.0, psi_ = 0.0, grad_inf_ = 0.0, slope_ = 0.0, step_ = 0.0;
+  double trial_phi_inf_ = 0.0, trial_psi_ = 0.0;  // of phi_trial_ (ReducePhi)
+  double d_norm_ = -1.0;                          // ||d||_2, < 0: not computed
   int backtracks_ = 0, degenerate_count_ = 0;
   bool converged_ = false, have_jacobian_ = false, jacobian_ok_ = true;
   bool roundoff_limited_ = false, finished_ = false;

@@ -6,8 +6,11 @@
 #include <petscmat.h>
 #include <petscvec.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -48,6 +51,22 @@ inline long long SumRanks(MPI_Comm comm, long long local) {
 inline long long MinRanks(MPI_Comm comm, long long local) {
   long long out = 0;
   MPI_Allreduce(&local, &out, 1, MPI_LONG_LONG, MPI_MIN, comm);
+  return out;
+}
+// Several counts (or 0/1 flags) summed over the ranks in one MPI_Allreduce.
+template <size_t N>
+std::array<long long, N> SumRanks(MPI_Comm comm, const std::array<long long, N>& local) {
+  std::array<long long, N> out{};
+  MPI_Allreduce(local.data(), out.data(), static_cast<int>(N), MPI_LONG_LONG, MPI_SUM,
+                comm);
+  return out;
+}
+// The maxima of several local values over the ranks in one MPI_Allreduce (for values
+// known to be finite: MPI_MAX need not keep a NaN).
+template <size_t N>
+std::array<double, N> MaxRanks(MPI_Comm comm, const std::array<double, N>& local) {
+  std::array<double, N> out{};
+  MPI_Allreduce(local.data(), out.data(), static_cast<int>(N), MPI_DOUBLE, MPI_MAX, comm);
   return out;
 }
 
@@ -99,15 +118,30 @@ class LocalWrite {
   PetscScalar* a_ = nullptr;
 };
 
-inline bool AllFinite(MPI_Comm comm, Vec v) {
+// Whether every entry of the rank's part of v is finite (no reduction).
+inline bool LocallyFinite(Vec v) {
   PetscInt n = 0;
   NCP_PETSC_CHECK(VecGetLocalSize(v, &n));
-  bool finite = true;
-  {
-    LocalRead a(v);
-    for (PetscInt i = 0; i < n && finite; ++i) finite = std::isfinite(a[i]);
+  LocalRead a(v);
+  for (PetscInt i = 0; i < n; ++i)
+    if (!std::isfinite(a[i])) return false;
+  return true;
+}
+inline bool AllFinite(MPI_Comm comm, Vec v) { return !AnyRank(comm, !LocallyFinite(v)); }
+
+// max |v_i| over the rank's entries (no reduction; exact, as VecNorm's local part);
+// +inf when an entry is NaN.
+inline double LocalNormInf(Vec v) {
+  PetscInt n = 0;
+  NCP_PETSC_CHECK(VecGetLocalSize(v, &n));
+  LocalRead a(v);
+  double largest = 0.0;
+  for (PetscInt i = 0; i < n; ++i) {
+    const double value = std::abs(a[i]);
+    if (!(value <= largest))  // also NaN, which becomes +inf (MPI_MAX may drop a NaN)
+      largest = std::isnan(value) ? std::numeric_limits<double>::infinity() : value;
   }
-  return !AnyRank(comm, !finite);
+  return largest;
 }
 
 inline double NormInf(Vec v) {
@@ -119,6 +153,31 @@ inline double Dot(Vec a, Vec b) {
   PetscScalar dot = 0.0;
   NCP_PETSC_CHECK(VecDot(a, b, &dot));
   return PetscRealPart(dot);
+}
+
+// Two reductions of PETSc's split phase in one MPI_Allreduce: each Begin computes its
+// local part with the kernel of VecNorm / VecDot, the first End reduces both, so the
+// values are those of VecNorm and VecDot. (No Vec may change between Begin and End:
+// VecNormEnd caches the norm on the Vec.)
+// ||v||_inf and v'v.
+inline std::pair<double, double> NormInfAndSquare(Vec v) {
+  PetscReal norm = 0.0;
+  PetscScalar square = 0.0;
+  NCP_PETSC_CHECK(VecNormBegin(v, NORM_INFINITY, &norm));
+  NCP_PETSC_CHECK(VecDotBegin(v, v, &square));
+  NCP_PETSC_CHECK(VecNormEnd(v, NORM_INFINITY, &norm));
+  NCP_PETSC_CHECK(VecDotEnd(v, v, &square));
+  return {norm, PetscRealPart(square)};
+}
+// a'b and ||v||_2.
+inline std::pair<double, double> DotAndNorm2(Vec a, Vec b, Vec v) {
+  PetscScalar dot = 0.0;
+  PetscReal norm = 0.0;
+  NCP_PETSC_CHECK(VecDotBegin(a, b, &dot));
+  NCP_PETSC_CHECK(VecNormBegin(v, NORM_2, &norm));
+  NCP_PETSC_CHECK(VecDotEnd(a, b, &dot));
+  NCP_PETSC_CHECK(VecNormEnd(v, NORM_2, &norm));
+  return {PetscRealPart(dot), norm};
 }
 
 inline bool IsAij(Mat M, bool* parallel) {
