@@ -21,6 +21,7 @@
 #include "huge_page_memory.hpp"
 #include "input_checks.hpp"
 #include "log_events.hpp"
+#include "mumps_factor.hpp"
 #include "ncp_function_internal.hpp"
 #include "rank_revealing.hpp"
 #include "solver_impl.hpp"
@@ -633,70 +634,25 @@ class Iteration {
           comm_, {code != 0 || reason == KSP_DIVERGED_PC_FAILED ? 1 : 0,
                   reason <= 0 ? 1 : 0, code == 0 && !LocallyFinite(out) ? 1 : 0});
       if (counts[0] == 0) return counts[1] == 0 && counts[2] == 0;
-      const int more = MumpsWorkspaceToRetry(ksp);
+      const int more = MumpsWorkspaceToRetry(comm_, ksp);
       if (more > 0) *workspace_percent = more;
       ResetFactorization(ksp, op, *workspace_percent);
       if (more == 0 || attempt == kWorkspaceRetries) return false;
     }
   }
 
-  // ICNTL(14) to factorize again with when ksp's PC is a MUMPS factorization that failed
-  // for want of workspace (INFOG(1) = -8, -9, -11, -12, -14, -15, -17: MUMPS' "increase
-  // ICNTL(14)" errors), else 0. The same answer on every rank.
-  int MumpsWorkspaceToRetry(KSP ksp) {
-    Mat F = MumpsFactor(ksp);
-    PetscInt info = 0, percent = 0;
-    if (F) {
-      NCP_PETSC_CHECK(MatMumpsGetInfog(F, 1, &info));
-      NCP_PETSC_CHECK(MatMumpsGetIcntl(F, 14, &percent));
-    }
-    const bool short_of_workspace = info == -8 || info == -9 || info == -11 ||
-                                    info == -12 || info == -14 || info == -15 ||
-                                    info == -17;
-    if (!AnyRank(comm_, short_of_workspace)) return 0;
-    return static_cast<int>(
-        std::max<long long>(50, 2 * -MinRanks(comm_, -static_cast<long long>(percent))));
-  }
-
-  // The factorization of ksp's PC from scratch at the next solve, with MUMPS' ICNTL(14)
-  // = workspace_percent when that is > 0, and for the Newton KSP MUMPS' null-pivot
-  // detection when DetectsNullPivots().
+  // The factorization of ksp's PC from scratch at the next solve
+  // (ResetMumpsFactorization), for the Newton KSP with MUMPS' null-pivot detection when
+  // DetectsNullPivots().
   void ResetFactorization(KSP ksp, Mat op, int workspace_percent) {
-    PC pc = nullptr;
-    NCP_PETSC_CHECK(KSPGetPC(ksp, &pc));
-    NCP_PETSC_CHECK(PCReset(pc));
-    NCP_PETSC_CHECK(KSPSetOperators(ksp, op, op));
-    const bool null_pivots = ksp == impl_.ksp && DetectsNullPivots();
-    if ((workspace_percent <= 0 && !null_pivots) || !UsesMumps(pc)) return;
-    NCP_PETSC_CHECK(PCFactorSetUpMatSolverType(pc));
-    Mat F = nullptr;
-    NCP_PETSC_CHECK(PCFactorGetMatrix(pc, &F));
-    if (workspace_percent > 0)
-      NCP_PETSC_CHECK(MatMumpsSetIcntl(F, 14, workspace_percent));
-    if (null_pivots) {
-      PetscInt n = 0;
-      NCP_PETSC_CHECK(MatGetSize(op, &n, nullptr));
-      ArmNullPivotDetection(F, n);
-    }
+    ResetMumpsFactorization(ksp, op, workspace_percent,
+                            ksp == impl_.ksp && DetectsNullPivots());
   }
 
-  static bool UsesMumps(PC pc) {
-    PetscBool factor = PETSC_FALSE;
-    NCP_PETSC_CHECK(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &factor,
-                                              PCLU, PCCHOLESKY, ""));
-    MatSolverType type = nullptr;
-    if (factor) NCP_PETSC_CHECK(PCFactorGetMatSolverType(pc, &type));
-    return type && std::string(type) == MATSOLVERMUMPS;
-  }
-  // MUMPS' factor matrix of ksp's PC (after a solve), or nullptr for another PC.
-  static Mat MumpsFactor(KSP ksp) {
-    PC pc = nullptr;
-    NCP_PETSC_CHECK(KSPGetPC(ksp, &pc));
-    if (!UsesMumps(pc)) return nullptr;
-    Mat F = nullptr;
-    NCP_PETSC_CHECK(PCFactorGetMatrix(pc, &F));
-    return F;
-  }
+  // Whether the Newton systems are solved by a direct MUMPS factorization (the default):
+  // the solves Options::minimum_norm_step acts on. An iterative KSP that fails goes to
+  // the LM direction or -grad psi at once.
+  bool DirectMumpsSolve() const { return IsDirectMumpsSolve(impl_.ksp); }
 
   // J d = -Phi (eq. 21) by the KSP; false when the KSP diverged, MUMPS found null pivots
   // (DetectsNullPivots), d is not finite or fails the backward-error guard of
@@ -756,19 +712,6 @@ class Iteration {
     e.Unscale(impl_.newton);
     if (factored) NCP_PETSC_CHECK(VecPointwiseMult(d_, d_, e.column()));
     return factored;
-  }
-
-  // Whether the Newton systems are solved by a direct MUMPS factorization (KSPPREONLY
-  // with PCLU or PCCHOLESKY and MATSOLVERMUMPS; the default): the solves
-  // Options::minimum_norm_step acts on. An iterative KSP that fails goes to the LM
-  // direction or -grad psi at once.
-  bool DirectMumpsSolve() const {
-    PetscBool preonly = PETSC_FALSE;
-    NCP_PETSC_CHECK(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(impl_.ksp),
-                                           KSPPREONLY, &preonly));
-    PC pc = nullptr;
-    NCP_PETSC_CHECK(KSPGetPC(impl_.ksp, &pc));
-    return preonly && UsesMumps(pc);
   }
 
   // Whether the Newton KSP's MUMPS LU runs with null-pivot detection
