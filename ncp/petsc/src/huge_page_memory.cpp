@@ -121,6 +121,64 @@ void MakeVecs(MPI_Comm comm, bool seq, PetscInt local, PetscInt global, int coun
   NCP_PETSC_CHECK(PetscContainerDestroy(&container));
 }
 
+// The CSR arrays (values, row starts, column indices) of one SeqAIJ block of the copy.
+struct CsrArrays {
+  PetscScalar* values = nullptr;
+  PetscInt* starts = nullptr;
+  PetscInt* columns = nullptr;
+};
+
+// Bytes of the CSR arrays of the SeqAIJ matrix `seq`, each array from a 64-byte boundary.
+std::size_t CsrBytes(Mat seq) {
+  const PetscInt *row_start = nullptr, *column = nullptr;
+  PetscInt rows = 0;
+  PetscBool done = PETSC_FALSE;
+  NCP_PETSC_CHECK(
+      MatGetRowIJ(seq, 0, PETSC_FALSE, PETSC_FALSE, &rows, &row_start, &column, &done));
+  if (!done) throw std::runtime_error("ncp::petsc::Solver: MatGetRowIJ gave no rows");
+  const auto nonzeros = static_cast<std::size_t>(row_start[rows]);
+  const std::size_t bytes =
+      CacheLines(nonzeros * sizeof(PetscScalar)) +
+      CacheLines((static_cast<std::size_t>(rows) + 1) * sizeof(PetscInt)) +
+      CacheLines(nonzeros * sizeof(PetscInt));
+  // (MatRestoreRowIJ sets rows to 0.)
+  NCP_PETSC_CHECK(MatRestoreRowIJ(seq, 0, PETSC_FALSE, PETSC_FALSE, &rows, &row_start,
+                                  &column, &done));
+  return bytes;
+}
+
+// Copies the CSR arrays of the SeqAIJ matrix `seq` to `base` (CsrBytes of its size):
+// values | row starts | column indices. Column k is written as global_column[k] when
+// global_column is given (the off-diagonal block of an MPIAIJ matrix, whose columns are
+// numbered locally), else as k.
+CsrArrays CopyCsr(Mat seq, char* base, const PetscInt* global_column) {
+  const PetscInt *row_start = nullptr, *column = nullptr;
+  PetscInt n = 0;
+  PetscBool done = PETSC_FALSE;
+  NCP_PETSC_CHECK(
+      MatGetRowIJ(seq, 0, PETSC_FALSE, PETSC_FALSE, &n, &row_start, &column, &done));
+  if (!done) throw std::runtime_error("ncp::petsc::Solver: MatGetRowIJ gave no rows");
+  const auto nonzeros = static_cast<std::size_t>(row_start[n]);
+  const auto starts = static_cast<std::size_t>(n) + 1;
+  CsrArrays out;
+  out.values = reinterpret_cast<PetscScalar*>(base);
+  base += CacheLines(nonzeros * sizeof(PetscScalar));
+  out.starts = reinterpret_cast<PetscInt*>(base);
+  out.columns = reinterpret_cast<PetscInt*>(base + CacheLines(starts * sizeof(PetscInt)));
+  std::memcpy(out.starts, row_start, starts * sizeof(PetscInt));
+  if (global_column)
+    for (std::size_t k = 0; k < nonzeros; ++k) out.columns[k] = global_column[column[k]];
+  else
+    std::memcpy(out.columns, column, nonzeros * sizeof(PetscInt));
+  NCP_PETSC_CHECK(
+      MatRestoreRowIJ(seq, 0, PETSC_FALSE, PETSC_FALSE, &n, &row_start, &column, &done));
+  const PetscScalar* a = nullptr;
+  NCP_PETSC_CHECK(MatSeqAIJGetArrayRead(seq, &a));
+  std::memcpy(static_cast<void*>(out.values), a, nonzeros * sizeof(PetscScalar));
+  NCP_PETSC_CHECK(MatSeqAIJRestoreArrayRead(seq, &a));
+  return out;
+}
+
 }  // namespace
 
 void* AllocateZeroed(std::size_t bytes) {
@@ -188,45 +246,47 @@ void CreateVecsOfMatInBlocks(Mat A) {
                                   reinterpret_cast<void (*)(void)>(CreateVecsOfMat)));
 }
 
-Mat DuplicateSeqAijInBlock(Mat A) {
-  PetscBool seq = PETSC_FALSE, missing = PETSC_TRUE;
+Mat DuplicateAijInBlock(Mat A) {
+  PetscBool seq = PETSC_FALSE, mpi = PETSC_FALSE, missing = PETSC_TRUE;
   NCP_PETSC_CHECK(
       PetscObjectTypeCompare(reinterpret_cast<PetscObject>(A), MATSEQAIJ, &seq));
-  if (!seq) return nullptr;
-  PetscInt first_missing = 0, rows = 0, columns = 0;
+  NCP_PETSC_CHECK(
+      PetscObjectTypeCompare(reinterpret_cast<PetscObject>(A), MATMPIAIJ, &mpi));
+  // The type is the same on every rank; a missing diagonal entry is agreed on below.
+  if (!seq && !mpi) return nullptr;
+  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(A));
+  PetscInt first_missing = 0, rows = 0, columns = 0, local_rows = 0, local_columns = 0;
   NCP_PETSC_CHECK(MatMissingDiagonal(A, &missing, &first_missing));
-  if (missing) return nullptr;
+  int any_missing = missing ? 1 : 0;
+  if (mpi)
+    NCP_PETSC_CHECK(MPI_Allreduce(MPI_IN_PLACE, &any_missing, 1, MPI_INT, MPI_LOR, comm));
+  if (any_missing) return nullptr;
   NCP_PETSC_CHECK(MatGetSize(A, &rows, &columns));
-  const PetscInt *row_start = nullptr, *column = nullptr;
-  PetscInt n = 0;
-  PetscBool done = PETSC_FALSE;
-  NCP_PETSC_CHECK(
-      MatGetRowIJ(A, 0, PETSC_FALSE, PETSC_FALSE, &n, &row_start, &column, &done));
-  if (!done) throw std::runtime_error("ncp::petsc::Solver: MatGetRowIJ gave no rows");
-  const auto nonzeros = static_cast<std::size_t>(row_start[n]);
-  const auto starts = static_cast<std::size_t>(n) + 1;
-  // values | row starts | column indices, each from a 64-byte boundary
-  const std::size_t value_bytes = CacheLines(nonzeros * sizeof(PetscScalar));
-  const std::size_t start_bytes = CacheLines(starts * sizeof(PetscInt));
-  const std::size_t column_bytes = CacheLines(nonzeros * sizeof(PetscInt));
+  NCP_PETSC_CHECK(MatGetLocalSize(A, &local_rows, &local_columns));
+  // The diagonal block (columns numbered from the rank's first column) and, on several
+  // ranks, the off-diagonal block (global column numbers, as
+  // MatCreateMPIAIJWithSplitArrays takes them), both in one block.
+  Mat diagonal = A, off_diagonal = nullptr;
+  const PetscInt* global_column = nullptr;
+  if (mpi)
+    NCP_PETSC_CHECK(MatMPIAIJGetSeqAIJ(A, &diagonal, &off_diagonal, &global_column));
+  const std::size_t diagonal_bytes = CsrBytes(diagonal);
+  const std::size_t bytes = diagonal_bytes + (mpi ? CsrBytes(off_diagonal) : 0);
   void* data = nullptr;
-  PetscContainer container = NewBlock(value_bytes + start_bytes + column_bytes, &data);
+  PetscContainer container = NewBlock(bytes, &data);
   auto* base = static_cast<char*>(data);
-  auto* values = reinterpret_cast<PetscScalar*>(base);
-  auto* starts_copy = reinterpret_cast<PetscInt*>(base + value_bytes);
-  auto* columns_copy = reinterpret_cast<PetscInt*>(base + value_bytes + start_bytes);
-  std::memcpy(starts_copy, row_start, starts * sizeof(PetscInt));
-  std::memcpy(columns_copy, column, nonzeros * sizeof(PetscInt));
-  NCP_PETSC_CHECK(
-      MatRestoreRowIJ(A, 0, PETSC_FALSE, PETSC_FALSE, &n, &row_start, &column, &done));
-  const PetscScalar* a = nullptr;
-  NCP_PETSC_CHECK(MatSeqAIJGetArrayRead(A, &a));
-  std::memcpy(static_cast<void*>(values), a, nonzeros * sizeof(PetscScalar));
-  NCP_PETSC_CHECK(MatSeqAIJRestoreArrayRead(A, &a));
+  const CsrArrays d = CopyCsr(diagonal, base, nullptr);
   Mat copy = nullptr;
-  NCP_PETSC_CHECK(
-      MatCreateSeqAIJWithArrays(PetscObjectComm(reinterpret_cast<PetscObject>(A)), rows,
-                                columns, starts_copy, columns_copy, values, &copy));
+  if (mpi) {
+    const CsrArrays o = CopyCsr(off_diagonal, base + diagonal_bytes, global_column);
+    // Its assembly renumbers the off-diagonal columns in place (in the block).
+    NCP_PETSC_CHECK(MatCreateMPIAIJWithSplitArrays(comm, local_rows, local_columns, rows,
+                                                   columns, d.starts, d.columns, d.values,
+                                                   o.starts, o.columns, o.values, &copy));
+  } else {
+    NCP_PETSC_CHECK(MatCreateSeqAIJWithArrays(comm, rows, columns, d.starts, d.columns,
+                                              d.values, &copy));
+  }
   Keep(reinterpret_cast<PetscObject>(copy), container);
   NCP_PETSC_CHECK(PetscContainerDestroy(&container));
   return copy;

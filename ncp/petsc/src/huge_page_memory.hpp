@@ -66,8 +66,10 @@ bool CreateVecsInBlock(Vec layout, int count, Vec* out);
 void CreateVecsOfMatInBlocks(Mat A);
 
 // A copy of the matrix A (pattern and values) whose CSR arrays lie in one block: for A of
-// type MATSEQAIJ with every diagonal entry stored, else nullptr (the caller duplicates A
-// by MatDuplicate). New nonzeros cannot be added to the copy (MatCreateSeqAIJWithArrays).
-Mat DuplicateSeqAijInBlock(Mat A);
+// type MATSEQAIJ (MatCreateSeqAIJWithArrays) or MATMPIAIJ (its diagonal and off-diagonal
+// blocks' arrays, MatCreateMPIAIJWithSplitArrays) with every diagonal entry stored, else
+// nullptr (the caller duplicates A by MatDuplicate). Collective on A's communicator. New
+// nonzeros cannot be added to the copy.
+Mat DuplicateAijInBlock(Mat A);
 
 }  // namespace ncp::petsc

@@ -95,8 +95,8 @@ struct Solver::Impl {
       slack.Build(comm, F, layout);
     else
       slack.Clear();
-    // On one rank its arrays in a huge-page-advised block (huge_page_memory.hpp).
-    newton = DuplicateSeqAijInBlock(SourceMatrix(F));
+    // Its arrays in a huge-page-advised block (huge_page_memory.hpp).
+    newton = DuplicateAijInBlock(SourceMatrix(F));
     if (!newton) NCP_PETSC_CHECK(MatDuplicate(SourceMatrix(F), MAT_COPY_VALUES, &newton));
     CreateVecsOfMatInBlocks(newton);  // the KSP's and PCMG's vectors on it
     abs_source.Prepare(SourceMatrix(F));
