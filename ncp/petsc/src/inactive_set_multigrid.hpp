@@ -31,6 +31,29 @@ namespace ncp::petsc {
 // row exactly) and reach no other row, so the V-cycle is that of P_l,r.
 class InactiveSetMultigrid {
  public:
+  // The Galerkin product C = P' A P, symbolic and numeric (MAT_REUSE_MATRIX of MatPtAP
+  // recomputes it for new values of A). On several ranks by hypre's RAP when PETSc has
+  // hypre: PETSc's own MPIAIJ PtAP is about 2x slower there (its symbolic phase once per
+  // grid, and a MatGetLocalMat of P in every numeric phase; docs/petsc.md "Cost on 2
+  // ranks"); on one rank PETSc's SeqAIJ product is the faster one. -matptap_via in the
+  // options database still chooses (MatProductSetFromOptions).
+  static Mat NewGalerkinProduct(Mat A, Mat P) {
+    Mat C = nullptr;
+    NCP_PETSC_CHECK(MatProductCreate(A, P, nullptr, &C));
+    NCP_PETSC_CHECK(MatProductSetType(C, MATPRODUCT_PtAP));
+#if defined(PETSC_HAVE_HYPRE)
+    PetscMPIInt ranks = 1;
+    NCP_PETSC_CHECK(
+        MPI_Comm_size(PetscObjectComm(reinterpret_cast<PetscObject>(A)), &ranks));
+    if (ranks > 1) NCP_PETSC_CHECK(MatProductSetAlgorithm(C, "hypre"));
+#endif
+    NCP_PETSC_CHECK(MatProductSetFill(C, PETSC_DEFAULT));
+    NCP_PETSC_CHECK(MatProductSetFromOptions(C));
+    NCP_PETSC_CHECK(MatProductSymbolic(C));
+    NCP_PETSC_CHECK(MatProductNumeric(C));
+    return C;
+  }
+
   ~InactiveSetMultigrid() { Clear(); }
   DM grid() const { return grid_; }
   bool attached() const { return attached_; }
@@ -89,12 +112,14 @@ class InactiveSetMultigrid {
     for (size_t l = coarse_.size() - 1; l >= 1; --l) {
       NCP_PETSC_CHECK(VecScale(decoupled, -1.0));  // A_l,0 for the product ...
       NCP_PETSC_CHECK(MatDiagonalSet(A, decoupled, ADD_VALUES));
-      const bool first = coarse_[l - 1] == nullptr;
-      NCP_PETSC_CHECK(MatPtAP(A, interpolation_[l],
-                              first ? MAT_INITIAL_MATRIX : MAT_REUSE_MATRIX,
-                              PETSC_DEFAULT, &coarse_[l - 1]));
-      if (first) CreateVecsOfMatInBlocks(coarse_[l - 1]);  // PCMG's level vectors
-      NCP_PETSC_CHECK(VecScale(decoupled, -1.0));          // ... and A_l again
+      if (!coarse_[l - 1]) {
+        coarse_[l - 1] = NewGalerkinProduct(A, interpolation_[l]);
+        CreateVecsOfMatInBlocks(coarse_[l - 1]);  // PCMG's level vectors
+      } else {
+        NCP_PETSC_CHECK(MatPtAP(A, interpolation_[l], MAT_REUSE_MATRIX, PETSC_DEFAULT,
+                                &coarse_[l - 1]));
+      }
+      NCP_PETSC_CHECK(VecScale(decoupled, -1.0));  // ... and A_l again
       NCP_PETSC_CHECK(MatDiagonalSet(A, decoupled, ADD_VALUES));
       Mat coarse = coarse_[l - 1];
       Vec coarse_decoupled = decoupled_[l - 1];
