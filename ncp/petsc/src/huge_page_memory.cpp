@@ -128,55 +128,68 @@ struct CsrArrays {
   PetscInt* columns = nullptr;
 };
 
-// Bytes of the CSR arrays of the SeqAIJ matrix `seq`, each array from a 64-byte boundary.
-std::size_t CsrBytes(Mat seq) {
-  const PetscInt *row_start = nullptr, *column = nullptr;
-  PetscInt rows = 0;
-  PetscBool done = PETSC_FALSE;
-  NCP_PETSC_CHECK(
-      MatGetRowIJ(seq, 0, PETSC_FALSE, PETSC_FALSE, &rows, &row_start, &column, &done));
-  if (!done) throw std::runtime_error("ncp::petsc::Solver: MatGetRowIJ gave no rows");
-  const auto nonzeros = static_cast<std::size_t>(row_start[rows]);
-  const std::size_t bytes =
-      CacheLines(nonzeros * sizeof(PetscScalar)) +
-      CacheLines((static_cast<std::size_t>(rows) + 1) * sizeof(PetscInt)) +
-      CacheLines(nonzeros * sizeof(PetscInt));
-  // (MatRestoreRowIJ sets rows to 0.)
-  NCP_PETSC_CHECK(MatRestoreRowIJ(seq, 0, PETSC_FALSE, PETSC_FALSE, &rows, &row_start,
-                                  &column, &done));
-  return bytes;
-}
+// The CSR structure of the SeqAIJ matrix `seq` while the object lives (MatGetRowIJ /
+// MatRestoreRowIJ), and the layout of a copy of its arrays: values | row starts | column
+// indices, each from a 64-byte boundary.
+class RowIJ {
+ public:
+  explicit RowIJ(Mat seq) : seq_(seq) {
+    PetscBool done = PETSC_FALSE;
+    NCP_PETSC_CHECK(
+        MatGetRowIJ(seq_, 0, PETSC_FALSE, PETSC_FALSE, &n_, &start_, &column_, &done));
+    if (!done) throw std::runtime_error("ncp::petsc::Solver: MatGetRowIJ gave no rows");
+    rows_ = static_cast<std::size_t>(n_);  // (MatRestoreRowIJ sets n_ to 0)
+    nonzeros_ = static_cast<std::size_t>(start_[n_]);
+  }
+  ~RowIJ() {
+    PetscBool done = PETSC_FALSE;
+    MatRestoreRowIJ(seq_, 0, PETSC_FALSE, PETSC_FALSE, &n_, &start_, &column_, &done);
+  }
+  RowIJ(const RowIJ&) = delete;
+  RowIJ& operator=(const RowIJ&) = delete;
 
-// Copies the CSR arrays of the SeqAIJ matrix `seq` to `base` (CsrBytes of its size):
-// values | row starts | column indices. Column k is written as global_column[k] when
-// global_column is given (the off-diagonal block of an MPIAIJ matrix, whose columns are
-// numbered locally), else as k.
+  std::size_t StartsOffset() const { return CacheLines(nonzeros_ * sizeof(PetscScalar)); }
+  std::size_t ColumnsOffset() const {
+    return StartsOffset() + CacheLines((rows_ + 1) * sizeof(PetscInt));
+  }
+  std::size_t CopyBytes() const {
+    return ColumnsOffset() + CacheLines(nonzeros_ * sizeof(PetscInt));
+  }
+
+  // Copies the row starts and column indices to their places in `base`; column k is
+  // written as global_column[k] when global_column is given (the off-diagonal block of an
+  // MPIAIJ matrix, whose columns are numbered locally), else as k.
+  void CopyStructure(char* base, const PetscInt* global_column) const {
+    auto* starts = reinterpret_cast<PetscInt*>(base + StartsOffset());
+    auto* columns = reinterpret_cast<PetscInt*>(base + ColumnsOffset());
+    std::memcpy(starts, start_, (rows_ + 1) * sizeof(PetscInt));
+    if (global_column)
+      for (std::size_t k = 0; k < nonzeros_; ++k) columns[k] = global_column[column_[k]];
+    else
+      std::memcpy(columns, column_, nonzeros_ * sizeof(PetscInt));
+  }
+  std::size_t nonzeros() const { return nonzeros_; }
+
+ private:
+  Mat seq_;
+  PetscInt n_ = 0;
+  const PetscInt* start_ = nullptr;
+  const PetscInt* column_ = nullptr;
+  std::size_t rows_ = 0, nonzeros_ = 0;
+};
+
+// Copies the CSR arrays of the SeqAIJ matrix `seq` to `base` (RowIJ::CopyBytes of room;
+// global_column as in RowIJ::CopyStructure).
 CsrArrays CopyCsr(Mat seq, char* base, const PetscInt* global_column) {
-  const PetscInt *row_start = nullptr, *column = nullptr;
-  PetscInt n = 0;
-  PetscBool done = PETSC_FALSE;
-  NCP_PETSC_CHECK(
-      MatGetRowIJ(seq, 0, PETSC_FALSE, PETSC_FALSE, &n, &row_start, &column, &done));
-  if (!done) throw std::runtime_error("ncp::petsc::Solver: MatGetRowIJ gave no rows");
-  const auto nonzeros = static_cast<std::size_t>(row_start[n]);
-  const auto starts = static_cast<std::size_t>(n) + 1;
-  CsrArrays out;
-  out.values = reinterpret_cast<PetscScalar*>(base);
-  base += CacheLines(nonzeros * sizeof(PetscScalar));
-  out.starts = reinterpret_cast<PetscInt*>(base);
-  out.columns = reinterpret_cast<PetscInt*>(base + CacheLines(starts * sizeof(PetscInt)));
-  std::memcpy(out.starts, row_start, starts * sizeof(PetscInt));
-  if (global_column)
-    for (std::size_t k = 0; k < nonzeros; ++k) out.columns[k] = global_column[column[k]];
-  else
-    std::memcpy(out.columns, column, nonzeros * sizeof(PetscInt));
-  NCP_PETSC_CHECK(
-      MatRestoreRowIJ(seq, 0, PETSC_FALSE, PETSC_FALSE, &n, &row_start, &column, &done));
+  const RowIJ ij(seq);
+  ij.CopyStructure(base, global_column);
   const PetscScalar* a = nullptr;
   NCP_PETSC_CHECK(MatSeqAIJGetArrayRead(seq, &a));
-  std::memcpy(static_cast<void*>(out.values), a, nonzeros * sizeof(PetscScalar));
+  std::memcpy(base, a, ij.nonzeros() * sizeof(PetscScalar));
   NCP_PETSC_CHECK(MatSeqAIJRestoreArrayRead(seq, &a));
-  return out;
+  return {reinterpret_cast<PetscScalar*>(base),
+          reinterpret_cast<PetscInt*>(base + ij.StartsOffset()),
+          reinterpret_cast<PetscInt*>(base + ij.ColumnsOffset())};
 }
 
 }  // namespace
@@ -270,8 +283,8 @@ Mat DuplicateAijInBlock(Mat A) {
   const PetscInt* global_column = nullptr;
   if (mpi)
     NCP_PETSC_CHECK(MatMPIAIJGetSeqAIJ(A, &diagonal, &off_diagonal, &global_column));
-  const std::size_t diagonal_bytes = CsrBytes(diagonal);
-  const std::size_t bytes = diagonal_bytes + (mpi ? CsrBytes(off_diagonal) : 0);
+  const std::size_t diagonal_bytes = RowIJ(diagonal).CopyBytes();
+  const std::size_t bytes = diagonal_bytes + (mpi ? RowIJ(off_diagonal).CopyBytes() : 0);
   void* data = nullptr;
   PetscContainer container = NewBlock(bytes, &data);
   auto* base = static_cast<char*>(data);
