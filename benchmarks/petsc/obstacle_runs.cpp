@@ -45,9 +45,9 @@ std::string LinearOptions(LinearFamily linear, SolverKind kind, const std::strin
       return o.str();
     case LinearFamily::kMultigrid:
       // Smoother: one SOR sweep pair (symmetric SOR, one Richardson step) before and one
-      // after the coarse correction (no eigenvalue estimate to redo for each Newton matrix,
-      // as PETSc's default Chebyshev smoother needs; PCMG's default of two steps cost more
-      // than the CG iterations it saved, benchmarks/results/petsc/README.md).
+      // after the coarse correction (no eigenvalue estimate to redo for each Newton
+      // matrix, as PETSc's default Chebyshev smoother needs; PCMG's default of two steps
+      // cost more than the CG iterations it saved, benchmarks/results/petsc/README.md).
       o << p << "ksp_type " << krylov << " " << p << "pc_type mg " << p
         << "mg_levels_ksp_type richardson " << p << "mg_levels_ksp_max_it 1 " << p
         << "mg_levels_pc_type sor ";
