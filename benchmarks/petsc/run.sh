@@ -6,7 +6,7 @@
 #
 #   benchmarks/petsc/run.sh [BUILD_DIR] [OUT_DIR]        (defaults: build, benchmarks/results/petsc)
 #
-# Environment: GRIDS (default "129 257 513 1025 2049"), RANKS (default "1 2"),
+# Environment: GRIDS (default "129 257 513 1025 2049 4097"), RANKS (default "1 2"),
 # TIME_LIMIT seconds per row (default 240), SOLVERS (only these configurations), QUICK=1 for a short check (grids 33 65, 60 s),
 # REPEAT_BELOW (default 1000: grids of fewer nodes per side run REPEATS times, default 3, and the
 # fastest converged run is the row; every solver alike, so that a row of 0.1 s measures the
@@ -21,7 +21,7 @@ bench=$build/bin/ncp-petsc-bench
 mkdir -p "$out"
 csv=$out/obstacle.csv
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-grids=${GRIDS:-129 257 513 1025 2049}
+grids=${GRIDS:-129 257 513 1025 2049 4097}
 ranks_list=${RANKS:-1 2}
 time_limit=${TIME_LIMIT:-240}
 if [ "${QUICK:-0}" = 1 ]; then grids="33 65"; time_limit=60; fi
@@ -29,8 +29,9 @@ repeat_below=${REPEAT_BELOW:-1000}
 repeats=${REPEATS:-3}
 
 # Configurations by grid (chosen so that the whole table fits in about half an hour on the
-# 2 shared cores): nested iteration / grid sequencing with multigrid at every size, with hypre
-# up to 10^6; the direct (MUMPS LU) ones, GAMG, and hypre from the zero start without
+# 2 shared cores; the largest grid, 4097^2 = 1.7*10^7 unknowns, needs about 11 GiB on one
+# rank): nested iteration / grid sequencing with multigrid at every size, with hypre up to
+# 10^6; the direct (MUMPS LU) ones, GAMG, and hypre from the zero start without
 # sequencing (the way the first measurements ran) only on the smallest grid.
 configs_for_grid() {
   local g=$1
