@@ -29,10 +29,10 @@ repeat_below=${REPEAT_BELOW:-1000}
 repeats=${REPEATS:-3}
 
 # Configurations by grid (chosen so that the whole table fits in about half an hour on the
-# 2 shared cores; the largest grid, 4097^2 = 1.7*10^7 unknowns, needs about 11 GiB on one
-# rank): nested iteration / grid sequencing with multigrid at every size, with hypre up to
-# 10^6; the direct (MUMPS LU) ones, GAMG, and hypre from the zero start without
-# sequencing (the way the first measurements ran) only on the smallest grid.
+# 2 shared cores; the largest grid, 4097^2 = 1.7*10^7 unknowns, took 10 GiB on one rank):
+# nested iteration / grid sequencing with multigrid at every size, with hypre up to 10^6; the
+# direct (MUMPS LU) ones, GAMG, and hypre from the zero start without sequencing (the way the
+# issue's first measurements ran) only on the smallest grid.
 configs_for_grid() {
   local g=$1
   echo ncp-min-seq-mg rsls-seq-mg ssls-seq-mg
