@@ -196,6 +196,9 @@ PetscErrorCode Run() {
   PetscCall(PetscOptionsGetString(nullptr, nullptr, "-function", function,
                                   sizeof function, nullptr));
   PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-trace", &trace, nullptr));
+  if (m < 1)
+    SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+            "-m (interior nodes per side) must be >= 1, got %d", static_cast<int>(m));
   ncp::Options options;
   options.log_to_stderr = trace;
   // Start from u0 = 0 as given, below the obstacle where it rises above 0: projected onto
