@@ -571,7 +571,7 @@ class Iteration {
     }
     NCP_PETSC_CHECK(VecCopy(grad_, d_));
     NCP_PETSC_CHECK(VecScale(d_, -1.0));
-    const auto [square, norm] = DotAndNorm2(grad_, grad_, d_);
+    const auto [square, norm] = DotAndNorm(grad_, grad_, d_, NORM_2);
     slope_ = -square;
     d_norm_ = norm;
     ++s_.gradient_steps;
@@ -580,7 +580,7 @@ class Iteration {
 
   // grad psi' d <= -rho ||d||^p (eq. 22); sets the slope and ||d||_2.
   bool PassesDescentTest() {
-    std::tie(slope_, d_norm_) = DotAndNorm2(grad_, d_, d_);
+    std::tie(slope_, d_norm_) = DotAndNorm(grad_, d_, d_, NORM_2);
     return internal::PassesDescentTest(slope_, d_norm_, o_);
   }
 
@@ -978,7 +978,7 @@ class Iteration {
   // not finite. A finite phi'phi proves every entry finite; only when it is not (an entry
   // NaN or Inf, or the squares overflow) are the entries checked (AllFinite).
   bool ReducePhi(Vec phi, double* inf, double* psi) {
-    const auto [norm, square] = NormInfAndSquare(phi);
+    const auto [square, norm] = DotAndNorm(phi, phi, phi, NORM_INFINITY);
     *inf = norm;
     *psi = 0.5 * square;
     return std::isfinite(square) || AllFinite(comm_, phi);

@@ -155,28 +155,17 @@ inline double Dot(Vec a, Vec b) {
   return PetscRealPart(dot);
 }
 
-// Two reductions of PETSc's split phase in one MPI_Allreduce: each Begin computes its
-// local part with the kernel of VecNorm / VecDot, the first End reduces both, so the
-// values are those of VecNorm and VecDot. (No Vec may change between Begin and End:
-// VecNormEnd caches the norm on the Vec.)
-// ||v||_inf and v'v.
-inline std::pair<double, double> NormInfAndSquare(Vec v) {
-  PetscReal norm = 0.0;
-  PetscScalar square = 0.0;
-  NCP_PETSC_CHECK(VecNormBegin(v, NORM_INFINITY, &norm));
-  NCP_PETSC_CHECK(VecDotBegin(v, v, &square));
-  NCP_PETSC_CHECK(VecNormEnd(v, NORM_INFINITY, &norm));
-  NCP_PETSC_CHECK(VecDotEnd(v, v, &square));
-  return {norm, PetscRealPart(square)};
-}
-// a'b and ||v||_2.
-inline std::pair<double, double> DotAndNorm2(Vec a, Vec b, Vec v) {
+// a'b and ||v|| (of `type`) in one MPI_Allreduce by PETSc's split phase: each Begin
+// computes its local part with the kernel of VecDot / VecNorm, the first End reduces
+// both, so the values are those of VecDot and VecNorm. (No Vec may change between Begin
+// and End: VecNormEnd caches the norm on the Vec.)
+inline std::pair<double, double> DotAndNorm(Vec a, Vec b, Vec v, NormType type) {
   PetscScalar dot = 0.0;
   PetscReal norm = 0.0;
   NCP_PETSC_CHECK(VecDotBegin(a, b, &dot));
-  NCP_PETSC_CHECK(VecNormBegin(v, NORM_2, &norm));
+  NCP_PETSC_CHECK(VecNormBegin(v, type, &norm));
   NCP_PETSC_CHECK(VecDotEnd(a, b, &dot));
-  NCP_PETSC_CHECK(VecNormEnd(v, NORM_2, &norm));
+  NCP_PETSC_CHECK(VecNormEnd(v, type, &norm));
   return {PetscRealPart(dot), norm};
 }
 
