@@ -63,7 +63,7 @@ struct RunSettings {
   /// trusts the multiplier more than the gap, as the reduced-space method (active only
   /// at the bound with F > 0) does in the limit s -> 0. Default 0.1: from the
   /// interpolated coarse solution, 2 finest-grid Newton steps instead of 3 at 2.6e5 and
-  /// 1e6 unknowns (docs/petsc.md has the measurements).
+  /// 1e6 unknowns (benchmarks/results/petsc/solver/README.md).
   double min_scale = 0.1;
   double ksp_rtol = 1e-6;  ///< relative tolerance of each Krylov solve (not used by LU)
 };

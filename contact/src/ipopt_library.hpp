@@ -1,6 +1,7 @@
 // Ipopt's C interface (coin/IpStdCInterface.h), reached through dlopen of libipopt.so.1
 // on first use instead of linking it, so that Ipopt's sequential MUMPS never enters the
-// process's global symbol scope (docs/petsc.md, "Ipopt beside PETSc's parallel MUMPS").
+// process's global symbol scope (docs/petsc-contact.md, "Ipopt beside PETSc's parallel
+// MUMPS").
 //
 // Debian's libipopt.so.1 needs libdmumps_seq, whose dmumps_c and whose one-process stubs
 // of MPI_Init, MPI_Comm_rank, ... have the names of the parallel MUMPS and of MPI that

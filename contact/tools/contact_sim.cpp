@@ -7,8 +7,7 @@
 //                          [--output DIR] [--resume] [--quiet]
 //   mpiexec -n R contact-sim SCENE.toml ...   (built with PETSc: the explicit or the
 //   condensed step on R ranks,
-//                                             docs/petsc.md "Contact scenes on MPI
-//                                             ranks")
+//                                             docs/petsc-contact.md)
 #include <signal.h>
 #include <sys/resource.h>
 #include <unistd.h>

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """contact-sim with Ipopt's sequential MUMPS and PETSc's parallel MUMPS in one executable
-(issue 27; docs/petsc.md, "Ipopt beside PETSc's parallel MUMPS"), by the dynamic linker's
+(docs/petsc-contact.md, "Ipopt beside PETSc's parallel MUMPS"), by the dynamic linker's
 own account (LD_DEBUG=bindings, one file per process):
 
 * one process, solver.step = "ipopt" on a frictionless Tet4 box drop: the run completes,

@@ -354,7 +354,7 @@ coefficient = 0.3
   // deforms). Within 2%: the block is set down with its weight applied at once, and in
   // the first oscillations of its normal force (0 to 2 m g) it brakes unevenly, which
   // the rigid-body distance does not contain (the same in one process: the trajectories
-  // agree to round-off; docs/petsc.md).
+  // agree to round-off; docs/petsc-contact-steps.md).
   double distance = 0.0;
   const Eigen::VectorXd& u = r.summary.u;
   for (Eigen::Index i = 0; i < u.size(); i += 2) distance += u(i);
@@ -371,7 +371,7 @@ coefficient = 0.3
 // tolerance from 1e-15 to 0.9 nor f_c up to 5 makes the serial condensed step of this
 // box measure an inaccurate step - Newton overshoots what it is asked - so the path to
 // accuracy-not-reached, the recorder's SetFinalStatus shared with the explicit step, is
-// not reached by a scene here; docs/petsc.md.)
+// not reached by a scene here; docs/petsc-contact-steps.md.)
 TEST_CASE("a step the contact Newton cannot solve ends the run as in one process") {
   const std::string step = GENERATE("condensed", "sparse");
   // (kTetBox ends in its [solver] section.)

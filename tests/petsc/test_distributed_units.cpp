@@ -50,7 +50,7 @@ using contact::test::Rank;
 // penetration - round-off, or what the solver left below its tolerance, so no quantity of
 // their own size - within the tolerance of F and D, as the comparisons with one process
 // do (CheckSameMeasures); every iteration count and verdict equal. (Measured:
-// docs/petsc.md, "The same scene in SI and in mm-tonne-s on ranks".)
+// docs/petsc-contact.md, "The same scene in SI and in mm-tonne-s on ranks".)
 constexpr double kTolerance = 1e-10;  // solver.tolerance (the default)
 constexpr double kSameTrajectory = 0.1 * kTolerance;
 constexpr double kSameMeasures = kTolerance;

@@ -740,7 +740,7 @@ TEST_CASE("singular Newton systems: the least-norm step of the serial solver",
       // The least-norm steps at the same iterations; up to the last of them the same
       // directions (||d||_2 to 1e-10 relative). (Later Newton systems of harkmcp are
       // ill-conditioned: the dense LU and MUMPS solve the one at x^3 differently,
-      // docs/petsc.md.)
+      // docs/petsc-design.md.)
       REQUIRE(r.parallel.trace.size() == r.serial.trace.size());
       size_t last_least_norm = 0;
       for (size_t k = 0; k < r.serial.trace.size(); ++k) {

@@ -42,7 +42,7 @@ def test_records_match_contact_sim(runs, key):
     result, d = runs[key]
     steps = read_csv(d / "steps.csv")
     assert result.completed and result.summary["steps"] == steps["step"].size
-    # auto: the method of least predicted cost (docs/contact.md, "Cost per step")
+    # auto: the method of least predicted cost (docs/contact-steps.md)
     assert result.summary["step_method"] in ("condensed", "sparse", "explicit")
     np.testing.assert_allclose(result.times, steps["time"], rtol=1e-9)
     # One vocabulary: every column of steps.csv is a record of the same name and value

@@ -89,7 +89,7 @@ RestrictionMaps MakeRestrictionMaps(int dim, int num_free_dofs,
 /// ncp::Options defaults for contact solves: min_tie_takes_b = true (the pair is
 /// (reaction, gap); at a tie the node is treated as closed) and a monotone line search
 /// (nonmonotone_memory = 1: eq. 23 of Algorithm 1; chosen on 3D friction steps,
-/// docs/ncp-measurements.md).
+/// benchmarks/results/defaults/README.md).
 ncp::Options ContactNcpOptions();
 
 /// Completes the tangents of a unit normal. All components free: 2D t1 = (-n_y, n_x),

@@ -38,7 +38,7 @@ inline constexpr int kCriticalStepMaxIterations = 20000;
 /// row). One step costs a product with K and a solve with M (elementwise for a diagonal
 /// M, else a CHOLMOD factor computed once). Lanczos converges to the extreme eigenvalue
 /// much faster than power iteration (Golub and Van Loan, Matrix Computations,
-/// section 10.1; counts on the thesis mesh: docs/ncp-measurements.md).
+/// section 10.1; counts on the thesis mesh: benchmarks/results/defaults/README.md).
 CriticalTimeStep EstimateCriticalTimeStep(
     const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M,
     double relative_tolerance = kCriticalStepTolerance,
@@ -73,20 +73,20 @@ struct DynamicSummary {
   /// solved again from the neutral friction start (see ContactSystem::StartPoint).
   int friction_restarts = 0;
   /// GMRES iterations over the run (StepMethod::kSparse; 0 otherwise): the sparse step's
-  /// Newton systems, one solve with M's factor each (docs/contact.md "Cost per step").
+  /// Newton systems, one solve with M's factor each (docs/contact-steps.md).
   long krylov_iterations = 0;
   double seconds = 0.0;
-  /// Where the steps' time went, summed over the run [s] (docs/contact.md, "Cost per
-  /// step"): assembly (the load f^k, Q^k, the step's scales and the products M du, K
-  /// u^{k+1}), the solves with M's factor inside the step method (mass_solves of them:
-  /// two per step plus, for the sparse step, one per product with W), the contact solve
-  /// proper (the step method's time without its mass solves) and the accuracy check
-  /// (residuals recomputed, energies).
+  /// Where the steps' time went, summed over the run [s] (docs/contact-steps.md):
+  /// assembly (the load f^k, Q^k, the step's scales and the products M du, K u^{k+1}),
+  /// the solves with M's factor inside the step method (mass_solves of them: two per step
+  /// plus, for the sparse step, one per product with W), the contact solve proper (the
+  /// step method's time without its mass solves) and the accuracy check (residuals
+  /// recomputed, energies).
   double assembly_seconds = 0.0, mass_solve_seconds = 0.0, contact_solve_seconds = 0.0,
          accuracy_check_seconds = 0.0;
   long mass_solves = 0;
   /// The cost per step that StepMethod::kAuto predicts for each method it chooses among
-  /// (contact/src/step/step_method.cpp, docs/contact.md "Cost per step") and its choice.
+  /// (contact/src/step/step_method.cpp, docs/contact-steps.md) and its choice.
   StepCostPrediction predicted_cost;
   double max_penetration = 0.0;  ///< over all steps [m]
   /// Largest per-step measures over the run (see StepRecord) [N].

@@ -1,5 +1,6 @@
 // The condensed frictional step on MPI ranks with the contact set gathered
-// (StepMethod::kCondensed on ranks; docs/petsc.md, "The implicit step on ranks").
+// (StepMethod::kCondensed on ranks; docs/petsc-contact-steps.md, "The condensed step on
+// ranks").
 //
 // The step of the serial condensed step with implicit Coulomb friction
 // (contact/src/step/coulomb_fc_step.cpp, coulomb_step.hpp): with S = M / m_max (M the

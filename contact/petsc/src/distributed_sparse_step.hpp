@@ -1,10 +1,10 @@
-// The sparse frictional step on MPI ranks (StepMethod::kSparse on ranks; docs/petsc.md,
-// "The sparse step on ranks"): the step of CondensedGatheredStep with W = H S^-1 H'
-// never formed. Rank 0 runs the serial sparse step's contact Newton (CoulombStep's
-// matrix-free form: ncp::fc's operator problem, GMRES) on the gathered x_free and u^k_c;
-// each product x = W F it asks for is one distributed solve with M (F scattered to the
-// owners of the contact nodes as H' F, S^-1 by the parallel KSP, H y gathered back), in
-// which every rank takes part.
+// The sparse frictional step on MPI ranks (StepMethod::kSparse on ranks;
+// docs/petsc-contact-steps.md, "The sparse step on ranks"): the step of
+// CondensedGatheredStep with W = H S^-1 H' never formed. Rank 0 runs the serial sparse
+// step's contact Newton (CoulombStep's matrix-free form: ncp::fc's operator problem,
+// GMRES) on the gathered x_free and u^k_c; each product x = W F it asks for is one
+// distributed solve with M (F scattered to the owners of the contact nodes as H' F, S^-1
+// by the parallel KSP, H y gathered back), in which every rank takes part.
 //
 // The protocol (rank 0 drives, the others serve): while rank 0 solves the contact
 // problem, the other ranks wait in a broadcast of one command; per product rank 0

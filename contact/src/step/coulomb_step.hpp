@@ -52,8 +52,8 @@ class CoulombStep {
   /// there |r_T| may sit below f_c r_N by much more than the residual, so the solve asks
   /// for this fraction of the tolerance; Newton converges quadratically near the
   /// solution, so the margin costs a fraction of an iteration per step (the choice of
-  /// 1e-5: docs/ncp-measurements.md). The margin is asked for, not required: a solve that
-  /// stops short of it (round-off) but within the tolerance counts.
+  /// 1e-5: benchmarks/results/defaults/README.md). The margin is asked for, not required:
+  /// a solve that stops short of it (round-off) but within the tolerance counts.
   static constexpr double kNaturalMapMargin = 1e-5;
 
   /// dim = 2 or 3; W: the Delassus operator on the contact unknowns (symmetric positive

@@ -11,7 +11,7 @@ namespace {
 // solve with M's CHOLMOD factor took 0.23-0.29 ms for 4 x 1.3e5 flops on the rocker
 // (examples/scenes/rocker_incline_3d.toml), the products and load of its steps 0.13 ms.
 // The counts per step: fitted to the time of each method on every example scene in an
-// earlier run of benchmarks/results/contact/step_cost/ (docs/contact.md "Cost per step":
+// earlier run of benchmarks/results/contact/step_cost/ (docs/contact-steps.md:
 // the fit that kept auto closest to the fastest method on all of them); measured there,
 // the sparse step takes 1.5-2x the Newton steps of the condensed one (it runs
 // Alart-Curnier alone) and 4-10 solves with M per Newton step.

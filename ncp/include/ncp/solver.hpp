@@ -122,7 +122,7 @@ struct Options {
   /// symbolic analysis) into a predicted time until one factorization has been timed;
   /// afterwards the rate measured on the last factorization is used. 0 takes the typical
   /// rate of the backend (constants in linear_solver.cpp; their measurement:
-  /// docs/ncp-measurements.md).
+  /// benchmarks/results/defaults/README.md).
   double factorization_flop_rate = 0.0;
   /// Newton direction kept only if grad psi' d <= -descent_rho ||d||_2^descent_p (eq.
   /// 22).
@@ -133,13 +133,13 @@ struct Options {
   /// Armijo reference: psi(x^k) replaced by the largest psi of the last
   /// nonmonotone_memory iterates (Grippo, Lampariello and Lucidi 1986). 1 is the monotone
   /// eq. (23) of Algorithm 1. The default 3 was chosen on the problem collection
-  /// (docs/ncp-measurements.md).
+  /// (benchmarks/results/defaults/README.md).
   int nonmonotone_memory = 3;
   /// Before falling back to -grad psi, try the Levenberg-Marquardt direction
   /// (J'J + mu I) d = -J' Phi, mu = ||Phi||_2, if it passes eq. (22) (a regularized
   /// Gauss-Newton step, Levenberg 1944, Marquardt 1963). Off by default: it solved fewer
-  /// problems of the collection (docs/ncp-measurements.md). Forms J'J (allocates per
-  /// iteration).
+  /// problems of the collection (benchmarks/results/defaults/README.md). Forms J'J
+  /// (allocates per iteration).
   bool regularized_direction = false;
   /// Restart strategy: when a Fischer-Burmeister-family solve ends at a stationary point
   /// of psi that is not a solution (kStationaryPoint) or in a failed line search,
@@ -148,7 +148,8 @@ struct Options {
   /// The two merit functions have different non-solution stationary points, so a point
   /// where one is stuck is generally not one of the other (Chen, Chen and Kanzow 2000 for
   /// the penalized FB function). No effect with the min function. 0 turns restarts off;
-  /// the default 6 was chosen on the problem collection (docs/ncp-measurements.md).
+  /// the default 6 was chosen on the problem collection
+  /// (benchmarks/results/defaults/README.md).
   int merit_restarts = 6;
   /// Hybrid default: a strategy (NCP function, direction) that stops making progress
   /// hands its best iterate to the next strategy instead of ending the solve. The

@@ -40,9 +40,9 @@ enum class LinearSolverType {
   /// convex bound-constrained minimization) gives S J = diag(da / db) + F' for the FB,
   /// min and penalized FB functions: positive definite, so about half the flops of an LU
   /// of the same fill and no pivoting (Davis, Direct Methods for Sparse Linear Systems,
-  /// 2006; timings against UMFPACK: docs/ncp-measurements.md). A Newton matrix that is
-  /// not symmetrizable, or not positive definite, is factored by UMFPACK instead
-  /// (Summary::cholesky_fallbacks).
+  /// 2006; timings against UMFPACK: benchmarks/results/defaults/README.md). A Newton
+  /// matrix that is not symmetrizable, or not positive definite, is factored by UMFPACK
+  /// instead (Summary::cholesky_fallbacks).
   kCholmod,
 };
 /// The last enumerator of each enumeration (range checks, bindings).

@@ -5,11 +5,11 @@
 // 4 KiB page of fresh anonymous memory is a page fault. Where the kernel's transparent
 // huge pages are in `madvise` mode (/sys/kernel/mm/transparent_hugepage/enabled), a block
 // advised with MADV_HUGEPAGE is faulted in 2 MiB pages instead, 512 times fewer faults
-// (measured on the benchmark machine: docs/petsc.md). In `always` mode the advice changes
-// nothing, in `never` mode it is ignored. On Linux a block of 2 MiB or more is an
-// anonymous mmap (zero without a pass over it, aligned to 2 MiB); smaller blocks, and all
-// elsewhere, come from calloc (a huge page for a small Vec would zero 2 MiB, and glibc
-// recycles small freed blocks without new page faults).
+// (measured on the benchmark machine: benchmarks/results/petsc/solver/README.md). In
+// `always` mode the advice changes nothing, in `never` mode it is ignored. On Linux a
+// block of 2 MiB or more is an anonymous mmap (zero without a pass over it, aligned to 2
+// MiB); smaller blocks, and all elsewhere, come from calloc (a huge page for a small Vec
+// would zero 2 MiB, and glibc recycles small freed blocks without new page faults).
 //
 // The block of Vecs or of a matrix is owned by a PetscContainer composed with every
 // object whose arrays lie in it, so it is freed when the last of them is destroyed (also

@@ -34,9 +34,10 @@ class InactiveSetMultigrid {
   // The Galerkin product C = P' A P, symbolic and numeric (MAT_REUSE_MATRIX of MatPtAP
   // recomputes it for new values of A). On several ranks by hypre's RAP when PETSc has
   // hypre: PETSc's own MPIAIJ PtAP has a symbolic phase per grid and a MatGetLocalMat of
-  // P in every numeric phase, and was measured slower (docs/petsc.md "Cost on 2 ranks");
-  // on one rank PETSc's SeqAIJ product, measured faster. The options database's
-  // -mat_product_algorithm still chooses (MatProductSetFromOptions).
+  // P in every numeric phase, and was measured slower
+  // (benchmarks/results/petsc/solver/README.md); on one rank PETSc's SeqAIJ product,
+  // measured faster. The options database's -mat_product_algorithm still chooses
+  // (MatProductSetFromOptions).
   static Mat NewGalerkinProduct(Mat A, Mat P) {
     Mat C = nullptr;
     NCP_PETSC_CHECK(MatProductCreate(A, P, nullptr, &C));

@@ -1,7 +1,7 @@
 // The distributed counterparts of the serial solver's internal::Equilibration and
 // internal::RankRevealingSolver (ncp/src/linear_solver.hpp), for
-// Options::scale_newton_system and Options::minimum_norm_step over PETSc (docs/petsc.md,
-// "Singular Newton systems").
+// Options::scale_newton_system and Options::minimum_norm_step over PETSc
+// (docs/petsc-design.md, "Singular Newton systems").
 #pragma once
 
 #include <petscmat.h>

@@ -1,12 +1,12 @@
 /// \file distributed_scene.hpp
-/// A contact scene on the MPI ranks of a communicator through PETSc (docs/petsc.md,
-/// "Contact scenes on MPI ranks"): the mesh of the scene handed to DMPlex and partitioned
-/// by DMPlexDistribute, K assembled per rank into a MATMPIAIJ with the element kernels of
-/// contact/ (contact::ElasticBody on each rank's cells), the lumped mass a Vec, and the
-/// explicit central-difference step (StepMethod::kExplicit) on each rank's own nodes, or
-/// the condensed step (StepMethod::kCondensed, implicit Coulomb friction) with the
-/// consistent or lumped mass as a parallel matrix, its solves by PETSc's KSP (MUMPS's
-/// Cholesky by default) and the contact set gathered onto rank 0.
+/// A contact scene on the MPI ranks of a communicator through PETSc
+/// (docs/petsc-contact.md, "Contact scenes on MPI ranks"): the mesh of the scene handed
+/// to DMPlex and partitioned by DMPlexDistribute, K assembled per rank into a MATMPIAIJ
+/// with the element kernels of contact/ (contact::ElasticBody on each rank's cells), the
+/// lumped mass a Vec, and the explicit central-difference step (StepMethod::kExplicit) on
+/// each rank's own nodes, or the condensed step (StepMethod::kCondensed, implicit Coulomb
+/// friction) with the consistent or lumped mass as a parallel matrix, its solves by
+/// PETSc's KSP (MUMPS's Cholesky by default) and the contact set gathered onto rank 0.
 /// PetscInitialize is the caller's.
 #pragma once
 
@@ -22,7 +22,7 @@ namespace contact::petsc {
 /// otherwise one sentence naming the scene's step (or setting) and what the distributed
 /// run supports. (With solver.step = "auto" the choice needs the mesh:
 /// RunSceneDistributed runs the sparse step above internal::kMaxGatheredContactUnknowns
-/// contact unknowns, the condensed step up to it; docs/petsc.md.)
+/// contact unknowns, the condensed step up to it; docs/petsc-contact.md.)
 std::string WhyNotDistributed(const Scene& scene);
 
 /// Runs the scene on the ranks of `comm` (collective; every rank passes the same scene).
