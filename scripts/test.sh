@@ -3,7 +3,7 @@
 # with ctest.
 #   scripts/test.sh --sanitize   the same with AddressSanitizer + UBSan (scripts/sanitize.sh)
 # With CI set in the environment (CI=true, as CI services set it) both run, one after the
-# other (measured from a fresh clone: see docs/errors-and-limits.md), then scripts/fuzz.sh
+# other (measured from a fresh clone: see benchmarks/results/reliability/README.md), then scripts/fuzz.sh
 # for 20 s per reader (docs/reliability.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
