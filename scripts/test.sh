@@ -3,8 +3,8 @@
 # with ctest.
 #   scripts/test.sh --sanitize   the same with AddressSanitizer + UBSan (scripts/sanitize.sh)
 # With CI set in the environment (CI=true, as CI services set it) both run, one after the
-# other (measured from a fresh clone: see benchmarks/results/reliability/README.md), then scripts/fuzz.sh
-# for 20 s per reader (docs/reliability.md).
+# other (measured from a fresh clone: benchmarks/results/reliability/README.md), then
+# scripts/fuzz.sh for 20 s per reader (docs/reliability.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [[ "${1:-}" == "--sanitize" ]]; then
