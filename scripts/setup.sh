@@ -22,6 +22,7 @@ packages=(
   pybind11-dev python3-dev # Python bindings (python/)
   python3-numpy python3-scipy python3-pytest   # Python packages' arrays, sparse Jacobians, tests
   python3-vtk9             # reads the ParaView output back in tests/python/test_vtk_output.py
+  xvfb                     # a virtual X display: contact.vtu.render draws 3D snapshots with VTK off screen
   petsc-dev openmpi-bin    # PETSc 3.18 with MUMPS, hypre (ncp/petsc, examples/petsc, mpi tests)
   clang libclang-rt-14-dev # libFuzzer targets (scripts/fuzz.sh)
   clang-format             # the format check of scripts/test.sh

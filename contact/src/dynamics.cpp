@@ -16,6 +16,7 @@
 #include <stdexcept>
 
 #include "checkpoint.hpp"
+#include "contact/convex_qp.hpp"
 #include "contact/simulation.hpp"
 #include "contact/static_contact.hpp"
 #include "critical_time_step.hpp"
@@ -67,6 +68,12 @@ void Validate(const DynamicModel& model, const DynamicOptions& options) {
   if (!(options.friction_coefficient >= 0.0))
     throw std::invalid_argument(who + "friction_coefficient must be >= 0, got " +
                                 std::to_string(options.friction_coefficient));
+  if ((options.step_method == StepMethod::kIpopt || options.compare_with_ipopt) &&
+      !BuiltWithIpopt())
+    throw std::invalid_argument(who +
+                                "the Ipopt step (solver.step = \"ipopt\", "
+                                "compare_with_ipopt) cannot run: " +
+                                kWithoutIpopt);
   if ((options.step_method == StepMethod::kIpopt || options.compare_with_ipopt) &&
       options.friction_coefficient > 0.0)
     throw std::invalid_argument(who +

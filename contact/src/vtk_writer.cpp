@@ -328,13 +328,15 @@ std::pair<std::vector<PointField>, std::vector<CellField>> ContactSnapshotFields
   const double nan = std::numeric_limits<double>::quiet_NaN();
   Eigen::MatrixXd gap = Eigen::MatrixXd::Constant(1, n, nan);
   Eigen::MatrixXd normal_force = Eigen::MatrixXd::Zero(3, n),
-                  friction_force = normal_force, slip = normal_force;
+                  friction_force = normal_force, slip = normal_force,
+                  contact_normal = normal_force;
   Eigen::MatrixXd state =
       Eigen::MatrixXd::Constant(1, n, static_cast<double>(ContactState::kNotContact));
   for (Eigen::Index c = 0; c < num_contact; ++c) {
     const ContactNode& node = nodes[static_cast<size_t>(c)];
     const int i = node.node;
     gap(0, i) = s.gap(c);
+    contact_normal.col(i) = node.normal;
     // The obstacle pushes the body against its outward normal n_c.
     normal_force.col(i) = -s.normal_force(c) * node.normal;
     friction_force.col(i) = s.tangent_force(0, c) * node.tangent1;
@@ -363,7 +365,8 @@ std::pair<std::vector<PointField>, std::vector<CellField>> ContactSnapshotFields
       {"normal_force", normal_force},
       {"friction_force", friction_force},
       {"slip", slip},
-      {"contact_state", state}};
+      {"contact_state", state},
+      {"contact_normal", contact_normal}};
   return {points, {{"stress", stress}, {"von_mises", von_mises}}};
 }
 
@@ -400,9 +403,14 @@ std::string VtuSeriesWriter::pvd_path() const {
   return (std::filesystem::path(directory_) / "solution.pvd").string();
 }
 
+std::string SnapshotFileName(int step, const std::string& suffix) {
+  char digits[32];
+  std::snprintf(digits, sizeof digits, "%05d", step);
+  return "snapshot_" + std::string(digits) + suffix;
+}
+
 std::string VtuSeriesWriter::Write(int step, const ContactSnapshot& snapshot) {
-  char name[64];
-  std::snprintf(name, sizeof name, "snapshot_%05d.vtu", step);
+  const std::string name = SnapshotFileName(step, ".vtu");
   const std::string path = (std::filesystem::path(directory_) / name).string();
   const auto [points, cells] = ContactSnapshotFields(body_, snapshot);
   WriteVtu(path, body_.mesh(), points, cells);

@@ -197,7 +197,8 @@ cxxopts::Options MakeCli() {
       "and its overrides must be the same")(
       "quiet",
       "no progress lines, notes or warnings; a run that does not complete prints its "
-      "reason once and no table")("h,help", "show this help");
+      "reason once and no table")("h,help", "show this help")(
+      "version", "print the version and exit");
   cli.parse_positional({"scene"});
   cli.positional_help("SCENE.toml");
   return cli;
@@ -224,9 +225,10 @@ contact::SceneOverrides OverridesOf(const cxxopts::ParseResult& args) {
   return overrides;
 }
 
-/// The human-readable summary (the thesis's table columns dt, f_c, k_sim, N_Jac, N_func,
-/// t_comp, then the accuracy and energy balance of the run, on MPI ranks too - but for
-/// the condensed step there, which does not compute them yet).
+/// The human-readable summary: the status line, the model's size, one row of the run's
+/// counts (headed in words; the thesis's table names them dt, f_c, k_sim, N_Jac, N_func,
+/// t_comp), then the accuracy and energy balance of the run, on MPI ranks too - but for
+/// the condensed step there, which does not compute them yet.
 void PrintReport(std::FILE* table, const contact::Scene& scene,
                  const contact::SceneResult& r) {
   const contact::DynamicSummary& s = r.summary;
@@ -241,11 +243,14 @@ void PrintReport(std::FILE* table, const contact::Scene& scene,
                "  %d dofs (%d free), %d elements, %d contact nodes, dt_crit = %.4g s\n",
                r.num_dofs, r.num_free_dofs, r.num_elements, r.num_contact_nodes,
                s.critical_time_step);
-  std::fprintf(table, "  %-10s %-6s %-7s %-8s %-8s %-10s\n", "dt", "f_c", "k_sim",
-               "N_Jac", "N_func", "t_comp[s]");
-  std::fprintf(table, "  %-10g %-6g %-7d %-8ld %-8ld %-10.4f\n", scene.dynamics.dt,
+  std::fprintf(table, "  %-10s %-8s %-10s %-10s %-10s %-10s\n", "dt [s]", "friction",
+               "time steps", "Jacobians", "residuals", "time [s]");
+  std::fprintf(table, "  %-10g %-8g %-10d %-10ld %-10ld %-10.4f\n", scene.dynamics.dt,
                scene.friction_coefficient, s.steps, s.jacobian_evaluations,
                s.residual_evaluations, s.seconds);
+  std::fprintf(table,
+               "  (friction: its coefficient; Jacobians, residuals: evaluations over all "
+               "Newton steps)\n");
   std::fprintf(table,
                "  accuracy over all steps: equilibrium residual %.3e N, penetration %.3e "
                "m, contact "
@@ -369,6 +374,10 @@ int main(int argc, char** argv) {
   }
   if (args.count("help")) {
     std::cout << cli.help() << std::endl;
+    return 0;
+  }
+  if (args.count("version")) {
+    std::cout << "contact-sim " << NCP_VERSION << std::endl;
     return 0;
   }
   if (args.count("solver")) {

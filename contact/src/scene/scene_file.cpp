@@ -145,13 +145,28 @@ void ReadGeometry(const Table& g, const fs::path& base, Scene* s) {
   g.RejectUnknownKeys();
 }
 
+/// obstacle.normal of a plane: a unit vector, |n| = 1 within kUnitNormalSlack. Not
+/// normalized silently: a normal [0, 2] would change what offset means (n . y <= offset).
+Eigen::VectorXd PlaneNormal(const Table& o, int dim) {
+  constexpr double kUnitNormalSlack = 1e-3;
+  const Eigen::VectorXd n = o.Vec("normal", kDirection, dim);
+  const double length = n.norm();
+  if (!(std::abs(length - 1.0) <= kUnitNormalSlack))
+    o.Fail("normal",
+           "must be a unit vector (|n| = 1 within " + Str(kUnitNormalSlack) +
+               "), got |n| = " + Str(length) +
+               ": divide it by its length (and offset alike)",
+           &o.Get("normal"));
+  return n;
+}
+
 std::shared_ptr<RigidObstacle> ReadObstacle(const Table& o, int dim) {
   const std::string type = o.Choice("type", {"plane", "parabola", "sphere", "cylinder"});
   std::shared_ptr<RigidObstacle> obstacle;
   try {
     if (type == "plane") {
       // The obstacle fills {y : n . y <= offset}; the body lies where n . x >= offset.
-      obstacle = std::make_shared<HalfSpace>(o.Vec("normal", kDirection, dim),
+      obstacle = std::make_shared<HalfSpace>(PlaneNormal(o, dim),
                                              o.Number("offset", kCoordinate));
     } else if (type == "parabola") {
       obstacle = std::make_shared<ParabolaObstacle>(dim, o.Number("vertex", kCoordinate),
@@ -407,13 +422,12 @@ void ReadSolver(const Table& v, Scene* s) {
   v.RejectUnknownKeys();
 }
 
-/// [output]: directory (relative to the scene file), stress times, snapshots, marked
-/// point.
-void ReadOutput(const Table& out, const fs::path& base, Scene* s) {
-  if (out.Has("directory")) {
-    const fs::path d = out.String("directory");
-    s->output_directory = (d.is_relative() ? base / d : d).lexically_normal().string();
-  }
+/// [output]: directory (a relative one is taken from the working directory of the run,
+/// not from the scene file: an installed scene does not write into the install prefix),
+/// stress times, snapshots, marked point.
+void ReadOutput(const Table& out, Scene* s) {
+  if (out.Has("directory"))
+    s->output_directory = fs::path(out.String("directory")).lexically_normal().string();
   if (out.Has("stress_times")) s->stress_times = out.Numbers("stress_times", kTimeOrZero);
   s->snapshot_every = out.Integer("snapshot_every", Range{0, kMaxTimeSteps, ""}, 0);
   s->checkpoint_every = out.Integer("checkpoint_every", Range{0, kMaxTimeSteps, ""},
@@ -430,7 +444,7 @@ void WarnAboutStressTimes(Scene* s) {
     if (t - 0.5 * s->dynamics.dt > last)
       s->warnings.push_back("output.stress_times has " + Str(t) +
                             " s, after the last step (t = " + Str(last) +
-                            " s): no stresses are written for it");
+                            " s): nothing is recorded at it");
 }
 
 }  // namespace
@@ -461,7 +475,7 @@ Scene LoadScene(const std::string& path, const SceneOverrides& overrides) {
   f.RejectUnknownKeys();
   ReadTime(top.Sub("time", true), &s);
   ReadSolver(top.Sub("solver", false), &s);
-  ReadOutput(top.Sub("output", false), base, &s);
+  ReadOutput(top.Sub("output", false), &s);
   top.RejectUnknownKeys();
   WarnAboutStressTimes(&s);
   return s;
