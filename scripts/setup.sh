@@ -26,6 +26,7 @@ packages=(
   petsc-dev openmpi-bin    # PETSc 3.18 with MUMPS, hypre (ncp/petsc, examples/petsc, mpi tests)
   clang libclang-rt-14-dev # libFuzzer targets (scripts/fuzz.sh)
   clang-format             # the format check of scripts/test.sh
+  python3-getfem           # GetFEM 5.4, the peer of benchmarks/contact/static_hertz_getfem.py (not the tests)
 )
 
 missing=()
