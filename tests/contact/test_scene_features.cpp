@@ -95,7 +95,7 @@ TEST_CASE("Rayleigh damping: logarithmic decrement 2 pi xi / sqrt(1 - xi^2)",
     const double expected = 2 * kPi * xi / std::sqrt(1 - xi * xi);
     const std::vector<double> d = LogDecrements(u);
     REQUIRE(d.size() >= 4);
-    for (double di : d) CHECK_THAT(di, Catch::Matchers::WithinRel(expected, 2e-3));
+    for (double di : d) CHECK_THAT(di, Catch::Matchers::WithinRel(expected, 5e-4));
     // The energy balance holds with the dissipation D (the undamped column stays 0),
     // and D is the energy lost: 1/2 k u0^2 - (kinetic + strain).
     const StepRecord& last = s.records.back();
@@ -103,7 +103,7 @@ TEST_CASE("Rayleigh damping: logarithmic decrement 2 pi xi / sqrt(1 - xi^2)",
     CHECK(last.friction_dissipation == 0.0);
     CHECK_THAT(
         last.damping_dissipation,
-        Catch::Matchers::WithinRel(0.5 * k * 1e-6 - last.kinetic - last.strain, 1e-2));
+        Catch::Matchers::WithinRel(0.5 * k * 1e-6 - last.kinetic - last.strain, 1e-3));
     CHECK(last.damping_dissipation > 0.5 * 0.5 * k * 1e-6);  // most of it after 6 periods
   }
 }
@@ -171,8 +171,8 @@ TEST_CASE("obstacle.motion: a punch pressed then slid pulls mu times its normal 
   // Sliding: every contact node slips, |tau_c| = mu lambda_c (lagged by one step).
   const StepRecord& last = sim.records().back();
   CHECK_THAT(last.tangent_force_sum,
-             Catch::Matchers::WithinRel(0.3 * last.normal_force_sum, 1e-3));
-  CHECK_THAT(last.normal_force_sum, Catch::Matchers::WithinRel(pressed_normal, 0.05));
+             Catch::Matchers::WithinRel(0.3 * last.normal_force_sum, 1e-5));
+  CHECK_THAT(last.normal_force_sum, Catch::Matchers::WithinRel(1e6, 1e-3));  // settled
   CHECK(std::abs(sim.summary().energy_balance_error) < 1e-6 * last.strain);
 }
 
