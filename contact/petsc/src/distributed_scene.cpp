@@ -685,7 +685,7 @@ std::string WhyNotDistributed(const Scene& scene) {
   if (scene.dynamics.compare_with_ipopt)
     return scene.source + ": compare_with_ipopt is not available on MPI ranks; " +
            supported;
-  return "";
+  return ::contact::internal::SerialOnlySceneFeature(scene);
 }
 
 SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress) {

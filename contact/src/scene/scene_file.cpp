@@ -9,6 +9,7 @@
 
 #include "contact/dynamics.hpp"
 #include "contact/scene.hpp"
+#include "scene/scene_features.hpp"
 #include "scene/toml_table.hpp"
 
 namespace contact {
@@ -83,6 +84,7 @@ void ReadGeometry(const Table& g, const fs::path& base, Scene* s) {
     s->dim = g.Integer("dimension", Range{2, 3, ""}, 0);
     if (s->dim != 2 && s->dim != 3)
       g.Fail("dimension", "must be 2 or 3 for a .msh geometry");
+    internal::ReadGroupNames(g, s);
   } else {
     s->dim = type == "rectangle" ? 2 : 3;
     std::map<Side, BoundaryRole> roles;
@@ -142,6 +144,7 @@ void ReadGeometry(const Table& g, const fs::path& base, Scene* s) {
              "entries must be components 0.." + std::to_string(s->dim - 1));
     s->fixed_components.push_back(static_cast<int>(c));
   }
+  s->fixed_displacement = internal::ReadHistory(g, "fixed_displacement", s->dim);
   g.RejectUnknownKeys();
 }
 
@@ -293,6 +296,7 @@ void ReadMaterial(const Table& m, Scene* s) {
                          : PlaneModel::kPlaneStrain;
     s->plane.thickness = m.Number("thickness", kLength, 1.0);
   }
+  internal::ReadDamping(m, s);
   m.RejectUnknownKeys();
 }
 
@@ -466,6 +470,7 @@ Scene LoadScene(const std::string& path, const SceneOverrides& overrides) {
   ReadLoads(top.Sub("loads", false), &s);
   const Table o = top.Sub("obstacle", true);
   s.obstacle = ReadObstacle(o, s.dim);
+  s.obstacle_motion = internal::ReadHistory(o, "motion", s.dim);
   s.normal_source = o.Choice("normal_source", {"body", "obstacle"}, "body") == "obstacle"
                         ? NormalSource::kObstacle
                         : NormalSource::kBody;
@@ -478,6 +483,7 @@ Scene LoadScene(const std::string& path, const SceneOverrides& overrides) {
   ReadOutput(top.Sub("output", false), &s);
   top.RejectUnknownKeys();
   WarnAboutStressTimes(&s);
+  internal::CheckSceneFeatures(s);
   return s;
 }
 
