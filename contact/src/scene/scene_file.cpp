@@ -53,12 +53,16 @@ Side ParseSide(const Table& t, const std::string& key, const std::string& s, int
 }
 
 ElementType ParseElement(const Table& t, int dim) {
-  const std::string e = dim == 2 ? t.Choice("element", {"quad4", "tri3"}, "quad4")
-                                 : t.Choice("element", {"hex8", "tet4"}, "hex8");
-  if (e == "quad4") return ElementType::kQuadrilateral4;
-  if (e == "tri3") return ElementType::kTriangle3;
-  if (e == "hex8") return ElementType::kHexahedron8;
-  return ElementType::kTetrahedron4;
+  static const std::map<std::string, ElementType> kinds = {
+      {"quad4", ElementType::kQuadrilateral4}, {"tri3", ElementType::kTriangle3},
+      {"hex8", ElementType::kHexahedron8},     {"tet4", ElementType::kTetrahedron4},
+      {"tri6", ElementType::kTriangle6},       {"quad8", ElementType::kQuadrilateral8},
+      {"quad9", ElementType::kQuadrilateral9}, {"tet10", ElementType::kTetrahedron10},
+      {"hex20", ElementType::kHexahedron20},   {"hex27", ElementType::kHexahedron27}};
+  const std::string e =
+      dim == 2 ? t.Choice("element", {"quad4", "tri3", "tri6", "quad8", "quad9"}, "quad4")
+               : t.Choice("element", {"hex8", "tet4", "tet10", "hex20", "hex27"}, "hex8");
+  return kinds.at(e);
 }
 
 // geometry.file: a relative path is taken from the scene file's directory; the message of
