@@ -12,6 +12,7 @@ packages=(
   catch2                   # Catch2 2.13 (tests)
   libgmsh-dev gmsh         # meshes (C++ API gmsh.h)
   libtoml11-dev            # scene files
+  libboost-dev             # Boost.Geometry R-tree: mortar contact search (header only)
   nlohmann-json3-dev       # JSON output
   libcxxopts-dev           # command-line parsing
   python3-matplotlib       # figures (run with /usr/bin/python3)

@@ -20,7 +20,9 @@
 #include <cxxopts.hpp>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 
+#include "contact/bodies_scene.hpp"
 #include "contact/scene.hpp"
 #include "contact/simulation.hpp"
 #include "ncp/output_file.hpp"
@@ -361,6 +363,49 @@ contact::SceneResult RunDistributed(const contact::Scene& scene, const MpiSessio
 // (unknown option, missing scene, option without its value), 3 an output file could not
 // be written (its name and the reason on stderr), 128 + the signal (130 SIGINT, 143
 // SIGTERM) for a run stopped by a signal after a finished step.
+// A scene with several bodies (docs/several-bodies.md): one process, a JSON or one-line
+// summary; exit 0 when completed, 1 otherwise.
+int RunBodiesScene(const cxxopts::ParseResult& args, bool distributed) {
+  for (const char* option : {"step", "ncp-function", "dt", "end-time", "friction",
+                             "friction-formulation", "tolerance", "resume"})
+    if (args.count(option)) {
+      std::cerr << "contact-sim: usage error: --" << option
+                << " is not supported with several bodies ([[bodies]]); set it in the "
+                   "scene file\n";
+      return 2;
+    }
+  if (distributed) {
+    std::cerr << "contact-sim: scenes with several bodies run on one process; MPI ranks "
+                 "are not supported yet\n";
+    return 1;
+  }
+  std::optional<std::string> output;
+  if (args.count("output")) output = args["output"].as<std::string>();
+  if (args.count("no-output")) output = std::string();
+  contact::BodiesSceneSummary r;
+  try {
+    r = contact::RunBodiesScene(args["scene"].as<std::string>(), output);
+  } catch (const std::exception& e) {
+    std::cerr << "contact-sim: " << e.what() << std::endl;
+    return 1;
+  }
+  nlohmann::json j;
+  j["status"] = r.status;
+  j["message"] = r.message;
+  j["analysis"] = r.analysis;
+  j["steps"] = r.steps;
+  j["newton_iterations"] = r.newton_iterations;
+  j["constraints"] = r.constraints;
+  j["pairs"] = r.pair_names;
+  j["pair_force"] = r.pair_force;
+  j["max_penetration"] = r.max_penetration;
+  if (args.count("json"))
+    std::cout << j.dump(2) << std::endl;
+  else if (!args.count("quiet") || r.status != "completed")
+    std::cout << "contact-sim: " << r.status << ": " << r.message << std::endl;
+  return r.status == "completed" ? 0 : 1;
+}
+
 int main(int argc, char** argv) {
   const MpiSession mpi;
   cxxopts::Options cli = MakeCli();
@@ -399,6 +444,13 @@ int main(int argc, char** argv) {
   }
   const bool distributed =
       mpi.active() && (mpi.size() > 1 || args.count("distributed") > 0);
+  try {
+    if (contact::IsBodiesScene(args["scene"].as<std::string>()))
+      return RunBodiesScene(args, distributed);
+  } catch (const std::exception& e) {
+    std::cerr << "contact-sim: " << e.what() << std::endl;
+    return 1;
+  }
   const bool json = args.count("json") > 0, quiet = args.count("quiet") > 0;
   contact::Scene scene;
   contact::SceneResult r;

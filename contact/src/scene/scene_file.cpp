@@ -9,6 +9,7 @@
 
 #include "contact/dynamics.hpp"
 #include "contact/scene.hpp"
+#include "scene/scene_bodies.hpp"
 #include "scene/scene_features.hpp"
 #include "scene/toml_table.hpp"
 
@@ -492,3 +493,17 @@ Scene LoadScene(const std::string& path, const SceneOverrides& overrides) {
 }
 
 }  // namespace contact
+
+namespace contact::internal {
+
+toml::value ParseSceneFile(const std::string& path) {
+  return ParseScene(path, ReadSceneText(path), {});
+}
+
+void ReadBodyTables(const Table& body, const std::string& base, Scene* s) {
+  ReadGeometry(body.Sub("geometry", true), base, s);
+  ReadMaterial(body.Sub("material", true), s);
+  ReadLoads(body.Sub("loads", false), s);
+}
+
+}  // namespace contact::internal
