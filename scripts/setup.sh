@@ -12,6 +12,7 @@ packages=(
   catch2                   # Catch2 2.13 (tests)
   libgmsh-dev gmsh         # meshes (C++ API gmsh.h)
   libtoml11-dev            # scene files
+  libboost-dev             # Boost.Geometry R-tree: mortar contact search (header only)
   nlohmann-json3-dev       # JSON output
   libcxxopts-dev           # command-line parsing
   python3-matplotlib       # figures (run with /usr/bin/python3)
@@ -22,9 +23,11 @@ packages=(
   pybind11-dev python3-dev # Python bindings (python/)
   python3-numpy python3-scipy python3-pytest   # Python packages' arrays, sparse Jacobians, tests
   python3-vtk9             # reads the ParaView output back in tests/python/test_vtk_output.py
+  xvfb                     # a virtual X display: contact.vtu.render draws 3D snapshots with VTK off screen
   petsc-dev openmpi-bin    # PETSc 3.18 with MUMPS, hypre (ncp/petsc, examples/petsc, mpi tests)
   clang libclang-rt-14-dev # libFuzzer targets (scripts/fuzz.sh)
   clang-format             # the format check of scripts/test.sh
+  python3-getfem           # GetFEM 5.4, the peer of benchmarks/contact/static_hertz_getfem.py (not the tests)
 )
 
 missing=()

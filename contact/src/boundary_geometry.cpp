@@ -11,7 +11,8 @@ namespace contact::internal {
 
 namespace {
 
-// The faces of each element type as cycles of local nodes (gmsh numbering).
+// The faces of each element type as cycles of local corner nodes (gmsh numbering); a
+// quadratic element has the faces of its linear element.
 const std::vector<std::vector<int>>& LocalFaces(ElementType type) {
   static const std::vector<std::vector<int>> triangle = {{0, 1}, {1, 2}, {2, 0}};
   static const std::vector<std::vector<int>> quadrilateral = {
@@ -20,7 +21,7 @@ const std::vector<std::vector<int>>& LocalFaces(ElementType type) {
       {0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
   static const std::vector<std::vector<int>> hexahedron = {
       {0, 3, 2, 1}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}, {4, 5, 6, 7}};
-  switch (type) {
+  switch (LinearElementOf(type)) {
     case ElementType::kTriangle3:
       return triangle;
     case ElementType::kQuadrilateral4:
@@ -33,8 +34,9 @@ const std::vector<std::vector<int>>& LocalFaces(ElementType type) {
   }
 }
 
-// True if `facet` lists the nodes of the local face `face` of element e in cyclic order,
-// in either direction (a quadrilateral given as 0-2-1-3 is a bow tie, not the face).
+// True if `facet` lists the corners of the local face `face` of element e in cyclic
+// order, in either direction (a quadrilateral given as 0-2-1-3 is a bow tie, not the
+// face).
 bool IsFaceOf(const Mesh& mesh, int e, const std::vector<int>& face, const int* facet) {
   const int n = static_cast<int>(face.size());
   for (int shift = 0; shift < n; ++shift) {
@@ -46,6 +48,16 @@ bool IsFaceOf(const Mesh& mesh, int e, const std::vector<int>& face, const int* 
     if (forward || backward) return true;
   }
   return false;
+}
+
+// The facet's nodes past its corners (mid-edge and centre nodes) are nodes of element e.
+bool HasHigherNodes(const Mesh& mesh, int e, const int* facet, int corners, int nodes) {
+  const auto element = mesh.elements.col(e);
+  for (int a = corners; a < nodes; ++a)
+    if (std::find(element.data(), element.data() + element.size(), facet[a]) ==
+        element.data() + element.size())
+      return false;
+  return true;
 }
 
 }  // namespace
@@ -78,8 +90,10 @@ std::vector<int> FindFacetElements(const Mesh& mesh, const BoundaryFacets& facet
     for (int k = offsets[facet[0]]; k < offsets[facet[0] + 1]; ++k) {
       const int e = incident[k];
       for (const auto& face : faces) {
-        if (static_cast<int>(face.size()) != facets.connectivity.rows() ||
-            !IsFaceOf(mesh, e, face, facet))
+        const int corners = CornersPerFacet(facets.type);
+        if (static_cast<int>(face.size()) != corners || !IsFaceOf(mesh, e, face, facet) ||
+            !HasHigherNodes(mesh, e, facet, corners,
+                            static_cast<int>(facets.connectivity.rows())))
           continue;
         if (owner[f] >= 0)
           throw std::invalid_argument(describe() + " is an interior face shared by " +

@@ -113,6 +113,7 @@ void RecordFields(Io& io, Record& r) {
   io("record.external_work", r.external_work);
   io("record.normal_contact_work", r.normal_contact_work);
   io("record.friction_dissipation", r.friction_dissipation);
+  io("record.damping_dissipation", r.damping_dissipation);
   io("record.energy_balance_error", r.energy_balance_error);
   io("record.normal_force_sum", r.normal_force_sum);
   io("record.tangent_force_sum", r.tangent_force_sum);
@@ -189,6 +190,7 @@ void CheckpointFields(Io& io, Data& d) {
   io("energy.external_work", d.energy.external_work);
   io("energy.normal_work", d.energy.normal_work);
   io("energy.friction_dissipation", d.energy.friction_dissipation);
+  io("energy.damping_dissipation", d.energy.damping_dissipation);
   io("energy.work_scale", d.energy.work_scale);
   io("warm_start", d.warm_start);
   RecordFields(io, d.first_inaccurate);
@@ -256,6 +258,8 @@ std::uint64_t ModelFingerprint(const DynamicModel& model, const DynamicOptions& 
   const double numbers[] = {options.dt, options.start_time, options.end_time,
                             options.friction_coefficient, options.ncp.tolerance};
   HashBytes(numbers, std::size(numbers), &hash);
+  const double damping[] = {model.damping.mass, model.damping.stiffness};
+  HashBytes(damping, std::size(damping), &hash);
   const int choices[] = {static_cast<int>(options.step_method),
                          static_cast<int>(options.friction_formulation),
                          static_cast<int>(options.initial_state),

@@ -5,42 +5,24 @@
 #pragma once
 
 #include <cholmod.h>
-#include <dlfcn.h>
 
 #include <Eigen/SparseCore>
 #include <cstring>
 #include <optional>
 #include <stdexcept>
 
+#include "ncp/blas_threads.hpp"
+
 namespace contact::internal {
 
-/// One BLAS thread while alive, if the BLAS is OpenBLAS (found at run time: Debian's
-/// libblas.so.3 may be OpenBLAS or the reference BLAS), then the previous count again. A
-/// solve with one right-hand side calls BLAS on small supernodes, where OpenBLAS's
-/// threads cost more than they give and spin against any other busy process: measured, 20
-/// steps of the sparse step on a 2700-dof slab (~120 solves per step) 9.9 s with
-/// OpenBLAS's 2 threads next to another run, 0.55 s with one.
-class SingleBlasThread {
+/// One BLAS thread while alive (ncp::ScopedBlasThreads; OpenBLAS only). A solve with one
+/// right-hand side calls BLAS on small supernodes, where OpenBLAS's threads cost more
+/// than they give and spin against any other busy process: measured, 20 steps of the
+/// sparse step on a 2700-dof slab (~120 solves per step) 9.9 s with OpenBLAS's 2 threads
+/// next to another run, 0.55 s with one.
+class SingleBlasThread : public ncp::ScopedBlasThreads {
  public:
-  SingleBlasThread() {
-    static const auto get =
-        reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
-    static const auto set =
-        reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-    if (!get || !set) return;
-    set_ = set;
-    previous_ = get();
-    if (previous_ > 1) set_(1);
-  }
-  ~SingleBlasThread() {
-    if (set_ && previous_ > 1) set_(previous_);
-  }
-  SingleBlasThread(const SingleBlasThread&) = delete;
-  SingleBlasThread& operator=(const SingleBlasThread&) = delete;
-
- private:
-  void (*set_)(int) = nullptr;
-  int previous_ = 0;
+  SingleBlasThread() : ncp::ScopedBlasThreads(1) {}
 };
 
 class CholmodFactor {

@@ -47,6 +47,28 @@ std::vector<int> NodeIndex(const Mesh& mesh, const std::vector<int>& nodes) {
   return index;
 }
 
+// The nodal contact weights w_k = h int N_k dS must be positive for the nodal contact
+// conditions to be well posed. They are for linear facets and for the Line3 and
+// Quadrilateral9 facets of Triangle6, Quadrilateral8/9 and Hexahedron27; the standard
+// Triangle6 facet of Tetrahedron10 has w = 0 at its corners and the serendipity
+// Quadrilateral8 facet of Hexahedron20 has w < 0 there (-1/12 of the facet area).
+void CheckPositiveWeights(const Mesh& mesh, const ContactBoundary& boundary) {
+  const Vector& w = boundary.tributary_area;
+  const double scale = w.cwiseAbs().maxCoeff();
+  for (int k = 0; k < w.size(); ++k) {
+    if (w(k) > 1e-10 * scale) continue;
+    std::ostringstream message;
+    message << "boundary group '" << boundary.group << "': contact on "
+            << ToString(FacetTypeOf(mesh.element_type)) << " facets of "
+            << ToString(mesh.element_type) << " elements is not supported: node "
+            << boundary.nodes[static_cast<std::size_t>(k)]
+            << " has the nodal contact weight int N dS = " << w(k)
+            << " (expected > 0); use Hexahedron27, Hexahedron8 or Tetrahedron4 elements "
+               "in 3D contact";
+    throw std::invalid_argument(message.str());
+  }
+}
+
 }  // namespace
 
 SparseMatrix ContactBoundary::LumpedBoundaryMatrix() const {
@@ -91,6 +113,7 @@ ContactBoundary MakeContactBoundary(const ElasticBody& body, const std::string& 
   boundary.boundary_matrix.resize(num_contact, num_contact);
   boundary.boundary_matrix.setFromTriplets(triplets.begin(), triplets.end());
   boundary.tributary_area = boundary.boundary_matrix * Vector::Ones(num_contact);
+  CheckPositiveWeights(mesh, boundary);
   boundary.normals =
       AverageNormals(mesh, facets, points, boundary.nodes, boundary.contact_index, group);
   return boundary;

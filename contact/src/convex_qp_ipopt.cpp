@@ -7,8 +7,10 @@
 #include <vector>
 
 #include "contact/convex_qp.hpp"
-#include "ipopt_library.hpp"
 #include "text_format.hpp"
+#ifdef CONTACT_WITH_IPOPT
+#include "ipopt_library.hpp"
+#endif
 
 namespace contact {
 namespace {
@@ -64,6 +66,7 @@ void ValidateProblem(const SparseMatrix& P, const Vector& q, const SparseMatrix&
         Format(1e-12 * scale) + " (1e-12 max |P_ij|), got " + Format(asymmetry));
 }
 
+#ifdef CONTACT_WITH_IPOPT
 /// The QP for Ipopt's C interface: variables x (unbounded), constraints g(x) = G x with
 /// g_L = -inf, g_U = h. Ipopt's Lagrangian is f + lambda' g (Waechter and Biegler 2006),
 /// so lambda is the KKT multiplier z >= 0 of G x <= h. Hessian (obj_factor P, the
@@ -285,6 +288,8 @@ void SolveWithIpopt(const internal::IpoptLibrary& ipopt, const SparseMatrix& P,
   result->multipliers = std::move(z);
 }
 
+#endif  // CONTACT_WITH_IPOPT
+
 /// Recomputes the unscaled KKT residuals of result->x, result->multipliers.
 void ComputeResiduals(const SparseMatrix& P, const Vector& q, const SparseMatrix& G,
                       const Vector& h, ConvexQpResult* result) {
@@ -303,6 +308,14 @@ void ComputeResiduals(const SparseMatrix& P, const Vector& q, const SparseMatrix
 }
 
 }  // namespace
+
+bool BuiltWithIpopt() {
+#ifdef CONTACT_WITH_IPOPT
+  return true;
+#else
+  return false;
+#endif
+}
 
 bool ConvexQpOptions::IsValid(std::string* error) const {
   const auto fail = [error](const std::string& text) {
@@ -378,6 +391,7 @@ ConvexQpResult SolveConvexQpIpopt(const SparseMatrix& P, const Vector& q,
     throw std::invalid_argument("SolveConvexQpIpopt: " + error);
 
   ConvexQpResult result;
+#ifdef CONTACT_WITH_IPOPT
   const internal::IpoptLibrary& ipopt = internal::LoadIpopt();
   if (!ipopt.error.empty()) {
     result.status = ConvexQpStatus::kFailed;
@@ -385,6 +399,10 @@ ConvexQpResult SolveConvexQpIpopt(const SparseMatrix& P, const Vector& q,
   } else {
     SolveWithIpopt(ipopt, P, q, G, h, x0, options, &result);
   }
+#else
+  result.status = ConvexQpStatus::kFailed;
+  result.message = kWithoutIpopt;
+#endif
   if (result.x.size() != q.size()) {
     // Ipopt could not be run: report the start point with z = 0.
     result.x = x0;

@@ -16,9 +16,11 @@
 #include <stdexcept>
 
 #include "checkpoint.hpp"
+#include "contact/convex_qp.hpp"
 #include "contact/simulation.hpp"
 #include "contact/static_contact.hpp"
 #include "critical_time_step.hpp"
+#include "damping.hpp"
 #include "energy_balance.hpp"
 #include "mass_inverse.hpp"
 #include "parallel.hpp"
@@ -68,6 +70,12 @@ void Validate(const DynamicModel& model, const DynamicOptions& options) {
     throw std::invalid_argument(who + "friction_coefficient must be >= 0, got " +
                                 std::to_string(options.friction_coefficient));
   if ((options.step_method == StepMethod::kIpopt || options.compare_with_ipopt) &&
+      !BuiltWithIpopt())
+    throw std::invalid_argument(who +
+                                "the Ipopt step (solver.step = \"ipopt\", "
+                                "compare_with_ipopt) cannot run: " +
+                                kWithoutIpopt);
+  if ((options.step_method == StepMethod::kIpopt || options.compare_with_ipopt) &&
       options.friction_coefficient > 0.0)
     throw std::invalid_argument(who +
                                 "the Ipopt step handles frictionless contact only "
@@ -86,10 +94,13 @@ void Validate(const DynamicModel& model, const DynamicOptions& options) {
 // why) if dt exceeds it without allow_unstable_time_step.
 bool CheckCriticalStep(const DynamicModel& model, const DynamicOptions& options,
                        internal::MassInverse* mass, DynamicSummary* summary) {
-  return internal::AcceptCriticalStep(
+  const CriticalTimeStep crit = internal::WithDamping(
       internal::Lanczos(model.K, model.M, mass, kCriticalStepTolerance,
                         kCriticalStepMaxIterations),
-      options, summary);
+      model.damping);
+  if (internal::AcceptCriticalStep(crit, options, summary)) return true;
+  summary->message += internal::DampedCriticalStepNote(crit, model.damping);
+  return false;
 }
 
 }  // namespace
@@ -132,6 +143,7 @@ struct State : internal::CarriedState {
   Eigen::VectorXd f;  // f(t_k) [N]
   // Step k -> k+1 (buffers).
   Eigen::VectorXd Q, q, bound, u_next, Ku_next, Mdu, r, residual, lambda_next;
+  Eigen::VectorXd damping_force;  // C v^k [N] (damping.hpp)
 };
 
 // Initial state (thesis section 4.3): static frictionless equilibrium for f(t0) at rest,
@@ -195,7 +207,8 @@ class CentralDifferences {
         method_(internal::MakeStepAlgorithm(model, options, mass, m_max_)),
         energy_(state->u, state->u_previous, state->Ku, state->Mdu_previous, dt_),
         load_(model.load),
-        nodes_(model.contact_nodes) {
+        nodes_(model.contact_nodes),
+        damping_(model, options.dt) {
     // The frictionless reference of compare_with_ipopt, next to any other step method.
     if (options.compare_with_ipopt && options.step_method != StepMethod::kIpopt)
       reference_ =
@@ -243,6 +256,21 @@ class CentralDifferences {
       nodes_[c].gap = gaps(static_cast<Eigen::Index>(c));
   }
   const Eigen::VectorXd& gaps() const { return gap0_; }
+  /// The obstacle's translation over the next step [m]: the friction slip is relative to
+  /// it, which only some step methods take (step_method.hpp, TakesObstacleSlip).
+  void AddObstacleStep(const Eigen::VectorXd& increment) {
+    if (options_.friction_coefficient > 0.0 && !method_->TakesObstacleSlip() &&
+        increment.norm() > 0.0)
+      throw std::invalid_argument(
+          std::string(kWho) + "the obstacle moves with friction (coefficient " +
+          internal::FormatShort(options_.friction_coefficient) +
+          "): the slip relative to a moving obstacle is taken by the explicit step only "
+          "(solver.step = \"explicit\"), not the " +
+          ToString(summary_.step_method) + " step");
+    if (obstacle_step_.size() == 0)
+      obstacle_step_ = Eigen::VectorXd::Zero(increment.size());
+    obstacle_step_ += increment;
+  }
   double force_scale() const { return force_scale_; }
   const StepRecord& first_inaccurate() const { return first_inaccurate_; }
 
@@ -270,6 +298,10 @@ class CentralDifferences {
     State& s = state_;
     load_(options_.start_time + static_cast<double>(k) * dt_, &s.f);
     s.Q = s.Ku - s.f - s.Mdu_previous / (dt_ * dt_);
+    if (damping_.active()) {  // + C v^k, v^k = (u^k - u^{k-1}) / dt (damping.hpp)
+      damping_.Compute(s.Mdu_previous, s.du, &s.damping_force);
+      s.Q += s.damping_force;
+    }
     s.q = s.Q / force_scale_;
     if (options_.friction_coefficient > 0.0)
       s.bound = (options_.friction_coefficient / force_scale_) * s.lambda.cwiseMax(0.0);
@@ -284,8 +316,11 @@ class CentralDifferences {
   // failure.
   bool SolveStep(long k, const internal::StepScales& scales, StepRecord* rec) {
     State& s = state_;
-    const internal::StepData data{s.q, s.u, s.bound, s.du, scales, force_scale_, gap0_};
+    const internal::StepData data{
+        s.q,    s.u,          s.bound, s.du,
+        scales, force_scale_, gap0_,   obstacle_step_.size() ? &obstacle_step_ : nullptr};
     const internal::StepOutcome outcome = method_->Solve(data, &s.contact);
+    obstacle_step_.resize(0);  // (the next step's is set anew)
     rec->solve_seconds = outcome.solve_seconds;
     rec->solver_status = outcome.status;
     rec->newton_iterations = outcome.newton_iterations;
@@ -340,6 +375,8 @@ class CentralDifferences {
                                   s.u_next, s.bound, &s.residual, rec);
     s.contact_force_max = (s.r - s.residual).lpNorm<Eigen::Infinity>();
     energy_.AddStepWork(model_.dim, nodes_, s.f, s.r, s.u_next, s.u_previous);
+    if (damping_.active())
+      energy_.AddDampingWork(s.damping_force, s.u_next, s.u_previous);
     energy_.Record(s.du, s.Mdu, s.u, s.u_next, s.Ku_next, dt_, rec);
     s.lambda_next = force_scale_ * s.contact.normal_force;
     rec->normal_force_sum = s.lambda_next.sum();
@@ -419,6 +456,8 @@ class CentralDifferences {
   std::vector<ContactNode> nodes_;  // the model's, with the current gaps s_c
   Eigen::VectorXd gap0_;            // s_c [m]
   StepRecord first_inaccurate_;
+  internal::DampingForce damping_;  // C v^k (none unless model.damping is set)
+  Eigen::VectorXd obstacle_step_;   // the obstacle's translation over the step [m]
 };
 
 }  // namespace
@@ -655,7 +694,10 @@ SimulationState Simulation::Step(long n) {
                                 std::to_string(n));
   Impl& s = *impl_;
   const auto start = Clock::now();
-  for (long i = 0; i < n && s.run_state == SimulationState::kRunning; ++i) s.Step();
+  for (long i = 0; i < n && s.run_state == SimulationState::kRunning; ++i) {
+    if (scene_) ApplySceneHistories();
+    s.Step();
+  }
   if (s.integrator) s.summary.u = s.state.u;
   if (s.run_state == SimulationState::kRunning)
     s.summary.message = "running: " + std::to_string(s.k) + " of " +
@@ -787,6 +829,10 @@ void Simulation::SetContactGaps(const Eigen::VectorXd& gaps) {
           "contact::Simulation::SetContactGaps: the gap of contact node " +
           std::to_string(c) + " is not finite [m]");
   if (impl_->integrator) impl_->integrator->SetGaps(gaps);
+}
+
+void Simulation::AddObstacleStep(const Eigen::VectorXd& increment) {
+  if (impl_->integrator) impl_->integrator->AddObstacleStep(increment);
 }
 
 const Eigen::VectorXd& Simulation::contact_gaps() const {

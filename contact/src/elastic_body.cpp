@@ -101,7 +101,10 @@ struct ElementMass {
 // matrix is bit-for-bit that of a serial loop for any number of threads.
 template <class ElementMatrix, class Compute, class Scatter>
 void AssembleInBatches(int num_elements, const Compute& compute, const Scatter& scatter) {
-  constexpr int kBatch = 2048;
+  // At most 2048 element matrices and about 16 MB per batch (a Hexahedron27 matrix is
+  // 81 x 81).
+  constexpr int kBatch = static_cast<int>(std::max<std::size_t>(
+      64, std::min<std::size_t>(2048, (16u << 20) / sizeof(ElementMatrix))));
   std::vector<ElementMatrix, Eigen::aligned_allocator<ElementMatrix>> batch(
       static_cast<size_t>(std::min(kBatch, num_elements)));
   for (int first = 0; first < num_elements; first += kBatch) {
@@ -167,6 +170,24 @@ void IntegrateAgainstShapeFunctions(const Mesh& mesh, double factor, const Field
   }
 }
 
+// HRZ lumping (Hinton, Rock & Zienkiewicz 1976): the diagonal of the consistent element
+// mass scaled to the element's total mass, m_a = M_aa * (sum_ab M_ab) / (sum_b M_bb). It
+// is positive for every element (M_aa = rho h int N_a^2 dV > 0), unlike the row sums
+// h int rho N_a dV, which are zero at Triangle6 corners and negative at Tetrahedron10 and
+// serendipity corners.
+template <ElementType T>
+void AddHrzLumpedMass(const Mesh& mesh, double rho, double factor, Vector* m) {
+  constexpr int kDim = ElementTraits<T>::kDim;
+  typename ElementMass<T>::Matrix Me;
+  for (int e = 0; e < mesh.NumElements(); ++e) {
+    ElementMass<T>::Compute(mesh, e, rho, factor, &Me);
+    const double scale = Me.sum() / Me.trace();
+    for (int a = 0; a < ElementMass<T>::kNodes; ++a)
+      for (int i = 0; i < kDim; ++i)
+        (*m)(kDim * mesh.elements(a, e) + i) += scale * Me(a, a);
+  }
+}
+
 void CheckVectorSize(const Eigen::VectorXd& value, int dim, const char* what) {
   if (value.size() != dim)
     throw std::invalid_argument(std::string(what) + " must have " + std::to_string(dim) +
@@ -212,8 +233,15 @@ SparseMatrix ElasticBody::ConsistentMassMatrix() const {
 }
 
 Vector ElasticBody::LumpedMass() const {
-  // Row sums of M: sum_b N_b = 1, so m_(a,i) = h int rho N_a dV.
   Vector m = Vector::Zero(NumDofs());
+  if (ElementOrder(mesh_.element_type) == 2) {
+    internal::DispatchElement(mesh_.element_type, [&](auto tag) {
+      AddHrzLumpedMass<decltype(tag)::value>(mesh_, material_.density,
+                                             IntegrationFactor(), &m);
+    });
+    return m;
+  }
+  // Linear elements: row sums of M (sum_b N_b = 1, so m_(a,i) = h int rho N_a dV).
   const Eigen::VectorXd ones = Eigen::VectorXd::Constant(mesh_.dim, material_.density);
   internal::DispatchElement(mesh_.element_type, [&](auto tag) {
     IntegrateAgainstShapeFunctions<decltype(tag)::value>(

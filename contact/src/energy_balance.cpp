@@ -44,6 +44,12 @@ void EnergyBalance::AddContactWork(int dim, const std::vector<ContactNode>& node
   normal_work += dw_normal;
 }
 
+void EnergyBalance::AddDampingWork(const Eigen::VectorXd& c,
+                                   const Eigen::VectorXd& u_next,
+                                   const Eigen::VectorXd& u_previous) {
+  damping_dissipation += 0.5 * (c.dot(u_next) - c.dot(u_previous));
+}
+
 void EnergyBalance::Record(const Eigen::VectorXd& du, const Eigen::VectorXd& Mdu,
                            const Eigen::VectorXd& u, const Eigen::VectorXd& u_next,
                            const Eigen::VectorXd& Ku_next, double dt,
@@ -59,8 +65,9 @@ void EnergyBalance::Record(double du_Mdu, double u_Ku_next, double u_next_Ku_nex
   rec->external_work = external_work;
   rec->normal_contact_work = normal_work;
   rec->friction_dissipation = friction_dissipation;
-  rec->energy_balance_error =
-      shadow - energy0 - external_work - normal_work + friction_dissipation;
+  rec->damping_dissipation = damping_dissipation;
+  rec->energy_balance_error = shadow - energy0 - external_work - normal_work +
+                              friction_dissipation + damping_dissipation;
 }
 
 bool EnergyWithinGuard(const StepRecord& rec, double reference, double factor,

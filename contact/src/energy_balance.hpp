@@ -19,7 +19,8 @@ struct EnergyBalance {
   double energy0 = 0.0;   ///< shadow energy E^{-1/2} = kinetic0 + 1/2 (u^{-1})' K u^0
   double strain0 = 0.0;   ///< 1/2 (u^0)' K u^0
   double external_work = 0.0, normal_work = 0.0, friction_dissipation = 0.0;
-  double work_scale = 0.0;  ///< sum of |external work increments|
+  double damping_dissipation = 0.0;  ///< D = sum of c^k . s, c^k = C v^k (damping.hpp)
+  double work_scale = 0.0;           ///< sum of |external work increments|
 
   EnergyBalance() = default;  ///< zero (a checkpoint fills it)
   /// At the start: Ku = K u^0, Mdu = M (u^0 - u^{-1}).
@@ -39,9 +40,13 @@ struct EnergyBalance {
                       const Eigen::VectorXd& r, const Eigen::VectorXd& u_next,
                       const Eigen::VectorXd& u_previous);
 
+  /// D += c . (u^{k+1} - u^{k-1}) / 2 for the damping force c = C v^k [N].
+  void AddDampingWork(const Eigen::VectorXd& c, const Eigen::VectorXd& u_next,
+                      const Eigen::VectorXd& u_previous);
+
   /// The energies of rec after step k: kinetic 1/2 du' M du / dt^2 (Mdu = M du), strain
   /// 1/2 (u^{k+1})' K u^{k+1} (Ku_next = K u^{k+1}), the cumulative works and the balance
-  /// error E^{k+1/2} - E^{-1/2} - W_ext - W_normal + dissipation.
+  /// error E^{k+1/2} - E^{-1/2} - W_ext - W_normal + dissipation + D.
   void Record(const Eigen::VectorXd& du, const Eigen::VectorXd& Mdu,
               const Eigen::VectorXd& u, const Eigen::VectorXd& u_next,
               const Eigen::VectorXd& Ku_next, double dt, StepRecord* rec) const;

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "quadratic_element.hpp"
 #include "reference_element.hpp"
 
 namespace contact::internal {
@@ -27,9 +28,37 @@ constexpr int kGmshTriangle3 = 2;
 constexpr int kGmshQuadrilateral4 = 3;
 constexpr int kGmshTetrahedron4 = 4;
 constexpr int kGmshHexahedron8 = 5;
+constexpr int kGmshLine3 = 8;
+constexpr int kGmshTriangle6 = 9;
+constexpr int kGmshQuadrilateral9 = 10;
+constexpr int kGmshTetrahedron10 = 11;
+constexpr int kGmshHexahedron27 = 12;
+constexpr int kGmshQuadrilateral8 = 16;
+constexpr int kGmshHexahedron20 = 17;
+
+// gmsh's volume element types and ours (the node orders coincide, mesh.hpp).
+constexpr std::pair<int, ElementType> kVolumeTypes[] = {
+    {kGmshTriangle3, ElementType::kTriangle3},
+    {kGmshQuadrilateral4, ElementType::kQuadrilateral4},
+    {kGmshTetrahedron4, ElementType::kTetrahedron4},
+    {kGmshHexahedron8, ElementType::kHexahedron8},
+    {kGmshTriangle6, ElementType::kTriangle6},
+    {kGmshQuadrilateral8, ElementType::kQuadrilateral8},
+    {kGmshQuadrilateral9, ElementType::kQuadrilateral9},
+    {kGmshTetrahedron10, ElementType::kTetrahedron10},
+    {kGmshHexahedron20, ElementType::kHexahedron20},
+    {kGmshHexahedron27, ElementType::kHexahedron27}};
 
 int GmshType(FacetType type) {
   switch (type) {
+    case FacetType::kLine3:
+      return kGmshLine3;
+    case FacetType::kTriangle6:
+      return kGmshTriangle6;
+    case FacetType::kQuadrilateral8:
+      return kGmshQuadrilateral8;
+    case FacetType::kQuadrilateral9:
+      return kGmshQuadrilateral9;
     case FacetType::kLine2:
       return kGmshLine2;
     case FacetType::kTriangle3:
@@ -58,16 +87,16 @@ std::size_t ChooseVolumeElements(
   int chosen = -1;
   for (std::size_t t = 0; t < types.size(); ++t) {
     if (element_tags[t].empty()) continue;
-    const bool supported =
-        dim == 2 ? (types[t] == kGmshTriangle3 || types[t] == kGmshQuadrilateral4)
-                 : (types[t] == kGmshTetrahedron4 || types[t] == kGmshHexahedron8);
+    bool supported = false;
+    for (const auto& [gmsh_type, type] : kVolumeTypes)
+      supported = supported || (gmsh_type == types[t] && Dimension(type) == dim);
     if (!supported)
-      throw std::invalid_argument(source + ": unsupported element type " +
-                                  DescribeGmshType(types[t]) + " (" +
-                                  std::to_string(element_tags[t].size()) +
-                                  " elements); supported are linear 3-node triangles and "
-                                  "4-node quadrilaterals in "
-                                  "2D, 4-node tetrahedra and 8-node hexahedra in 3D");
+      throw std::invalid_argument(
+          source + ": unsupported element type " + DescribeGmshType(types[t]) + " (" +
+          std::to_string(element_tags[t].size()) +
+          " elements); supported are 3- and 6-node triangles, "
+          "4-, 8- and 9-node quadrilaterals in 2D, 4- and 10-node "
+          "tetrahedra, 8-, 20- and 27-node hexahedra in 3D");
     if (chosen >= 0)
       throw std::invalid_argument(source + ": unsupported mixed element types " +
                                   DescribeGmshType(types[chosen]) + " and " +
@@ -82,16 +111,9 @@ std::size_t ChooseVolumeElements(
 }
 
 ElementType ElementTypeOfGmsh(int gmsh_type) {
-  switch (gmsh_type) {
-    case kGmshTriangle3:
-      return ElementType::kTriangle3;
-    case kGmshQuadrilateral4:
-      return ElementType::kQuadrilateral4;
-    case kGmshTetrahedron4:
-      return ElementType::kTetrahedron4;
-    default:
-      return ElementType::kHexahedron8;
-  }
+  for (const auto& [code, type] : kVolumeTypes)
+    if (code == gmsh_type) return type;
+  return ElementType::kHexahedron8;
 }
 
 /// The nodes of the volume elements into mesh->nodes, numbered 0, 1, ... by increasing
@@ -271,26 +293,33 @@ void OrientElementsPositively(Mesh* mesh) {
     constexpr int kDim = ElementTraits<T>::kDim;
     constexpr int kNodes = ElementTraits<T>::kNodes;
     // Reference centroid: (1/3, 1/3), (1/4, 1/4, 1/4) or the origin.
+    const ElementType kLinear = LinearElementOf(T);
     double xi[3] = {0, 0, 0};
-    if (T == ElementType::kTriangle3 || T == ElementType::kTetrahedron4)
+    if (kLinear == ElementType::kTriangle3 || kLinear == ElementType::kTetrahedron4)
       for (int k = 0; k < kDim; ++k) xi[k] = 1.0 / (kDim + 1);
     double N[kNodes];
     Eigen::Matrix<double, kNodes, kDim, Eigen::RowMajor> dN;
     EvaluateShape(kDim, kNodes, xi, N, dN.data());
     const Eigen::Matrix<double, kNodes, kDim> dN_dxi = dN;
+    // Mirror the reference element: a permutation of the corners with opposite
+    // orientation, the mid-edge and mid-face nodes following their corners.
+    std::vector<int> corners(static_cast<std::size_t>(CornersPerElement(T)));
+    for (std::size_t a = 0; a < corners.size(); ++a) corners[a] = static_cast<int>(a);
+    if (kLinear == ElementType::kTriangle3 || kLinear == ElementType::kTetrahedron4) {
+      std::swap(corners[1], corners[2]);
+    } else if (kLinear == ElementType::kQuadrilateral4) {
+      std::swap(corners[1], corners[3]);
+    } else {
+      std::swap(corners[1], corners[3]);
+      std::swap(corners[5], corners[7]);
+    }
+    const std::vector<int> mirror = ExtendCornerPermutation(kDim, kNodes, corners);
     for (int e = 0; e < mesh->NumElements(); ++e) {
       const auto X = ElementCoordinates<T>(*mesh, e);
       if ((X * dN_dxi).determinant() >= 0) continue;
-      auto column = mesh->elements.col(e);
-      // Mirror the reference element: a permutation with opposite orientation.
-      if (T == ElementType::kTriangle3 || T == ElementType::kTetrahedron4) {
-        std::swap(column(1), column(2));
-      } else if (T == ElementType::kQuadrilateral4) {
-        std::swap(column(1), column(3));
-      } else {
-        std::swap(column(1), column(3));
-        std::swap(column(5), column(7));
-      }
+      const Eigen::VectorXi column = mesh->elements.col(e);
+      for (int a = 0; a < kNodes; ++a)
+        mesh->elements(a, e) = column(mirror[static_cast<std::size_t>(a)]);
     }
   });
 }

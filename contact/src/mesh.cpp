@@ -21,6 +21,18 @@ const char* ToString(ElementType type) {
       return "Tetrahedron4";
     case ElementType::kHexahedron8:
       return "Hexahedron8";
+    case ElementType::kTriangle6:
+      return "Triangle6";
+    case ElementType::kQuadrilateral8:
+      return "Quadrilateral8";
+    case ElementType::kQuadrilateral9:
+      return "Quadrilateral9";
+    case ElementType::kTetrahedron10:
+      return "Tetrahedron10";
+    case ElementType::kHexahedron20:
+      return "Hexahedron20";
+    case ElementType::kHexahedron27:
+      return "Hexahedron27";
   }
   return "unknown";
 }
@@ -33,13 +45,42 @@ const char* ToString(FacetType type) {
       return "Triangle3";
     case FacetType::kQuadrilateral4:
       return "Quadrilateral4";
+    case FacetType::kLine3:
+      return "Line3";
+    case FacetType::kTriangle6:
+      return "Triangle6";
+    case FacetType::kQuadrilateral8:
+      return "Quadrilateral8";
+    case FacetType::kQuadrilateral9:
+      return "Quadrilateral9";
   }
   return "unknown";
 }
 
+ElementType LinearElementOf(ElementType type) {
+  switch (type) {
+    case ElementType::kTriangle6:
+      return ElementType::kTriangle3;
+    case ElementType::kQuadrilateral8:
+    case ElementType::kQuadrilateral9:
+      return ElementType::kQuadrilateral4;
+    case ElementType::kTetrahedron10:
+      return ElementType::kTetrahedron4;
+    case ElementType::kHexahedron20:
+    case ElementType::kHexahedron27:
+      return ElementType::kHexahedron8;
+    default:
+      return type;
+  }
+}
+
+int ElementOrder(ElementType type) { return LinearElementOf(type) == type ? 1 : 2; }
+
 int Dimension(ElementType type) {
-  return (type == ElementType::kTriangle3 || type == ElementType::kQuadrilateral4) ? 2
-                                                                                   : 3;
+  const ElementType linear = LinearElementOf(type);
+  return (linear == ElementType::kTriangle3 || linear == ElementType::kQuadrilateral4)
+             ? 2
+             : 3;
 }
 
 int NodesPerElement(ElementType type) {
@@ -51,9 +92,23 @@ int NodesPerElement(ElementType type) {
       return 4;
     case ElementType::kHexahedron8:
       return 8;
+    case ElementType::kTriangle6:
+      return 6;
+    case ElementType::kQuadrilateral8:
+      return 8;
+    case ElementType::kQuadrilateral9:
+      return 9;
+    case ElementType::kTetrahedron10:
+      return 10;
+    case ElementType::kHexahedron20:
+      return 20;
+    case ElementType::kHexahedron27:
+      return 27;
   }
   return 0;
 }
+
+int CornersPerElement(ElementType type) { return NodesPerElement(LinearElementOf(type)); }
 
 int NodesPerFacet(FacetType type) {
   switch (type) {
@@ -63,8 +118,29 @@ int NodesPerFacet(FacetType type) {
       return 3;
     case FacetType::kQuadrilateral4:
       return 4;
+    case FacetType::kLine3:
+      return 3;
+    case FacetType::kTriangle6:
+      return 6;
+    case FacetType::kQuadrilateral8:
+      return 8;
+    case FacetType::kQuadrilateral9:
+      return 9;
   }
   return 0;
+}
+
+int CornersPerFacet(FacetType type) {
+  switch (type) {
+    case FacetType::kLine2:
+    case FacetType::kLine3:
+      return 2;
+    case FacetType::kTriangle3:
+    case FacetType::kTriangle6:
+      return 3;
+    default:
+      return 4;
+  }
 }
 
 FacetType FacetTypeOf(ElementType type) {
@@ -76,6 +152,16 @@ FacetType FacetTypeOf(ElementType type) {
       return FacetType::kTriangle3;
     case ElementType::kHexahedron8:
       return FacetType::kQuadrilateral4;
+    case ElementType::kTriangle6:
+    case ElementType::kQuadrilateral8:
+    case ElementType::kQuadrilateral9:
+      return FacetType::kLine3;
+    case ElementType::kTetrahedron10:
+      return FacetType::kTriangle6;
+    case ElementType::kHexahedron20:
+      return FacetType::kQuadrilateral8;
+    case ElementType::kHexahedron27:
+      return FacetType::kQuadrilateral9;
   }
   return FacetType::kLine2;
 }

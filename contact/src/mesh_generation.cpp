@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "contact/quadratic_mesh.hpp"
 #include "gmsh_model.hpp"
 #include "text_format.hpp"
 
@@ -156,6 +157,11 @@ Mesh FinishGeneratedMesh(const std::string& context, const std::string& msh_outp
 }  // namespace
 
 Mesh MakeRectangleMesh(const RectangleMeshOptions& options) {
+  if (ElementOrder(options.element_type) == 2 && Dimension(options.element_type) == 2) {
+    RectangleMeshOptions linear = options;
+    linear.element_type = LinearElementOf(options.element_type);
+    return MakeQuadraticMesh(MakeRectangleMesh(linear), options.element_type);
+  }
   const char* who = "MakeRectangleMesh";
   CheckGeometry<2>(who, options.origin, options.size, options.cells);
   CheckSides(who, options.side_roles, 2);
@@ -209,6 +215,11 @@ Mesh MakeRectangleMesh(const RectangleMeshOptions& options) {
 Mesh MakeQuarterDiskMesh(const QuarterDiskMeshOptions& o) {
   const char* who = "MakeQuarterDiskMesh";
   const double R = o.radius;
+  if (o.order != 1 && o.order != 2)
+    throw std::invalid_argument(std::string(who) +
+                                ": order must be 1 (Triangle3) or 2 "
+                                "(Triangle6), got " +
+                                std::to_string(o.order));
   if (!(R > 0) || !(o.contact_size > 0) || !(o.max_size >= o.contact_size) ||
       !(o.refined_radius > 0) || !(o.contact_extent > 0 && o.contact_extent < R))
     throw std::invalid_argument(
@@ -256,6 +267,8 @@ Mesh MakeQuarterDiskMesh(const QuarterDiskMeshOptions& o) {
       gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
       gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
       gmsh::model::mesh::generate(2);
+      // Order 2: gmsh places the mid-side nodes of the arcs on the circle.
+      if (o.order == 2) gmsh::model::mesh::setOrder(2);
       mesh = internal::ExtractGmshMesh(who);
       internal::OrientElementsPositively(&mesh);
     });
@@ -265,6 +278,11 @@ Mesh MakeQuarterDiskMesh(const QuarterDiskMeshOptions& o) {
 }
 
 Mesh MakeBoxMesh(const BoxMeshOptions& options) {
+  if (ElementOrder(options.element_type) == 2 && Dimension(options.element_type) == 3) {
+    BoxMeshOptions linear = options;
+    linear.element_type = LinearElementOf(options.element_type);
+    return MakeQuadraticMesh(MakeBoxMesh(linear), options.element_type);
+  }
   const char* who = "MakeBoxMesh";
   CheckGeometry<3>(who, options.origin, options.size, options.cells);
   if (Dimension(options.element_type) != 3)

@@ -1,8 +1,11 @@
 #include "reference_element.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include "quadratic_element.hpp"
 
 namespace contact::internal {
 namespace {
@@ -51,6 +54,61 @@ QuadratureRule SimplexDegree2Rule(int dim) {
   return rule;
 }
 
+// 3-point Gauss-Legendre in each of dim directions (exact to degree 5 per direction).
+QuadratureRule Gauss3TensorRule(int dim) {
+  const double g[3] = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)};
+  const double w[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+  int n = 1;
+  for (int k = 0; k < dim; ++k) n *= 3;
+  QuadratureRule rule;
+  rule.points.resize(dim, n);
+  rule.weights = Eigen::VectorXd::Ones(n);
+  for (int q = 0; q < n; ++q)
+    for (int k = 0, rest = q; k < dim; ++k, rest /= 3) {
+      rule.points(k, q) = g[rest % 3];
+      rule.weights(q) *= w[rest % 3];
+    }
+  return rule;
+}
+
+// Points with barycentric coordinates (b, a, a, ...) and its permutations ("S31" / "S21"
+// orbits), and (a, a, b, b) ("S22"), appended with weight w.
+void AddOrbit(const std::vector<double>& barycentric, double w, QuadratureRule* rule) {
+  std::vector<double> l = barycentric;
+  std::sort(l.begin(), l.end());
+  const int dim = static_cast<int>(l.size()) - 1;
+  do {
+    const Eigen::Index q = rule->weights.size();
+    rule->points.conservativeResize(dim, q + 1);
+    rule->weights.conservativeResize(q + 1);
+    for (int k = 0; k < dim; ++k) rule->points(k, q) = l[static_cast<size_t>(k + 1)];
+    rule->weights(q) = w;
+  } while (std::next_permutation(l.begin(), l.end()));
+}
+
+// Degree 4 on the triangle, 6 points (Dunavant 1985), weights for area 1/2.
+QuadratureRule TriangleDegree4Rule() {
+  QuadratureRule rule;
+  rule.points.resize(2, 0);
+  const double a = 0.445948490915965, b = 0.091576213509771;
+  AddOrbit({1 - 2 * a, a, a}, 0.5 * 0.223381589678011, &rule);
+  AddOrbit({1 - 2 * b, b, b}, 0.5 * 0.109951743655322, &rule);
+  return rule;
+}
+
+// Degree 5 on the tetrahedron, 14 points with positive weights (Walkington 2000, also
+// gmsh's and Keast's), weights for volume 1/6.
+QuadratureRule TetrahedronDegree5Rule() {
+  QuadratureRule rule;
+  rule.points.resize(3, 0);
+  const double a1 = 0.0927352503108912264, a2 = 0.3108859192633006097;
+  const double c = 0.0455037041256496494;
+  AddOrbit({1 - 3 * a1, a1, a1, a1}, 0.0734930431163619495 / 6, &rule);
+  AddOrbit({1 - 3 * a2, a2, a2, a2}, 0.1126879257180158508 / 6, &rule);
+  AddOrbit({c, c, 0.5 - c, 0.5 - c}, 0.0425460207770814664 / 6, &rule);
+  return rule;
+}
+
 }  // namespace
 
 void EvaluateShape(int ref_dim, int nodes, const double* xi, double* N, double* dN) {
@@ -88,7 +146,7 @@ void EvaluateShape(int ref_dim, int nodes, const double* xi, double* N, double* 
       dN[3 * a + 1] = 0.125 * fx * sy * fz;
       dN[3 * a + 2] = 0.125 * fx * fy * sz;
     }
-  } else {
+  } else if (!EvaluateQuadraticShape(ref_dim, nodes, xi, N, dN)) {
     throw std::logic_error("EvaluateShape: no element with reference dimension " +
                            std::to_string(ref_dim) + " and " + std::to_string(nodes) +
                            " nodes");
@@ -102,8 +160,22 @@ const QuadratureRule& ElementRule(ElementType type, RulePurpose purpose) {
   static const QuadratureRule tet4 = SimplexDegree2Rule(3);
   static const QuadratureRule quad4 = Gauss2TensorRule(2);
   static const QuadratureRule hex8 = Gauss2TensorRule(3);
+  static const QuadratureRule tri6 = TriangleDegree4Rule();
+  static const QuadratureRule tet14 = TetrahedronDegree5Rule();
+  static const QuadratureRule quad9 = Gauss3TensorRule(2);
+  static const QuadratureRule hex27 = Gauss3TensorRule(3);
   const bool stiffness = purpose == RulePurpose::kStiffness;
   switch (type) {
+    case ElementType::kTriangle6:
+      return tri6;
+    case ElementType::kQuadrilateral8:
+    case ElementType::kQuadrilateral9:
+      return quad9;
+    case ElementType::kTetrahedron10:
+      return tet14;
+    case ElementType::kHexahedron20:
+    case ElementType::kHexahedron27:
+      return hex27;
     case ElementType::kTriangle3:
       return stiffness ? tri1 : tri3;
     case ElementType::kQuadrilateral4:
@@ -120,7 +192,17 @@ const QuadratureRule& FacetRule(FacetType type) {
   static const QuadratureRule line2 = Gauss2TensorRule(1);
   static const QuadratureRule tri3 = SimplexDegree2Rule(2);
   static const QuadratureRule quad4 = Gauss2TensorRule(2);
+  static const QuadratureRule line3 = Gauss3TensorRule(1);
+  static const QuadratureRule tri6 = TriangleDegree4Rule();
+  static const QuadratureRule quad9 = Gauss3TensorRule(2);
   switch (type) {
+    case FacetType::kLine3:
+      return line3;
+    case FacetType::kTriangle6:
+      return tri6;
+    case FacetType::kQuadrilateral8:
+    case FacetType::kQuadrilateral9:
+      return quad9;
     case FacetType::kLine2:
       return line2;
     case FacetType::kTriangle3:

@@ -15,6 +15,14 @@
 //                                           the total mass (det J has degree <= 2 per
 //                                           direction) but not for every entry of M
 //   Line2 facet     2-point Gauss; Triangle3 facet 3 points; Quadrilateral4 facet 2x2.
+// Quadratic elements use one rule for stiffness and mass:
+//   Triangle6       6 points, degree 4 (Dunavant): exact for N_a N_b and, on straight-
+//                   sided elements, for the stiffness (degree 2)
+//   Quadrilateral8/9, Hexahedron20/27   3 (x 3 x 3) Gauss, exact to degree 5 per
+//   direction Tetrahedron10   14 points, degree 5 (Walkington; gmsh's Gauss5): exact for
+//   N_a N_b Line3 facet     3-point Gauss; Triangle6 facet 6 points (degree 4);
+//   Quadrilateral8/9
+//                   facet 3x3 Gauss.
 #pragma once
 
 #include <Eigen/Core>
@@ -49,6 +57,37 @@ struct ElementTraits<ElementType::kHexahedron8> {
   static constexpr int kStiffnessPoints = 8;  // size of the stiffness rule
 };
 
+template <>
+struct ElementTraits<ElementType::kTriangle6> {
+  static constexpr int kDim = 2, kNodes = 6;
+  static constexpr int kStiffnessPoints = 6;
+};
+template <>
+struct ElementTraits<ElementType::kQuadrilateral8> {
+  static constexpr int kDim = 2, kNodes = 8;
+  static constexpr int kStiffnessPoints = 9;
+};
+template <>
+struct ElementTraits<ElementType::kQuadrilateral9> {
+  static constexpr int kDim = 2, kNodes = 9;
+  static constexpr int kStiffnessPoints = 9;
+};
+template <>
+struct ElementTraits<ElementType::kTetrahedron10> {
+  static constexpr int kDim = 3, kNodes = 10;
+  static constexpr int kStiffnessPoints = 14;
+};
+template <>
+struct ElementTraits<ElementType::kHexahedron20> {
+  static constexpr int kDim = 3, kNodes = 20;
+  static constexpr int kStiffnessPoints = 27;
+};
+template <>
+struct ElementTraits<ElementType::kHexahedron27> {
+  static constexpr int kDim = 3, kNodes = 27;
+  static constexpr int kStiffnessPoints = 27;
+};
+
 template <ElementType T>
 using ElementTag = std::integral_constant<ElementType, T>;
 
@@ -63,6 +102,18 @@ decltype(auto) DispatchElement(ElementType type, F&& f) {
       return f(ElementTag<ElementType::kQuadrilateral4>{});
     case ElementType::kTetrahedron4:
       return f(ElementTag<ElementType::kTetrahedron4>{});
+    case ElementType::kTriangle6:
+      return f(ElementTag<ElementType::kTriangle6>{});
+    case ElementType::kQuadrilateral8:
+      return f(ElementTag<ElementType::kQuadrilateral8>{});
+    case ElementType::kQuadrilateral9:
+      return f(ElementTag<ElementType::kQuadrilateral9>{});
+    case ElementType::kTetrahedron10:
+      return f(ElementTag<ElementType::kTetrahedron10>{});
+    case ElementType::kHexahedron20:
+      return f(ElementTag<ElementType::kHexahedron20>{});
+    case ElementType::kHexahedron27:
+      return f(ElementTag<ElementType::kHexahedron27>{});
     case ElementType::kHexahedron8:
     default:
       return f(ElementTag<ElementType::kHexahedron8>{});
@@ -72,7 +123,8 @@ decltype(auto) DispatchElement(ElementType type, F&& f) {
 // Values N_a(xi) (size nodes) and derivatives dN_a/dxi_k (row-major nodes x ref_dim) of
 // the shape functions of an element or facet with `nodes` nodes in `ref_dim` reference
 // dimensions. Supported (ref_dim, nodes): (1,2) line, (2,3) triangle, (2,4)
-// quadrilateral, (3,4) tetrahedron, (3,8) hexahedron.
+// quadrilateral, (3,4) tetrahedron, (3,8) hexahedron, and the quadratic (1,3), (2,6),
+// (2,8), (2,9), (3,10), (3,20), (3,27) of quadratic_element.hpp.
 void EvaluateShape(int ref_dim, int nodes, const double* xi, double* N, double* dN_dxi);
 
 struct QuadratureRule {

@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
+#include "cholmod_factor.hpp"
 #include "contact/convex_qp.hpp"
+#include "ncp/blas_threads.hpp"
 
 namespace contact {
 namespace {
@@ -67,7 +70,63 @@ void StoreSolution(const ContactSystem::Result& r, double k,
   result->gap = r.gap;
 }
 
+/// The closed start (StaticStart::kClosed): u minimizing 1/2 u'Ku - f'u subject to
+/// n_c . u_c = s_c at every node. In the local components y = R u (MakeRestrictionMaps)
+/// the constraints fix the normal ones, Y y = s; the others, w = P y (P: the rows of the
+/// identity at the non-normal local dofs), solve
+///     (P R K R' P') w = P R (f - K R' Y' s),     u = R' (Y' s + P' w).
+/// Empty when that matrix is not positive definite.
+Eigen::VectorXd ClosedStart(int dim, const Eigen::SparseMatrix<double>& K,
+                            const Eigen::VectorXd& f,
+                            const std::vector<ContactNode>& nodes, int blas_threads) {
+  const ncp::ScopedBlasThreads threads(blas_threads);
+  const auto n = K.rows();
+  const RestrictionMaps maps = MakeRestrictionMaps(dim, static_cast<int>(n), nodes);
+  Eigen::VectorXd s(static_cast<Eigen::Index>(nodes.size()));
+  for (size_t c = 0; c < nodes.size(); ++c)
+    s(static_cast<Eigen::Index>(c)) = nodes[c].gap;
+  std::vector<bool> normal(static_cast<size_t>(n), false);
+  for (int k = 0; k < maps.Y.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(maps.Y, k); it; ++it)
+      normal[static_cast<size_t>(it.col())] = true;
+  std::vector<Eigen::Triplet<double>> rows;
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (!normal[static_cast<size_t>(i)])
+      rows.emplace_back(static_cast<int>(rows.size()), static_cast<int>(i), 1.0);
+  Eigen::SparseMatrix<double> P(static_cast<Eigen::Index>(rows.size()), n);
+  P.setFromTriplets(rows.begin(), rows.end());
+
+  const Eigen::SparseMatrix<double> PR = P * maps.R;
+  const Eigen::SparseMatrix<double> A =
+      PR * K * Eigen::SparseMatrix<double>(PR.transpose());
+  const Eigen::VectorXd u_held = maps.R.transpose() * (maps.Y.transpose() * s);
+  const Eigen::VectorXd rhs = PR * (f - K * u_held);
+  internal::CholmodFactor factor(A);
+  if (!factor.ok()) return {};
+  Eigen::VectorXd w;
+  factor.Solve(rhs, &w);
+  Eigen::VectorXd u = u_held + PR.transpose() * w;
+  if (!u.allFinite()) return {};
+  return u;
+}
+
 }  // namespace
+
+const char* ToString(StaticStart start) {
+  switch (start) {
+    case StaticStart::kZero:
+      return "zero";
+    case StaticStart::kClosed:
+      return "closed";
+  }
+  return "unknown";
+}
+
+ncp::Options StaticContactNcpOptions() {
+  ncp::Options options = ContactNcpOptions();
+  options.ncp_function = ncp::NcpFunction::kMin;
+  return options;
+}
 
 StaticContactResult SolveStaticContact(int dim, const Eigen::SparseMatrix<double>& K,
                                        const Eigen::VectorXd& f,
@@ -86,6 +145,11 @@ StaticContactResult SolveStaticContact(int dim, const Eigen::SparseMatrix<double
                               ? Eigen::VectorXd(options.tresca_bound / k)
                               : Eigen::VectorXd::Zero(num_nodes);
   Eigen::VectorXd guess = zero;
+  if (options.start == StaticStart::kClosed && num_nodes > 0) {
+    Eigen::VectorXd closed = ClosedStart(dim, K, f, nodes, options.ncp.blas_threads);
+    result.closed_start = closed.size() == K.rows();
+    if (result.closed_start) guess = std::move(closed);
+  }
   Eigen::VectorXd lambda_previous = Eigen::VectorXd::Zero(num_nodes);
   const int rounds =
       options.friction == FrictionLaw::kCoulomb ? options.max_fixed_point_iterations : 1;

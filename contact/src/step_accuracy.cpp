@@ -150,7 +150,8 @@ void SetFinalStatus(const StepRecord& first_inaccurate, DynamicSummary* summary)
   }
   if (summary->status == DynamicStatus::kNotRun) {
     summary->status = DynamicStatus::kCompleted;
-    summary->message = "completed " + std::to_string(summary->steps) + " steps";
+    summary->message =
+        "all " + std::to_string(summary->steps) + " time steps solved to their accuracy";
   }
 }
 

@@ -1,5 +1,6 @@
 #include "contact/vtk_writer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -7,6 +8,7 @@
 #include <filesystem>
 #include <limits>
 #include <stdexcept>
+#include <vector>
 
 #include "ncp/output_file.hpp"
 #include "reference_element.hpp"
@@ -14,9 +16,22 @@
 namespace contact {
 namespace {
 
-// VTK cell types; the local node orders of mesh.hpp coincide with VTK's for these cells.
+// VTK cell types; the local node orders of mesh.hpp coincide with VTK's for these cells
+// except where VtkNodeOrder says otherwise.
 int VtkCellType(ElementType type) {
   switch (type) {
+    case ElementType::kTriangle6:
+      return 22;  // VTK_QUADRATIC_TRIANGLE
+    case ElementType::kQuadrilateral8:
+      return 23;  // VTK_QUADRATIC_QUAD
+    case ElementType::kQuadrilateral9:
+      return 28;  // VTK_BIQUADRATIC_QUAD
+    case ElementType::kTetrahedron10:
+      return 24;  // VTK_QUADRATIC_TETRA
+    case ElementType::kHexahedron20:
+      return 25;  // VTK_QUADRATIC_HEXAHEDRON
+    case ElementType::kHexahedron27:
+      return 29;  // VTK_TRIQUADRATIC_HEXAHEDRON
     case ElementType::kTriangle3:
       return 5;  // VTK_TRIANGLE
     case ElementType::kQuadrilateral4:
@@ -27,6 +42,24 @@ int VtkCellType(ElementType type) {
       return 12;  // VTK_HEXAHEDRON
   }
   return 0;
+}
+
+// VTK's local node a is our (gmsh's) local node order[a]. VTK orders the mid-edge nodes
+// of a hexahedron bottom ring, top ring, verticals and its face centres x-, x+, y-, y+,
+// z-, z+; its Tetrahedron10 has the edges 1-3 and 2-3 in the other order.
+std::vector<int> VtkNodeOrder(ElementType type) {
+  std::vector<int> order(static_cast<std::size_t>(NodesPerElement(type)));
+  for (std::size_t a = 0; a < order.size(); ++a) order[a] = static_cast<int>(a);
+  if (type == ElementType::kTetrahedron10) std::swap(order[8], order[9]);
+  if (type == ElementType::kHexahedron20 || type == ElementType::kHexahedron27) {
+    const int edges[12] = {8, 11, 13, 9, 16, 18, 19, 17, 10, 12, 14, 15};
+    std::copy(edges, edges + 12, order.begin() + 8);
+  }
+  if (type == ElementType::kHexahedron27) {
+    const int faces[6] = {22, 23, 21, 24, 20, 25};
+    std::copy(faces, faces + 6, order.begin() + 20);
+  }
+  return order;
 }
 
 // Base64 (RFC 4648) of a byte string.
@@ -121,9 +154,10 @@ void WriteVtk(const std::string& path, const Mesh& mesh,
         << (mesh.dim == 3 ? mesh.nodes(2, i) : 0.0) << '\n';
   const int nen = static_cast<int>(mesh.elements.rows());
   out << "CELLS " << mesh.NumElements() << ' ' << mesh.NumElements() * (nen + 1) << '\n';
+  const std::vector<int> vtk_order = VtkNodeOrder(mesh.element_type);
   for (int e = 0; e < mesh.NumElements(); ++e) {
     out << nen;
-    for (int a = 0; a < nen; ++a) out << ' ' << mesh.elements(a, e);
+    for (int a = 0; a < nen; ++a) out << ' ' << mesh.elements(vtk_order[a], e);
     out << '\n';
   }
   out << "CELL_TYPES " << mesh.NumElements() << '\n';
@@ -192,11 +226,12 @@ void WriteVtu(const std::string& path, const Mesh& mesh,
   WriteDataArray(out, "Float64", "Points", 3, Interleave(mesh.nodes, 3));
   out << "      </Points>\n      <Cells>\n";
   std::vector<std::int64_t> connectivity, offsets;
+  const std::vector<int> vtk_order = VtkNodeOrder(mesh.element_type);
   std::vector<std::uint8_t> types(
       static_cast<size_t>(mesh.NumElements()),
       static_cast<std::uint8_t>(VtkCellType(mesh.element_type)));
   for (int e = 0; e < mesh.NumElements(); ++e) {
-    for (int a = 0; a < nen; ++a) connectivity.push_back(mesh.elements(a, e));
+    for (int a = 0; a < nen; ++a) connectivity.push_back(mesh.elements(vtk_order[a], e));
     offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
   }
   WriteDataArray(out, "Int64", "connectivity", 1, connectivity);
@@ -328,13 +363,15 @@ std::pair<std::vector<PointField>, std::vector<CellField>> ContactSnapshotFields
   const double nan = std::numeric_limits<double>::quiet_NaN();
   Eigen::MatrixXd gap = Eigen::MatrixXd::Constant(1, n, nan);
   Eigen::MatrixXd normal_force = Eigen::MatrixXd::Zero(3, n),
-                  friction_force = normal_force, slip = normal_force;
+                  friction_force = normal_force, slip = normal_force,
+                  contact_normal = normal_force;
   Eigen::MatrixXd state =
       Eigen::MatrixXd::Constant(1, n, static_cast<double>(ContactState::kNotContact));
   for (Eigen::Index c = 0; c < num_contact; ++c) {
     const ContactNode& node = nodes[static_cast<size_t>(c)];
     const int i = node.node;
     gap(0, i) = s.gap(c);
+    contact_normal.col(i) = node.normal;
     // The obstacle pushes the body against its outward normal n_c.
     normal_force.col(i) = -s.normal_force(c) * node.normal;
     friction_force.col(i) = s.tangent_force(0, c) * node.tangent1;
@@ -363,7 +400,8 @@ std::pair<std::vector<PointField>, std::vector<CellField>> ContactSnapshotFields
       {"normal_force", normal_force},
       {"friction_force", friction_force},
       {"slip", slip},
-      {"contact_state", state}};
+      {"contact_state", state},
+      {"contact_normal", contact_normal}};
   return {points, {{"stress", stress}, {"von_mises", von_mises}}};
 }
 
@@ -400,9 +438,14 @@ std::string VtuSeriesWriter::pvd_path() const {
   return (std::filesystem::path(directory_) / "solution.pvd").string();
 }
 
+std::string SnapshotFileName(int step, const std::string& suffix) {
+  char digits[32];
+  std::snprintf(digits, sizeof digits, "%05d", step);
+  return "snapshot_" + std::string(digits) + suffix;
+}
+
 std::string VtuSeriesWriter::Write(int step, const ContactSnapshot& snapshot) {
-  char name[64];
-  std::snprintf(name, sizeof name, "snapshot_%05d.vtu", step);
+  const std::string name = SnapshotFileName(step, ".vtu");
   const std::string path = (std::filesystem::path(directory_) / name).string();
   const auto [points, cells] = ContactSnapshotFields(body_, snapshot);
   WriteVtu(path, body_.mesh(), points, cells);

@@ -20,7 +20,9 @@
 #include <cxxopts.hpp>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 
+#include "contact/bodies_scene.hpp"
 #include "contact/scene.hpp"
 #include "contact/simulation.hpp"
 #include "ncp/output_file.hpp"
@@ -197,7 +199,8 @@ cxxopts::Options MakeCli() {
       "and its overrides must be the same")(
       "quiet",
       "no progress lines, notes or warnings; a run that does not complete prints its "
-      "reason once and no table")("h,help", "show this help");
+      "reason once and no table")("h,help", "show this help")(
+      "version", "print the version and exit");
   cli.parse_positional({"scene"});
   cli.positional_help("SCENE.toml");
   return cli;
@@ -224,9 +227,10 @@ contact::SceneOverrides OverridesOf(const cxxopts::ParseResult& args) {
   return overrides;
 }
 
-/// The human-readable summary (the thesis's table columns dt, f_c, k_sim, N_Jac, N_func,
-/// t_comp, then the accuracy and energy balance of the run, on MPI ranks too - but for
-/// the condensed step there, which does not compute them yet).
+/// The human-readable summary: the status line, the model's size, one row of the run's
+/// counts (headed in words; the thesis's table names them dt, f_c, k_sim, N_Jac, N_func,
+/// t_comp), then the accuracy and energy balance of the run, on MPI ranks too - but for
+/// the condensed step there, which does not compute them yet.
 void PrintReport(std::FILE* table, const contact::Scene& scene,
                  const contact::SceneResult& r) {
   const contact::DynamicSummary& s = r.summary;
@@ -241,11 +245,14 @@ void PrintReport(std::FILE* table, const contact::Scene& scene,
                "  %d dofs (%d free), %d elements, %d contact nodes, dt_crit = %.4g s\n",
                r.num_dofs, r.num_free_dofs, r.num_elements, r.num_contact_nodes,
                s.critical_time_step);
-  std::fprintf(table, "  %-10s %-6s %-7s %-8s %-8s %-10s\n", "dt", "f_c", "k_sim",
-               "N_Jac", "N_func", "t_comp[s]");
-  std::fprintf(table, "  %-10g %-6g %-7d %-8ld %-8ld %-10.4f\n", scene.dynamics.dt,
+  std::fprintf(table, "  %-10s %-8s %-10s %-10s %-10s %-10s\n", "dt [s]", "friction",
+               "time steps", "Jacobians", "residuals", "time [s]");
+  std::fprintf(table, "  %-10g %-8g %-10d %-10ld %-10ld %-10.4f\n", scene.dynamics.dt,
                scene.friction_coefficient, s.steps, s.jacobian_evaluations,
                s.residual_evaluations, s.seconds);
+  std::fprintf(table,
+               "  (friction: its coefficient; Jacobians, residuals: evaluations over all "
+               "Newton steps)\n");
   std::fprintf(table,
                "  accuracy over all steps: equilibrium residual %.3e N, penetration %.3e "
                "m, contact "
@@ -356,6 +363,49 @@ contact::SceneResult RunDistributed(const contact::Scene& scene, const MpiSessio
 // (unknown option, missing scene, option without its value), 3 an output file could not
 // be written (its name and the reason on stderr), 128 + the signal (130 SIGINT, 143
 // SIGTERM) for a run stopped by a signal after a finished step.
+// A scene with several bodies (docs/several-bodies.md): one process, a JSON or one-line
+// summary; exit 0 when completed, 1 otherwise.
+int RunBodiesScene(const cxxopts::ParseResult& args, bool distributed) {
+  for (const char* option : {"step", "ncp-function", "dt", "end-time", "friction",
+                             "friction-formulation", "tolerance", "resume"})
+    if (args.count(option)) {
+      std::cerr << "contact-sim: usage error: --" << option
+                << " is not supported with several bodies ([[bodies]]); set it in the "
+                   "scene file\n";
+      return 2;
+    }
+  if (distributed) {
+    std::cerr << "contact-sim: scenes with several bodies run on one process; MPI ranks "
+                 "are not supported yet\n";
+    return 1;
+  }
+  std::optional<std::string> output;
+  if (args.count("output")) output = args["output"].as<std::string>();
+  if (args.count("no-output")) output = std::string();
+  contact::BodiesSceneSummary r;
+  try {
+    r = contact::RunBodiesScene(args["scene"].as<std::string>(), output);
+  } catch (const std::exception& e) {
+    std::cerr << "contact-sim: " << e.what() << std::endl;
+    return 1;
+  }
+  nlohmann::json j;
+  j["status"] = r.status;
+  j["message"] = r.message;
+  j["analysis"] = r.analysis;
+  j["steps"] = r.steps;
+  j["newton_iterations"] = r.newton_iterations;
+  j["constraints"] = r.constraints;
+  j["pairs"] = r.pair_names;
+  j["pair_force"] = r.pair_force;
+  j["max_penetration"] = r.max_penetration;
+  if (args.count("json"))
+    std::cout << j.dump(2) << std::endl;
+  else if (!args.count("quiet") || r.status != "completed")
+    std::cout << "contact-sim: " << r.status << ": " << r.message << std::endl;
+  return r.status == "completed" ? 0 : 1;
+}
+
 int main(int argc, char** argv) {
   const MpiSession mpi;
   cxxopts::Options cli = MakeCli();
@@ -369,6 +419,10 @@ int main(int argc, char** argv) {
   }
   if (args.count("help")) {
     std::cout << cli.help() << std::endl;
+    return 0;
+  }
+  if (args.count("version")) {
+    std::cout << "contact-sim " << NCP_VERSION << std::endl;
     return 0;
   }
   if (args.count("solver")) {
@@ -390,6 +444,13 @@ int main(int argc, char** argv) {
   }
   const bool distributed =
       mpi.active() && (mpi.size() > 1 || args.count("distributed") > 0);
+  try {
+    if (contact::IsBodiesScene(args["scene"].as<std::string>()))
+      return RunBodiesScene(args, distributed);
+  } catch (const std::exception& e) {
+    std::cerr << "contact-sim: " << e.what() << std::endl;
+    return 1;
+  }
   const bool json = args.count("json") > 0, quiet = args.count("quiet") > 0;
   contact::Scene scene;
   contact::SceneResult r;

@@ -17,7 +17,7 @@
 //   -ncp_ksp_rtol 1e-10
 // Options: -m <interior nodes per direction>, -function fb|min|pfb, -trace (one line per
 // Newton iteration), and every -ncp_ksp_* / -ncp_pc_* option of PETSc for the Newton
-// systems (default: MUMPS LU).
+// systems (default: MUMPS LU); --help prints them (kUsage), --version the version.
 //
 // Copy this file to start your own problem: the grid (a DMDA) gives the layout,
 // Residual() and Jacobian() are all the solver needs, and the bounds are plain Vecs.
@@ -25,6 +25,7 @@
 #include <petscdmda.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 
@@ -240,9 +241,39 @@ PetscErrorCode Run() {
   PetscFunctionReturn(0);
 }
 
+constexpr const char* kUsage =
+    "ncp-petsc-obstacle: the 2D obstacle problem -Lap u = 0, u >= psi (a bump), u = 0 "
+    "on\n"
+    "the boundary of (0,1)^2, on an m x m grid of interior nodes, solved by ncp::petsc.\n"
+    "\n"
+    "usage: [mpiexec -n R] ncp-petsc-obstacle [options]\n"
+    "  -m N              interior nodes per direction (N >= 1, default 300)\n"
+    "  -function F       NCP function: fb (default), min or pfb\n"
+    "  -trace            one line per Newton iteration on stderr\n"
+    "  -ncp_ksp_* -ncp_pc_*  PETSc's options of the Newton systems (default: MUMPS LU)\n"
+    "  -help             PETSc's list of the options the run queries (runs the problem)\n"
+    "  -h, --help        this help;  --version  the version\n"
+    "Exit code 0: solved to the tolerance; 1 otherwise (the status says why).\n";
+
+/// --help, -h and --version answer without PETSc and without running the problem.
+bool AnswersWithoutRunning(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
+      std::fputs(kUsage, stdout);
+      return true;
+    }
+    if (std::strcmp(argv[i], "--version") == 0) {
+      std::printf("ncp-petsc-obstacle %s\n", NCP_VERSION);
+      return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (AnswersWithoutRunning(argc, argv)) return 0;
   PetscCall(
       PetscInitialize(&argc, &argv, nullptr, nullptr));  // the user's job, not ncp's
   PetscErrorCode code = 0;

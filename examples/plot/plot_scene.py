@@ -7,13 +7,17 @@ and the scene file for the obstacle and the boundary parts. Run with Debian's
 matplotlib: /usr/bin/python3.
 
   plot_scene.py run RUN_DIR --scene SCENE.toml --prefix OUT/name [--title T] [--arrows]
-      OUT/name_mesh.png            initial configuration | deformed mesh coloured by |u|
+                   [--time T]
+      OUT/name_mesh.png            initial configuration | deformed mesh coloured by |u| at
+                                   time T (default: the written time with the largest
+                                   contact stresses, a moment in contact)
       OUT/name_contact_stress.png  normal and friction stress along Gamma_c at every
                                    written time, darker = later (fig. 16; 3D: fig. 6)
       OUT/name_history.png         contact and friction stress of the marked node
                                    (figs. 19, 21, 22)
   plot_scene.py compare --scene SCENE.toml --out OUT.png [--time T] RUN_DIR=LABEL ...
-      normal and friction stress along Gamma_c at one time for several runs (figs. 11, 15)
+      normal and friction stress along Gamma_c at one time for several runs (figs. 11, 15);
+      default time: the first run's moment in contact
 
 Conventions (examples/scenes/README.md): normal stress compressive-positive; in 2D the
 friction stress is the tangential traction on the body along t1 = (-n_y, n_x), in 3D its
@@ -91,6 +95,26 @@ class Run:
     def displacement(self, time=None):
         t = self.times[-1] if time is None else self.times[np.argmin(abs(self.times - time))]
         return t, self.U[t]
+
+    def contact_time(self):
+        """A moment in contact: of the written times (contact_stress.csv) the one whose normal
+        forces above their step's force accuracy (steps.csv: round-off is not contact) sum to
+        the most; the last written time, with a note on stderr naming when the body is in
+        contact, when none is."""
+        s, steps = self.stress, self.steps
+        pressed = {}
+        for t in np.unique(s["time"]):
+            accuracy = steps["force_accuracy"][np.argmin(abs(steps["time"] - t))]
+            force = s["normal_force"][s["time"] == t]
+            pressed[t] = force[force > accuracy].sum()
+        if pressed and max(pressed.values()) > 0:
+            return max(pressed, key=pressed.get)
+        touching = steps["time"][steps["active_nodes"] > 0]
+        when = (f"it is between t = {touching.min():g} s and {touching.max():g} s: add such a time to "
+                "output.stress_times" if len(touching) else "it never touches the obstacle")
+        print(f"plot_scene.py: no written time is in contact ({when}); drawing the last one",
+              file=sys.stderr)
+        return self.times[-1]
 
     def stress_at(self, time):
         """Contact stress rows at the written time nearest to `time`."""
@@ -420,9 +444,10 @@ def plot_contact_stress_3d(run, title, path, times=None):
     pts = np.column_stack([s[a] for a in ("x", "y", "z")])
     a, b = along_axes(pts, 2)
     fu, fname = stress_unit(s["normal_stress"])
-    sel_all = np.isin(s["time"], chosen)
-    vmax = np.nanmax(s["normal_stress"][sel_all]) / fu
-    vmin = min(0.0, np.nanmin(s["normal_stress"][sel_all]) / fu)
+    # One colour scale for the whole run: at a time without contact the round-off stresses
+    # stay at the bottom of it instead of being stretched into a peak.
+    vmax = np.nanmax(s["normal_stress"]) / fu
+    vmin = min(0.0, np.nanmin(s["normal_stress"]) / fu)
     fig, axes = plt.subplots(1, len(chosen), figsize=(4.2 * len(chosen) + 1, 4.0), squeeze=False,
                              sharey=True)
     axes = axes[0]
@@ -483,8 +508,9 @@ def plot_compare(runs, labels, time, title, path):
     first = runs[0]
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.4), sharex=True)
     rows_all = []
+    time = time if time is not None else first.contact_time()
     for run in runs:
-        t, rows = run.stress_at(time if time is not None else run.times[-1])
+        t, rows = run.stress_at(time)
         rows_all.append((t, rows))
     fu, fname = stress_unit(np.concatenate([np.concatenate([r["normal_stress"], friction_value(r)])
                                             for _, r in rows_all]))
@@ -523,6 +549,9 @@ def main():
     p.add_argument("--prefix", required=True, help="output path prefix, e.g. figs/curved_fc0.5")
     p.add_argument("--title", default=None)
     p.add_argument("--arrows", action="store_true", help="3D: arrows along u (figs. 18, 20)")
+    p.add_argument("--time", type=float, default=None,
+                   help="time of the mesh picture (default: the written time with the largest "
+                        "contact stresses, a moment in contact)")
     p.add_argument("--stress-times", type=float, nargs="*", default=None,
                    help="3D: times of the contact-stress maps (default: all written)")
     c = sub.add_parser("compare", help="stresses along Gamma_c of several runs at one time")
@@ -540,11 +569,12 @@ def main():
         title = args.title or scene.get("name", os.path.basename(args.run_dir))
         os.makedirs(os.path.dirname(os.path.abspath(args.prefix)), exist_ok=True)
         written = []
+        time = args.time if args.time is not None else run.contact_time()
         if run.dim == 2:
-            plot_mesh_2d(run, scene, title, args.prefix + "_mesh.png")
+            plot_mesh_2d(run, scene, title, args.prefix + "_mesh.png", time=time)
             plot_contact_stress_2d(run, title, args.prefix + "_contact_stress.png")
         else:
-            plot_mesh_3d(run, scene, title, args.prefix + "_mesh.png", arrows=args.arrows)
+            plot_mesh_3d(run, scene, title, args.prefix + "_mesh.png", time=time, arrows=args.arrows)
             plot_contact_stress_3d(run, title, args.prefix + "_contact_stress.png", args.stress_times)
         written += [args.prefix + "_mesh.png", args.prefix + "_contact_stress.png"]
         if plot_history(run, title, args.prefix + "_history.png"):

@@ -37,6 +37,9 @@ bool Options::IsValid(std::string* error) const {
   if (!(roundoff_ulps >= 0.0) || !std::isfinite(roundoff_ulps))
     return fail("Options::roundoff_ulps must be finite and >= 0, got " +
                 FormatNumber("%g", roundoff_ulps));
+  if (blas_threads < 0)
+    return fail("Options::blas_threads must be >= 0 (0: leave the BLAS alone), got " +
+                std::to_string(blas_threads));
   if (max_iterations < 0)
     return fail("Options::max_iterations must be >= 0, got " +
                 std::to_string(max_iterations));

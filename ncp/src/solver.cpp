@@ -15,6 +15,7 @@
 #include "format_number.hpp"
 #include "globalization.hpp"
 #include "linear_solver.hpp"
+#include "ncp/blas_threads.hpp"
 #include "ncp_function_internal.hpp"
 #include "strategy.hpp"
 #include "workspace.hpp"
@@ -856,6 +857,7 @@ void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
   if (x_ptr == nullptr || summary_ptr == nullptr)
     throw std::invalid_argument("ncp::Solver::Solve: x and summary must not be null");
   CheckProblem(problem, *x_ptr);
+  const ScopedBlasThreads blas_threads(options_.blas_threads);
   Iteration(options_, *workspace_, problem, nullptr, *x_ptr, *summary_ptr).Run();
 }
 
@@ -864,6 +866,7 @@ void Solver::Solve(SquareFunction& F, const Vector& lower, const Vector& upper, 
   if (x == nullptr || summary == nullptr)
     throw std::invalid_argument("ncp::Solver::Solve: x and summary must not be null");
   // The box MCP as a mixed problem (box_mcp.hpp), solved like any other.
+  const ScopedBlasThreads blas_threads(options_.blas_threads);
   internal::BoxMcpSolve box_mcp(options_, &workspace_->box_mcp, F, lower, upper, x);
   if (box_mcp.ready()) {
     CheckProblem(box_mcp.problem(), box_mcp.unknowns());

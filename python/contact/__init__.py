@@ -24,6 +24,7 @@ import numpy as np
 from ._contact import STEP_FIELDS, SUMMARY_FIELDS, CheckpointError, Scene, SceneError
 from . import _contact
 from ncp import _did_you_mean  # one suggestion rule for both packages
+from ncp import __version__  # one version for both packages and the CLIs
 
 __all__ = ["load_scene", "scene_from_dict", "run", "Simulation", "example_path", "Result", "Scene",
            "SceneError", "CheckpointError", "STEP_FIELDS", "SUMMARY_FIELDS", "OVERRIDES"]
@@ -252,7 +253,7 @@ def _progress_bar(stream=None, width=30, interval_s=0.2, start_time=0.0):
     return draw
 
 
-def _scene_of(scene, base_dir, overrides, who, warn=True):
+def _scene_of(scene, base_dir, overrides, who):
     """A Scene from a Scene, a path or a dict (with the keyword overrides); its warnings
     (Scene.warnings: a stress time after the end, end_time < dt) as UserWarnings."""
     if isinstance(scene, dict):
@@ -264,9 +265,19 @@ def _scene_of(scene, base_dir, overrides, who, warn=True):
     elif overrides:
         raise ValueError(f"{who}: overrides need a path or a dict; set a Scene's dt, end_time "
                          "or tolerance directly")
-    for message in scene.warnings if warn else ():
-        _warnings.warn(f"{who}: {message}", stacklevel=3)
+    for message in scene.warnings:
+        _warn(f"{who}: {message}")
     return scene
+
+
+def _warn(message):
+    """A UserWarning attributed to the user's line: the first frame outside this package
+    (the line that called contact.run, contact.Simulation, ...), not a line of the library."""
+    package = os.path.dirname(os.path.abspath(__file__))
+    frame, level = sys._getframe(1), 2  # stacklevel 2: the caller of _warn
+    while frame is not None and os.path.dirname(os.path.abspath(frame.f_code.co_filename)) == package:
+        frame, level = frame.f_back, level + 1
+    _warnings.warn(message, stacklevel=level)
 
 
 class Simulation:
@@ -299,7 +310,9 @@ class Simulation:
     """
 
     def __init__(self, scene, base_dir=".", **overrides):
-        scene = _scene_of(scene, base_dir, overrides, "contact.Simulation")
+        self._start(_scene_of(scene, base_dir, overrides, "contact.Simulation"))
+
+    def _start(self, scene):
         self._scene = scene
         self._core = _contact.Simulation(scene)
 
@@ -390,14 +403,15 @@ def run(scene, every=0, contact_history=True, progress=None, base_dir=".", **ove
     dict): dt, end_time, friction, tolerance, solver, step, friction_formulation, checked
     like the scene file's values.  result.records holds the columns of steps.csv.
     The loop of a Simulation to the end: contact.Simulation steps the same integrator."""
-    scene = _scene_of(scene, base_dir, overrides, "contact.run", warn=False)  # Simulation warns
+    scene = _scene_of(scene, base_dir, overrides, "contact.run")
     if isinstance(every, bool) or not isinstance(every, (int, np.integer)) or every < 0:
         raise ValueError(f"contact.run: every must be >= 0 (an int), got {every!r}")
     if progress is True:
         progress = _progress_bar(start_time=scene.start_time)
     elif progress is False:
         progress = None
-    sim = Simulation(scene)
+    sim = Simulation.__new__(Simulation)  # (the scene's warnings were given above, once)
+    sim._start(scene)
     sim._core.record(int(every), bool(contact_history))
     sim._core.step(sys.maxsize, progress)
     return sim.result()

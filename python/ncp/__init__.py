@@ -24,6 +24,7 @@ import scipy.sparse as sp
 from ._ncp import (IterationRecord, LinearSolverType, NcpFunction, Options, Strategy,
                    StrategySwitch, Summary, SwitchReason, TerminationType, _reference)
 from . import _ncp
+from ._version import __version__  # the project version (CMake), as the CLIs' --version
 
 __all__ = ["solve", "solve_ncp", "solve_lcp", "solve_mixed", "make_options", "SolveError", "Options",
            "Summary", "IterationRecord", "NcpFunction", "LinearSolverType",

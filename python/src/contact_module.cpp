@@ -101,6 +101,7 @@ const ColumnTable<StepRecord>& StepColumns() {
       ("external_work", &StepRecord::external_work)
       ("normal_contact_work", &StepRecord::normal_contact_work)
       ("friction_dissipation", &StepRecord::friction_dissipation)
+      ("damping_dissipation", &StepRecord::damping_dissipation)
       ("energy_balance_error", &StepRecord::energy_balance_error)
       ("normal_force_sum", &StepRecord::normal_force_sum)
       ("friction_force_sum", &StepRecord::tangent_force_sum)

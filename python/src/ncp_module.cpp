@@ -212,6 +212,7 @@ void BindOptions(py::module_& m) {
       ("minimum_norm_step", &Options::minimum_norm_step, "singular J: the rank-revealing least-squares step before LM and -grad psi")
       ("linear_solver", &Options::linear_solver, "linear solver of the Newton system")
       ("dense_threshold", &Options::dense_threshold, "AUTO: dense LU for n <= dense_threshold, else UMFPACK")
+      ("blas_threads", &Options::blas_threads, "at most this many BLAS threads during a solve (OpenBLAS; 0: leave alone)")
       ("keep_trace", &Options::keep_trace, "store an IterationRecord per iteration in Summary.trace")
       ("log_to_stderr", &Options::log_to_stderr, "print one line per iteration to stderr")
       ("callback", &Options::callback, "callable(IterationRecord) -> bool; False stops (USER_ABORT)");

@@ -265,7 +265,10 @@ TEST_CASE("Scene errors name the key", "[scene][errors]") {
       {Block(2, 0.5, "[solver]\nstep = \"ipopt\"\n"), "solves frictionless steps only"},
       {std::string(good).replace(good.find("normal = [0.0, 1.0]"), 19,
                                  "normal = [0.0, 0.0]"),
-       "'obstacle.type'"},
+       "'obstacle.normal' must be a unit vector"},
+      {std::string(good).replace(good.find("normal = [0.0, 1.0]"), 19,
+                                 "normal = [0.0, 2.0]"),
+       "'obstacle.normal' must be a unit vector (|n| = 1 within 0.001), got |n| = 2"},
       {"[geometry\n", "cannot read scene file"},
   };
   for (const auto& [text, message] : cases) {

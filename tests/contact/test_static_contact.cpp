@@ -555,6 +555,42 @@ TEST_CASE("Semismooth Newton (FB and min) and Ipopt agree on the Hertz problem",
   CHECK(dl_ipopt < 1e-8);
 }
 
+TEST_CASE("Default static solve of Hertz: closed start, few Newton iterations",
+          "[static][hertz]") {
+  // The defaults (StaticContactOptions: closed start, min function) against the closed
+  // form, and the Newton iteration count against the u = 0 start with Fischer-Burmeister
+  // (the earlier defaults, which cut their first steps back to ~2e-3 while the body,
+  // held only by the contact, moves onto the floor).
+  const HertzData d;
+  const double h = d.a / 10;
+  const StaticProblem problem = MakeHertzProblem(d, h);
+  const StaticContactResult r = SolveStaticContact(
+      2, problem.K, problem.f, problem.nodes(), StaticContactOptions());
+  StaticContactOptions earlier;
+  earlier.start = StaticStart::kZero;
+  earlier.ncp.ncp_function = ncp::NcpFunction::kFischerBurmeister;
+  const StaticContactResult e =
+      SolveStaticContact(2, problem.K, problem.f, problem.nodes(), earlier);
+  INFO(r.message << " | " << e.message);
+  REQUIRE(r.converged);
+  REQUIRE(e.converged);
+  CHECK(r.closed_start);
+  CHECK_FALSE(e.closed_start);
+  const ContactResiduals res = Recompute(problem, r);
+  CHECK(res.equilibrium < 1e-10);
+  CHECK(res.signorini < 1e-10);
+  const HertzMeasurement m = MeasureHertz(problem, r, d, h);
+  CHECK_THAT(m.a_extrapolated, WithinRel(d.a, 0.02));
+  CHECK_THAT(m.p0_node, WithinRel(d.p0, 0.01));
+  CHECK_THAT(m.force, WithinRel(d.q * d.R, 1e-10));
+  CHECK(RelativeDifference(r.normal_force, e.normal_force) < 1e-8);
+  std::printf("Hertz a/h = 10, Newton iterations: default %d, u = 0 start with FB %d\n",
+              r.newton_iterations, e.newton_iterations);
+  constexpr int kDefaultHertzIterations = 8;
+  CHECK(r.newton_iterations <= kDefaultHertzIterations);
+  CHECK(e.newton_iterations > kDefaultHertzIterations);
+}
+
 // ---------------------------------------------------------------------------------------
 // Friction: Tresca and Coulomb
 // ---------------------------------------------------------------------------------------

@@ -194,6 +194,12 @@ def main():
     series = ET.parse(os.path.join(mpi_dir, "solution.pvd")).getroot()
     files = [d.get("file") for d in series.iter("DataSet")]
     assert len(files) == 1 + 200 // 50, files  # step 0, every 50th step (the last among them)
+    # The snapshots are named as in one process: step 200 is snapshot_00200 in both.
+    serial_files = [d.get("file") for d in
+                    ET.parse(os.path.join(serial_dir, "solution.pvd")).getroot().iter("DataSet")]
+    assert [f.replace(".pvtu", "") for f in files] == [f.replace(".vtu", "") for f in serial_files], \
+        (files, serial_files)
+    assert os.path.exists(os.path.join(mpi_dir, "snapshot_00200_rank_1.vtu")), os.listdir(mpi_dir)
     reader = vtk.vtkXMLPUnstructuredGridReader()
     reader.SetFileName(os.path.join(mpi_dir, files[-1]))
     reader.Update()

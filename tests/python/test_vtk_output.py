@@ -85,7 +85,7 @@ def run(tmp_path_factory, bin_dir):
         pytest.skip(f"{exe} not built (NCP_BIN_DIR)")
     d = tmp_path_factory.mktemp("vtk")
     (d / "scene.toml").write_text(SCENE)
-    subprocess.run([exe, str(d / "scene.toml"), "--quiet"], check=True, capture_output=True)
+    subprocess.run([exe, str(d / "scene.toml"), "--quiet"], check=True, capture_output=True, cwd=d)
     series = ET.parse(d / "out" / "solution.pvd").getroot().find("Collection")
     snapshots = [(float(s.get("timestep")), d / "out" / s.get("file")) for s in series]
     return d / "out", snapshots, read_csv(d / "out" / "steps.csv")

@@ -118,6 +118,14 @@ struct ConvexQpResult {
   bool IsSolutionUsable() const { return status == ConvexQpStatus::kSolved; }
 };
 
+/// True when the library was built with Ipopt (CMake option NCP_WITH_IPOPT, default ON).
+/// Without it SolveConvexQpIpopt returns kFailed with kWithoutIpopt as its message, and
+/// the Ipopt step (StepMethod::kIpopt, compare_with_ipopt) is refused.
+bool BuiltWithIpopt();
+inline constexpr const char* kWithoutIpopt =
+    "this build has no Ipopt (configured with -DNCP_WITH_IPOPT=OFF): reconfigure with "
+    "-DNCP_WITH_IPOPT=ON (needs coinor-libipopt-dev) for the Ipopt reference solver";
+
 /// Solves the QP above with Ipopt from the start point x0 (size n).
 /// Throws std::invalid_argument if P is not n x n (n = q.size()), G is not m x n
 /// (m = h.size()), x0.size() != n, n == 0, any entry of P, q, G, h, x0 is not finite,

@@ -17,6 +17,8 @@
 ///     u^{k-1}) / 2,
 /// so the reported balance error measures only the solver's residual and round-off.
 /// W_contact is split into its normal part and the friction dissipation (>= 0).
+/// With Rayleigh damping (DynamicModel::damping) Q^k gains C v^k, v^k = (u^k - u^{k-1})
+/// / dt, and the balance its dissipation D (contact/src/damping.hpp).
 #pragma once
 
 #include <Eigen/SparseCore>

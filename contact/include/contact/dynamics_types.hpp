@@ -24,6 +24,14 @@ struct CriticalTimeStep {
   int iterations = 0;
   bool converged = false;
 };
+/// Rayleigh damping C = mass M + stiffness K (contact/src/damping.hpp): modal damping
+/// ratio xi(omega) = mass / (2 omega) + stiffness omega / 2.
+struct RayleighDamping {
+  double mass = 0.0;       ///< a [1/s]
+  double stiffness = 0.0;  ///< b [s]
+  bool active() const { return mass != 0.0 || stiffness != 0.0; }
+};
+
 /// The discretized body on its free dofs.
 struct DynamicModel {
   int dim = 0;
@@ -33,6 +41,9 @@ struct DynamicModel {
   /// External force at time t [N], free dofs; *f arrives sized.
   std::function<void(double t, Eigen::VectorXd* f)> load;
   std::vector<ContactNode> contact_nodes;
+  /// Viscous force C v^k with the velocity lagged, v^k = (u^k - u^{k-1}) / dt, added to
+  /// the step equation (eq. 68); none by default.
+  RayleighDamping damping;
 };
 
 /// How each step's complementarity system is posed and solved: the one choice of the step
@@ -120,7 +131,8 @@ struct StepRecord {
   double external_work = 0.0;         ///< cumulative [J]
   double normal_contact_work = 0.0;   ///< cumulative [J] (<= 0: impacts dissipate)
   double friction_dissipation = 0.0;  ///< cumulative [J] (>= 0)
-  double energy_balance_error = 0.0;  ///< E - E0 - W_ext - W_contact [J]
+  double damping_dissipation = 0.0;   ///< cumulative work of C v^k [J] (RayleighDamping)
+  double energy_balance_error = 0.0;  ///< E - E0 - W_ext - W_contact + D_damping [J]
   double normal_force_sum = 0.0;      ///< sum_c lambda_c [N]
   double tangent_force_sum = 0.0;     ///< sum_c |tau_c| [N]
   double max_penetration =

@@ -57,8 +57,10 @@ class ElasticBody {
   SparseMatrix StiffnessMatrix() const;
   /// Consistent mass M_{(a,i),(b,j)} = delta_ij h int rho N_a N_b dV [kg].
   SparseMatrix ConsistentMassMatrix() const;
-  /// Row-sum lumped mass: m_(a,i) = sum_b M_{(a,i),(b,i)} = h int rho N_a dV [kg], one
-  /// entry per dof (the diagonal of the lumped mass matrix).
+  /// Lumped mass, one entry per dof (the diagonal of the lumped mass matrix) [kg]. Linear
+  /// elements: row sums m_(a,i) = sum_b M_{(a,i),(b,i)} = h int rho N_a dV. Quadratic
+  /// elements: HRZ diagonal scaling (Hinton, Rock & Zienkiewicz 1976) per element,
+  /// m_a = M_aa (sum_bc M_bc) / (sum_b M_bb), positive and summing to the element's mass.
   Vector LumpedMass() const;
   /// Structural nonzeros of K and M.
   long long NumNonZeros() const;

@@ -1,5 +1,5 @@
 /// \file gmsh_reader.hpp
-/// Reading a gmsh mesh file (.msh, format 4; format 2 also works through gmsh).
+/// Reading a gmsh mesh file: an ASCII .msh, format 2.2 or 4.1 (binary files are refused).
 #pragma once
 
 #include <string>

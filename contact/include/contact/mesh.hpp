@@ -1,8 +1,8 @@
 /// \file mesh.hpp
 /// The finite element mesh of the elastic body as plain data: node coordinates, one type
-/// of linear element, and named boundary facet groups (gmsh physical groups of dimension
-/// dim - 1). Nothing here depends on gmsh; see mesh_generation.hpp and gmsh_reader.hpp
-/// for the ways to obtain a Mesh.
+/// of linear or quadratic element, and named boundary facet groups (gmsh physical groups
+/// of dimension dim - 1). Nothing here depends on gmsh; see mesh_generation.hpp and
+/// gmsh_reader.hpp for the ways to obtain a Mesh.
 ///
 /// Local node order of elements and facets is the gmsh (and VTK) order:
 ///   Triangle3       (0,0) (1,0) (0,1)                        counter-clockwise
@@ -10,6 +10,16 @@
 ///   Tetrahedron4    (0,0,0) (1,0,0) (0,1,0) (0,0,1)          node 3 on the side where
 ///                                                            0-1-2 is counter-clockwise
 ///   Hexahedron8     bottom face 0-1-2-3 (zeta = -1), top face 4-5-6-7 (zeta = +1)
+/// Quadratic elements list their corners first (as the linear element), then the
+/// mid-edge, mid-face and centre nodes in gmsh's order (see docs/quadratic-elements.md):
+///   Line3           ends 0 1, mid 2
+///   Triangle6       mid-edges 3 (0-1) 4 (1-2) 5 (2-0)
+///   Quadrilateral8  mid-edges 4 (0-1) 5 (1-2) 6 (2-3) 7 (3-0); Quadrilateral9 + centre 8
+///   Tetrahedron10   mid-edges 4 (0-1) 5 (1-2) 6 (2-0) 7 (3-0) 8 (3-2) 9 (3-1)
+///   Hexahedron20    mid-edges 8 (0-1) 9 (0-3) 10 (0-4) 11 (1-2) 12 (1-5) 13 (2-3)
+///                   14 (2-6) 15 (3-7) 16 (4-5) 17 (4-7) 18 (5-6) 19 (6-7)
+///   Hexahedron27    + face centres 20 (0123) 21 (0154) 22 (0374) 23 (1265) 24 (2376)
+///                   25 (4567), centre 26
 /// Elements must be positively oriented: det(dx/dxi) > 0 at every integration point.
 #pragma once
 
@@ -22,12 +32,18 @@
 
 namespace contact {
 
-/// The supported (linear, Lagrange) volume elements.
+/// The supported (isoparametric Lagrange and serendipity) volume elements.
 enum class ElementType {
   kTriangle3,       ///< 2D, 3 nodes (gmsh type 2)
   kQuadrilateral4,  ///< 2D, 4 nodes (gmsh type 3)
   kTetrahedron4,    ///< 3D, 4 nodes (gmsh type 4)
   kHexahedron8,     ///< 3D, 8 nodes (gmsh type 5)
+  kTriangle6,       ///< 2D quadratic, 6 nodes (gmsh type 9)
+  kQuadrilateral8,  ///< 2D quadratic serendipity, 8 nodes (gmsh type 16)
+  kQuadrilateral9,  ///< 2D biquadratic, 9 nodes (gmsh type 10)
+  kTetrahedron10,   ///< 3D quadratic, 10 nodes (gmsh type 11)
+  kHexahedron20,    ///< 3D quadratic serendipity, 20 nodes (gmsh type 17)
+  kHexahedron27,    ///< 3D triquadratic, 27 nodes (gmsh type 12)
 };
 
 /// The boundary facets of those elements: an edge in 2D, a face in 3D.
@@ -35,6 +51,10 @@ enum class FacetType {
   kLine2,           ///< facet of Triangle3 and Quadrilateral4 (gmsh type 1)
   kTriangle3,       ///< facet of Tetrahedron4 (gmsh type 2)
   kQuadrilateral4,  ///< facet of Hexahedron8 (gmsh type 3)
+  kLine3,           ///< facet of the quadratic 2D elements (gmsh type 8)
+  kTriangle6,       ///< facet of Tetrahedron10 (gmsh type 9)
+  kQuadrilateral8,  ///< facet of Hexahedron20 (gmsh type 16)
+  kQuadrilateral9,  ///< facet of Hexahedron27 (gmsh type 10)
 };
 
 const char* ToString(ElementType type);
@@ -45,6 +65,14 @@ int NodesPerElement(ElementType type);
 int NodesPerFacet(FacetType type);
 /// The facet type of the element's boundary.
 FacetType FacetTypeOf(ElementType type);
+/// Polynomial order of the element's shape functions: 1 (linear) or 2 (quadratic).
+int ElementOrder(ElementType type);
+/// The linear element with the same corners (kTriangle6 -> kTriangle3, ...); the identity
+/// for linear elements.
+ElementType LinearElementOf(ElementType type);
+/// Number of corner (vertex) nodes, which come first in the element's node list.
+int CornersPerElement(ElementType type);
+int CornersPerFacet(FacetType type);
 
 /// One named part of the boundary, e.g. "fixed", "load" or "contact".
 struct BoundaryFacets {

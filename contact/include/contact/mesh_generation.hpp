@@ -61,7 +61,9 @@ struct RectangleMeshOptions {
   std::array<double, 2> size{1.0, 1.0};    ///< side lengths Lx, Ly [m], > 0
   std::array<int, 2> cells{10, 10};        ///< elements per direction, >= 1
   ElementType element_type =
-      ElementType::kQuadrilateral4;  ///< kTriangle3 or kQuadrilateral4
+      ElementType::kQuadrilateral4;  ///< kTriangle3, kQuadrilateral4 or quadratic 2D
+                                     ///< (the linear mesh made quadratic,
+                                     ///< quadratic_mesh.hpp)
   MeshTopology topology = MeshTopology::kStructured;
   std::map<Side, BoundaryRole> side_roles;  ///< unlisted sides get kNone; only x/y sides
   std::string msh_output_path;  ///< if not empty, also save the gmsh mesh here
@@ -74,7 +76,8 @@ struct BoxMeshOptions {
   std::array<double, 3> size{1.0, 1.0, 1.0};  ///< side lengths [m], > 0
   std::array<int, 3> cells{4, 4, 4};          ///< elements per direction, >= 1
   ElementType element_type =
-      ElementType::kHexahedron8;  ///< kTetrahedron4 or kHexahedron8
+      ElementType::kHexahedron8;  ///< kTetrahedron4, kHexahedron8 or quadratic 3D
+                                  ///< (the linear mesh made quadratic)
   MeshTopology topology = MeshTopology::kStructured;
   std::map<Side, BoundaryRole> side_roles;  ///< unlisted sides get kNone
   std::string msh_output_path;  ///< if not empty, also save the gmsh mesh here
@@ -86,7 +89,8 @@ Mesh MakeRectangleMesh(const RectangleMeshOptions& options);
 /// unstructured hexahedra.
 Mesh MakeBoxMesh(const BoxMeshOptions& options);
 /// The quarter disk {x >= 0, y <= R, x^2 + (y - R)^2 <= R^2}: half of a cylinder section
-/// of radius R touching the plane y = 0 at the origin (Hertz contact), 3-node triangles.
+/// of radius R touching the plane y = 0 at the origin (Hertz contact), 3-node triangles
+/// (or curved 6-node triangles with order = 2).
 /// Groups: "fixed" = the symmetry line x = 0, "load" = the cut y = R, "contact" = the arc
 /// from the origin to x = contact_extent. Element size contact_size within refined_radius
 /// of the origin, growing with slope 1/4 up to max_size (gmsh Distance + Threshold
@@ -97,6 +101,8 @@ struct QuarterDiskMeshOptions {
   double refined_radius = 0.1;  ///< radius of the refined zone [m]
   double contact_extent = 0.2;  ///< x where the "contact" arc ends [m], < R
   double max_size = 0.125;      ///< largest element size [m]
+  /// 1: Triangle3; 2: Triangle6 with the mid-side nodes of the arc on the circle.
+  int order = 1;
 };
 Mesh MakeQuarterDiskMesh(const QuarterDiskMeshOptions& options);
 

@@ -5,6 +5,7 @@
 /// (unknown keys, missing values, values out of range) throw SceneError naming the key.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -41,6 +42,16 @@ enum class LoadHistory {
 };
 enum class MassKind { kConsistent, kLumped };
 
+/// A prescribed history x(t) in dim components, linear between the knots (time[i],
+/// value[i]) and constant before the first and after the last knot; its velocity is the
+/// slope of the piece. Empty = none.
+struct PiecewiseLinearHistory {
+  std::vector<double> time;            ///< strictly increasing [s]
+  std::vector<Eigen::VectorXd> value;  ///< one per time, dim components [m]
+  bool empty() const { return time.empty(); }
+  Eigen::VectorXd At(double t) const;  ///< x(t) [m]
+};
+
 /// output.checkpoint_every when the scene does not set it [steps].
 inline constexpr int kDefaultCheckpointEvery = 100;
 
@@ -57,8 +68,15 @@ struct Scene {
   std::optional<BoxMeshOptions> box;
   std::string msh_file;
   std::vector<int> fixed_components;  ///< components fixed on "fixed" (empty = all)
+  /// geometry.groups: the mesh's own physical-group names merged into each role
+  /// ("fixed", "load", "contact"); a role not listed keeps its own name.
+  std::map<std::string, std::vector<std::string>> group_names;
+  /// geometry.fixed_displacement: u_D(t) of the fixed components of "fixed" [m] (empty =
+  /// held at 0).
+  PiecewiseLinearHistory fixed_displacement;
 
   IsotropicMaterial material;
+  RayleighDamping damping;  ///< material.damping: C = mass M + stiffness K
   PlaneSettings plane;
   MassKind mass = MassKind::kConsistent;
 
@@ -68,6 +86,9 @@ struct Scene {
   double ramp_time = 0.0;  ///< [s]
 
   std::shared_ptr<RigidObstacle> obstacle;
+  /// obstacle.motion: its translation d(t) from its place in the scene [m] (empty = at
+  /// rest); d(t_{k+1}) sets the gaps of step k -> k+1.
+  PiecewiseLinearHistory obstacle_motion;
   NormalSource normal_source = NormalSource::kBody;
   double friction_coefficient = 0.0;
 

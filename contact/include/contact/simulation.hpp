@@ -150,7 +150,9 @@ class Simulation {
   const Eigen::VectorXd& body_force() const;  ///< [N/m^3]
   /// the obstacle translated rigidly to `translation` [m] from its position in the scene
   /// file (size dim, finite; absolute, not an increment): the gaps are recomputed from
-  /// the translated obstacle as MakeContactFrames computes them (ObstacleGaps).
+  /// the translated obstacle as MakeContactFrames computes them (ObstacleGaps). The
+  /// friction slip stays the body's own; a scene's obstacle.motion (Scene::
+  /// obstacle_motion) moves it before every step with the slip relative to it.
   void MoveObstacle(const Eigen::VectorXd& translation);
   const Eigen::VectorXd& obstacle_translation() const;  ///< [m]
   /// u^k of every dof (constrained ones at their values) [m], node-major.
@@ -169,6 +171,11 @@ class Simulation {
   Simulation(std::shared_ptr<SceneData> scene, const DynamicModel& model,
              DynamicOptions options);
   SceneData& RequireScene(const char* what) const;
+  /// The scene's prescribed obstacle.motion at the time of the next step, before it is
+  /// taken (scene_simulation.cpp).
+  void ApplySceneHistories();
+  /// Adds to the obstacle's translation over the coming step [m] (dynamics.cpp).
+  void AddObstacleStep(const Eigen::VectorXd& increment);
   /// The scene's part of a checkpoint (identity, body force, translation):
   /// scene_simulation.cpp.
   void SaveScene(internal::CheckpointData* data) const;

@@ -20,6 +20,27 @@ enum class FrictionLaw {
   kCoulomb,  ///< |tau_c| <= f_c lambda_c, by fixed point on lambda (thesis section 4.2)
 };
 
+/// The Newton start of a static solve.
+enum class StaticStart {
+  kZero,  ///< u = 0: every node at its initial gap
+  /// The equilibrium with every candidate node held on the obstacle: K u = f + sum_c F_c
+  /// with n_c . u_c = s_c (gap_c = 0) at every node, no friction. There the pressed nodes
+  /// (lambda_c > 0) count as closed and the pulled ones as open, so that with the min
+  /// function the first Newton step is a primal-dual active-set step from the closed set
+  /// - no step cut while a body that only the contact holds moves onto the obstacle.
+  /// Costs one sparse Cholesky factorization of K without the normal components; falls
+  /// back to kZero (StaticContactResult::closed_start = false) when that matrix is not
+  /// positive definite (a body free to move along the obstacle).
+  kClosed,
+};
+const char* ToString(StaticStart start);
+
+/// ncp::Options defaults for the static problem: ContactNcpOptions() with the min
+/// function, which from the closed start (StaticStart::kClosed) takes the Newton steps
+/// of an active-set method (measured on the 2D Hertz meshes:
+/// benchmarks/results/contact/static-hertz/README.md).
+ncp::Options StaticContactNcpOptions();
+
 struct StaticContactOptions {
   FrictionLaw friction = FrictionLaw::kFrictionless;
   double friction_coefficient = 0.0;  ///< f_c for kCoulomb
@@ -28,9 +49,12 @@ struct StaticContactOptions {
   /// lambda_c.
   double fixed_point_tolerance = 1e-10;
   int max_fixed_point_iterations = 100;
+  /// Start point of the first (or only) complementarity solve; the Coulomb fixed point
+  /// starts each later one from the previous solution.
+  StaticStart start = StaticStart::kClosed;
   /// Semismooth Newton settings. The scaled equations are displacements, so `tolerance`
   /// is in metres. Default min tie: a touching node counts as closed (see ncp::Options).
-  ncp::Options ncp = ContactNcpOptions();
+  ncp::Options ncp = StaticContactNcpOptions();
 };
 
 struct StaticContactResult {
@@ -42,6 +66,9 @@ struct StaticContactResult {
   Eigen::VectorXd gap;            ///< s_c - n_c . u_c [m]
   int fixed_point_iterations = 0;
   int newton_iterations = 0;  ///< summed over fixed-point iterations
+  /// The solve started from the closed start (options.start = kClosed and its matrix was
+  /// positive definite); false: from u = 0.
+  bool closed_start = false;
   ncp::Summary last_summary;  ///< of the last complementarity solve
 };
 

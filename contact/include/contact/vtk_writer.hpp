@@ -70,6 +70,11 @@ void WritePvtu(const std::string& path, const std::vector<PointField>& point_fie
 void WritePvd(const std::string& path,
               const std::vector<std::pair<double, std::string>>& snapshots);
 
+/// The file name of step `step`'s snapshot, alike in one process and on MPI ranks:
+/// "snapshot_" + the step with at least 5 digits + `suffix` (".vtu", ".pvtu",
+/// "_rank_3.vtu"), e.g. SnapshotFileName(100, ".pvtu") = "snapshot_00100.pvtu".
+std::string SnapshotFileName(int step, const std::string& suffix);
+
 /// State of a contact node in a snapshot (point field contact_state).
 enum class ContactState {
   kNotContact = -1,  ///< not a node of Gamma_c
@@ -112,7 +117,9 @@ ContactSnapshot InitialContactSnapshot(int dim, double time, const Vector& u0,
 /// on the body, pointing into the body), friction_force [N] (the vector sum_a tau_a t_a),
 /// slip [m] (the tangential part of u^{k+1} - u^k at a contact node), contact_state
 /// (ContactState: -1 off Gamma_c, 0 open, 1 stick, 2 slip; NaN where the normal force is
-/// NaN, i.e. not known); contact quantities are 0 at nodes off Gamma_c. Cell data: stress
+/// NaN, i.e. not known), contact_normal (n_c, the unit normal of the node's contact
+/// frame, from the body towards the obstacle: the obstacle's surface near the node is at
+/// x + u + gap n_c); contact quantities are 0 at nodes off Gamma_c. Cell data: stress
 /// [Pa], the Cauchy stress sigma = D eps(u) averaged over the element's stiffness
 /// quadrature points (a 3 x 3 tensor; in 2D sigma_zz = lambda (eps_xx + eps_yy) in plane
 /// strain, 0 in plane stress), and von_mises [Pa]. Throws std::invalid_argument for

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <stdexcept>
+#include <string>
 
 #include "contact/elastic_body.hpp"
 #include "petsc_check.hpp"
@@ -32,6 +33,13 @@ DistributedBody::DistributedBody(MPI_Comm comm, const Scene& scene,
     header[1] = built->body->mesh().NumElements();
   }
   MPI_Bcast(header, 2, MPI_INT, 0, comm);
+  // DMPlex distributes the corners only (cells as cones of vertices): every rank refuses.
+  const auto type = static_cast<ElementType>(header[0]);
+  if (ElementOrder(type) != 1)
+    throw std::invalid_argument(
+        std::string("contact::petsc: quadratic elements (") + ToString(type) +
+        ") are not supported by the distributed solver; use linear elements (tri3, "
+        "quad4, tet4, hex8) or run the serial contact-sim");
   auto start = std::chrono::steady_clock::now();
   auto lap = [&start] {
     const auto now = std::chrono::steady_clock::now();

@@ -332,17 +332,14 @@ class DistributedOutput {
     CONTACT_PETSC_CHECK(VecRestoreArrayRead(local, &x));
     CONTACT_PETSC_CHECK(DMRestoreLocalVector(body.dm(), &local));
     CellField rank{"rank", Eigen::MatrixXd::Constant(1, mesh.NumElements(), rank_)};
-    char name[64];
     std::vector<std::string> pieces;
-    for (int r = 0; r < size_; ++r) {
-      std::snprintf(name, sizeof name, "snapshot_%06d_rank_%d.vtu", step, r);
-      pieces.push_back(name);
-    }
+    for (int r = 0; r < size_; ++r)
+      pieces.push_back(SnapshotFileName(step, "_rank_" + std::to_string(r) + ".vtu"));
     const std::string piece = (directory_ / pieces[static_cast<size_t>(rank_)]).string();
     WriteVtu(piece, mesh, {displacement}, {rank});
     MPI_Barrier(comm_);  // (every piece is on disk before the .pvtu names it)
     if (rank_ != 0) return;
-    std::snprintf(name, sizeof name, "snapshot_%06d.pvtu", step);
+    const std::string name = SnapshotFileName(step, ".pvtu");
     WritePvtu((directory_ / name).string(), {displacement}, {rank}, pieces);
     series_.emplace_back(time, name);
     WritePvd((directory_ / "solution.pvd").string(), series_);
@@ -688,7 +685,7 @@ std::string WhyNotDistributed(const Scene& scene) {
   if (scene.dynamics.compare_with_ipopt)
     return scene.source + ": compare_with_ipopt is not available on MPI ranks; " +
            supported;
-  return "";
+  return ::contact::internal::SerialOnlySceneFeature(scene);
 }
 
 SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress) {
@@ -905,7 +902,8 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   if (rank == 0) {
     if (summary.status == DynamicStatus::kNotRun) recorder->Finish(&summary);
     if (summary.status == DynamicStatus::kCompleted)
-      summary.message = "completed " + std::to_string(summary.steps) + " steps on " +
+      summary.message = "all " + std::to_string(summary.steps) +
+                        " time steps solved to their accuracy on " +
                         std::to_string(SizeOf(comm)) + " MPI ranks (" + ToString(method) +
                         " step, partitioner " + body.partitioner() + ")";
   }

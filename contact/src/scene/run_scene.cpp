@@ -30,11 +30,6 @@ SceneResult RunScene(const Scene& scene, const SceneRunOptions& run) {
     throw CheckpointError(
         "there is no checkpoint " + checkpoint.string() +
         " (a run writes it every output.checkpoint_every steps and when interrupted)");
-  // A fresh run's files are new: an older run's checkpoint does not describe them.
-  if (!run.resume && !checkpoint.empty()) {
-    std::error_code ignored;
-    std::filesystem::remove(checkpoint, ignored);
-  }
   // The output callback is set before the Simulation builds the model, the writer after.
   Scene stepped = scene;
   internal::SceneOutput* output = nullptr;
@@ -62,6 +57,17 @@ SceneResult RunScene(const Scene& scene, const SceneRunOptions& run) {
   if (scene.marked_point) {
     marked = internal::NearestContactNode(mesh, built.frames.nodes, *scene.marked_point);
     result.marked_node = built.frames.nodes[static_cast<size_t>(marked)].node;
+  }
+  // Refused before the first step (dt above the critical step, an initial state that does
+  // not fit): nothing was run, so nothing is written - no directory, no file.
+  if (simulation.state() == SimulationState::kFailed) {
+    result.summary = simulation.summary();
+    return result;
+  }
+  // A fresh run's files are new: an older run's checkpoint does not describe them.
+  if (!run.resume && !checkpoint.empty()) {
+    std::error_code ignored;
+    std::filesystem::remove(checkpoint, ignored);
   }
   internal::SceneOutput writer(scene, built, marked, &result.files_written,
                                positions ? &*positions : nullptr);

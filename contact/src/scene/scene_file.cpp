@@ -9,6 +9,8 @@
 
 #include "contact/dynamics.hpp"
 #include "contact/scene.hpp"
+#include "scene/scene_bodies.hpp"
+#include "scene/scene_features.hpp"
 #include "scene/toml_table.hpp"
 
 namespace contact {
@@ -52,12 +54,16 @@ Side ParseSide(const Table& t, const std::string& key, const std::string& s, int
 }
 
 ElementType ParseElement(const Table& t, int dim) {
-  const std::string e = dim == 2 ? t.Choice("element", {"quad4", "tri3"}, "quad4")
-                                 : t.Choice("element", {"hex8", "tet4"}, "hex8");
-  if (e == "quad4") return ElementType::kQuadrilateral4;
-  if (e == "tri3") return ElementType::kTriangle3;
-  if (e == "hex8") return ElementType::kHexahedron8;
-  return ElementType::kTetrahedron4;
+  static const std::map<std::string, ElementType> kinds = {
+      {"quad4", ElementType::kQuadrilateral4}, {"tri3", ElementType::kTriangle3},
+      {"hex8", ElementType::kHexahedron8},     {"tet4", ElementType::kTetrahedron4},
+      {"tri6", ElementType::kTriangle6},       {"quad8", ElementType::kQuadrilateral8},
+      {"quad9", ElementType::kQuadrilateral9}, {"tet10", ElementType::kTetrahedron10},
+      {"hex20", ElementType::kHexahedron20},   {"hex27", ElementType::kHexahedron27}};
+  const std::string e =
+      dim == 2 ? t.Choice("element", {"quad4", "tri3", "tri6", "quad8", "quad9"}, "quad4")
+               : t.Choice("element", {"hex8", "tet4", "tet10", "hex20", "hex27"}, "hex8");
+  return kinds.at(e);
 }
 
 // geometry.file: a relative path is taken from the scene file's directory; the message of
@@ -83,6 +89,7 @@ void ReadGeometry(const Table& g, const fs::path& base, Scene* s) {
     s->dim = g.Integer("dimension", Range{2, 3, ""}, 0);
     if (s->dim != 2 && s->dim != 3)
       g.Fail("dimension", "must be 2 or 3 for a .msh geometry");
+    internal::ReadGroupNames(g, s);
   } else {
     s->dim = type == "rectangle" ? 2 : 3;
     std::map<Side, BoundaryRole> roles;
@@ -142,7 +149,23 @@ void ReadGeometry(const Table& g, const fs::path& base, Scene* s) {
              "entries must be components 0.." + std::to_string(s->dim - 1));
     s->fixed_components.push_back(static_cast<int>(c));
   }
+  s->fixed_displacement = internal::ReadHistory(g, "fixed_displacement", s->dim);
   g.RejectUnknownKeys();
+}
+
+/// obstacle.normal of a plane: a unit vector, |n| = 1 within kUnitNormalSlack. Not
+/// normalized silently: a normal [0, 2] would change what offset means (n . y <= offset).
+Eigen::VectorXd PlaneNormal(const Table& o, int dim) {
+  constexpr double kUnitNormalSlack = 1e-3;
+  const Eigen::VectorXd n = o.Vec("normal", kDirection, dim);
+  const double length = n.norm();
+  if (!(std::abs(length - 1.0) <= kUnitNormalSlack))
+    o.Fail("normal",
+           "must be a unit vector (|n| = 1 within " + Str(kUnitNormalSlack) +
+               "), got |n| = " + Str(length) +
+               ": divide it by its length (and offset alike)",
+           &o.Get("normal"));
+  return n;
 }
 
 std::shared_ptr<RigidObstacle> ReadObstacle(const Table& o, int dim) {
@@ -151,7 +174,7 @@ std::shared_ptr<RigidObstacle> ReadObstacle(const Table& o, int dim) {
   try {
     if (type == "plane") {
       // The obstacle fills {y : n . y <= offset}; the body lies where n . x >= offset.
-      obstacle = std::make_shared<HalfSpace>(o.Vec("normal", kDirection, dim),
+      obstacle = std::make_shared<HalfSpace>(PlaneNormal(o, dim),
                                              o.Number("offset", kCoordinate));
     } else if (type == "parabola") {
       obstacle = std::make_shared<ParabolaObstacle>(dim, o.Number("vertex", kCoordinate),
@@ -278,6 +301,7 @@ void ReadMaterial(const Table& m, Scene* s) {
                          : PlaneModel::kPlaneStrain;
     s->plane.thickness = m.Number("thickness", kLength, 1.0);
   }
+  internal::ReadDamping(m, s);
   m.RejectUnknownKeys();
 }
 
@@ -407,13 +431,12 @@ void ReadSolver(const Table& v, Scene* s) {
   v.RejectUnknownKeys();
 }
 
-/// [output]: directory (relative to the scene file), stress times, snapshots, marked
-/// point.
-void ReadOutput(const Table& out, const fs::path& base, Scene* s) {
-  if (out.Has("directory")) {
-    const fs::path d = out.String("directory");
-    s->output_directory = (d.is_relative() ? base / d : d).lexically_normal().string();
-  }
+/// [output]: directory (a relative one is taken from the working directory of the run,
+/// not from the scene file: an installed scene does not write into the install prefix),
+/// stress times, snapshots, marked point.
+void ReadOutput(const Table& out, Scene* s) {
+  if (out.Has("directory"))
+    s->output_directory = fs::path(out.String("directory")).lexically_normal().string();
   if (out.Has("stress_times")) s->stress_times = out.Numbers("stress_times", kTimeOrZero);
   s->snapshot_every = out.Integer("snapshot_every", Range{0, kMaxTimeSteps, ""}, 0);
   s->checkpoint_every = out.Integer("checkpoint_every", Range{0, kMaxTimeSteps, ""},
@@ -430,7 +453,7 @@ void WarnAboutStressTimes(Scene* s) {
     if (t - 0.5 * s->dynamics.dt > last)
       s->warnings.push_back("output.stress_times has " + Str(t) +
                             " s, after the last step (t = " + Str(last) +
-                            " s): no stresses are written for it");
+                            " s): nothing is recorded at it");
 }
 
 }  // namespace
@@ -452,6 +475,7 @@ Scene LoadScene(const std::string& path, const SceneOverrides& overrides) {
   ReadLoads(top.Sub("loads", false), &s);
   const Table o = top.Sub("obstacle", true);
   s.obstacle = ReadObstacle(o, s.dim);
+  s.obstacle_motion = internal::ReadHistory(o, "motion", s.dim);
   s.normal_source = o.Choice("normal_source", {"body", "obstacle"}, "body") == "obstacle"
                         ? NormalSource::kObstacle
                         : NormalSource::kBody;
@@ -461,10 +485,25 @@ Scene LoadScene(const std::string& path, const SceneOverrides& overrides) {
   f.RejectUnknownKeys();
   ReadTime(top.Sub("time", true), &s);
   ReadSolver(top.Sub("solver", false), &s);
-  ReadOutput(top.Sub("output", false), base, &s);
+  ReadOutput(top.Sub("output", false), &s);
   top.RejectUnknownKeys();
   WarnAboutStressTimes(&s);
+  internal::CheckSceneFeatures(s);
   return s;
 }
 
 }  // namespace contact
+
+namespace contact::internal {
+
+toml::value ParseSceneFile(const std::string& path) {
+  return ParseScene(path, ReadSceneText(path), {});
+}
+
+void ReadBodyTables(const Table& body, const std::string& base, Scene* s) {
+  ReadGeometry(body.Sub("geometry", true), base, s);
+  ReadMaterial(body.Sub("material", true), s);
+  ReadLoads(body.Sub("loads", false), s);
+}
+
+}  // namespace contact::internal

@@ -22,4 +22,9 @@ Vector SceneLoadVector(const Scene& scene, const SceneModel& built);
 /// consistent M has neither (the ranks solve with their M).
 SceneModel BuildSceneModelWithoutMatrices(const Scene& scene);
 
+/// The first feature of the scene that the run on MPI ranks does not take (Rayleigh
+/// damping, obstacle motion, fixed displacement history: scene_features.cpp), as a
+/// message naming its key; empty if none.
+std::string SerialOnlySceneFeature(const Scene& scene);
+
 }  // namespace contact::internal

@@ -9,6 +9,7 @@
 #include "contact/gmsh_reader.hpp"
 #include "contact/scene.hpp"
 #include "scene/scene_error.hpp"
+#include "scene/scene_features.hpp"
 #include "scene/scene_load.hpp"
 
 namespace contact {
@@ -114,15 +115,19 @@ SceneModel BuildGeometry(const Scene& scene, Mesh mesh) {
 SceneModel BuildModel(const Scene& scene, Mesh mesh) {
   SceneModel out = BuildGeometry(scene, std::move(mesh));
   const Vector f_free = AssembleOnFreeDofs(scene, *out.body, out.dofs, &out.model);
-  out.model.load = LoadHistoryOf(scene, f_free);
+  out.model.load =
+      internal::WithFixedDisplacement(scene, out, LoadHistoryOf(scene, f_free));
+  internal::SetFixedDisplacement(scene, scene.dynamics.start_time, &out.dofs);
+  out.model.damping = scene.damping;
   out.options = RunOptions(scene, out);
   return out;
 }
 
 Mesh SceneMesh(const Scene& scene) {
-  return !scene.msh_file.empty() ? ReadGmshMesh(scene.msh_file)
-         : scene.rectangle       ? MakeRectangleMesh(*scene.rectangle)
-                                 : MakeBoxMesh(*scene.box);
+  return !scene.msh_file.empty()
+             ? internal::MapMeshGroups(scene, ReadGmshMesh(scene.msh_file))
+         : scene.rectangle ? MakeRectangleMesh(*scene.rectangle)
+                           : MakeBoxMesh(*scene.box);
 }
 
 }  // namespace
@@ -146,7 +151,8 @@ std::function<void(double, Eigen::VectorXd*)> SceneLoad(
     const Scene& scene, const SceneModel& built, const Eigen::VectorXd& body_force) {
   Vector f_full = built.body->BodyForceLoad(body_force);
   if (scene.traction.size()) f_full += built.body->TractionLoad(scene.traction);
-  return LoadHistoryOf(scene, built.dofs.RestrictVector(f_full));
+  return internal::WithFixedDisplacement(
+      scene, built, LoadHistoryOf(scene, built.dofs.RestrictVector(f_full)));
 }
 
 SceneModel internal::BuildSceneModelWithoutMatrices(const Scene& scene) {

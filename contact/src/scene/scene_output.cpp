@@ -193,7 +193,8 @@ const char* const kStepsCsvHeader =
     "error,"
     "normal_force_sum,friction_force_sum,max_penetration,active_nodes,equilibrium_"
     "residual,"
-    "complementarity_residual,friction_residual,force_accuracy,displacement_accuracy";
+    "complementarity_residual,friction_residual,force_accuracy,displacement_accuracy,"
+    "damping_dissipation";
 
 void WriteStepsCsvRow(const StepRecord& r, std::ostream* out) {
   *out << r.step << ',' << r.time << ',' << r.newton_iterations << ','
@@ -204,7 +205,7 @@ void WriteStepsCsvRow(const StepRecord& r, std::ostream* out) {
        << r.tangent_force_sum << ',' << r.max_penetration << ',' << r.active_nodes << ','
        << r.equilibrium_residual << ',' << r.complementarity_residual << ','
        << r.friction_residual << ',' << r.force_accuracy << ',' << r.displacement_accuracy
-       << '\n';
+       << ',' << r.damping_dissipation << '\n';
 }
 
 namespace {

@@ -11,6 +11,7 @@
 #include "contact/scene.hpp"
 #include "contact/simulation.hpp"
 #include "scene/scene_error.hpp"
+#include "scene/scene_features.hpp"
 
 namespace contact {
 
@@ -161,6 +162,19 @@ const Eigen::VectorXd& Simulation::body_force() const {
 
 const Eigen::VectorXd& Simulation::obstacle_translation() const {
   return RequireScene("obstacle_translation").translation;
+}
+
+void Simulation::ApplySceneHistories() {
+  const Scene& scene = scene_->scene;
+  const double t_next = options().start_time + (step_index() + 1) * options().dt;
+  // u_D(t_{k+1}) at the fixed nodes of the outputs (the load has it already).
+  internal::SetFixedDisplacement(scene, t_next, &scene_->built.dofs);
+  if (scene.obstacle_motion.empty()) return;
+  // d(t_{k+1}): the gaps of step k -> k+1, and the obstacle's motion over that step.
+  const Eigen::VectorXd d = scene.obstacle_motion.At(t_next);
+  const Eigen::VectorXd increment = d - scene_->translation;
+  MoveObstacle(d);
+  AddObstacleStep(increment);
 }
 
 Eigen::VectorXd Simulation::nodal_displacement() const {

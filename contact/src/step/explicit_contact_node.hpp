@@ -27,10 +27,14 @@ struct ExplicitNodeStep {
 /// q, u0 and y are indexed by node.dofs (free components; -1 = constrained, skipped);
 /// y gets the node's increment in global components. m: the node's diagonal of S (the
 /// same in every free component), gap: s_c [m], bound: g_c (0 = frictionless).
+/// obstacle_step (dim global components [m], or nullptr: at rest): the obstacle's
+/// translation w over the step; the slip is then relative to it, y_T - w_T: stick is
+/// y_T = w_T with tau = q_T + m w_T, so q_T is replaced by q_T + m w_T above.
 inline ExplicitNodeStep SolveExplicitContactNode(int dim, const ContactNode& node,
                                                  double m, double gap, double bound,
                                                  const double* q, const double* u0,
-                                                 double* y) {
+                                                 double* y,
+                                                 const double* obstacle_step = nullptr) {
   const Eigen::Vector3d frame[3] = {node.normal, node.tangent1, node.tangent2};
   int slots[3] = {0, 0, 0}, axes[3] = {0, 0, 0}, num_free = 0;
   for (int a = 0; a < dim; ++a)
@@ -53,11 +57,17 @@ inline ExplicitNodeStep SolveExplicitContactNode(int dim, const ContactNode& nod
   Eigen::Vector2d qt = Eigen::Vector2d::Zero(), yt = Eigen::Vector2d::Zero(),
                   tau = Eigen::Vector2d::Zero();
   for (int a = 1; a < num_free; ++a) qt(a - 1) = local(q, a);
+  Eigen::Vector2d wt = Eigen::Vector2d::Zero();  // the obstacle's tangential step
+  for (int a = 1; a < num_free && obstacle_step; ++a)
+    for (int b = 0; b < num_free; ++b)
+      wt(a - 1) += frame[a](axes[b]) * obstacle_step[axes[b]];
+  qt += m * wt;  // the force that keeps the node stuck to the moving obstacle, minus m w
   if (g > 0.0 && qt.norm() <= g) {
-    tau = qt;  // stick: y_T = 0
+    tau = qt;  // stick: y_T = w_T
+    yt = wt;
   } else {
     tau = g > 0.0 ? Eigen::Vector2d(g * qt / qt.norm()) : Eigen::Vector2d::Zero();
-    yt = (tau - qt) / m;
+    yt = (tau - qt) / m + wt;
   }
   // Back to the global components of the node.
   for (int b = 0; b < num_free; ++b) {
@@ -69,7 +79,7 @@ inline ExplicitNodeStep SolveExplicitContactNode(int dim, const ContactNode& nod
   out.gap = gap - u0n - yn;
   for (int a = 1; a < num_free; ++a) {
     out.tangent_force(a - 1) = tau(a - 1);
-    out.slip(a - 1) = yt(a - 1);
+    out.slip(a - 1) = yt(a - 1) - wt(a - 1);
   }
   return out;
 }

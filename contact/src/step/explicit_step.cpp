@@ -37,7 +37,7 @@ class ExplicitStep : public StepAlgorithm {
   /// the sizes.)
   StepOutcome Solve(const StepData& step, ContactSystem::Result* result) override {
     const auto start = std::chrono::steady_clock::now();
-    SolveClosedForm(step.q, step.u, step.bound, step.gap, result);
+    SolveClosedForm(step.q, step.u, step.bound, step.gap, step.obstacle_step, result);
     StepOutcome out;
     out.solve_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -45,10 +45,12 @@ class ExplicitStep : public StepAlgorithm {
     out.status = out.ok ? "converged" : "non-finite values in the explicit step";
     return out;
   }
+  bool TakesObstacleSlip() const override { return true; }
 
  private:
   void SolveClosedForm(const Eigen::VectorXd& q, const Eigen::VectorXd& u0,
                        const Eigen::VectorXd& bound, const Eigen::VectorXd& gap,
+                       const Eigen::VectorXd* obstacle_step,
                        ContactSystem::Result* result) const {
     const auto N = static_cast<Eigen::Index>(nodes_.size());
     ContactSystem::Result& out = *result;
@@ -64,7 +66,8 @@ class ExplicitStep : public StepAlgorithm {
                                                  : node.dofs[2];
       const ExplicitNodeStep step = SolveExplicitContactNode(
           dim_, node, diagonal_(first_free), gap(c), bound.size() ? bound(c) : 0.0,
-          q.data(), u0.data(), out.x.data());
+          q.data(), u0.data(), out.x.data(),
+          obstacle_step ? obstacle_step->data() : nullptr);
       out.normal_force(c) = step.normal_force;
       out.gap(c) = step.gap;
       for (int a = 0; a < dim_ - 1; ++a) {

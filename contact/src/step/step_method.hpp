@@ -40,6 +40,9 @@ struct StepData {
   /// obstacle may move between steps, contact::Simulation::SetContactGaps); the
   /// ContactNode::gap of the set-up is not read by Solve.
   const Eigen::VectorXd& gap;
+  /// The obstacle's translation over the step [m] (size dim; nullptr: at rest): the
+  /// friction slip is relative to it (TakesObstacleSlip).
+  const Eigen::VectorXd* obstacle_step = nullptr;
 };
 
 /// How a step's solve ended.
@@ -65,6 +68,10 @@ class StepAlgorithm {
   /// What a step keeps for the next one (the warm start: the previous friction forces,
   /// system units), for a checkpoint (contact/simulation.hpp); empty if nothing is kept.
   virtual Eigen::MatrixXd WarmStart() const { return {}; }
+  /// Whether Solve takes the friction slip relative to StepData::obstacle_step (a method
+  /// that does not would take the body's own slip: the integrator refuses to move the
+  /// obstacle under friction then).
+  virtual bool TakesObstacleSlip() const { return false; }
   /// Restores what WarmStart returned. Throws std::invalid_argument on a size that does
   /// not fit the method (a checkpoint of another run).
   virtual void SetWarmStart(const Eigen::MatrixXd& warm_start) {

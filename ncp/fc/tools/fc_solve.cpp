@@ -103,7 +103,7 @@ int main(int argc, char** argv) {
       "the text file holds a global problem (M, H, q, b, mu); FCLIB files say so")(
       "velocities", "global problem: write v, one value per line, to this file",
       cxxopts::value<std::string>())("verbose", "one line per Newton step on stderr")(
-      "h,help", "this help");
+      "h,help", "this help")("version", "print the version and exit");
   cli.parse_positional({"file"});
   cli.positional_help("FILE");
   // A file-size limit (ulimit -f) makes the write fail with EFBIG, reported, instead of
@@ -113,6 +113,10 @@ int main(int argc, char** argv) {
     const auto args = cli.parse(argc, argv);
     if (args.count("help")) {
       std::cout << cli.help() << '\n';
+      return 0;
+    }
+    if (args.count("version")) {
+      std::cout << "fc-solve " << NCP_VERSION << '\n';
       return 0;
     }
     if (!args.count("file")) throw std::invalid_argument("no problem file given");

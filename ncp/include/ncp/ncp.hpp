@@ -2,6 +2,7 @@
 /// Umbrella header of the ncp library.
 #pragma once
 
+#include "ncp/blas_threads.hpp"
 #include "ncp/ncp_functions.hpp"
 #include "ncp/problem.hpp"
 #include "ncp/residuals.hpp"

@@ -210,6 +210,11 @@ struct Options {
   /// descent test (eq. 22), before the Levenberg-Marquardt direction and -grad psi.
   bool minimum_norm_step = true;
   LinearSolverType linear_solver = LinearSolverType::kAuto;
+  /// At most this many BLAS threads during Solve() (ncp/blas_threads.hpp; OpenBLAS only,
+  /// no effect with another BLAS); 0 leaves the count alone. The default 1: the
+  /// factorizations call BLAS on small fronts, where OpenBLAS's threads cost more than
+  /// they give and spin (sched_yield) between calls.
+  int blas_threads = 1;
   /// kAuto uses dense LU for n <= dense_threshold, UMFPACK above.
   int dense_threshold = 100;
   /// Box MCP: a bound with |b| >= infinite_bound is infinite (GAMS and PATH write "no

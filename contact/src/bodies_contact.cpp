@@ -1,0 +1,158 @@
+#include "contact/bodies_contact.hpp"
+
+#include <algorithm>
+#include <cfloat>
+#include <stdexcept>
+
+#include "mortar/mortar_problem.hpp"
+
+namespace contact {
+namespace {
+
+void CheckSizes(const BodySystem& system, const MortarConstraints& constraints,
+                const Vector& f, const char* where) {
+  if (constraints.B.cols() != system.NumDofs() || f.size() != system.NumDofs())
+    throw std::invalid_argument(
+        std::string(where) + ": the system has " + std::to_string(system.NumDofs()) +
+        " dofs, B has " + std::to_string(constraints.B.cols()) +
+        " columns and the load " + std::to_string(f.size()) + " entries");
+}
+
+double MaxDiagonal(const SparseMatrix& A) {
+  double largest = 0.0;
+  for (int i = 0; i < A.rows(); ++i) largest = std::max(largest, std::abs(A.coeff(i, i)));
+  return largest;
+}
+
+/// max of the infinity norms, or the smallest positive double if all are 0: the scale
+/// of the rows of one solve [units of x].
+double DisplacementScale(std::initializer_list<double> norms) {
+  double scale = DBL_MIN;
+  for (double v : norms) scale = std::max(scale, v);
+  return scale;
+}
+
+/// Sum of the forces of the constraints of each interface [N].
+std::vector<double> InterfaceForces(const MortarConstraints& constraints,
+                                    const Vector& force) {
+  int interfaces = 0;
+  for (int i : constraints.interface) interfaces = std::max(interfaces, i + 1);
+  std::vector<double> sum(static_cast<size_t>(interfaces), 0.0);
+  for (int j = 0; j < constraints.NumConstraints(); ++j)
+    sum[static_cast<size_t>(constraints.interface[static_cast<size_t>(j)])] += force(j);
+  return sum;
+}
+
+}  // namespace
+
+BodiesStaticResult SolveBodiesStatic(const BodySystem& system,
+                                     const MortarConstraints& constraints,
+                                     const Vector& f, const ncp::Options& ncp) {
+  CheckSizes(system, constraints, f, "contact::SolveBodiesStatic");
+  const DofMap& dofs = system.dofs;
+  const SparseMatrix K = dofs.RestrictMatrix(system.stiffness);
+  const double k = MaxDiagonal(K);
+  const SparseMatrix B = constraints.B * dofs.RestrictionMatrix().transpose();
+  const Vector q = -dofs.RestrictLoad(system.stiffness, f) / k;
+  const Vector gap_base =
+      constraints.initial_gap + constraints.B * dofs.PrescribedValues();
+  internal::MortarContactProblem problem(K / k, B);
+  problem.Update(q, gap_base,
+                 DisplacementScale({q.lpNorm<Eigen::Infinity>(),
+                                    dofs.PrescribedValues().lpNorm<Eigen::Infinity>()}));
+  ncp::Vector z = ncp::Vector::Zero(problem.NumVariables());
+  BodiesStaticResult result;
+  ncp::Solve(ncp, problem, &z, &result.summary);
+  result.converged = result.summary.IsSolutionUsable();
+  result.message = result.summary.BriefReport();
+  result.newton_iterations = result.summary.iterations;
+  result.u = dofs.Expand(z.head(K.rows()));
+  result.normal_force = z.tail(B.rows()) * k;
+  result.pressure = result.normal_force.cwiseQuotient(constraints.weight);
+  result.gap = constraints.initial_gap + constraints.B * result.u;
+  return result;
+}
+
+const char* ToString(BodiesDynamicStatus status) {
+  switch (status) {
+    case BodiesDynamicStatus::kNotRun:
+      return "not-run";
+    case BodiesDynamicStatus::kCompleted:
+      return "completed";
+    case BodiesDynamicStatus::kSolverFailure:
+      return "solver-failure";
+  }
+  return "unknown";
+}
+
+BodiesDynamicSummary RunBodiesDynamics(const BodySystem& system,
+                                       const MortarConstraints& constraints,
+                                       const Vector& f, const Vector& u0,
+                                       const Vector& v0,
+                                       const BodiesDynamicOptions& options) {
+  CheckSizes(system, constraints, f, "contact::RunBodiesDynamics");
+  if (u0.size() != system.NumDofs() || v0.size() != system.NumDofs())
+    throw std::invalid_argument("contact::RunBodiesDynamics: u0 and v0 need " +
+                                std::to_string(system.NumDofs()) + " entries");
+  if (!(options.time_step > 0.0) || options.steps < 1)
+    throw std::invalid_argument(
+        "contact::RunBodiesDynamics: time_step = " + std::to_string(options.time_step) +
+        " (need > 0), steps = " + std::to_string(options.steps) + " (need >= 1)");
+  const DofMap& dofs = system.dofs;
+  const double dt = options.time_step;
+  const SparseMatrix M_full =
+      options.lumped_mass ? SparseMatrix(system.lumped_mass.asDiagonal()) : system.mass;
+  const SparseMatrix M = dofs.RestrictMatrix(M_full);
+  const double m = MaxDiagonal(M);
+  const SparseMatrix P = dofs.RestrictionMatrix();
+  const SparseMatrix B = constraints.B * P.transpose();
+  internal::MortarContactProblem problem(M / m, B);
+
+  Vector u = dofs.Expand(dofs.RestrictVector(u0));
+  Vector u_prev = u - dt * dofs.ExpandHomogeneous(dofs.RestrictVector(v0));
+  ncp::Vector z = ncp::Vector::Zero(problem.NumVariables());
+  BodiesDynamicSummary summary;
+  summary.records.reserve(static_cast<size_t>(options.steps));
+  for (int step = 0; step < options.steps; ++step) {
+    const Vector Ku = system.stiffness * u;
+    const Vector increment = u - u_prev;
+    const Vector q = -P * (M_full * increment + dt * dt * (f - Ku)) / m;
+    const Vector gap_base = constraints.initial_gap + constraints.B * u;
+    problem.Update(q, gap_base,
+                   DisplacementScale({q.lpNorm<Eigen::Infinity>(),
+                                      increment.lpNorm<Eigen::Infinity>()}));
+    z.head(M.rows()) = P * increment;  // start: the previous increment and forces
+    ncp::Summary solve;
+    ncp::Solve(options.ncp, problem, &z, &solve);
+    if (!solve.IsSolutionUsable()) {
+      summary.status = BodiesDynamicStatus::kSolverFailure;
+      summary.message = "step " + std::to_string(step + 1) + ": " + solve.BriefReport();
+      break;
+    }
+    const Vector u_next = u + P.transpose() * z.head(M.rows());
+    const Vector force = z.tail(B.rows()) * (m / (dt * dt));
+    const Vector gap = gap_base + B * z.head(M.rows());
+    if (gap.size() > 0)
+      summary.max_penetration = std::max(summary.max_penetration, -gap.minCoeff());
+    BodiesStepRecord record;
+    record.time = (step + 1) * dt;
+    record.interface_force = InterfaceForces(constraints, force);
+    const Vector v = (u_next - u) / dt;
+    record.energy = 0.5 * v.dot(M_full * v) + 0.5 * u.dot(system.stiffness * u_next);
+    record.newton_iterations = solve.iterations;
+    summary.records.push_back(record);
+    if (options.on_step) options.on_step(step + 1, u_next, force);
+    u_prev = u;
+    u = u_next;
+  }
+  if (summary.status == BodiesDynamicStatus::kNotRun) {
+    summary.status = BodiesDynamicStatus::kCompleted;
+    summary.message =
+        std::to_string(options.steps) + " steps, every contact solve converged";
+  }
+  summary.u = u;
+  summary.velocity = (u - u_prev) / dt;
+  return summary;
+}
+
+}  // namespace contact
