@@ -418,6 +418,18 @@ TEST_CASE("bodies: example scenes reproduce their closed forms", "[bodies][scene
   const double top = 600.0 * 9.81 * 0.6 * 0.25, middle = 7800.0 * 9.81 * 0.3;
   CHECK(std::abs(stack.pair_force[1] - top) <= 1e-6 * top);
   CHECK(std::abs(stack.pair_force[0] - top - middle) <= 1e-6 * (top + middle));
+  // Output: one .vtu per body in one ParaView collection, one part per body.
+  const std::filesystem::path out =
+      std::filesystem::temp_directory_path() / "bodies_stack_output";
+  std::filesystem::remove_all(out);
+  contact::RunBodiesScene(dir + "stack_2d.toml", out.string());
+  for (const char* file : {"floor_0.vtu", "middle_0.vtu", "top_0.vtu", "pairs.csv"})
+    CHECK(std::filesystem::exists(out / file));
+  std::ifstream pvd(out / "solution.pvd");
+  const std::string collection((std::istreambuf_iterator<char>(pvd)),
+                               std::istreambuf_iterator<char>());
+  CHECK(collection.find("part=\"2\" file=\"top_0.vtu\"") != std::string::npos);
+  std::filesystem::remove_all(out);
   const contact::BodiesSceneSummary blocks =
       contact::RunBodiesScene(dir + "two_blocks_2d.toml", std::string());
   REQUIRE(blocks.status == "completed");

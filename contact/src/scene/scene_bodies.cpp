@@ -226,6 +226,23 @@ void WritePairs(const std::string& directory, const BodiesScene& scene,
   if (!out) throw std::runtime_error("cannot write " + directory + "/pairs.csv");
 }
 
+/// A ParaView collection with one part per body: series holds (time [s], file) with the
+/// bodies' files of each snapshot in body order.
+void WriteBodiesPvd(const std::string& path,
+                    const std::vector<std::pair<double, std::string>>& series,
+                    int num_bodies) {
+  std::ofstream out(path);
+  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n"
+         "  <Collection>\n";
+  out.precision(17);
+  for (size_t k = 0; k < series.size(); ++k)
+    out << "    <DataSet timestep=\"" << series[k].first << "\" part=\""
+        << k % static_cast<size_t>(num_bodies) << "\" file=\"" << series[k].second
+        << "\"/>\n";
+  out << "  </Collection>\n</VTKFile>\n";
+  if (!out) throw std::runtime_error("cannot write " + path);
+}
+
 std::vector<double> PairForces(const MortarConstraints& constraints, const Vector& force,
                                size_t pairs) {
   std::vector<double> sum(pairs, 0.0);
@@ -323,7 +340,8 @@ BodiesSceneSummary RunBodiesScene(const std::string& path,
   summary.pair_force = PairForces(constraints, normal_force, scene.interfaces.size());
   if (write) {
     WritePairs(output_directory, scene, constraints, u, normal_force);
-    WritePvd((fs::path(output_directory) / "solution.pvd").string(), series);
+    WriteBodiesPvd((fs::path(output_directory) / "solution.pvd").string(), series,
+                   system.NumBodies());
   }
   return summary;
 }
