@@ -243,6 +243,23 @@ void WriteBodiesPvd(const std::string& path,
   if (!out) throw std::runtime_error("cannot write " + path);
 }
 
+/// steps.csv: per step the time [s], the force of each pair [N], the energy [J] and the
+/// Newton iterations.
+void WriteSteps(const std::string& directory, size_t pairs,
+                const std::vector<BodiesStepRecord>& records) {
+  std::ofstream steps(fs::path(directory) / "steps.csv");
+  steps << "time";
+  for (size_t i = 0; i < pairs; ++i) steps << ",pair" << i << "_force";
+  steps << ",energy,newton_iterations\n";
+  steps.precision(17);
+  for (const BodiesStepRecord& record : records) {
+    steps << record.time;
+    for (double force : record.interface_force) steps << "," << force;
+    steps << "," << record.energy << "," << record.newton_iterations << "\n";
+  }
+  if (!steps) throw std::runtime_error("cannot write " + directory + "/steps.csv");
+}
+
 std::vector<double> PairForces(const MortarConstraints& constraints, const Vector& force,
                                size_t pairs) {
   std::vector<double> sum(pairs, 0.0);
@@ -323,19 +340,7 @@ BodiesSceneSummary RunBodiesScene(const std::string& path,
       summary.newton_iterations += record.newton_iterations;
     summary.max_penetration = r.max_penetration;
     u = r.u;
-    if (write) {
-      std::ofstream steps(fs::path(output_directory) / "steps.csv");
-      steps << "time";
-      for (size_t i = 0; i < scene.interfaces.size(); ++i)
-        steps << ",pair" << i << "_force";
-      steps << ",energy,newton_iterations\n";
-      steps.precision(17);
-      for (const BodiesStepRecord& record : r.records) {
-        steps << record.time;
-        for (double force : record.interface_force) steps << "," << force;
-        steps << "," << record.energy << "," << record.newton_iterations << "\n";
-      }
-    }
+    if (write) WriteSteps(output_directory, scene.interfaces.size(), r.records);
   }
   summary.pair_force = PairForces(constraints, normal_force, scene.interfaces.size());
   if (write) {
