@@ -4,6 +4,9 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <stdexcept>
 
 #include "contact/bodies.hpp"
@@ -11,6 +14,7 @@
 #include "contact/bodies_scene.hpp"
 #include "contact/mesh_generation.hpp"
 #include "contact/mortar.hpp"
+#include "contact/scene.hpp"
 
 namespace {
 
@@ -414,10 +418,52 @@ TEST_CASE("bodies: example scenes reproduce their closed forms", "[bodies][scene
   const double top = 600.0 * 9.81 * 0.6 * 0.25, middle = 7800.0 * 9.81 * 0.3;
   CHECK(std::abs(stack.pair_force[1] - top) <= 1e-6 * top);
   CHECK(std::abs(stack.pair_force[0] - top - middle) <= 1e-6 * (top + middle));
+  // Output: one .vtu per body in one ParaView collection, one part per body.
+  const std::filesystem::path out =
+      std::filesystem::temp_directory_path() / "bodies_stack_output";
+  std::filesystem::remove_all(out);
+  contact::RunBodiesScene(dir + "stack_2d.toml", out.string());
+  for (const char* file : {"floor_0.vtu", "middle_0.vtu", "top_0.vtu", "pairs.csv"})
+    CHECK(std::filesystem::exists(out / file));
+  std::ifstream pvd(out / "solution.pvd");
+  const std::string collection((std::istreambuf_iterator<char>(pvd)),
+                               std::istreambuf_iterator<char>());
+  CHECK(collection.find("part=\"2\" file=\"top_0.vtu\"") != std::string::npos);
+  std::filesystem::remove_all(out);
   const contact::BodiesSceneSummary blocks =
       contact::RunBodiesScene(dir + "two_blocks_2d.toml", std::string());
   REQUIRE(blocks.status == "completed");
   // p = delta / (H1 / E1 + H2 / E2) over the width 1 m and thickness 1 m.
   const double p = 1e-4 / (0.5 / 70e9 + 0.4 / 210e9);
   CHECK(std::abs(blocks.pair_force[0] - p) <= 1e-9 * p);
+}
+
+// Unsupported or inconsistent scene input is refused naming the key (or the body).
+TEST_CASE("bodies: scene refusals name the key", "[bodies][scene]") {
+  const std::string base = std::string(NCP_SOURCE_DIR) + "/examples/bodies/";
+  std::ifstream in(base + "stack_2d.toml");
+  const std::string stack((std::istreambuf_iterator<char>(in)),
+                          std::istreambuf_iterator<char>());
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "bodies_refusal.toml").string();
+  auto refusal = [&](const std::string& text) {
+    std::ofstream(path) << text;
+    try {
+      contact::RunBodiesScene(path, std::string());
+    } catch (const contact::SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string("not refused");
+  };
+  const std::string friction =
+      refusal(stack +
+              "\n[[contact]]\nslave_body = \"top\"\nmaster_body = "
+              "\"floor\"\nfriction = 0.3\n");
+  CHECK(friction.find("'contact[2].friction'") != std::string::npos);
+  const std::string missing =
+      refusal(stack + "\n[[contact]]\nslave_body = \"lid\"\nmaster_body = \"floor\"\n");
+  CHECK(missing.find("'contact[2].slave_body'") != std::string::npos);
+  CHECK(missing.find("'lid'") != std::string::npos);
+  CHECK_THROWS_AS(contact::LoadScene(base + "stack_2d.toml"), contact::SceneError);
+  std::filesystem::remove(path);
 }

@@ -226,6 +226,40 @@ void WritePairs(const std::string& directory, const BodiesScene& scene,
   if (!out) throw std::runtime_error("cannot write " + directory + "/pairs.csv");
 }
 
+/// A ParaView collection with one part per body: series holds (time [s], file) with the
+/// bodies' files of each snapshot in body order.
+void WriteBodiesPvd(const std::string& path,
+                    const std::vector<std::pair<double, std::string>>& series,
+                    int num_bodies) {
+  std::ofstream out(path);
+  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n"
+         "  <Collection>\n";
+  out.precision(17);
+  for (size_t k = 0; k < series.size(); ++k)
+    out << "    <DataSet timestep=\"" << series[k].first << "\" part=\""
+        << k % static_cast<size_t>(num_bodies) << "\" file=\"" << series[k].second
+        << "\"/>\n";
+  out << "  </Collection>\n</VTKFile>\n";
+  if (!out) throw std::runtime_error("cannot write " + path);
+}
+
+/// steps.csv: per step the time [s], the force of each pair [N], the energy [J] and the
+/// Newton iterations.
+void WriteSteps(const std::string& directory, size_t pairs,
+                const std::vector<BodiesStepRecord>& records) {
+  std::ofstream steps(fs::path(directory) / "steps.csv");
+  steps << "time";
+  for (size_t i = 0; i < pairs; ++i) steps << ",pair" << i << "_force";
+  steps << ",energy,newton_iterations\n";
+  steps.precision(17);
+  for (const BodiesStepRecord& record : records) {
+    steps << record.time;
+    for (double force : record.interface_force) steps << "," << force;
+    steps << "," << record.energy << "," << record.newton_iterations << "\n";
+  }
+  if (!steps) throw std::runtime_error("cannot write " + directory + "/steps.csv");
+}
+
 std::vector<double> PairForces(const MortarConstraints& constraints, const Vector& force,
                                size_t pairs) {
   std::vector<double> sum(pairs, 0.0);
@@ -306,24 +340,13 @@ BodiesSceneSummary RunBodiesScene(const std::string& path,
       summary.newton_iterations += record.newton_iterations;
     summary.max_penetration = r.max_penetration;
     u = r.u;
-    if (write) {
-      std::ofstream steps(fs::path(output_directory) / "steps.csv");
-      steps << "time";
-      for (size_t i = 0; i < scene.interfaces.size(); ++i)
-        steps << ",pair" << i << "_force";
-      steps << ",energy,newton_iterations\n";
-      steps.precision(17);
-      for (const BodiesStepRecord& record : r.records) {
-        steps << record.time;
-        for (double force : record.interface_force) steps << "," << force;
-        steps << "," << record.energy << "," << record.newton_iterations << "\n";
-      }
-    }
+    if (write) WriteSteps(output_directory, scene.interfaces.size(), r.records);
   }
   summary.pair_force = PairForces(constraints, normal_force, scene.interfaces.size());
   if (write) {
     WritePairs(output_directory, scene, constraints, u, normal_force);
-    WritePvd((fs::path(output_directory) / "solution.pvd").string(), series);
+    WriteBodiesPvd((fs::path(output_directory) / "solution.pvd").string(), series,
+                   system.NumBodies());
   }
   return summary;
 }

@@ -468,6 +468,12 @@ Scene LoadScene(const std::string& path, const SceneOverrides& overrides) {
   s.source = path;
   const fs::path base = fs::path(path).parent_path();
   const Table top(&root, "", path);
+  if (top.Has("bodies"))
+    throw SceneError(
+        path +
+        ": a scene with several bodies ([[bodies]]) runs through contact-sim "
+        "or contact::RunBodiesScene (docs/several-bodies.md); LoadScene, "
+        "Simulation and MPI ranks take one body");
   s.name = top.String("name", fs::path(path).stem().string());
 
   ReadGeometry(top.Sub("geometry", true), base, &s);
