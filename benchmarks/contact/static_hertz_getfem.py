@@ -151,6 +151,9 @@ def main():
             "cpu_ratio_ours_over_getfem": f"{float(d['cpu_s']) / cpu:.3g}",
             "wall_ratio_ours_over_getfem": f"{float(d['wall_s']) / wall:.3g}",
             "force_difference_over_max_force": f"{difference:.2e}",
+            # Vertical equilibrium of the quarter: the contact forces carry q R.
+            "ours_force_sum_over_qR": f"{sum(our_forces.values()) / (Q * R):.12f}",
+            "getfem_force_sum_over_qR": f"{forces.sum() / (Q * R):.12f}",
         })
     with open(os.path.join(out, "static_hertz_getfem.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
