@@ -1,10 +1,13 @@
 // hertz-example: a steel cylinder pressed onto a rigid plane (plane strain), compared
 // with the Hertz solution on three meshes refined at the contact.
 //
-//   hertz-example OUTPUT_DIR
+//   hertz-example OUTPUT_DIR [ORDER [N ...]]
 //
-// prints the comparison table and writes into OUTPUT_DIR
-//   hertz_table.csv               one row per mesh: h, a, p0 and their errors
+// ORDER 1 (default): 3-node triangles; 2: 6-node triangles with the mid-side nodes of the
+// arc on the circle. N: elements per contact half-width a (default 10 20 40). Prints the
+// comparison table and writes into OUTPUT_DIR
+//   hertz_table.csv               one row per mesh: h, a, p0, their errors, CPU seconds
+//                                 (hertz_table_order2.csv for ORDER 2)
 //   hertz_pressure_a_over_h_N.csv contact pressure vs x, computed and exact, per mesh.
 //
 // Hertz (Johnson, Contact Mechanics, 1985, section 4.3, eq. 4.43-4.45), cylinder of
@@ -14,6 +17,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -49,7 +54,7 @@ struct HertzData {
 };
 
 struct Row {
-  double h = 0, a = 0, p0 = 0, max_error = 0;
+  double h = 0, a = 0, p0 = 0, max_error = 0, seconds = 0;
   int dofs = 0, loaded = 0, newton_iterations = 0;
 };
 
@@ -58,16 +63,22 @@ struct Row {
 // pressure q on the cut y = R ("load"), the arc up to x = 3a is Gamma_c ("contact").
 class HertzProblem {
  public:
-  HertzProblem(const HertzData& data, int elements_per_half_width)
+  HertzProblem(const HertzData& data, int elements_per_half_width, int order)
       : data_(data),
+        order_(order),
         elements_per_a_(elements_per_half_width),
         h_(data.a / elements_per_half_width) {}
 
+  // The row with the CPU time of mesh, assembly and solve [s].
   Row run(const std::filesystem::path& output_dir) {
+    const std::clock_t start = std::clock();
     make_mesh();
     assemble();
     solve();
-    return write_output(output_dir);
+    const double seconds = static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
+    Row row = write_output(output_dir);
+    row.seconds = seconds;
+    return row;
   }
 
  private:
@@ -80,6 +91,7 @@ class HertzProblem {
     disk.refined_radius = 1.5 * data_.a;
     disk.contact_extent = 3.0 * data_.a;
     disk.max_size = data_.R / 8.0;
+    disk.order = order_;
     mesh_ = contact::MakeQuarterDiskMesh(disk);
   }
 
@@ -132,8 +144,9 @@ class HertzProblem {
     const double x1 = profile[last - 1].x, p1 = profile[last - 1].p;
     const double x2 = profile[last].x, p2 = profile[last].p;
     row.a = std::sqrt(x2 * x2 + p2 * p2 * (x2 * x2 - x1 * x1) / (p1 * p1 - p2 * p2));
-    std::ofstream csv(output_dir / ("hertz_pressure_a_over_h_" +
-                                    std::to_string(elements_per_a_) + ".csv"));
+    std::ofstream csv(output_dir /
+                      ("hertz_pressure_a_over_h_" + std::to_string(elements_per_a_) +
+                       (order_ == 2 ? "_order2" : "") + ".csv"));
     csv << "x_m,x_over_a,p_computed_Pa,p_exact_Pa\n";
     csv.precision(10);
     for (const Sample& s : profile) {
@@ -146,6 +159,7 @@ class HertzProblem {
   }
 
   HertzData data_;
+  int order_;
   int elements_per_a_;
   double h_;
   contact::Mesh mesh_;
@@ -158,11 +172,20 @@ class HertzProblem {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::cerr << "usage: " << argv[0] << " OUTPUT_DIR\n";
+  if (argc < 2) {
+    std::cerr << "usage: " << argv[0] << " OUTPUT_DIR [ORDER [N ...]]\n";
     return 2;
   }
   const std::filesystem::path output_dir = argv[1];
+  const int order = argc > 2 ? std::atoi(argv[2]) : 1;
+  std::vector<int> sizes;
+  for (int k = 3; k < argc; ++k) sizes.push_back(std::atoi(argv[k]));
+  if (sizes.empty()) sizes = {10, 20, 40};
+  if ((order != 1 && order != 2) ||
+      std::any_of(sizes.begin(), sizes.end(), [](int n) { return n < 1 || n > 1000; })) {
+    std::cerr << "ORDER must be 1 or 2 and N in [1, 1000]\n";
+    return 2;
+  }
   std::filesystem::create_directories(output_dir);
   const HertzData data;
   std::printf("Hertz, plane strain: R = %g m, E = %g Pa, nu = %g, P = %.6g N/m\n", data.R,
@@ -170,22 +193,26 @@ int main(int argc, char** argv) {
   std::printf("exact: a = %.6e m, p0 = %.6e Pa\n\n", data.a, data.p0);
   std::printf(
       "| h [m] | a/h | dofs | loaded nodes | a [m] | a error | p0 [Pa] | p0 error | max "
-      "|p - p_exact| / p0 | Newton its |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
-  std::ofstream table(output_dir / "hertz_table.csv");
+      "|p - p_exact| / p0 | Newton its | CPU s |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::ofstream table(output_dir /
+                      (order == 2 ? "hertz_table_order2.csv" : "hertz_table.csv"));
   table << "h_m,a_over_h,dofs,loaded_nodes,a_m,a_exact_m,p0_Pa,p0_exact_Pa,max_error_"
-           "over_p0\n";
+           "over_p0,cpu_seconds\n";
   table.precision(10);
-  for (const int n : {10, 20, 40}) {
-    HertzProblem problem(data, n);
+  for (const int n : sizes) {
+    HertzProblem problem(data, n, order);
     const Row r = problem.run(output_dir);
-    std::printf("| %.2e | %d | %d | %d | %.5e | %+.2e | %.5e | %+.2e | %.2e | %d |\n",
-                r.h, n, r.dofs, r.loaded, r.a, r.a / data.a - 1, r.p0, r.p0 / data.p0 - 1,
-                r.max_error, r.newton_iterations);
+    std::printf(
+        "| %.2e | %d | %d | %d | %.5e | %+.2e | %.5e | %+.2e | %.2e | %d | %.3f |\n", r.h,
+        n, r.dofs, r.loaded, r.a, r.a / data.a - 1, r.p0, r.p0 / data.p0 - 1, r.max_error,
+        r.newton_iterations, r.seconds);
     table << r.h << "," << n << "," << r.dofs << "," << r.loaded << "," << r.a << ","
-          << data.a << "," << r.p0 << "," << data.p0 << "," << r.max_error << "\n";
+          << data.a << "," << r.p0 << "," << data.p0 << "," << r.max_error << ","
+          << r.seconds << "\n";
   }
-  std::printf("\nwritten: %s/hertz_table.csv, hertz_pressure_a_over_h_{10,20,40}.csv\n",
-              output_dir.string().c_str());
+  std::printf("\nwritten: %s/hertz_table%s.csv and hertz_pressure_a_over_h_N%s.csv\n",
+              output_dir.string().c_str(), order == 2 ? "_order2" : "",
+              order == 2 ? "_order2" : "");
   return 0;
 }
