@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -45,7 +46,7 @@ struct HertzData {
 };
 
 struct Row {
-  double h = 0, a = 0, p0 = 0, max_error = 0;
+  double h = 0, a = 0, p0 = 0, max_error = 0, seconds = 0;
   int dofs = 0, loaded = 0, newton_iterations = 0;
 };
 
@@ -54,16 +55,23 @@ struct Row {
 // pressure q on the cut y = R ("load"), the arc up to x = 3a is Gamma_c ("contact").
 class HertzProblem {
  public:
-  HertzProblem(const HertzData& data, int elements_per_half_width)
+  // order 1: 3-node triangles; 2: 6-node triangles, the arc's mid-side nodes on the circle.
+  HertzProblem(const HertzData& data, int elements_per_half_width, int order = 1)
       : data_(data),
+        order_(order),
         elements_per_a_(elements_per_half_width),
         h_(data.a / elements_per_half_width) {}
 
+  // The row with the CPU time of mesh, assembly and solve [s].
   Row run(const std::filesystem::path& output_dir) {
+    const std::clock_t start = std::clock();
     make_mesh();
     assemble();
     solve(DefaultOptions());
-    return write_output(output_dir);
+    const double seconds = static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
+    Row row = write_output(output_dir);
+    row.seconds = seconds;
+    return row;
   }
 
   // The default settings, frictionless, with the tolerance absolute on the scaled system
@@ -83,6 +91,7 @@ class HertzProblem {
     disk.refined_radius = 1.5 * data_.a;
     disk.contact_extent = 3.0 * data_.a;
     disk.max_size = data_.R / 8.0;
+    disk.order = order_;
     mesh_ = contact::MakeQuarterDiskMesh(disk);
   }
 
@@ -134,8 +143,9 @@ class HertzProblem {
     const double x1 = profile[last - 1].x, p1 = profile[last - 1].p;
     const double x2 = profile[last].x, p2 = profile[last].p;
     row.a = std::sqrt(x2 * x2 + p2 * p2 * (x2 * x2 - x1 * x1) / (p1 * p1 - p2 * p2));
-    std::ofstream csv(output_dir / ("hertz_pressure_a_over_h_" +
-                                    std::to_string(elements_per_a_) + ".csv"));
+    std::ofstream csv(output_dir /
+                      ("hertz_pressure_a_over_h_" + std::to_string(elements_per_a_) +
+                       (order_ == 2 ? "_order2" : "") + ".csv"));
     csv << "x_m,x_over_a,p_computed_Pa,p_exact_Pa\n";
     csv.precision(10);
     for (const Sample& s : profile) {
@@ -154,6 +164,7 @@ class HertzProblem {
 
  private:
   HertzData data_;
+  int order_;
   int elements_per_a_;
   double h_;
   contact::Mesh mesh_;

@@ -101,6 +101,45 @@ $Elements
 $EndElements
 )";
 
+// One cubic 10-node triangle (gmsh type 21): not supported.
+const char* kCubicTriangleMsh = R"($MeshFormat
+4.1 0 8
+$EndMeshFormat
+$Entities
+0 0 1 0
+1 0 0 0 1 1 0 0 0
+$EndEntities
+$Nodes
+1 10 1 10
+2 1 0 10
+1
+2
+3
+4
+5
+6
+7
+8
+9
+10
+0 0 0
+3 0 0
+0 3 0
+1 0 0
+2 0 0
+2 1 0
+1 2 0
+0 2 0
+0 1 0
+1 1 0
+$EndNodes
+$Elements
+1 1 1 1
+2 1 21 1
+1 1 2 3 4 5 6 7 8 9 10
+$EndElements
+)";
+
 // A triangle and a quadrilateral side by side.
 const char* kMixedMsh = R"($MeshFormat
 4.1 0 8
@@ -185,12 +224,17 @@ TEST_CASE("a hand-written MSH 4.1 file is read with compact numbering and named 
 }
 
 TEST_CASE("unsupported element types are rejected by name", "[gmsh_reader]") {
-  const TemporaryFile quadratic("quadratic.msh", kQuadraticTriangleMsh);
-  CHECK_THROWS_AS(ReadGmshMesh(quadratic.path()), std::invalid_argument);
+  const TemporaryFile cubic("cubic.msh", kCubicTriangleMsh);
+  CHECK_THROWS_AS(ReadGmshMesh(cubic.path()), std::invalid_argument);
   CHECK_THROWS_WITH(
-      ReadGmshMesh(quadratic.path()),
-      Catch::Contains("unsupported element type 'Triangle 6' (gmsh type 9, order 2") &&
-          Catch::Contains(quadratic.path()));
+      ReadGmshMesh(cubic.path()),
+      Catch::Contains("unsupported element type 'Triangle 10' (gmsh type 21, order 3") &&
+          Catch::Contains(cubic.path()));
+  // The quadratic triangle is read: area 1/2 from its 6 nodes.
+  const TemporaryFile quadratic("quadratic.msh", kQuadraticTriangleMsh);
+  const Mesh mesh = ReadGmshMesh(quadratic.path());
+  CHECK(mesh.element_type == ElementType::kTriangle6);
+  CHECK_THAT(DomainMeasure(mesh), WithinRel(0.5, 1e-14));
   const TemporaryFile mixed("mixed.msh", kMixedMsh);
   CHECK_THROWS_WITH(ReadGmshMesh(mixed.path()),
                     Catch::Contains("unsupported mixed element types"));
