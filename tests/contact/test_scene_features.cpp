@@ -13,6 +13,7 @@
 #include "contact/dynamics.hpp"
 #include "contact/scene.hpp"
 #include "contact/simulation.hpp"
+#include "scene/scene_load.hpp"  // (internal: SerialOnlySceneFeature)
 
 using namespace contact;
 namespace fs = std::filesystem;
@@ -337,4 +338,28 @@ TEST_CASE("geometry.fixed_displacement: a block pressed by its top, N = E A delt
   consistent.erase(consistent.find("[solver]"));  // (explicit needs a lumped mass too)
   CHECK_THROWS_WITH(LoadScene(WriteFile("pressed_consistent.toml", consistent)),
                     Catch::Contains("'geometry.fixed_displacement' needs material.mass"));
+}
+
+TEST_CASE("The features are refused on MPI ranks with a message naming the key",
+          "[scene-features][mpi]") {
+  Scene plain = LoadScene(
+      WriteFile("plain.toml", NamedSquareScene("groups = {contact = \"Base line\"}\n")));
+  CHECK(internal::SerialOnlySceneFeature(plain).empty());
+  Scene damped = plain;
+  damped.damping.stiffness = 1e-4;
+  CHECK_THAT(internal::SerialOnlySceneFeature(damped),
+             Catch::Contains("'material.damping' is not available on MPI ranks"));
+  Scene moving = plain;
+  moving.obstacle_motion.time = {0.0, 1.0};
+  moving.obstacle_motion.value = {Eigen::Vector2d::Zero(), Eigen::Vector2d(0.0, 1e-3)};
+  CHECK_THAT(internal::SerialOnlySceneFeature(moving),
+             Catch::Contains("'obstacle.motion'"));
+  Scene supported = plain;
+  supported.fixed_displacement = moving.obstacle_motion;
+  CHECK_THAT(internal::SerialOnlySceneFeature(supported),
+             Catch::Contains("'geometry.fixed_displacement'"));
+  // The history itself: linear between the knots, constant outside them.
+  CHECK(moving.obstacle_motion.At(-1.0) == Eigen::Vector2d::Zero());
+  CHECK(moving.obstacle_motion.At(0.25).isApprox(Eigen::Vector2d(0.0, 0.25e-3)));
+  CHECK(moving.obstacle_motion.At(2.0) == Eigen::Vector2d(0.0, 1e-3));
 }
