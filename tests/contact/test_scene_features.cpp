@@ -13,6 +13,7 @@
 #include "contact/dynamics.hpp"
 #include "contact/scene.hpp"
 #include "contact/simulation.hpp"
+#include "scene/scene_load.hpp"  // (internal: SerialOnlySceneFeature)
 
 using namespace contact;
 namespace fs = std::filesystem;
@@ -229,53 +230,11 @@ TEST_CASE("obstacle.motion with friction is refused for steps that take the body
 
 namespace {
 
-// The unit square of two triangles, its groups named by the mesher's user: bottom edge
-// "Base line", left edge "Clamp", top edge unnamed (7).
-const char* kNamedSquareMsh = R"($MeshFormat
-4.1 0 8
-$EndMeshFormat
-$PhysicalNames
-3
-1 1 "Base line"
-1 2 "Clamp"
-2 3 "body"
-$EndPhysicalNames
-$Entities
-0 3 1 0
-1 0 0 0 1 0 0 1 1 0
-2 0 0 0 0 1 0 1 2 0
-3 0 1 0 1 1 0 1 7 0
-1 0 0 0 1 1 0 1 3 3 1 2 3
-$EndEntities
-$Nodes
-1 4 10 40
-2 1 0 4
-10
-20
-30
-40
-0 0 0
-1 0 0
-1 1 0
-0 1 0
-$EndNodes
-$Elements
-4 5 1 5
-1 1 1 1
-1 10 20
-1 2 1 1
-2 40 10
-1 3 1 1
-3 30 40
-2 1 2 2
-4 10 20 30
-5 10 30 40
-$EndElements
-)";
-
+// A gmsh mesh of a block 1 m x 0.2 m (tests/contact/data/named_groups.geo) whose groups
+// carry the mesher's names: "Base line" (y = 0), "Clamp" (y = 0.2 m), "Right side".
 std::string NamedSquareScene(const std::string& groups) {
-  WriteFile("named_square.msh", kNamedSquareMsh);
-  return "[geometry]\ntype = \"msh\"\nfile = \"named_square.msh\"\ndimension = 2\n" +
+  return "[geometry]\ntype = \"msh\"\nfile = \"" NCP_SOURCE_DIR
+         "/tests/contact/data/named_groups.msh\"\ndimension = 2\n" +
          groups +
          "[material]\nyoung_modulus = 2e8\npoisson_ratio = 0.3\ndensity = 7800\n"
          "[obstacle]\ntype = \"plane\"\nnormal = [0.0, 1.0]\noffset = -1e-3\n"
@@ -288,18 +247,23 @@ TEST_CASE("geometry.groups maps a mesh's own group names onto fixed, load and co
           "[scene-features][groups]") {
   const Scene scene = LoadScene(WriteFile(
       "named.toml", NamedSquareScene("groups = {contact = \"Base line\", fixed = "
-                                     "[\"Clamp\"], load = \"7\"}\n")));
+                                     "[\"Clamp\"], load = [\"Right side\"]}\n")));
   const SceneModel built = BuildSceneModel(scene);
   const Mesh& mesh = built.body->mesh();
   REQUIRE(mesh.HasBoundaryGroup(kContactGroup));
-  CHECK(mesh.BoundaryGroup(kContactGroup).Nodes() ==
-        mesh.BoundaryGroup("Base line").Nodes());
-  CHECK(mesh.BoundaryGroup(kLoadGroup).Nodes() == mesh.BoundaryGroup("7").Nodes());
-  // "Clamp" (2 nodes, 2 components each) is fixed; of the base's two nodes, the one not
-  // clamped is the contact node.
-  CHECK(built.dofs.NumConstrainedDofs() == 4);
-  REQUIRE(built.frames.nodes.size() == 1);
-  CHECK(mesh.nodes.col(built.frames.nodes[0].node).isApprox(Eigen::Vector2d(1.0, 0.0)));
+  const std::vector<int> base = mesh.BoundaryGroup("Base line").Nodes();
+  CHECK(mesh.BoundaryGroup(kContactGroup).Nodes() == base);
+  CHECK(mesh.BoundaryGroup(kLoadGroup).Nodes() ==
+        mesh.BoundaryGroup("Right side").Nodes());
+  CHECK(mesh.BoundaryGroup(kFixedGroup).Nodes() == mesh.BoundaryGroup("Clamp").Nodes());
+  // Every component of the clamp's nodes is fixed; every node of the base line (y = 0)
+  // is a contact node.
+  CHECK(built.dofs.NumConstrainedDofs() ==
+        2 * static_cast<int>(mesh.BoundaryGroup("Clamp").Nodes().size()));
+  REQUIRE(base.size() >= 11);  // (h = 0.1 m on 1 m)
+  REQUIRE(built.frames.nodes.size() == base.size());
+  for (const ContactNode& node : built.frames.nodes)
+    CHECK(mesh.nodes(1, node.node) == 0.0);
   // Without the mapping the mesh has no "contact" group; a name it lacks is refused with
   // the names it has.
   CHECK_THROWS(
@@ -308,7 +272,7 @@ TEST_CASE("geometry.groups maps a mesh's own group names onto fixed, load and co
       BuildSceneModel(LoadScene(WriteFile(
           "misnamed.toml", NamedSquareScene("groups = {contact = \"base\"}\n")))),
       Catch::Contains("'geometry.groups.contact' names \"base\"") &&
-          Catch::Contains("\"Base line\", \"Clamp\""));
+          Catch::Contains("\"Base line\", \"Clamp\", \"Right side\""));
 }
 
 TEST_CASE("geometry.fixed_displacement: a block pressed by its top, N = E A delta / h",
@@ -337,4 +301,28 @@ TEST_CASE("geometry.fixed_displacement: a block pressed by its top, N = E A delt
   consistent.erase(consistent.find("[solver]"));  // (explicit needs a lumped mass too)
   CHECK_THROWS_WITH(LoadScene(WriteFile("pressed_consistent.toml", consistent)),
                     Catch::Contains("'geometry.fixed_displacement' needs material.mass"));
+}
+
+TEST_CASE("The features are refused on MPI ranks with a message naming the key",
+          "[scene-features][mpi]") {
+  Scene plain = LoadScene(
+      WriteFile("plain.toml", NamedSquareScene("groups = {contact = \"Base line\"}\n")));
+  CHECK(internal::SerialOnlySceneFeature(plain).empty());
+  Scene damped = plain;
+  damped.damping.stiffness = 1e-4;
+  CHECK_THAT(internal::SerialOnlySceneFeature(damped),
+             Catch::Contains("'material.damping' is not available on MPI ranks"));
+  Scene moving = plain;
+  moving.obstacle_motion.time = {0.0, 1.0};
+  moving.obstacle_motion.value = {Eigen::Vector2d::Zero(), Eigen::Vector2d(0.0, 1e-3)};
+  CHECK_THAT(internal::SerialOnlySceneFeature(moving),
+             Catch::Contains("'obstacle.motion'"));
+  Scene supported = plain;
+  supported.fixed_displacement = moving.obstacle_motion;
+  CHECK_THAT(internal::SerialOnlySceneFeature(supported),
+             Catch::Contains("'geometry.fixed_displacement'"));
+  // The history itself: linear between the knots, constant outside them.
+  CHECK(moving.obstacle_motion.At(-1.0) == Eigen::Vector2d::Zero());
+  CHECK(moving.obstacle_motion.At(0.25).isApprox(Eigen::Vector2d(0.0, 0.25e-3)));
+  CHECK(moving.obstacle_motion.At(2.0) == Eigen::Vector2d(0.0, 1e-3));
 }
