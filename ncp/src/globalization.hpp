@@ -29,8 +29,7 @@ inline bool InDegenerateSet(NcpFunction function, double degenerate_tolerance, d
                                      : std::hypot(a, b) <= degenerate_tolerance;
 }
 
-// ---- step 1: the stopping tests
-// --------------------------------------------------------
+// ---- step 1: the stopping tests -------------------------------------------------------
 /// The stopping test's bound on |Phi_i| with the round-off floor of row i
 /// (Options::roundoff_ulps): threshold + ulps eps r_i, r_i the row's sensitivity |J||x|
 /// (solver.hpp, Options::roundoff_ulps).
@@ -110,8 +109,7 @@ inline std::string TimeLimitMessage(const Options& o, const char* where, int k,
          std::to_string(k) + " with ||Phi||_inf = " + FormatNumber("%.3e", phi_inf);
 }
 
-// ---- step 2: the direction
-// ---------------------------------------------------------------
+// ---- step 2: the direction ------------------------------------------------------------
 /// The computed Newton direction d must solve J d = -Phi to a small normwise backward
 /// error,
 /// ||J d + Phi||_inf <= 1e-6 (||Phi||_inf + || |J||d| ||_inf) (Rigal and Gaches 1967;
@@ -129,8 +127,7 @@ inline bool PassesDescentTest(double slope, double direction_norm, const Options
   return slope <= -o.descent_rho * std::pow(direction_norm, o.descent_p);
 }
 
-// ---- step 3: Armijo line search on psi with steps 2^-i
-// ---------------------------------
+// ---- step 3: Armijo line search on psi with steps 2^-i --------------------------------
 /// The Armijo reference: psi(x^k) (monotone, nonmonotone_memory = 1, eq. 23) or the
 /// largest psi of the last nonmonotone_memory iterates (Grippo, Lampariello and Lucidi
 /// 1986; Munson et al. 2001, sec. 3). kk counts the iterates since the last (re)start.
@@ -239,8 +236,7 @@ inline Ending LineSearchFailure(const Options& o, const LineSearchResult& r,
                    : std::string())};
 }
 
-// ---- the restart strategy (Options::merit_restarts)
-// -------------------------------------
+// ---- the restart strategy (Options::merit_restarts) -----------------------------------
 /// An FB-family solve that ended at a non-solution stationary point of psi or in a failed
 /// line search continues with the other member of the family.
 inline bool MeritRestartApplies(TerminationType ended, int restarts_left,

@@ -26,91 +26,112 @@ Options Options::Algorithm1() {
   return options;
 }
 
+namespace {
+
+// Tolerances, iteration counts, the descent and Armijo constants (eq. 22, 23); "" when
+// valid.
+std::string AccuracyError(const Options& o) {
+  if (!(o.tolerance >= 0.0) || !std::isfinite(o.tolerance))
+    return "Options::tolerance must be finite and >= 0, got " +
+           FormatNumber("%g", o.tolerance);
+  if (!(o.roundoff_ulps >= 0.0) || !std::isfinite(o.roundoff_ulps))
+    return "Options::roundoff_ulps must be finite and >= 0, got " +
+           FormatNumber("%g", o.roundoff_ulps);
+  if (o.max_iterations < 0)
+    return "Options::max_iterations must be >= 0, got " +
+           std::to_string(o.max_iterations);
+  if (!(o.descent_rho > 0.0))
+    return "Options::descent_rho must be > 0 (eq. 22), got " +
+           FormatNumber("%g", o.descent_rho);
+  if (!(o.descent_p > 2.0))
+    return "Options::descent_p must be > 2 (eq. 22), got " +
+           FormatNumber("%g", o.descent_p);
+  if (!(o.armijo_beta > 0.0 && o.armijo_beta < 0.5))
+    return "Options::armijo_beta must lie in (0, 1/2) (eq. 23), got " +
+           FormatNumber("%g", o.armijo_beta);
+  if (o.nonmonotone_memory < 1 || o.nonmonotone_memory > 1000)
+    return "Options::nonmonotone_memory must lie in [1, 1000], got " +
+           std::to_string(o.nonmonotone_memory);
+  if (o.merit_restarts < 0 || o.merit_restarts > 1000)
+    return "Options::merit_restarts must lie in [0, 1000], got " +
+           std::to_string(o.merit_restarts);
+  if (o.max_backtracks < 0 || o.max_backtracks > 1000)
+    return "Options::max_backtracks must lie in [0, 1000], got " +
+           std::to_string(o.max_backtracks);
+  return {};
+}
+
+// The degenerate set, restarts, stagnation and the hybrid's constants; "" when valid.
+std::string SafeguardError(const Options& o) {
+  if (!(o.degenerate_tolerance >= 0.0))
+    return "Options::degenerate_tolerance must be >= 0, got " +
+           FormatNumber("%g", o.degenerate_tolerance);
+  if (!(o.stationarity_tolerance >= 0.0))
+    return "Options::stationarity_tolerance must be >= 0, got " +
+           FormatNumber("%g", o.stationarity_tolerance);
+  if (!(o.penalized_fb_lambda > 0.0 && o.penalized_fb_lambda <= 1.0))
+    return "Options::penalized_fb_lambda must lie in (0, 1], got " +
+           FormatNumber("%g", o.penalized_fb_lambda);
+  if (o.stagnation_window < 0 || o.stagnation_window > kMaxStagnationWindow)
+    return "Options::stagnation_window must lie in [0, " +
+           std::to_string(kMaxStagnationWindow) + "] iterations, got " +
+           std::to_string(o.stagnation_window);
+  if (!(o.stagnation_tolerance >= 0.0 && o.stagnation_tolerance < 1.0))
+    return "Options::stagnation_tolerance must lie in [0, 1), got " +
+           FormatNumber("%g", o.stagnation_tolerance);
+  if (o.hybrid_window < 0 || o.hybrid_window > kMaxStagnationWindow)
+    return "Options::hybrid_window must lie in [0, " +
+           std::to_string(kMaxStagnationWindow) + "] iterations, got " +
+           std::to_string(o.hybrid_window);
+  if (!(o.hybrid_decrease > 0.0 && o.hybrid_decrease < 1.0))
+    return "Options::hybrid_decrease must lie in (0, 1), got " +
+           FormatNumber("%g", o.hybrid_decrease);
+  if (!(o.hybrid_budget_per_unknown > 0.0))
+    return "Options::hybrid_budget_per_unknown must be > 0 (or +inf) iterations, got " +
+           FormatNumber("%g", o.hybrid_budget_per_unknown);
+  return {};
+}
+
+// Time, backend and bound limits, and the enums; "" when valid.
+std::string LimitsError(const Options& o) {
+  if (!(o.max_seconds > 0.0))
+    return "Options::max_seconds must be > 0 (or +inf), got " +
+           FormatNumber("%g", o.max_seconds);
+  if (!(o.factorization_flop_rate >= 0.0) || !std::isfinite(o.factorization_flop_rate))
+    return "Options::factorization_flop_rate must be finite and >= 0, got " +
+           FormatNumber("%g", o.factorization_flop_rate);
+  if (o.blas_threads < 0)
+    return "Options::blas_threads must be >= 0 (0: leave the BLAS alone), got " +
+           std::to_string(o.blas_threads);
+  if (o.dense_threshold < 0)
+    return "Options::dense_threshold must be >= 0, got " +
+           std::to_string(o.dense_threshold);
+  if (!(o.infinite_bound > 0.0))
+    return "Options::infinite_bound must be > 0 (or +inf), got " +
+           FormatNumber("%g", o.infinite_bound);
+  // Enums set from integers (a cast, a file) may hold any value: checked before a switch.
+  const int function = static_cast<int>(o.ncp_function);
+  if (function < 0 || function > static_cast<int>(kLastNcpFunction))
+    return "Options::ncp_function must be an NcpFunction (0.." +
+           std::to_string(static_cast<int>(kLastNcpFunction)) + "), got " +
+           std::to_string(function);
+  const int solver = static_cast<int>(o.linear_solver);
+  if (solver < 0 || solver > static_cast<int>(kLastLinearSolverType))
+    return "Options::linear_solver must be a LinearSolverType (0.." +
+           std::to_string(static_cast<int>(kLastLinearSolverType)) + "), got " +
+           std::to_string(solver);
+  return {};
+}
+
+}  // namespace
+
 bool Options::IsValid(std::string* error) const {
-  auto fail = [&](const std::string& what) {
+  for (const std::string& what :
+       {AccuracyError(*this), SafeguardError(*this), LimitsError(*this)}) {
+    if (what.empty()) continue;
     if (error) *error = what;
     return false;
-  };
-  if (!(tolerance >= 0.0) || !std::isfinite(tolerance))
-    return fail("Options::tolerance must be finite and >= 0, got " +
-                FormatNumber("%g", tolerance));
-  if (!(roundoff_ulps >= 0.0) || !std::isfinite(roundoff_ulps))
-    return fail("Options::roundoff_ulps must be finite and >= 0, got " +
-                FormatNumber("%g", roundoff_ulps));
-  if (blas_threads < 0)
-    return fail("Options::blas_threads must be >= 0 (0: leave the BLAS alone), got " +
-                std::to_string(blas_threads));
-  if (max_iterations < 0)
-    return fail("Options::max_iterations must be >= 0, got " +
-                std::to_string(max_iterations));
-  if (!(descent_rho > 0.0))
-    return fail("Options::descent_rho must be > 0 (eq. 22), got " +
-                FormatNumber("%g", descent_rho));
-  if (!(descent_p > 2.0))
-    return fail("Options::descent_p must be > 2 (eq. 22), got " +
-                FormatNumber("%g", descent_p));
-  if (!(armijo_beta > 0.0 && armijo_beta < 0.5))
-    return fail("Options::armijo_beta must lie in (0, 1/2) (eq. 23), got " +
-                FormatNumber("%g", armijo_beta));
-  if (nonmonotone_memory < 1 || nonmonotone_memory > 1000)
-    return fail("Options::nonmonotone_memory must lie in [1, 1000], got " +
-                std::to_string(nonmonotone_memory));
-  if (merit_restarts < 0 || merit_restarts > 1000)
-    return fail("Options::merit_restarts must lie in [0, 1000], got " +
-                std::to_string(merit_restarts));
-  if (max_backtracks < 0 || max_backtracks > 1000)
-    return fail("Options::max_backtracks must lie in [0, 1000], got " +
-                std::to_string(max_backtracks));
-  if (!(degenerate_tolerance >= 0.0))
-    return fail("Options::degenerate_tolerance must be >= 0, got " +
-                FormatNumber("%g", degenerate_tolerance));
-  if (!(stationarity_tolerance >= 0.0))
-    return fail("Options::stationarity_tolerance must be >= 0, got " +
-                FormatNumber("%g", stationarity_tolerance));
-  if (!(penalized_fb_lambda > 0.0 && penalized_fb_lambda <= 1.0))
-    return fail("Options::penalized_fb_lambda must lie in (0, 1], got " +
-                FormatNumber("%g", penalized_fb_lambda));
-  if (stagnation_window < 0 || stagnation_window > kMaxStagnationWindow)
-    return fail("Options::stagnation_window must lie in [0, " +
-                std::to_string(kMaxStagnationWindow) + "] iterations, got " +
-                std::to_string(stagnation_window));
-  if (!(stagnation_tolerance >= 0.0 && stagnation_tolerance < 1.0))
-    return fail("Options::stagnation_tolerance must lie in [0, 1), got " +
-                FormatNumber("%g", stagnation_tolerance));
-  if (hybrid_window < 0 || hybrid_window > kMaxStagnationWindow)
-    return fail("Options::hybrid_window must lie in [0, " +
-                std::to_string(kMaxStagnationWindow) + "] iterations, got " +
-                std::to_string(hybrid_window));
-  if (!(hybrid_decrease > 0.0 && hybrid_decrease < 1.0))
-    return fail("Options::hybrid_decrease must lie in (0, 1), got " +
-                FormatNumber("%g", hybrid_decrease));
-  if (!(hybrid_budget_per_unknown > 0.0))
-    return fail(
-        "Options::hybrid_budget_per_unknown must be > 0 (or +inf) iterations, got " +
-        FormatNumber("%g", hybrid_budget_per_unknown));
-  if (!(max_seconds > 0.0))
-    return fail("Options::max_seconds must be > 0 (or +inf), got " +
-                FormatNumber("%g", max_seconds));
-  if (!(factorization_flop_rate >= 0.0) || !std::isfinite(factorization_flop_rate))
-    return fail("Options::factorization_flop_rate must be finite and >= 0, got " +
-                FormatNumber("%g", factorization_flop_rate));
-  if (dense_threshold < 0)
-    return fail("Options::dense_threshold must be >= 0, got " +
-                std::to_string(dense_threshold));
-  if (!(infinite_bound > 0.0))
-    return fail("Options::infinite_bound must be > 0 (or +inf), got " +
-                FormatNumber("%g", infinite_bound));
-  // Enums set from integers (a cast, a file) may hold any value: checked before a switch.
-  const int function = static_cast<int>(ncp_function);
-  if (function < 0 || function > static_cast<int>(kLastNcpFunction))
-    return fail("Options::ncp_function must be an NcpFunction (0.." +
-                std::to_string(static_cast<int>(kLastNcpFunction)) + "), got " +
-                std::to_string(function));
-  const int solver = static_cast<int>(linear_solver);
-  if (solver < 0 || solver > static_cast<int>(kLastLinearSolverType))
-    return fail("Options::linear_solver must be a LinearSolverType (0.." +
-                std::to_string(static_cast<int>(kLastLinearSolverType)) + "), got " +
-                std::to_string(solver));
+  }
   return true;
 }
 

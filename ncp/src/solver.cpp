@@ -17,6 +17,7 @@
 #include "linear_solver.hpp"
 #include "ncp/blas_threads.hpp"
 #include "ncp_function_internal.hpp"
+#include "semismooth_newton.hpp"
 #include "strategy.hpp"
 #include "workspace.hpp"
 
@@ -24,11 +25,6 @@ namespace ncp {
 namespace {
 
 using internal::FormatNumber;
-using Clock = std::chrono::steady_clock;
-
-double Seconds(Clock::time_point since) {
-  return std::chrono::duration<double>(Clock::now() - since).count();
-}
 
 bool AllFinite(const Vector& v) { return v.allFinite(); }
 
@@ -97,76 +93,36 @@ void CheckProblem(const MixedProblem& problem, const Vector& x) {
 }  // namespace
 
 // ---------------------------------------------------------------------------------------
-// Algorithm 1, one named phase per step. Solver::Iteration holds the state of one solve:
-// Run() reads like the algorithm,
+// One solve on Eigen vectors and matrices: the serial back end of Algorithm 1
+// (internal::SemismoothNewton, semismooth_newton.hpp, holds the loop and its decisions).
 //
 //   Start                      Phi(x^0), sizes, backend, row weights
-//   loop k = 0, 1, ...
-//     BeginIterate             ||Phi(x^k)||_inf, psi(x^k)
-//     EvaluateJacobian         J^k in the B-subdifferential, grad psi = J' Phi   (eq. 24)
-//     WithinRoundoffFloor      converged to the accuracy double precision allows
-//     Report                   trace, log, callback
-//     TestStop                 step 1: ||Phi||_inf <= tolerance; safeguards
-//     ChooseDirection          step 2: Newton (eq. 21, 22), regularized, -grad psi
-//     LineSearch               step 3: Armijo, monotone (eq. 23) or nonmonotone
-//     Accept                   step 4
-//
-// (the layout follows Ceres' LineSearchMinimizer::Minimize).
+//   EvaluateJacobian           J^k in the B-subdifferential, grad psi = J' Phi   (eq. 24)
+//   GradientNormAndRoundoffFloor  ||grad psi||_inf, converged to the accuracy double
+//                              precision allows
+//   NewtonDirection ...        step 2: Newton (eq. 21, 22), least-squares, regularized
+//   TrialStep                  step 3: x^k + t d and psi there
 
-class Solver::Iteration {
+class Solver::Iteration : public internal::SemismoothNewton<Solver::Iteration> {
  public:
   /// dense_jacobian: the problem's Jacobian of Phi written dense (a box MCP), used on
   /// the dense backend without row weights; nullptr: MixedProblem::Jacobian.
   Iteration(const Options& options, Workspace& workspace, MixedProblem& problem,
             internal::DenseMixedJacobian* dense_jacobian, Vector& x, Summary& summary)
-      : options_(options),
+      : SemismoothNewton(options, summary, workspace.armijo_reference,
+                         workspace.stagnation, workspace.schedule),
         work_(workspace),
         problem_(problem),
         offered_dense_jacobian_(dense_jacobian),
         x_(x),
-        summary_(summary),
         n_(problem.NumVariables()),
         m_(problem.NumEquations()),
         p_(n_ - m_) {}
 
-  void Run() {
-    if (!Start()) return;
-    for (int k = 0;;) {
-      BeginIterate(k);
-      if (iterate_.have_jacobian && !EvaluateJacobian(k)) return;
-      if (iterate_.have_jacobian && iterate_.jacobian_ok)
-        iterate_.converged = iterate_.roundoff_limited = WithinRoundoffFloor();
-      if (!Report(k)) return;
-      if (TestStop(k)) {
-        if (Restart(k) || SwitchStrategy(k, SwitchReason::kStuck)) continue;
-        return;
-      }
-      if (LeaveStrategy(k)) continue;
-      const Direction direction = TimedChooseDirection(k);
-      if (finished_) {
-        if (SwitchStrategy(k, SwitchReason::kStuck)) continue;
-        return;
-      }
-      if (!LineSearch(k, direction)) {
-        if (Restart(k) || SwitchStrategy(k, SwitchReason::kStuck)) continue;
-        return;
-      }
-      Accept(direction);
-      ++k;
-    }
-  }
-
  private:
-  enum class Direction { kNewton, kMinimumNorm, kRegularized, kGradient };
-
-  // ||Phi(x^k)||_inf and psi(x^k); the rest of iterate k reset in one assignment.
-  void BeginIterate(int k) {
-    iterate_ = Iterate();
-    iterate_.phi_inf = work_.phi.lpNorm<Eigen::Infinity>();
-    iterate_.psi = 0.5 * work_.phi.squaredNorm();
-    iterate_.converged = iterate_.phi_inf <= threshold_;
-    iterate_.have_jacobian = !iterate_.converged && k < options_.max_iterations;
-  }
+  friend class internal::SemismoothNewton<Solver::Iteration>;
+  using Direction = internal::Direction;
+  struct LineSearchScope {};  // (no profiling events in the serial solver)
 
   // ---- Start: sizes, backend, weights, Phi(x^0) ------------------------------------
   bool Start() {
@@ -179,13 +135,7 @@ class Solver::Iteration {
     work_.SetWeights(problem_, x_, m_, p_, options_.tolerance);
     summary_.weighted_residual = work_.weighted;
     dense_jacobian_ = work_.dense && !work_.weighted ? offered_dense_jacobian_ : nullptr;
-    threshold_ = options_.tolerance;  // on ||Phi||_inf, weighted (relative) or not
-    function_ = options_.ncp_function;
-    restarts_left_ = options_.merit_restarts;
-    first_k_ = 0;
-    regularized_ = options_.regularized_direction;
-    strategy_start_ = 0;
-    work_.schedule.Reset(options_);
+    ResetStrategies();
     work_.progress.Reset(options_, n_);
 
     if (!Evaluate(x_, &work_.E, &work_.A, &work_.B, &work_.phi)) {
@@ -199,11 +149,7 @@ class Solver::Iteration {
       Finish(TerminationType::kNonFiniteValues, "Phi(x0) has NaN or Inf entries");
       return false;
     }
-    work_.stagnation.Reset(options_.stagnation_window);
-    work_.armijo_reference.Reset(options_.nonmonotone_memory);
-    if (options_.log_to_stderr)
-      std::fprintf(stderr, "%5s %12s %12s %12s %10s %4s %4s %5s\n", "iter", "|Phi|_inf",
-                   "psi", "|grad|_inf", "step", "bt", "dir", "|gam|");
+    ResetMemories();
     return true;
   }
 
@@ -266,7 +212,8 @@ class Solver::Iteration {
 
   // ---- J^k in the B-subdifferential (step 2) and grad psi = J' Phi (eq. 24) ---------
   // Returns false only when the solve has finished (non-finite Jacobian); a Jacobian()
-  // that returned false is reported by TestStop after the callback has seen iterate k.
+  // that returned false is reported by the stop test after the callback has seen iterate
+  // k.
   bool EvaluateJacobian(int k) {
     ++summary_.jacobian_evaluations;
     if (dense_jacobian_) return EvaluateDenseJacobian(k);
@@ -341,157 +288,6 @@ class Solver::Iteration {
       work_.da(j) = dp.da;
       work_.db(j) = dp.db;
     }
-  }
-
-  // ---- the round-off floor of the test (Options::roundoff_ulps) ----------------------
-  // Moving x to a neighbouring double (x_j (1 + delta_j), |delta_j| <= eps) changes row i
-  // of Phi by up to eps r_i with r = |J_E||x| for equations and |da| |J_A||x| + |db|
-  // |J_B||x| for pairs (to first order; J_E, J_A, J_B weighted like the rows). No x
-  // closer to the solution is representable below that, so a row within tolerance +
-  // roundoff_ulps eps r_i is as converged as double precision allows. Needs J at x^k
-  // (EvaluateJacobian). (r = Workspace::sensitivity, summed while J was filled: no extra
-  // pass over J.)
-  bool WithinRoundoffFloor() {
-    if (options_.roundoff_ulps == 0.0) return false;
-    for (int i = 0; i < n_; ++i)
-      if (!internal::RowWithinRoundoffFloor(work_.phi(i), threshold_,
-                                            options_.roundoff_ulps, work_.sensitivity(i)))
-        return false;
-    return true;
-  }
-
-  // ---- trace, log, callback for iterate k; false when the callback stopped ----------
-  bool Report(int k) {
-    record_.iteration = k;
-    record_.phi_inf = iterate_.phi_inf;
-    record_.psi = iterate_.psi;
-    record_.grad_psi_inf = iterate_.have_jacobian && iterate_.jacobian_ok
-                               ? work_.grad.lpNorm<Eigen::Infinity>()
-                               : 0.0;
-    record_.degenerate_pairs = iterate_.degenerate_count;
-    const bool reported =
-        options_.keep_trace || options_.log_to_stderr || options_.callback;
-    record_.time_s = reported ? Seconds(start_)
-                              : 0.0;  // (a clock read costs ~1% of a small iteration)
-    if (options_.keep_trace) summary_.trace.push_back(record_);
-    if (options_.log_to_stderr)
-      std::fprintf(stderr, "%5d %12.4e %12.4e %12.4e %10.3e %4d %4s %5d\n", k,
-                   iterate_.phi_inf, iterate_.psi, record_.grad_psi_inf,
-                   record_.step_length, record_.backtracks,
-                   record_.gradient_step       ? "grad"
-                   : record_.regularized_step  ? "reg"
-                   : record_.minimum_norm_step ? "mnrm"
-                                               : "newt",
-                   iterate_.degenerate_count);
-    if (options_.callback && !options_.callback(record_)) {
-      Finish(
-          TerminationType::kUserAbort,
-          "the iteration callback stopped the solve at iteration " + std::to_string(k));
-      return false;
-    }
-    return true;
-  }
-
-  // ---- step 1 and the safeguards; true when the solve ends here ----------------------
-  bool TestStop(int k) {
-    if (iterate_.converged) {
-      summary_.roundoff_limited = iterate_.roundoff_limited;
-      Finish(TerminationType::kConverged,
-             internal::ConvergedMessage(options_, work_.weighted,
-                                        iterate_.roundoff_limited, iterate_.phi_inf, k));
-      return true;
-    }
-    if (k >= options_.max_iterations) {
-      Finish(TerminationType::kMaxIterations,
-             internal::MaxIterationsMessage(options_, iterate_.phi_inf));
-      return true;
-    }
-    if (OutOfTime("at iteration ", k)) return true;
-    if (!iterate_.jacobian_ok) {
-      Finish(TerminationType::kEvaluationFailure,
-             "MixedProblem::Jacobian returned false at iteration " + std::to_string(k));
-      return true;
-    }
-    iterate_.grad_inf = work_.grad.lpNorm<Eigen::Infinity>();
-    return Stagnated(k) || StationaryPoint();
-  }
-
-  // Options::max_seconds passed? (no allocation unless it did: checked every trial)
-  bool OutOfTime(const char* where, int k) {
-    if (!std::isfinite(options_.max_seconds) || !(Seconds(start_) > options_.max_seconds))
-      return false;
-    Finish(TerminationType::kTimeLimit,
-           internal::TimeLimitMessage(options_, where, k, iterate_.phi_inf));
-    return true;
-  }
-
-  // The stagnation test of globalization.hpp (Options::stagnation_window).
-  bool Stagnated(int k) {
-    if (!work_.stagnation.Stagnated(static_cast<size_t>(k - first_k_), iterate_.psi,
-                                    options_))
-      return false;
-    Finish(TerminationType::kStationaryPoint,
-           internal::StagnationMessage(options_, iterate_.phi_inf, iterate_.grad_inf));
-    return true;
-  }
-
-  bool StationaryPoint() {
-    if (iterate_.grad_inf != 0.0) return false;
-    Finish(TerminationType::kStationaryPoint,
-           internal::ZeroGradientMessage(iterate_.phi_inf));
-    return true;
-  }
-
-  // ---- step 2: the direction d and its slope grad psi' d --------------------------
-  // Newton J d = -Phi (eq. 21) kept if it passes the descent test (eq. 22); a singular J:
-  // the rank-revealing least-squares step (Options::minimum_norm_step) if it passes the
-  // test; else, with Options::regularized_direction, the Levenberg-Marquardt direction;
-  // else -grad psi.
-  Direction ChooseDirection(int k) {
-    const bool newton_solved = NewtonDirection(k);
-    if (finished_) return Direction::kNewton;
-    if (newton_solved && PassesDescentTest()) return Direction::kNewton;
-    if (newton_solved)
-      ++summary_.descent_test_failures;
-    else
-      ++summary_.linear_solver_failures;
-    if (!newton_solved && options_.minimum_norm_step && MinimumNormDirection() &&
-        PassesDescentTest()) {
-      ++summary_.minimum_norm_steps;
-      return Direction::kMinimumNorm;
-    }
-    if (!options_.gradient_fallback) {
-      if (!newton_solved)
-        Finish(TerminationType::kLinearSolverFailure,
-               std::string("the Newton system is singular or the ") +
-                   ToString(resolved_) + " solve failed at iteration " +
-                   std::to_string(k) + " and gradient_fallback is off");
-      return Direction::kNewton;  // Algorithm 1 without step 2's fallback
-    }
-    if (regularized_ && RegularizedDirection() && PassesDescentTest()) {
-      ++summary_.regularized_steps;
-      return Direction::kRegularized;
-    }
-    work_.d = -work_.grad;
-    iterate_.slope = -work_.grad.squaredNorm();
-    ++summary_.gradient_steps;
-    return Direction::kGradient;
-  }
-
-  // ChooseDirection, its time added to Summary::linear_solver_time_s: two clock reads
-  // per iteration, the only ones of an iteration (the rest of the iterations' time is
-  // Summary::evaluation_time_s, computed in Finish).
-  Direction TimedChooseDirection(int k) {
-    const Clock::time_point t0 = Clock::now();
-    const Direction direction = ChooseDirection(k);
-    summary_.linear_solver_time_s += Seconds(t0);
-    return direction;
-  }
-
-  // grad psi' d <= -rho ||d||^p (eq. 22); sets the slope.
-  bool PassesDescentTest() {
-    iterate_.slope = work_.grad.dot(work_.d);
-    return internal::PassesDescentTest(iterate_.slope, work_.d.norm(), options_);
   }
 
   // J d = -Phi (eq. 21). A factorization predicted to take longer than the time left is
@@ -639,220 +435,126 @@ class Solver::Iteration {
            AllFinite(work_.d);
   }
 
-  // ---- step 3: Armijo line search on psi with steps 2^-i
-  // ------------------------------- Monotone (nonmonotone_memory = 1, eq. 23) or
-  // nonmonotone; the rules are internal::ArmijoLineSearch's (globalization.hpp), this
-  // supplies the trial points.
-  bool LineSearch(int k, Direction direction) {
-    const double reference =
-        work_.armijo_reference.Update(static_cast<size_t>(k - first_k_), iterate_.psi);
-    const internal::LineSearchResult r = internal::ArmijoLineSearch(
-        options_, reference, iterate_.slope,
-        [&] { return OutOfTime("in the line search of iteration ", k); },
-        [&](double t) {
-          work_.x_trial = x_ + t * work_.d;
-          // (Component by component: a test t ||d||_inf <= eps ||x||_inf stopped the 2D
-          // obstacle at 10^6 unknowns, whose last corrections, ~1e-15 on gaps of 5e-7,
-          // are far below eps max|w| ~ 8e-16 x 3.5.)
-          if (work_.x_trial == x_)
-            return internal::LineSearchTrial{internal::LineSearchTrial::kUnchanged, 0.0};
-          if (!Evaluate(work_.x_trial, &work_.Et, &work_.At, &work_.Bt, &work_.phi_trial))
-            return internal::LineSearchTrial{internal::LineSearchTrial::kNotEvaluable,
-                                             0.0};
-          if (!AllFinite(work_.phi_trial))
-            return internal::LineSearchTrial{internal::LineSearchTrial::kNonFinite, 0.0};
-          return internal::LineSearchTrial{internal::LineSearchTrial::kEvaluated,
-                                           0.5 * work_.phi_trial.squaredNorm()};
-        });
-    if (r.out_of_time) {
-      summary_.backtracks += r.backtracks;
-      return false;
-    }
-    summary_.backtracks += std::min(r.backtracks, options_.max_backtracks);
-    iterate_.step = r.step;
-    iterate_.backtracks = r.backtracks;
-    if (!r.accepted) {
-      const char* name = direction == Direction::kGradient      ? "gradient"
-                         : direction == Direction::kRegularized ? "regularized"
-                         : direction == Direction::kMinimumNorm ? "minimum-norm"
-                                                                : "Newton";
-      const internal::Ending ending = internal::LineSearchFailure(
-          options_, r, name, k, iterate_.phi_inf, iterate_.grad_inf);
-      Finish(ending.termination, ending.message);
-    }
-    return r.accepted;
+  // ---- ||grad psi||_inf and the round-off floor of the test (Options::roundoff_ulps) --
+  // Moving x to a neighbouring double (x_j (1 + delta_j), |delta_j| <= eps) changes row i
+  // of Phi by up to eps r_i with r = |J_E||x| for equations and |da| |J_A||x| + |db|
+  // |J_B||x| for pairs (to first order; J_E, J_A, J_B weighted like the rows). No x
+  // closer to the solution is representable below that, so a row within tolerance +
+  // roundoff_ulps eps r_i is as converged as double precision allows. Needs J at x^k
+  // (EvaluateJacobian). (r = Workspace::sensitivity, summed while J was filled: no extra
+  // pass over J.) True when every row is within the floor.
+  bool GradientNormAndRoundoffFloor() {
+    iterate_.grad_inf = work_.grad.lpNorm<Eigen::Infinity>();
+    if (options_.roundoff_ulps == 0.0) return false;
+    for (int i = 0; i < n_; ++i)
+      if (!internal::RowWithinRoundoffFloor(work_.phi(i), options_.tolerance,
+                                            options_.roundoff_ulps, work_.sensitivity(i)))
+        return false;
+    return true;
   }
 
-  // ---- restart strategy (Options::merit_restarts) -----------------------------------
-  // An FB-family solve that ended at a non-solution stationary point of psi or in a
-  // failed line search continues with the other member of the family from the problem's
-  // restart point (MixedProblem::RestartPoint: x^k itself, or for a box MCP x^k projected
-  // onto the box): Phi, psi, the nonmonotone memory and the stagnation window start
-  // afresh.
-  bool Restart(int k) {
-    if (!internal::MeritRestartApplies(summary_.termination, restarts_left_, function_))
-      return false;
-    // The restart point and its Phi go to the trial buffers, so that a failed restart
-    // leaves x^k, Phi(x^k) and the merit function of the finished solve untouched.
-    const NcpFunction stuck_function = function_;
-    function_ = internal::OtherMeritFunction(function_);
-    work_.x_trial = x_;
-    if (!problem_.RestartPoint(&work_.x_trial) || work_.x_trial.size() != n_ ||
-        !Evaluate(work_.x_trial, &work_.Et, &work_.At, &work_.Bt, &work_.phi_trial) ||
-        !AllFinite(work_.phi_trial)) {
-      function_ = stuck_function;
-      return false;
-    }
+  std::pair<double, double> ResidualNorms() const {
+    return {work_.phi.lpNorm<Eigen::Infinity>(), 0.5 * work_.phi.squaredNorm()};
+  }
+
+  // d = -grad psi, slope -||grad psi||^2.
+  void GradientDirection() {
+    work_.d = -work_.grad;
+    iterate_.slope = -work_.grad.squaredNorm();
+  }
+
+  std::pair<double, double> SlopeAndDirectionNorm() const {
+    return {work_.grad.dot(work_.d), work_.d.norm()};
+  }
+
+  double DirectionNorm() const { return work_.d.norm(); }
+
+  // The direction's time is added to Summary::linear_solver_time_s: two clock reads per
+  // iteration, the only ones of an iteration (the rest of the iterations' time is
+  // Summary::evaluation_time_s, computed in CompleteSummary).
+  template <class Choose>
+  Direction TimedDirection(Choose&& choose) {
+    const Clock::time_point t0 = Clock::now();
+    const Direction direction = choose();
+    summary_.linear_solver_time_s += Seconds(t0);
+    return direction;
+  }
+
+  // ---- step 3's trial point x^k + t d, evaluated into the trial buffers -------------
+  internal::LineSearchTrial TrialStep(double t) {
+    using Trial = internal::LineSearchTrial;
+    work_.x_trial = x_ + t * work_.d;
+    // (Component by component: a test t ||d||_inf <= eps ||x||_inf stopped the 2D
+    // obstacle at 10^6 unknowns, whose last corrections, ~1e-15 on gaps of 5e-7, are far
+    // below eps max|w| ~ 8e-16 x 3.5.)
+    if (work_.x_trial == x_) return Trial{Trial::kUnchanged, 0.0};
+    if (!Evaluate(work_.x_trial, &work_.Et, &work_.At, &work_.Bt, &work_.phi_trial))
+      return Trial{Trial::kNotEvaluable, 0.0};
+    if (!AllFinite(work_.phi_trial)) return Trial{Trial::kNonFinite, 0.0};
+    return Trial{Trial::kEvaluated, 0.5 * work_.phi_trial.squaredNorm()};
+  }
+
+  // ---- the points a restart or a new strategy continues from ------------------------
+  void CopyCurrentToTrial() { work_.x_trial = x_; }
+  void CopyBestToTrial() { work_.x_trial = work_.progress.best_x(); }
+
+  // The trial point moved to MixedProblem::RestartPoint (x itself, or for a box MCP x
+  // projected onto the box) and evaluated; false when it cannot be.
+  bool EvaluateRestartTrial() {
+    return problem_.RestartPoint(&work_.x_trial) && work_.x_trial.size() == n_ &&
+           Evaluate(work_.x_trial, &work_.Et, &work_.At, &work_.Bt, &work_.phi_trial) &&
+           AllFinite(work_.phi_trial);
+  }
+
+  // x^k, E, A, B, Phi <- the trial point's.
+  void AcceptTrialPoint() {
     x_.swap(work_.x_trial);
     work_.E.swap(work_.Et);
     work_.A.swap(work_.At);
     work_.B.swap(work_.Bt);
     work_.phi.swap(work_.phi_trial);
-    --restarts_left_;
-    ++summary_.merit_restarts;
-    if (options_.keep_trace && !summary_.trace.empty())
-      summary_.trace.pop_back();  // iterate k is reported anew
-    finished_ = false;
-    summary_.termination = TerminationType::kNotSolved;
-    first_k_ = k;
-    if (options_.log_to_stderr)
-      std::fprintf(stderr, "restart %d at iteration %d with %s\n",
-                   summary_.merit_restarts, k, ToString(function_));
-    return true;
   }
 
-  // ---- the hybrid default (Options::hybrid, strategy.hpp) ---------------------------
-  // Records iterate k; true when the strategy was left for slow progress or its budget
-  // and the next one continues from its best point.
-  bool LeaveStrategy(int k) {
-    if (!options_.hybrid) return false;
-    const size_t kk = static_cast<size_t>(k - first_k_);
+  void ObserveProgress(size_t kk, int k) {
     work_.progress.Observe(kk, iterate_.psi, x_, k);
-    SwitchReason reason = SwitchReason::kStuck;
-    return work_.progress.ShouldLeave(kk, k - strategy_start_, options_, &reason) &&
-           SwitchStrategy(k, reason);
   }
+  const internal::StrategyProgress& Progress() const { return work_.progress; }
 
-  // The next strategy of the schedule continues from the smallest-psi point of this one
-  // (its MixedProblem::RestartPoint), at iterate k; Phi, psi, the nonmonotone memory, the
-  // stagnation window and the progress test start afresh. kStuck applies to a solve that
-  // ended at a non-solution stationary point, in a failed line search or a failed Newton
-  // solve; false (nothing changed) when no strategy is left or the point cannot be
-  // evaluated.
-  bool SwitchStrategy(int k, SwitchReason reason) {
-    if (!options_.hybrid) return false;
-    const bool stuck = summary_.termination == TerminationType::kStationaryPoint ||
-                       summary_.termination == TerminationType::kLineSearchFailure ||
-                       summary_.termination == TerminationType::kLinearSolverFailure;
-    if (reason == SwitchReason::kStuck && !(finished_ && stuck)) return false;
-    const Strategy from{function_, regularized_};
-    if (!work_.schedule.Advance(from)) return false;
-    const Strategy& to = work_.schedule.current();
-    // A stuck strategy may not have recorded iterate k (TestStop came first).
-    work_.progress.Observe(static_cast<size_t>(k - first_k_), iterate_.psi, x_, k);
-    work_.x_trial = work_.progress.best_x();
-    function_ = to.ncp_function;  // Evaluate() uses function_
-    if (!problem_.RestartPoint(&work_.x_trial) || work_.x_trial.size() != n_ ||
-        !Evaluate(work_.x_trial, &work_.Et, &work_.At, &work_.Bt, &work_.phi_trial) ||
-        !AllFinite(work_.phi_trial)) {
-      function_ = from.ncp_function;
-      return false;
-    }
-    summary_.strategy_switches.push_back(
-        work_.progress.SwitchRecord(k, from, to, reason));
-    x_.swap(work_.x_trial);
-    work_.E.swap(work_.Et);
-    work_.A.swap(work_.At);
-    work_.B.swap(work_.Bt);
-    work_.phi.swap(work_.phi_trial);
-    regularized_ = to.regularized_direction;
-    if (options_.keep_trace && !summary_.trace.empty())
-      summary_.trace.pop_back();  // iterate k anew
-    finished_ = false;
-    summary_.termination = TerminationType::kNotSolved;
-    first_k_ = strategy_start_ = k;
-    if (options_.log_to_stderr)
-      std::fprintf(stderr, "strategy %s -> %s at iteration %d (%s), from iteration %d\n",
-                   internal::StrategyName(from).c_str(),
-                   internal::StrategyName(to).c_str(), k, ToString(reason),
-                   work_.progress.best_iteration());
-    return true;
+  bool TimeLimitPassed() const { return Seconds(start_) > options_.max_seconds; }
+  static bool OnAnyRank(bool b) { return b; }
+  template <class... Args>
+  static void Print(const char* format, Args... args) {
+    std::fprintf(stderr, format, args...);
   }
-
-  // ---- step 4: x^{k+1} = x^k + t d ---------------------------------------------------
-  void Accept(Direction direction) {
-    x_.swap(work_.x_trial);
-    work_.E.swap(work_.Et);
-    work_.A.swap(work_.At);
-    work_.B.swap(work_.Bt);
-    work_.phi.swap(work_.phi_trial);
-    ++summary_.iterations;
-    record_.step_length = iterate_.step;
-    record_.direction_norm = work_.d.norm();
-    record_.backtracks = iterate_.backtracks;
-    record_.gradient_step = direction == Direction::kGradient;
-    record_.regularized_step = direction == Direction::kRegularized;
-    record_.minimum_norm_step = direction == Direction::kMinimumNorm;
+  bool WeightedResidual() const { return work_.weighted; }
+  std::string NewtonSolveName() const {
+    return std::string(ToString(resolved_)) + " solve";
   }
+  static const char* JacobianFailure() { return "MixedProblem::Jacobian returned false"; }
 
-  void Finish(TerminationType type, const std::string& message) {
-    finished_ = true;
-    summary_.termination = type;
-    summary_.message = message;
-    if (summary_.merit_restarts > 0)
-      summary_.message += internal::RestartSuffix(summary_.merit_restarts);
-    summary_.message += internal::StrategySwitchSuffix(summary_.strategy_switches);
+  // The final residuals, counters and times of Summary (Finish).
+  void CompleteSummary() {
     summary_.final_phi_inf = work_.phi.lpNorm<Eigen::Infinity>();
     summary_.final_psi = 0.5 * work_.phi.squaredNorm();
     summary_.symbolic_factorizations = SymbolicFactorizations() - symbolic_before_;
     summary_.cholesky_fallbacks = Fallbacks() - fallbacks_before_;
     // One clock read: the rest of the time outside the direction's linear algebra
-    // (timed by TimedChooseDirection) is the evaluations' and the iterations' own work.
+    // (timed by TimedDirection) is the evaluations' and the iterations' own work.
     summary_.total_time_s = Seconds(start_);
     summary_.evaluation_time_s =
         std::max(0.0, summary_.total_time_s - summary_.linear_solver_time_s);
   }
 
-  const Options& options_;
   Workspace& work_;
   MixedProblem& problem_;
   internal::DenseMixedJacobian* const offered_dense_jacobian_;
   internal::DenseMixedJacobian* dense_jacobian_ = nullptr;  // used in this solve
   Vector& x_;
-  Summary& summary_;
   const int n_, m_, p_;
-  Clock::time_point start_;
   LinearSolverType resolved_ = LinearSolverType::kAuto;
   int symbolic_before_ = 0;
   int fallbacks_before_ = 0;
-  double threshold_ = 0.0;
-  NcpFunction function_ =
-      NcpFunction::kFischerBurmeister;   // the current merit (restarts switch it)
-  int restarts_left_ = 0, first_k_ = 0;  // first_k_: iterate of the last (re)start
-  bool regularized_ =
-      false;  // the current strategy tries the LM direction (hybrid switches it)
-  int strategy_start_ = 0;  // iterate the current strategy of the hybrid began at
-  IterationRecord record_;
-  bool finished_ = false;  // Finish was called (a restart clears it)
-  // Iterate k: what the phases of one iteration find out about x^k, set afresh by
-  // BeginIterate.
-  struct Iterate {
-    double phi_inf = 0.0, psi = 0.0;  // ||Phi(x^k)||_inf, psi(x^k) = 1/2 ||Phi(x^k)||_2^2
-    bool converged = false;  // phi_inf <= threshold_, or within the round-off floor
-    bool roundoff_limited =
-        false;  // converged by the round-off floor, not by the tolerance
-    bool have_jacobian =
-        false;  // J^k is to be evaluated (not converged, k < max_iterations)
-    bool jacobian_ok = true;       // MixedProblem::Jacobian succeeded at x^k
-    bool pattern_changed = false;  // J^k's sparsity pattern differs from J^(k-1)'s
-    int degenerate_count = 0;      // |gamma|, pairs in the degenerate set (eq. 13)
-    double grad_inf = 0.0;         // ||grad psi(x^k)||_inf
-    double slope = 0.0;            // grad psi' d of the chosen direction
-    double step = 0.0;             // the accepted step 2^-i ...
-    int backtracks = 0;            // ... and its i
-  } iterate_;
 };
-
 void Solver::Solve(MixedProblem& problem, Vector* x_ptr, Summary* summary_ptr) {
   if (x_ptr == nullptr || summary_ptr == nullptr)
     throw std::invalid_argument("ncp::Solver::Solve: x and summary must not be null");

@@ -19,77 +19,51 @@
 
 #include "globalization.hpp"
 #include "huge_page_memory.hpp"
-#include "input_checks.hpp"
 #include "log_events.hpp"
 #include "mumps_factor.hpp"
 #include "ncp_function_internal.hpp"
 #include "rank_revealing.hpp"
+#include "semismooth_newton.hpp"
 #include "solver_impl.hpp"
 #include "strategy.hpp"
 
 namespace ncp::petsc {
 
 // ---------------------------------------------------------------------------------------
-// One solve, phase by phase; Run() has the layout of ncp::Solver::Iteration::Run
-// (ncp/src/solver.cpp) and takes its decisions from globalization.hpp.
+// One solve, phase by phase: the PETSc back end of Algorithm 1. The loop and its
+// decisions are internal::SemismoothNewton's (semismooth_newton.hpp), the serial
+// solver's own; this class supplies the distributed vector and matrix work.
 
-class Iteration {
+class Iteration : public internal::SemismoothNewton<Iteration> {
  public:
   Iteration(Solver::Impl& impl, const BoxMcp& problem, Vec x, Summary& summary,
             const MixedLayout& layout)
-      : impl_(impl),
-        o_(impl.options),
+      : SemismoothNewton(impl.options, summary, armijo_reference_, stagnation_,
+                         schedule_),
+        impl_(impl),
         comm_(impl.comm),
         p_(problem),
         x_(x),
-        s_(summary),
         layout_(layout),
         lower_(layout.lower),
         upper_(layout.upper),
         local_(layout.LocalRows()) {}
 
-  enum class Direction { kNewton, kMinimumNorm, kRegularized, kGradient };
-
   // The solve; x holds the x part of the last iterate afterwards.
   void Run() {
-    RunIterations();
+    SemismoothNewton::Run();
     if (layout_.total_slacks > 0) CopyXPart(y_, x_);
   }
 
  private:
-  void RunIterations() {
-    if (!Start()) return;
-    for (int k = 0;;) {  // phi_inf_, psi_: of phi_, set wherever phi_ changes
-      converged_ = phi_inf_ <= o_.tolerance;
-      roundoff_limited_ = false;
-      have_jacobian_ = !converged_ && k < o_.max_iterations;
-      jacobian_ok_ = true;
-      degenerate_count_ = 0;
-      if (have_jacobian_ && !EvaluateJacobian(k)) return;
-      if (have_jacobian_ && jacobian_ok_)
-        converged_ = roundoff_limited_ = GradientNormAndRoundoffFloor();
-      if (!Report(k)) return;
-      if (TestStop(k)) {
-        if (Restart(k) || SwitchStrategy(k, SwitchReason::kStuck)) continue;
-        return;
-      }
-      if (LeaveStrategy(k)) continue;
-      const Direction direction = ChooseDirection(k);
-      if (finished_) {
-        if (SwitchStrategy(k, SwitchReason::kStuck)) continue;
-        return;
-      }
-      if (!LineSearch(k, direction)) {
-        if (Restart(k) || SwitchStrategy(k, SwitchReason::kStuck)) continue;
-        return;
-      }
-      Accept(direction);
-      ++k;
-    }
-  }
+  friend class internal::SemismoothNewton<Iteration>;
+  using Direction = internal::Direction;
+  struct LineSearchScope {
+    LogScope scope{SolverLogEvents().line_search};
+  };
 
   // ---- Start: work vectors, Phi(x^0)
-  // -----------------------------------------------------
+  // ---------------------------------------------------
   bool Start() {
     LogScope scope(SolverLogEvents().start);
     start_ = Clock::now();
@@ -104,18 +78,13 @@ class Iteration {
     NCP_PETSC_CHECK(VecSet(sensitivity_, 0.0));  // no round-off floor: stays 0
     const bool new_matrix = impl_.PrepareNewtonMatrix(p_.jacobian_matrix, layout_);
     G_ = impl_.SourceMatrix(p_.jacobian_matrix);
-    s_.symbolic_factorizations = new_matrix ? 1 : 0;
+    summary_.symbolic_factorizations = new_matrix ? 1 : 0;
     if (new_matrix && DetectsNullPivots())
       ResetFactorization(impl_.ksp, impl_.newton, impl_.newton_workspace_percent);
     impl_.DescribeKsp();
-    function_ = o_.ncp_function;
-    restarts_left_ = o_.merit_restarts;
-    first_k_ = 0;
-    regularized_ = o_.regularized_direction;
-    strategy_start_ = 0;
-    schedule_.Reset(o_);
-    progress_.ResetRecord(o_, s_.num_variables);
-    if (o_.hybrid) best_y_.DuplicateOf(y_);
+    ResetStrategies();
+    progress_.ResetRecord(options_, summary_.num_variables);
+    if (options_.hybrid) best_y_.DuplicateOf(y_);
     impl_.report.linear_iterations = 0;
     impl_.report.residual_test_iterations = 0;
     impl_.outer_test.ResetCount();
@@ -135,16 +104,12 @@ class Iteration {
       return false;
     }
     const bool finite = ReducePhi(phi_, &phi_inf_, &psi_);
-    s_.initial_phi_inf = phi_inf_;
+    summary_.initial_phi_inf = phi_inf_;
     if (!finite) {
       Finish(TerminationType::kNonFiniteValues, "Phi(x0) has NaN or Inf entries");
       return false;
     }
-    stagnation_.Reset(o_.stagnation_window);
-    armijo_reference_.Reset(o_.nonmonotone_memory);
-    if (o_.log_to_stderr)
-      PetscFPrintf(comm_, PETSC_STDERR, "%5s %12s %12s %12s %10s %4s %4s %5s\n", "iter",
-                   "|Phi|_inf", "psi", "|grad|_inf", "step", "bt", "dir", "|gam|");
+    ResetMemories();
     return true;
   }
 
@@ -175,42 +140,43 @@ class Iteration {
   }
 
   void InitializeSummary() {
-    s_ = Summary();
-    s_.num_variables = static_cast<int>(SumRanks(comm_, local_));
+    summary_ = Summary();
+    summary_.num_variables = static_cast<int>(SumRanks(comm_, local_));
     long long equations = 0;
     for (Row r : layout_.rows)
       equations += r == Row::kFree || r == Row::kFixed || r == Row::kSplit;
-    s_.num_equations = static_cast<int>(SumRanks(comm_, equations));
-    s_.num_pairs = s_.num_variables - s_.num_equations;
-    s_.ncp_function = o_.ncp_function;
-    s_.linear_solver_requested = s_.linear_solver_used = LinearSolverType::kAuto;
-    s_.iterations = s_.jacobian_evaluations = s_.residual_evaluations = 0;
-    s_.gradient_steps = s_.regularized_steps = s_.merit_restarts = 0;
-    s_.minimum_norm_steps = s_.equilibrated_factorizations = 0;
-    s_.linear_solver_failures = s_.descent_test_failures = s_.backtracks = 0;
-    s_.cholesky_fallbacks = s_.projected_start_components = 0;
-    s_.evaluation_time_s = s_.linear_solver_time_s = 0.0;
-    s_.predicted_factorization_flops =
+    summary_.num_equations = static_cast<int>(SumRanks(comm_, equations));
+    summary_.num_pairs = summary_.num_variables - summary_.num_equations;
+    summary_.ncp_function = options_.ncp_function;
+    summary_.linear_solver_requested = summary_.linear_solver_used =
+        LinearSolverType::kAuto;
+    summary_.iterations = summary_.jacobian_evaluations = summary_.residual_evaluations =
+        0;
+    summary_.gradient_steps = summary_.regularized_steps = summary_.merit_restarts = 0;
+    summary_.minimum_norm_steps = summary_.equilibrated_factorizations = 0;
+    summary_.linear_solver_failures = summary_.descent_test_failures =
+        summary_.backtracks = 0;
+    summary_.cholesky_fallbacks = summary_.projected_start_components = 0;
+    summary_.evaluation_time_s = summary_.linear_solver_time_s = 0.0;
+    summary_.predicted_factorization_flops =
         std::numeric_limits<double>::quiet_NaN();  // none predicted
   }
 
-  // ---- Phi(x) row by row (mixed_layout.hpp); false when F cannot be evaluated on some
-  // rank
-  // ----
+  // ---- Phi(x) row by row (mixed_layout.hpp); false when F cannot be evaluated (a rank)
   bool Evaluate(Vec point, Vec f, Vec phi) {
     LogScope scope(SolverLogEvents().evaluate);
-    ++s_.residual_evaluations;
+    ++summary_.residual_evaluations;
     const auto t0 = Clock::now();
     const PetscErrorCode code = p_.residual(XPart(point), f);
-    s_.evaluation_time_s += Seconds(t0);
+    summary_.evaluation_time_s += Seconds(t0);
     if (AnyRank(comm_, code != 0)) return false;
     LocalRead ya(point), fa(f);
     LocalWrite out(phi);
     for (PetscInt r = 0; r < local_; ++r) {
       const auto rr = static_cast<size_t>(r);
       double a = 0.0, b = 0.0;
-      if (PairValues(r, ya, fa, &a, &b)) {
-        out[r] = internal::PhiValue(function_, o_.penalized_fb_lambda, a, b);
+      if (layout_.PairValues(r, ya, fa, &a, &b)) {
+        out[r] = internal::PhiValue(function_, options_.penalized_fb_lambda, a, b);
         continue;
       }
       const Row row = layout_.row(r);
@@ -255,15 +221,15 @@ class Iteration {
     return true;
   }
 
-  // ---- J^k in the B-subdifferential and grad psi = J' Phi (eq. 24)
-  // --------------------- false only when the solve has finished (non-finite Jacobian).
+  // ---- J^k in the B-subdifferential and grad psi = J' Phi (eq. 24) --------------------
+  // false only when the solve has finished (non-finite Jacobian).
   bool EvaluateJacobian(int k) {
     LogScope scope(SolverLogEvents().jacobian);
-    ++s_.jacobian_evaluations;
+    ++summary_.jacobian_evaluations;
     const long long degenerate = MarkDegenerateSet();
     const auto t0 = Clock::now();
     const bool failed = p_.jacobian(XPart(y_), p_.jacobian_matrix) != 0;
-    s_.evaluation_time_s += Seconds(t0);
+    summary_.evaluation_time_s += Seconds(t0);
     bool finite = true;
     if (!failed)
       ForEachLocalValue<false>(p_.jacobian_matrix, [&](const PetscScalar& v) {
@@ -272,14 +238,14 @@ class Iteration {
     // Callback failures, non-finite entries and the degenerate pairs: one reduction.
     const std::array<long long, 3> counts =
         SumRanks<3>(comm_, {failed ? 1 : 0, finite ? 0 : 1, degenerate});
-    jacobian_ok_ = counts[0] == 0;
-    if (!jacobian_ok_) return true;
+    iterate_.jacobian_ok = counts[0] == 0;
+    if (!iterate_.jacobian_ok) return true;
     if (counts[1] > 0) {
       Finish(TerminationType::kNonFiniteValues,
              "the Jacobian has NaN or Inf entries at iteration " + std::to_string(k));
       return false;
     }
-    degenerate_count_ = static_cast<int>(counts[2]);
+    iterate_.degenerate_count = static_cast<int>(counts[2]);
     if (layout_.total_slacks > 0) impl_.slack.Refresh(p_.jacobian_matrix, layout_);
     GDiagonalAtA();
     PhiPartials();
@@ -313,8 +279,8 @@ class Iteration {
     for (PetscInt r = 0; r < local_; ++r) {
       z[r] = 0.0;
       double a = 0.0, b = 0.0;
-      if (!PairValues(r, ya, fa, &a, &b)) continue;
-      if (internal::InDegenerateSet(function_, o_.degenerate_tolerance, a, b)) {
+      if (!layout_.PairValues(r, ya, fa, &a, &b)) continue;
+      if (internal::InDegenerateSet(function_, options_.degenerate_tolerance, a, b)) {
         z[r] = 1.0;
         ++degenerate;
       }
@@ -324,17 +290,18 @@ class Iteration {
 
   // c_F, c_I of every row (c_I: the coefficient of the A side, c_A of mixed_layout.hpp on
   // a slack row): the partials (da, db) of phi at (A_r, B_r) with the signs of A and B,
-  // the z-vector rule on the degenerate set (z_ and degenerate_count_ of
+  // the z-vector rule on the degenerate set (z_ and iterate_.degenerate_count of
   // MarkDegenerateSet): za = A' z = +-z_AColumn(r), zb = B' z = +-(G z)_r.
   void PhiPartials() {
-    if (degenerate_count_ > 0) NCP_PETSC_CHECK(MatMult(G_, z_, f_z_));
+    if (iterate_.degenerate_count > 0) NCP_PETSC_CHECK(MatMult(G_, z_, f_z_));
     LocalRead ya(y_), fa(f_), z(z_);
-    std::unique_ptr<LocalRead> fz(degenerate_count_ > 0 ? new LocalRead(f_z_) : nullptr);
+    std::unique_ptr<LocalRead> fz(iterate_.degenerate_count > 0 ? new LocalRead(f_z_)
+                                                                : nullptr);
     LocalWrite c_f(c_f_), c_i(c_i_);
     for (PetscInt r = 0; r < local_; ++r) {
       const Row row = layout_.row(r);
       double a = 0.0, b = 0.0;
-      if (!PairValues(r, ya, fa, &a, &b)) {
+      if (!layout_.PairValues(r, ya, fa, &a, &b)) {
         c_f[r] = row == Row::kFixed ? 0.0 : 1.0;
         c_i[r] = row == Row::kFixed ? 1.0 : 0.0;
         continue;
@@ -343,39 +310,12 @@ class Iteration {
       const double sign_a = row == Row::kLower || row == Row::kLowerSlack ? 1.0 : -1.0;
       const double sign_b = row == Row::kUpper ? -1.0 : 1.0;
       const bool gamma = z[r] == 1.0;
-      const internal::PhiPartials dp =
-          internal::PhiDerivatives(function_, o_.penalized_fb_lambda, a, b, gamma,
-                                   gamma ? sign_a * z[layout_.AColumn(r)] : 0.0,
-                                   gamma ? sign_b * (*fz)[r] : 0.0, o_.min_tie_takes_b);
+      const internal::PhiPartials dp = internal::PhiDerivatives(
+          function_, options_.penalized_fb_lambda, a, b, gamma,
+          gamma ? sign_a * z[layout_.AColumn(r)] : 0.0, gamma ? sign_b * (*fz)[r] : 0.0,
+          options_.min_tie_takes_b);
       c_i[r] = sign_a * dp.da;
       c_f[r] = sign_b * dp.db;
-    }
-  }
-
-  // (A_r, B_r) of a pair row; false for an equation row.
-  bool PairValues(PetscInt r, const LocalRead& ya, const LocalRead& fa, double* a,
-                  double* b) const {
-    const PetscInt i = layout_.AColumn(r);  // the component
-    const auto ii = static_cast<size_t>(i);
-    switch (layout_.row(r)) {
-      case Row::kLower:
-        *a = ya[i] - lower_[ii];
-        *b = fa[i];
-        return true;
-      case Row::kUpper:
-        *a = upper_[ii] - ya[i];
-        *b = -fa[i];
-        return true;
-      case Row::kLowerSlack:
-        *a = ya[i] - lower_[ii];
-        *b = ya[r];
-        return true;
-      case Row::kUpperSlack:
-        *a = upper_[ii] - ya[i];
-        *b = ya[r];
-        return true;
-      default:
-        return false;
     }
   }
 
@@ -434,24 +374,24 @@ class Iteration {
     NCP_PETSC_CHECK(MatDiagonalSet(J, work_, ADD_VALUES));
   }
 
-  // ---- ||grad psi||_inf (grad_inf_) and the round-off floor of the test
+  // ---- ||grad psi||_inf (iterate_.grad_inf) and the round-off floor of the test
   // (Options::roundoff_ulps; never within when 0) in one reduction; true when every row
   // is within the floor. Row r's sensitivity is r_r = |c_F,r| (|G||y|)_r + |c_I,r|
   // |y_AColumn(r)|, the serial solver's |da| |J_A||x| + |db| |J_B||x| (and |J_E||x| for
   // equations) for these rows.
   bool GradientNormAndRoundoffFloor() {
     LogScope scope(SolverLogEvents().roundoff);
-    bool within = o_.roundoff_ulps != 0.0;
+    bool within = options_.roundoff_ulps != 0.0;
     if (within) {
       RoundoffSensitivity();
       LocalRead phi(phi_), sensitivity(sensitivity_);
       for (PetscInt r = 0; r < local_ && within; ++r)
-        within = internal::RowWithinRoundoffFloor(phi[r], o_.tolerance, o_.roundoff_ulps,
-                                                  sensitivity[r]);
+        within = internal::RowWithinRoundoffFloor(phi[r], options_.tolerance,
+                                                  options_.roundoff_ulps, sensitivity[r]);
     }
     const std::array<double, 2> largest =
         MaxRanks<2>(comm_, {LocalNormInf(grad_), within ? 0.0 : 1.0});
-    grad_inf_ = largest[0];
+    iterate_.grad_inf = largest[0];
     return largest[1] == 0.0;
   }
 
@@ -468,121 +408,84 @@ class Iteration {
           std::abs(c_f[r]) * abs_gy[r] + std::abs(c_i[r]) * abs_y[layout_.AColumn(r)];
   }
 
-  // ---- trace, log, callback for iterate k; false when the callback stopped ------------
-  bool Report(int k) {
-    record_.iteration = k;
-    record_.phi_inf = phi_inf_;
-    record_.psi = psi_;
-    record_.grad_psi_inf = have_jacobian_ && jacobian_ok_ ? grad_inf_ : 0.0;
-    record_.degenerate_pairs = degenerate_count_;
-    const bool reported = o_.keep_trace || o_.log_to_stderr || o_.callback;
-    record_.time_s = reported ? Seconds(start_) : 0.0;
-    if (o_.keep_trace) s_.trace.push_back(record_);
-    if (o_.log_to_stderr)
-      PetscFPrintf(comm_, PETSC_STDERR, "%5d %12.4e %12.4e %12.4e %10.3e %4d %4s %5d\n",
-                   k, phi_inf_, psi_, record_.grad_psi_inf, record_.step_length,
-                   record_.backtracks,
-                   record_.gradient_step       ? "grad"
-                   : record_.regularized_step  ? "reg"
-                   : record_.minimum_norm_step ? "mnrm"
-                                               : "newt",
-                   degenerate_count_);
-    if (o_.callback && AnyRank(comm_, !o_.callback(record_))) {
-      Finish(
-          TerminationType::kUserAbort,
-          "the iteration callback stopped the solve at iteration " + std::to_string(k));
-      return false;
-    }
-    return true;
-  }
+  // ---- the hooks of SemismoothNewton that are a line or two here --------------------
+  std::pair<double, double> ResidualNorms() const { return {phi_inf_, psi_}; }
 
-  // ---- step 1 and the safeguards; true when the solve ends here
-  // ------------------------
-  bool TestStop(int k) {
-    if (converged_) {
-      s_.roundoff_limited = roundoff_limited_;
-      Finish(TerminationType::kConverged,
-             internal::ConvergedMessage(o_, false, roundoff_limited_, phi_inf_, k));
-      return true;
-    }
-    if (k >= o_.max_iterations) {
-      Finish(TerminationType::kMaxIterations,
-             internal::MaxIterationsMessage(o_, phi_inf_));
-      return true;
-    }
-    if (OutOfTime("at iteration ", k)) return true;
-    if (!jacobian_ok_) {
-      Finish(TerminationType::kEvaluationFailure,
-             "the Jacobian callback failed at iteration " + std::to_string(k));
-      return true;
-    }
-    if (stagnation_.Stagnated(static_cast<size_t>(k - first_k_), psi_, o_)) {
-      Finish(TerminationType::kStationaryPoint,
-             internal::StagnationMessage(o_, phi_inf_, grad_inf_));
-      return true;
-    }
-    if (grad_inf_ == 0.0) {
-      Finish(TerminationType::kStationaryPoint, internal::ZeroGradientMessage(phi_inf_));
-      return true;
-    }
-    return false;
-  }
-
-  // Options::max_seconds passed on any rank? (collective only under a finite limit)
-  bool OutOfTime(const char* where, int k) {
-    if (!std::isfinite(o_.max_seconds)) return false;
-    if (!AnyRank(comm_, Seconds(start_) > o_.max_seconds)) return false;
-    Finish(TerminationType::kTimeLimit,
-           internal::TimeLimitMessage(o_, where, k, phi_inf_));
-    return true;
-  }
-
-  // ---- step 2: the direction d and slope_ = grad psi' d; true for d = -grad psi
-  // --------
-  // Newton J d = -Phi (eq. 21) kept if it passes the descent test (eq. 22); a Newton
-  // system the direct solve calls singular or fails on: the least-norm step
-  // (Options::minimum_norm_step) if it passes the test; else, with
-  // Options::regularized_direction, the Levenberg-Marquardt direction; else -grad psi.
-  Direction ChooseDirection(int k) {
-    d_norm_ = -1.0;  // ||d||_2 not yet known
-    const bool newton_solved = NewtonDirection();
-    if (newton_solved && PassesDescentTest()) return Direction::kNewton;
-    if (newton_solved)
-      ++s_.descent_test_failures;
-    else
-      ++s_.linear_solver_failures;
-    if (!newton_solved && o_.minimum_norm_step && DirectMumpsSolve() &&
-        MinimumNormDirection() && PassesDescentTest()) {
-      ++s_.minimum_norm_steps;
-      return Direction::kMinimumNorm;
-    }
-    if (!o_.gradient_fallback) {
-      if (!newton_solved)
-        Finish(TerminationType::kLinearSolverFailure,
-               "the Newton system is singular or the KSP solve (" +
-                   impl_.report.ksp_type + " + " + impl_.report.pc_type +
-                   ") failed at iteration " + std::to_string(k) +
-                   " and gradient_fallback is off");
-      return Direction::kNewton;  // Algorithm 1 without step 2's fallback
-    }
-    if (regularized_ && RegularizedDirection() && PassesDescentTest()) {
-      ++s_.regularized_steps;
-      return Direction::kRegularized;
-    }
+  // d = -grad psi, its slope -||grad psi||^2 and ||d||_2 in one reduction.
+  void GradientDirection() {
     NCP_PETSC_CHECK(VecCopy(grad_, d_));
     NCP_PETSC_CHECK(VecScale(d_, -1.0));
     const auto [square, norm] = DotAndNorm(grad_, grad_, d_, NORM_2);
-    slope_ = -square;
+    iterate_.slope = -square;
     d_norm_ = norm;
-    ++s_.gradient_steps;
-    return Direction::kGradient;
   }
 
-  // grad psi' d <= -rho ||d||^p (eq. 22); sets the slope and ||d||_2.
-  bool PassesDescentTest() {
-    std::tie(slope_, d_norm_) = DotAndNorm(grad_, d_, d_, NORM_2);
-    return internal::PassesDescentTest(slope_, d_norm_, o_);
+  // grad psi' d and ||d||_2 in one reduction (the descent test, eq. 22).
+  std::pair<double, double> SlopeAndDirectionNorm() {
+    double slope = 0.0;
+    std::tie(slope, d_norm_) = DotAndNorm(grad_, d_, d_, NORM_2);
+    return {slope, d_norm_};
   }
+
+  double DirectionNorm() {
+    if (d_norm_ < 0.0) NCP_PETSC_CHECK(VecNorm(d_, NORM_2, &d_norm_));
+    return d_norm_;
+  }
+
+  // (The directions time their own linear algebra into Summary::linear_solver_time_s.)
+  template <class Choose>
+  Direction TimedDirection(Choose&& choose) {
+    return choose();
+  }
+
+  // ---- step 3's trial point y + t d, evaluated into the trial buffers ---------------
+  internal::LineSearchTrial TrialStep(double t) {
+    using Trial = internal::LineSearchTrial;
+    NCP_PETSC_CHECK(VecWAXPY(x_trial_, t, d_, y_));
+    PetscBool unchanged = PETSC_FALSE;
+    NCP_PETSC_CHECK(VecEqual(x_trial_, y_, &unchanged));
+    if (unchanged) return Trial{Trial::kUnchanged, 0.0};
+    if (!Evaluate(x_trial_, f_trial_, phi_trial_))
+      return Trial{Trial::kNotEvaluable, 0.0};
+    if (!ReducePhi(phi_trial_, &trial_phi_inf_, &trial_psi_))
+      return Trial{Trial::kNonFinite, 0.0};
+    return Trial{Trial::kEvaluated, trial_psi_};
+  }
+
+  // ---- the points a restart or a new strategy continues from ------------------------
+  void CopyCurrentToTrial() { NCP_PETSC_CHECK(VecCopy(y_, x_trial_)); }
+  void CopyBestToTrial() { NCP_PETSC_CHECK(VecCopy(best_y_, x_trial_)); }
+
+  // The trial point moved to the point a restart or a new strategy continues from
+  // (box_mcp.cpp's RestartPoint): projected onto [l, u], the slacks recomputed from F
+  // there; then evaluated. false when F cannot be evaluated there.
+  bool EvaluateRestartTrial() {
+    ProjectOntoBox(lower_, upper_, x_trial_);
+    return (layout_.total_slacks == 0 || SetSlacks(x_trial_)) &&
+           Evaluate(x_trial_, f_trial_, phi_trial_) &&
+           ReducePhi(phi_trial_, &trial_phi_inf_, &trial_psi_);
+  }
+
+  // psi(x^k) to the progress record, x^k kept when it is the strategy's best point.
+  void ObserveProgress(size_t kk, int k) {
+    if (progress_.Record(kk, psi_, k)) NCP_PETSC_CHECK(VecCopy(y_, best_y_));
+  }
+  const internal::StrategyProgress& Progress() const { return progress_; }
+
+  // Options::max_seconds passed on any rank? (collective: called under a finite limit)
+  bool TimeLimitPassed() const {
+    return AnyRank(comm_, Seconds(start_) > options_.max_seconds);
+  }
+  bool OnAnyRank(bool local) const { return AnyRank(comm_, local); }
+  template <class... Args>
+  void Print(const char* format, Args... args) const {
+    PetscFPrintf(comm_, PETSC_STDERR, format, args...);
+  }
+  static bool WeightedResidual() { return false; }
+  std::string NewtonSolveName() const {
+    return "KSP solve (" + impl_.report.ksp_type + " + " + impl_.report.pc_type + ")";
+  }
+  static const char* JacobianFailure() { return "the Jacobian callback failed"; }
 
   // Levenberg-Marquardt direction (J'J + mu I) d = -J' Phi with mu = ||Phi||_2 (Fan and
   // Yuan 2005), the serial solver's, by the KSP lm_ksp (default MUMPS LU); false when the
@@ -594,7 +497,7 @@ class Iteration {
     NCP_PETSC_CHECK(VecScale(work_, -1.0));
     const bool solved =
         KspSolve(impl_.lm_ksp, impl_.normal, &impl_.lm_workspace_percent, work_, d_);
-    s_.linear_solver_time_s += Seconds(t0);
+    summary_.linear_solver_time_s += Seconds(t0);
     return solved;
   }
 
@@ -660,12 +563,13 @@ class Iteration {
   // equilibrated when J's rows or columns spread over more than 2^20
   // (Options::scale_newton_system, the serial dense LU's rule; nothing is computed for
   // the scaling while the LU of J succeeds).
-  bool NewtonDirection() {
+  bool NewtonDirection(int /*k*/) {
+    d_norm_ = -1.0;  // ||d||_2 not yet known
     const auto t0 = Clock::now();
     NCP_PETSC_CHECK(VecCopy(phi_, work_));
     NCP_PETSC_CHECK(VecScale(work_, -1.0));
     if (impl_.symmetric_newton && !Symmetrize(work_)) {
-      s_.linear_solver_time_s += Seconds(t0);
+      summary_.linear_solver_time_s += Seconds(t0);
       return false;
     }
     if (impl_.outer_test.AppliesTo(function_)) ArmOuterResidualTest();
@@ -673,11 +577,11 @@ class Iteration {
         KspSolve(impl_.ksp, impl_.newton, &impl_.newton_workspace_percent, work_, d_) &&
         !FoundNullPivots();
     impl_.outer_test.Disarm();
-    if (!factored && o_.scale_newton_system && DetectsNullPivots() &&
+    if (!factored && options_.scale_newton_system && DetectsNullPivots() &&
         impl_.equilibration.Compute(impl_.newton))
       factored = EquilibratedNewtonSolve();
     const bool solved = factored && SolvesNewtonSystem();
-    s_.linear_solver_time_s += Seconds(t0);
+    summary_.linear_solver_time_s += Seconds(t0);
     return solved;
   }
 
@@ -701,7 +605,7 @@ class Iteration {
   // impl_.equilibration, factorized by the Newton KSP (J restored exactly afterwards:
   // the scales are powers of two). false when the LU failed or called Js singular.
   bool EquilibratedNewtonSolve() {
-    ++s_.equilibrated_factorizations;
+    ++summary_.equilibrated_factorizations;
     const DistributedEquilibration& e = impl_.equilibration;
     e.Scale(impl_.newton);
     NCP_PETSC_CHECK(VecPointwiseMult(work_, e.row(), phi_));
@@ -719,8 +623,8 @@ class Iteration {
   // LU does: with Options::minimum_norm_step or scale_newton_system, a direct MUMPS LU
   // and J itself as the operator (not the symmetrized system).
   bool DetectsNullPivots() const {
-    if (!(o_.minimum_norm_step || o_.scale_newton_system) || impl_.symmetric_newton ||
-        !DirectMumpsSolve())
+    if (!(options_.minimum_norm_step || options_.scale_newton_system) ||
+        impl_.symmetric_newton || !DirectMumpsSolve())
       return false;
     PC pc = nullptr;
     NCP_PETSC_CHECK(KSPGetPC(impl_.ksp, &pc));
@@ -738,14 +642,15 @@ class Iteration {
   // (MinimumNormSolver: MUMPS' null-pivot detection and null-space basis), kept when it
   // solves the system to the backward error asked of the Newton solve: a singular but
   // consistent Newton system (the serial MinimumNormDirection). false when it failed or
-  // does not solve the system.
+  // does not solve the system, or the Newton systems are not solved by a direct MUMPS LU.
   bool MinimumNormDirection() {
+    if (!DirectMumpsSolve()) return false;
     const auto t0 = Clock::now();
     NCP_PETSC_CHECK(VecCopy(phi_, work_));
     NCP_PETSC_CHECK(VecScale(work_, -1.0));
     const bool solved =
         impl_.minimum_norm->Solve(ExplicitJacobian(), work_, d_) && SolvesNewtonSystem();
-    s_.linear_solver_time_s += Seconds(t0);
+    summary_.linear_solver_time_s += Seconds(t0);
     return solved;
   }
 
@@ -762,8 +667,9 @@ class Iteration {
       const double fraction = impl_.outer_test.fraction();
       for (PetscInt r = 0; r < local_; ++r) {
         weight[r] = !impl_.symmetric_newton ? 1.0 : c_f[r] != 0.0 ? c_f[r] : c_i[r];
-        bound[r] = fraction * internal::RoundoffFloorBound(o_.tolerance, o_.roundoff_ulps,
-                                                           sensitivity[r]);
+        bound[r] =
+            fraction * internal::RoundoffFloorBound(
+                           options_.tolerance, options_.roundoff_ulps, sensitivity[r]);
       }
     }
     impl_.outer_test.Arm(ksp_row_weight_, ksp_row_bound_, ksp_residual_, ksp_work_);
@@ -820,151 +726,6 @@ class Iteration {
     return true;
   }
 
-  // ---- step 3: Armijo line search (internal::ArmijoLineSearch)
-  // ----------------------------
-  bool LineSearch(int k, Direction direction) {
-    LogScope scope(SolverLogEvents().line_search);
-    const double reference =
-        armijo_reference_.Update(static_cast<size_t>(k - first_k_), psi_);
-    using Trial = internal::LineSearchTrial;
-    const internal::LineSearchResult r = internal::ArmijoLineSearch(
-        o_, reference, slope_,
-        [&] { return OutOfTime("in the line search of iteration ", k); },
-        [&](double t) {
-          NCP_PETSC_CHECK(VecWAXPY(x_trial_, t, d_, y_));
-          PetscBool unchanged = PETSC_FALSE;
-          NCP_PETSC_CHECK(VecEqual(x_trial_, y_, &unchanged));
-          if (unchanged) return Trial{Trial::kUnchanged, 0.0};
-          if (!Evaluate(x_trial_, f_trial_, phi_trial_))
-            return Trial{Trial::kNotEvaluable, 0.0};
-          if (!ReducePhi(phi_trial_, &trial_phi_inf_, &trial_psi_))
-            return Trial{Trial::kNonFinite, 0.0};
-          return Trial{Trial::kEvaluated, trial_psi_};
-        });
-    if (r.out_of_time) {
-      s_.backtracks += r.backtracks;
-      return false;
-    }
-    s_.backtracks += std::min(r.backtracks, o_.max_backtracks);
-    step_ = r.step;
-    backtracks_ = r.backtracks;
-    if (!r.accepted) {
-      const internal::Ending ending = internal::LineSearchFailure(
-          o_, r,
-          direction == Direction::kGradient      ? "gradient"
-          : direction == Direction::kRegularized ? "regularized"
-          : direction == Direction::kMinimumNorm ? "minimum-norm"
-                                                 : "Newton",
-          k, phi_inf_, grad_inf_);
-      Finish(ending.termination, ending.message);
-    }
-    return r.accepted;
-  }
-
-  // The point a restart or a new strategy continues from (box_mcp.cpp's RestartPoint): x
-  // projected onto [l, u], the slacks recomputed from F there; false when F cannot be
-  // evaluated there.
-  bool RestartPoint(Vec y) {
-    ProjectOntoBox(lower_, upper_, y);
-    return layout_.total_slacks == 0 || SetSlacks(y);
-  }
-
-  // ---- the hybrid default (Options::hybrid, strategy.hpp) -----------------------------
-  // Records iterate k; true when the strategy was left for slow progress or its budget
-  // and the next one continues from its best point.
-  bool LeaveStrategy(int k) {
-    if (!o_.hybrid) return false;
-    const auto kk = static_cast<size_t>(k - first_k_);
-    Observe(kk, k);
-    SwitchReason reason = SwitchReason::kStuck;
-    return progress_.ShouldLeave(kk, k - strategy_start_, o_, &reason) &&
-           SwitchStrategy(k, reason);
-  }
-
-  // psi(x^k) to the progress record, x^k kept when it is the strategy's best point.
-  void Observe(size_t kk, int k) {
-    if (progress_.Record(kk, psi_, k)) NCP_PETSC_CHECK(VecCopy(y_, best_y_));
-  }
-
-  // The next strategy of the schedule continues from the smallest-psi point of this one
-  // (its RestartPoint), at iterate k (ncp::Solver's SwitchStrategy, step by step); false
-  // (nothing changed) when no strategy is left or the point cannot be evaluated. kStuck
-  // applies to a solve that ended at a non-solution stationary point, in a failed line
-  // search or a failed Newton solve.
-  bool SwitchStrategy(int k, SwitchReason reason) {
-    if (!o_.hybrid) return false;
-    const bool stuck = s_.termination == TerminationType::kStationaryPoint ||
-                       s_.termination == TerminationType::kLineSearchFailure ||
-                       s_.termination == TerminationType::kLinearSolverFailure;
-    if (reason == SwitchReason::kStuck && !(finished_ && stuck)) return false;
-    const Strategy from{function_, regularized_};
-    if (!schedule_.Advance(from)) return false;
-    const Strategy& to = schedule_.current();
-    Observe(static_cast<size_t>(k - first_k_), k);  // (TestStop may have come first)
-    NCP_PETSC_CHECK(VecCopy(best_y_, x_trial_));
-    function_ = to.ncp_function;  // Evaluate() uses function_
-    if (!RestartPoint(x_trial_) || !Evaluate(x_trial_, f_trial_, phi_trial_) ||
-        !ReducePhi(phi_trial_, &trial_phi_inf_, &trial_psi_)) {
-      function_ = from.ncp_function;
-      return false;
-    }
-    s_.strategy_switches.push_back(progress_.SwitchRecord(k, from, to, reason));
-    AcceptTrialPoint();
-    regularized_ = to.regularized_direction;
-    if (o_.keep_trace && !s_.trace.empty()) s_.trace.pop_back();  // iterate k anew
-    finished_ = false;
-    s_.termination = TerminationType::kNotSolved;
-    first_k_ = strategy_start_ = k;
-    if (o_.log_to_stderr)
-      PetscFPrintf(comm_, PETSC_STDERR,
-                   "strategy %s -> %s at iteration %d (%s), from iteration %d\n",
-                   internal::StrategyName(from).c_str(),
-                   internal::StrategyName(to).c_str(), k, ToString(reason),
-                   progress_.best_iteration());
-    return true;
-  }
-
-  // ---- restart strategy (Options::merit_restarts): continue from mid(l, u, x^k), the
-  // slacks recomputed (box_mcp.cpp's RestartPoint)
-  bool Restart(int k) {
-    if (!internal::MeritRestartApplies(s_.termination, restarts_left_, function_))
-      return false;
-    const NcpFunction stuck_function = function_;
-    function_ = internal::OtherMeritFunction(function_);
-    NCP_PETSC_CHECK(VecCopy(y_, x_trial_));
-    if (!RestartPoint(x_trial_) || !Evaluate(x_trial_, f_trial_, phi_trial_) ||
-        !ReducePhi(phi_trial_, &trial_phi_inf_, &trial_psi_)) {
-      function_ = stuck_function;
-      return false;
-    }
-    AcceptTrialPoint();
-    --restarts_left_;
-    ++s_.merit_restarts;
-    if (o_.keep_trace && !s_.trace.empty())
-      s_.trace.pop_back();  // iterate k is reported anew
-    finished_ = false;
-    s_.termination = TerminationType::kNotSolved;
-    first_k_ = k;
-    if (o_.log_to_stderr)
-      PetscFPrintf(comm_, PETSC_STDERR, "restart %d at iteration %d with %s\n",
-                   s_.merit_restarts, k, ToString(function_));
-    return true;
-  }
-
-  // ---- step 4: x^{k+1} = x^k + t d
-  // -------------------------------------------------------
-  void Accept(Direction direction) {
-    AcceptTrialPoint();
-    ++s_.iterations;
-    if (d_norm_ < 0.0) NCP_PETSC_CHECK(VecNorm(d_, NORM_2, &d_norm_));
-    record_.step_length = step_;
-    record_.direction_norm = d_norm_;
-    record_.backtracks = backtracks_;
-    record_.gradient_step = direction == Direction::kGradient;
-    record_.regularized_step = direction == Direction::kRegularized;
-    record_.minimum_norm_step = direction == Direction::kMinimumNorm;
-  }
-
   // y = the trial point, with its F, Phi, ||Phi||_inf and psi.
   void AcceptTrialPoint() {
     NCP_PETSC_CHECK(VecCopy(x_trial_, y_));
@@ -984,23 +745,17 @@ class Iteration {
     return std::isfinite(square) || AllFinite(comm_, phi);
   }
 
-  void Finish(TerminationType type, const std::string& message) {
-    finished_ = true;
-    s_.termination = type;
-    s_.message = message;
-    if (s_.merit_restarts > 0) s_.message += internal::RestartSuffix(s_.merit_restarts);
-    s_.message += internal::StrategySwitchSuffix(s_.strategy_switches);
-    s_.final_phi_inf = NormInf(phi_);
-    s_.final_psi = 0.5 * Dot(phi_, phi_);
-    s_.total_time_s = Seconds(start_);
+  // The final residuals and time of Summary (Finish).
+  void CompleteSummary() {
+    summary_.final_phi_inf = NormInf(phi_);
+    summary_.final_psi = 0.5 * Dot(phi_, phi_);
+    summary_.total_time_s = Seconds(start_);
   }
 
   Solver::Impl& impl_;
-  const Options& o_;
   MPI_Comm comm_;
   const BoxMcp& p_;
   Vec x_;  // the caller's x (layout of F)
-  Summary& s_;
   const MixedLayout& layout_;
   const LocalArray<double>& lower_;  // of the rank's components, normalized
   const LocalArray<double>& upper_;  // (+-inf = no bound)
@@ -1016,102 +771,19 @@ class Iteration {
   OwnedVec sensitivity_;   // r of the round-off floor at y (RoundoffSensitivity)
   // OuterResidualTest's rows: weights, bounds, and its work vectors.
   OwnedVec ksp_row_weight_, ksp_row_bound_, ksp_residual_, ksp_work_;
-  Clock::time_point start_;
-  NcpFunction function_ = NcpFunction::kFischerBurmeister;
-  int restarts_left_ = 0, first_k_ = 0;  // first_k_: iterate of the last (re)start
-  bool regularized_ = false;             // the current strategy tries the LM direction
-  int strategy_start_ = 0;  // iterate the current strategy of the hybrid began at
   internal::StrategySchedule schedule_;
   internal::StrategyProgress progress_;
   OwnedVec best_y_;  // the current strategy's smallest-psi point (Options::hybrid)
   internal::StagnationTest stagnation_;
   internal::NonmonotoneReference armijo_reference_;
-  IterationRecord record_;
-  double phi_inf_ = 0.0, psi_ = 0.0, grad_inf_ = 0.0, slope_ = 0.0, step_ = 0.0;
+  double phi_inf_ = 0.0, psi_ = 0.0;              // of phi_ (ReducePhi)
   double trial_phi_inf_ = 0.0, trial_psi_ = 0.0;  // of phi_trial_ (ReducePhi)
   double d_norm_ = -1.0;                          // ||d||_2, < 0: not computed
-  int backtracks_ = 0, degenerate_count_ = 0;
-  bool converged_ = false, have_jacobian_ = false, jacobian_ok_ = true;
-  bool roundoff_limited_ = false, finished_ = false;
 };
 
-void Solver::Solve(const BoxMcp& problem, Vec x, Summary* summary) {
-  LogScope scope(SolverLogEvents().solve);
-  Impl& impl = *impl_;
-  const Options& o = impl.options;
-  if (x == nullptr || summary == nullptr) Misuse("x and summary must not be null");
-  if (!problem.residual || !problem.jacobian)
-    Misuse("BoxMcp::residual and BoxMcp::jacobian must be set");
-  if (problem.jacobian_matrix == nullptr) Misuse("BoxMcp::jacobian_matrix must be set");
-  int compare = MPI_UNEQUAL;
-  MPI_Comm_compare(PetscObjectComm(reinterpret_cast<PetscObject>(x)), impl.comm,
-                   &compare);
-  if (compare != MPI_IDENT && compare != MPI_CONGRUENT)
-    Misuse("the start point lives on another communicator than the solver");
-  if (problem.lower) CheckLayout(impl.comm, x, problem.lower, "lower");
-  if (problem.upper) CheckLayout(impl.comm, x, problem.upper, "upper");
-  CheckMatrixLayout(impl.comm, x, problem.jacobian_matrix);
-  bool parallel = false;
-  if (AnyRank(impl.comm, !IsAij(problem.jacobian_matrix, &parallel)))
-    Misuse("the Jacobian matrix must be of type AIJ (MATSEQAIJ or MATMPIAIJ)");
-
-  // Local bounds, normalized (|b| >= infinite_bound is no bound), and the rows.
-  PetscInt local = 0, first = 0, last = 0;
-  NCP_PETSC_CHECK(VecGetLocalSize(x, &local));
-  NCP_PETSC_CHECK(VecGetOwnershipRange(x, &first, &last));
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  LocalArray<double> lower(static_cast<size_t>(local), -kInf),
-      upper(static_cast<size_t>(local), kInf);
-  for (auto [bound, out] : {std::pair<Vec, LocalArray<double>*>{problem.lower, &lower},
-                            std::pair<Vec, LocalArray<double>*>{problem.upper, &upper}}) {
-    if (!bound) continue;
-    LocalRead a(bound);
-    for (PetscInt i = 0; i < local; ++i)
-      (*out)[static_cast<size_t>(i)] = NormalizeBound(a[i], o.infinite_bound);
-  }
-  CheckBoundsAndStart(impl.comm, first, lower, upper, x);
-  const MixedLayout layout(impl.comm, std::move(lower), std::move(upper));
-  impl.Configure();
-  if (impl.multigrid.grid())
-    CheckMultigridGrid(impl.comm, impl.ksp, impl.prefix, impl.symmetric_newton,
-                       impl.multigrid, x);
-  if (impl.symmetric_newton && layout.total_slacks > 0)
-    Misuse(
-        "two-sided bounds (l < u, both finite) at " +
-        std::to_string(layout.total_slacks) +
-        " components make the Newton matrix of the slack form unsymmetric, and the "
-        "KSP asks for the symmetrized Newton system (a CG-like KSP, Cholesky/ICC or -" +
-        impl.prefix +
-        "symmetric_newton true): use a KSP for unsymmetric systems (the default LU, "
-        "GMRES) and -" +
-        impl.prefix + "symmetric_newton false");
-
-  // Options::project_start_point: x0 <- mid(l, u, x0).
-  const long long moved =
-      o.project_start_point
-          ? SumRanks(impl.comm, ProjectOntoBox(layout.lower, layout.upper, x))
-          : 0;
-
+void RunIteration(Solver::Impl& impl, const BoxMcp& problem, Vec x, Summary* summary,
+                  const MixedLayout& layout) {
   Iteration(impl, problem, x, *summary, layout).Run();
-
-  summary->projected_start_components = static_cast<int>(moved);
-  if (moved > 0)
-    summary->message +=
-        " (" + std::to_string(moved) +
-        " components of the start point were outside [l, u] and were projected onto it)";
-  // The returned x lies in [l, u] whatever the status (FB iterates may leave the box),
-  // as ncp::Solver's.
-  double largest = 0.0;
-  const long long outside =
-      SumRanks(impl.comm, ProjectOntoBox(layout.lower, layout.upper, x, &largest));
-  double largest_all = 0.0;
-  MPI_Allreduce(&largest, &largest_all, 1, MPI_DOUBLE, MPI_MAX, impl.comm);
-  summary->projected_final_components = static_cast<int>(outside);
-  if (outside > 0)
-    summary->message += " (" + std::to_string(outside) +
-                        " components of the last iterate were outside [l, u], by up to " +
-                        FormatNumber("%.3e", largest_all) +
-                        ", and were projected onto it)";
 }
 
 }  // namespace ncp::petsc

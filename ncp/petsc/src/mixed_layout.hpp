@@ -116,6 +116,34 @@ struct MixedLayout {
   // The unknown of the A side of row r (x_i - l_i or u_i - x_i): r, or the component of a
   // slack row.
   PetscInt AColumn(PetscInt r) const { return IsSlackRow(row(r)) ? Link(r) : r; }
+
+  // (A_r, B_r) of a pair row at the local entries y of the unknowns and f of F(x); false
+  // for an equation row.
+  bool PairValues(PetscInt r, const LocalRead& y, const LocalRead& f, double* a,
+                  double* b) const {
+    const PetscInt i = AColumn(r);  // the component
+    const auto ii = static_cast<size_t>(i);
+    switch (row(r)) {
+      case Row::kLower:
+        *a = y[i] - lower[ii];
+        *b = f[i];
+        return true;
+      case Row::kUpper:
+        *a = upper[ii] - y[i];
+        *b = -f[i];
+        return true;
+      case Row::kLowerSlack:
+        *a = y[i] - lower[ii];
+        *b = y[r];
+        return true;
+      case Row::kUpperSlack:
+        *a = upper[ii] - y[i];
+        *b = y[r];
+        return true;
+      default:
+        return false;
+    }
+  }
 };
 
 // G of the comment above for a layout with slacks: F' with its columns renumbered from x

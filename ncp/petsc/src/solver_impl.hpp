@@ -181,4 +181,9 @@ struct Solver::Impl {
   }
 };
 
+/// One solve of Algorithm 1 on the mixed form `layout` from x (iteration.cpp): x holds
+/// the x part of the last iterate afterwards.
+void RunIteration(Solver::Impl& impl, const BoxMcp& problem, Vec x, Summary* summary,
+                  const MixedLayout& layout);
+
 }  // namespace ncp::petsc

@@ -144,9 +144,10 @@ class Solver {
   /// The KSP used by the last solve and its iteration count.
   const KspReport& ksp_report() const;
 
- private:
+  /// The state kept between solves (opaque: defined in the library's sources).
   struct Impl;
-  friend class Iteration;  // one solve (iteration.cpp)
+
+ private:
   std::unique_ptr<Impl> impl_;
 };
 
