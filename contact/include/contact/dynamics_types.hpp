@@ -8,10 +8,12 @@
 #include <Eigen/SparseCore>
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "contact/contact_system.hpp"
+#include "contact/kinematics.hpp"
 #include "ncp/solver.hpp"
 
 namespace contact {
@@ -33,6 +35,10 @@ struct DynamicModel {
   /// External force at time t [N], free dofs; *f arrives sized.
   std::function<void(double t, Eigen::VectorXd* f)> load;
   std::vector<ContactNode> contact_nodes;
+  /// Small or finite strain (contact/kinematics.hpp); null: small strain, K u. Under
+  /// finite strain every step evaluates f_int(u^k) where it would form K u^k; the step's
+  /// complementarity problem (built from M) is unchanged.
+  std::shared_ptr<const BodyKinematics> kinematics;
 };
 
 /// How each step's complementarity system is posed and solved: the one choice of the step

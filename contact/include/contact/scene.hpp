@@ -17,6 +17,7 @@
 #include "contact/dof_map.hpp"
 #include "contact/dynamics.hpp"
 #include "contact/elastic_body.hpp"
+#include "contact/kinematics.hpp"
 #include "contact/material.hpp"
 #include "contact/mesh_generation.hpp"
 #include "contact/obstacle.hpp"
@@ -61,6 +62,8 @@ struct Scene {
   IsotropicMaterial material;
   PlaneSettings plane;
   MassKind mass = MassKind::kConsistent;
+  /// material.model, material.kinematics, material.kinematics_tolerance.
+  KinematicsOptions kinematics;
 
   Eigen::VectorXd body_force;  ///< [N/m^3], size dim
   Eigen::VectorXd traction;    ///< [N/m^2] on "load", size dim (empty = none)

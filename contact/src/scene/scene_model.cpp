@@ -115,6 +115,9 @@ SceneModel BuildModel(const Scene& scene, Mesh mesh) {
   SceneModel out = BuildGeometry(scene, std::move(mesh));
   const Vector f_free = AssembleOnFreeDofs(scene, *out.body, out.dofs, &out.model);
   out.model.load = LoadHistoryOf(scene, f_free);
+  // (the body is on the heap: the pointer stays valid when the SceneModel moves)
+  out.model.kinematics =
+      std::make_shared<const BodyKinematics>(*out.body, out.dofs, scene.kinematics);
   out.options = RunOptions(scene, out);
   return out;
 }

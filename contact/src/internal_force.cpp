@@ -1,0 +1,93 @@
+#include "internal_force.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "critical_time_step.hpp"
+#include "parallel.hpp"
+
+namespace contact::internal {
+
+InternalForce::InternalForce(const DynamicModel& model) : model_(model) {
+  finite_ =
+      model.kinematics && model.kinematics->options().kinematics == Kinematics::kFinite;
+}
+
+void InternalForce::Check(int step, const Eigen::VectorXd& u, DynamicSummary* summary) {
+  const BodyKinematics& k = *model_.kinematics;
+  const StrainMeasure m = k.Measure(u);
+  summary->max_rotation = std::max(summary->max_rotation, m.rotation);
+  summary->max_spurious_strain =
+      std::max(summary->max_spurious_strain, m.spurious_strain);
+  if (k.SmallStrainValid(m) || summary->small_strain_invalid_step >= 0) return;
+  summary->small_strain_invalid_step = step;
+  if (k.options().kinematics == Kinematics::kAuto) finite_ = true;
+}
+
+bool InternalForce::Evaluate(int step, double time, const Eigen::VectorXd& u,
+                             Eigen::VectorXd* Ku, double* W, DynamicSummary* summary) {
+  if (model_.kinematics && !finite_) Check(step, u, summary);
+  if (!finite_) {
+    SymmetricMultiply(model_.K, u, Ku);
+    *W = 0.5 * u.dot(*Ku);
+    return true;
+  }
+  if (summary->finite_strain_from_step < 0) {
+    summary->finite_strain_from_step = step;
+    summary->kinematics = "finite";
+    summary->material_model = ToString(model_.kinematics->FiniteModel());
+  }
+  const HyperelasticEvaluation r = model_.kinematics->FiniteForce(u, Ku);
+  *W = r.energy;
+  if (r.ok) return true;
+  summary->status = DynamicStatus::kInvertedElement;
+  char buffer[120];
+  std::snprintf(buffer, sizeof buffer, "step %d (t = %.6g s): ", step, time);
+  summary->message = buffer + r.message;
+  return false;
+}
+
+bool InternalForce::RecheckCriticalStep(int step, const Eigen::VectorXd& u,
+                                        const DynamicOptions& options, MassInverse* mass,
+                                        DynamicSummary* summary) const {
+  if (!finite_ || step % kRecheckSteps != 0) return true;
+  const BodyKinematics& k = *model_.kinematics;
+  SparseMatrix K_t;
+  if (!k.body().TangentStiffness(k.dofs().Expand(u), k.FiniteModel(), &K_t).ok)
+    return true;  // (Evaluate reports the inverted element)
+  CriticalTimeStep crit =
+      Lanczos(k.dofs().RestrictMatrix(K_t), model_.M, mass, 1e-3, 500);
+  if (!(crit.dt_crit > 0.0) || !std::isfinite(crit.dt_crit)) return true;
+  if (summary->critical_time_step > 0.0 && summary->critical_time_step < crit.dt_crit)
+    return true;  // (not below the smallest estimate so far)
+  const double previous = summary->critical_time_step;
+  if (AcceptCriticalStep(crit, options, summary)) return true;
+  char buffer[160];
+  std::snprintf(
+      buffer, sizeof buffer,
+      "step %d, finite strain: the current tangent lowered dt_crit from %.6g s: ", step,
+      previous);
+  summary->message = buffer + summary->message;
+  return false;
+}
+
+void InternalForce::SetFinalStatus(DynamicSummary* summary) {
+  if (summary->small_strain_invalid_step < 0 || summary->finite_strain_from_step >= 0)
+    return;
+  char buffer[400];
+  std::snprintf(buffer, sizeof buffer,
+                "small strain was not valid from step %d: largest element rotation %.3g "
+                "rad, spurious strain %.3g (theta^2/2) against the tolerance times the "
+                "resolved strain; run with material.kinematics = \"auto\" or \"finite\"",
+                summary->small_strain_invalid_step, summary->max_rotation,
+                summary->max_spurious_strain);
+  if (summary->status == DynamicStatus::kCompleted) {
+    summary->status = DynamicStatus::kOutsideSmallStrain;
+    summary->message = buffer;
+  } else {
+    summary->message += std::string("; ") + buffer;
+  }
+}
+
+}  // namespace contact::internal
