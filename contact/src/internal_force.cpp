@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "critical_time_step.hpp"
 #include "parallel.hpp"
@@ -14,9 +15,19 @@ InternalForce::InternalForce(const DynamicModel& model) : model_(model) {
       model.kinematics && model.kinematics->options().kinematics == Kinematics::kFinite;
 }
 
+const Eigen::VectorXd& InternalForce::Expand(const Eigen::VectorXd& u_free) {
+  const DofMap& dofs = model_.kinematics->dofs();
+  if (u_full_.size() != dofs.NumDofs()) u_full_.setZero(dofs.NumDofs());
+  if (dofs.PrescribedValues().size() == dofs.NumDofs()) u_full_ = dofs.PrescribedValues();
+  const std::vector<int>& free = dofs.FreeDofs();
+  for (size_t i = 0; i < free.size(); ++i)
+    u_full_(free[i]) = u_free(static_cast<Eigen::Index>(i));
+  return u_full_;
+}
+
 void InternalForce::Check(int step, const Eigen::VectorXd& u, DynamicSummary* summary) {
   const BodyKinematics& k = *model_.kinematics;
-  const StrainMeasure m = k.Measure(u);
+  const StrainMeasure m = k.body().MeasureStrain(Expand(u));
   summary->max_rotation = std::max(summary->max_rotation, m.rotation);
   summary->max_spurious_strain =
       std::max(summary->max_spurious_strain, m.spurious_strain);
@@ -38,7 +49,20 @@ bool InternalForce::Evaluate(int step, double time, const Eigen::VectorXd& u,
     summary->kinematics = "finite";
     summary->material_model = ToString(model_.kinematics->FiniteModel());
   }
-  const HyperelasticEvaluation r = model_.kinematics->FiniteForce(u, Ku);
+  const BodyKinematics& k = *model_.kinematics;
+  const DofMap& dofs = k.dofs();
+  const bool homogeneous = dofs.PrescribedValues().size() == 0 ||
+                           dofs.PrescribedValues().lpNorm<Eigen::Infinity>() == 0.0;
+  HyperelasticEvaluation r;
+  if (homogeneous) {  // f_int,F(u) into the kept buffers (no K_FC u_C term)
+    r = k.body().InternalForce(Expand(u), k.FiniteModel(), &f_full_);
+    const std::vector<int>& free = dofs.FreeDofs();
+    if (r.ok)
+      for (size_t i = 0; i < free.size(); ++i)
+        (*Ku)(static_cast<Eigen::Index>(i)) = f_full_(free[i]);
+  } else {
+    r = k.FiniteForce(u, Ku);
+  }
   *W = r.energy;
   if (r.ok) return true;
   summary->status = DynamicStatus::kInvertedElement;

@@ -44,8 +44,12 @@ class InternalForce {
  private:
   void Check(int step, const Eigen::VectorXd& u, DynamicSummary* summary);
 
+  // u and f_int on every dof, kept so that a step allocates nothing.
+  const Eigen::VectorXd& Expand(const Eigen::VectorXd& u_free);
+
   const DynamicModel& model_;
   bool finite_ = false;
+  Eigen::VectorXd u_full_, f_full_;  // [m], [N], every dof
 };
 
 }  // namespace contact::internal
