@@ -153,6 +153,12 @@ void SummaryFields(Io& io, Summary& s) {
   io("summary.energy_balance_error", s.energy_balance_error);
   io("summary.critical_time_step", s.critical_time_step);
   io("summary.max_ipopt_relative_difference", s.max_ipopt_relative_difference);
+  io("summary.kinematics", s.kinematics);
+  io("summary.finite_strain_from_step", s.finite_strain_from_step);
+  io("summary.material_model", s.material_model);
+  io("summary.max_rotation", s.max_rotation);
+  io("summary.max_spurious_strain", s.max_spurious_strain);
+  io("summary.small_strain_invalid_step", s.small_strain_invalid_step);
   io("summary.u", s.u);
 }
 
@@ -265,6 +271,12 @@ std::uint64_t ModelFingerprint(const DynamicModel& model, const DynamicOptions& 
                          static_cast<int>(options.initial_state),
                          static_cast<int>(options.ncp.ncp_function)};
   HashBytes(choices, std::size(choices), &hash);
+  if (model.kinematics) {  // (small strain without a kinematics object: as before)
+    const KinematicsOptions& k = model.kinematics->options();
+    const int kinematics[] = {static_cast<int>(k.kinematics), static_cast<int>(k.model)};
+    HashBytes(kinematics, std::size(kinematics), &hash);
+    HashBytes(&k.tolerance, 1, &hash);
+  }
   return hash;
 }
 

@@ -29,7 +29,8 @@ namespace contact::internal {
 
 // 2: StepRecord and DynamicSummary carry krylov_iterations.
 // 3: the energy balance and StepRecord carry damping_dissipation (Rayleigh damping).
-inline constexpr std::uint32_t kCheckpointVersion = 3;
+// 4: DynamicSummary carries the kinematics (finite strain, its switch step, rotation).
+inline constexpr std::uint32_t kCheckpointVersion = 4;
 
 /// FNV-1a, 64 bit, of `bytes` (a change detector, not a cryptographic hash).
 std::uint64_t Fnv1a(std::string_view bytes, std::uint64_t hash = 0xcbf29ce484222325ULL);

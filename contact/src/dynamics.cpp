@@ -22,6 +22,7 @@
 #include "critical_time_step.hpp"
 #include "damping.hpp"
 #include "energy_balance.hpp"
+#include "internal_force.hpp"
 #include "mass_inverse.hpp"
 #include "parallel.hpp"
 #include "step/step_method.hpp"
@@ -144,6 +145,7 @@ struct State : internal::CarriedState {
   // Step k -> k+1 (buffers).
   Eigen::VectorXd Q, q, bound, u_next, Ku_next, Mdu, r, residual, lambda_next;
   Eigen::VectorXd damping_force;  // C v^k [N] (damping.hpp)
+  double W = 0.0, W_next = 0.0;  // stored energy at u^k, u^{k+1} [J] (internal_force.hpp)
 };
 
 // Initial state (thesis section 4.3): static frictionless equilibrium for f(t0) at rest,
@@ -206,9 +208,11 @@ class CentralDifferences {
         force_scale_(m_max_ / (dt_ * dt_)),
         method_(internal::MakeStepAlgorithm(model, options, mass, m_max_)),
         energy_(state->u, state->u_previous, state->Ku, state->Mdu_previous, dt_),
+        forces_(model),
         load_(model.load),
         nodes_(model.contact_nodes),
         damping_(model, options.dt) {
+    StartInternalForce();
     // The frictionless reference of compare_with_ipopt, next to any other step method.
     if (options.compare_with_ipopt && options.step_method != StepMethod::kIpopt)
       reference_ =
@@ -237,8 +241,7 @@ class CentralDifferences {
     summary_.mass_solves += mass_->solves() - mass_solves;
     summary_.contact_solve_seconds +=
         Seconds(solve_start) - (mass_->solve_seconds() - mass_seconds);
-    if (!solved) return false;
-    MeasureStep(scales, &rec);
+    if (!solved || !MeasureStep(scales, &rec)) return false;
     rec.seconds = Seconds(step_start);
     Accumulate(rec);
     Advance();
@@ -288,7 +291,17 @@ class CentralDifferences {
     SetGaps(data.gaps);
     energy_ = data.energy;
     first_inaccurate_ = data.first_inaccurate;
+    forces_.Restore(data.summary);
   }
+  /// After the carried state is restored: the stored energy W(u^k) (not carried).
+  void RestoreStoredEnergy() {
+    State& s = state_;
+    Eigen::VectorXd f(s.u.size());
+    s.W = forces_.finite() ? model_.kinematics->FiniteForce(s.u, &f).energy
+                           : 0.5 * s.u.dot(s.Ku);
+  }
+  /// False if the internal force of u^0 could not be evaluated (the summary says why).
+  bool started() const { return summary_.status == DynamicStatus::kNotRun; }
 
  private:
   // Q^k = M (u^{k-1} - u^k) / dt^2 + K u^k - f^k (eq. 73), q = Q^k dt^2 / m_max (eq. 81),
@@ -357,16 +370,32 @@ class CentralDifferences {
         std::max(summary_.max_ipopt_relative_difference, rec->ipopt_relative_difference);
   }
 
+  // The internal force and stored energy of u^0 under finite strain from the start, and
+  // the shadow energy E^{-1/2} = kinetic + W(u^0) - f(u^0) . (u^0 - u^{-1}) / 2 (equal
+  // to kinetic + (u^{-1})' K u^0 / 2 for a quadratic W).
+  void StartInternalForce() {
+    State& s = state_;
+    s.W = 0.5 * s.u.dot(s.Ku);
+    if (!forces_.finite()) return;
+    if (!forces_.Evaluate(0, options_.start_time, s.u, &s.Ku, &s.W, &summary_)) return;
+    energy_.strain0 = s.W;
+    energy_.energy0 = energy_.kinetic0 + s.W - 0.5 * s.Ku.dot(s.u - s.u_previous);
+  }
+
   // u^{k+1}, the contact forces r^{k+1} = M (u^{k+1} - 2u^k + u^{k-1}) / dt^2 + K u^k -
-  // f^k [N], the accuracy asked for and reached (step_accuracy.hpp), the energies, the
-  // forces.
-  void MeasureStep(const internal::StepScales& scales, StepRecord* rec) {
+  // f^k [N] (f_int(u^k) for K u^k under finite strain), the accuracy asked for and
+  // reached (step_accuracy.hpp), the energies, the forces. False (and the summary says
+  // why) if the internal force of u^{k+1} cannot be evaluated.
+  bool MeasureStep(const internal::StepScales& scales, StepRecord* rec) {
     const auto products_start = Clock::now();
     State& s = state_;
     s.du = s.contact.x;
     s.u_next = s.u + s.du;
     internal::SymmetricMultiply(model_.M, s.du, &s.Mdu);
-    internal::SymmetricMultiply(model_.K, s.u_next, &s.Ku_next);
+    if (!forces_.Evaluate(rec->step, rec->time, s.u_next, &s.Ku_next, &s.W_next,
+                          &summary_) ||
+        !forces_.RecheckCriticalStep(rec->step, s.u_next, options_, mass_, &summary_))
+      return false;
     const auto check_start = Clock::now();
     s.r = s.Mdu / (dt_ * dt_) + s.Q;
     internal::SetAskedAccuracy(options_.ncp.tolerance, scales, s.Q, s.Mdu, dt_, s.u_next,
@@ -377,7 +406,14 @@ class CentralDifferences {
     energy_.AddStepWork(model_.dim, nodes_, s.f, s.r, s.u_next, s.u_previous);
     if (damping_.active())
       energy_.AddDampingWork(s.damping_force, s.u_next, s.u_previous);
-    energy_.Record(s.du, s.Mdu, s.u, s.u_next, s.Ku_next, dt_, rec);
+    // Finite strain: E^{k+1/2} = kinetic + W(u^k) + f(u^k) . du / 2, the form of the
+    // linear shadow energy (u^k)' K u^{k+1} / 2 that holds for any W (its balance error
+    // is third order in du).
+    if (forces_.finite())
+      energy_.Record(s.du.dot(s.Mdu), 2.0 * s.W + s.Ku.dot(s.du), 2.0 * s.W_next, dt_,
+                     rec);
+    else
+      energy_.Record(s.du, s.Mdu, s.u, s.u_next, s.Ku_next, dt_, rec);
     s.lambda_next = force_scale_ * s.contact.normal_force;
     rec->normal_force_sum = s.lambda_next.sum();
     for (Eigen::Index c = 0; c < s.contact.tangent_force.cols(); ++c)
@@ -389,6 +425,7 @@ class CentralDifferences {
     const double check_seconds = Seconds(check_start);
     summary_.accuracy_check_seconds += check_seconds;
     summary_.assembly_seconds += Seconds(products_start) - check_seconds;
+    return true;
   }
 
   // The summary's maxima and counts, the record, and the caller's on_step.
@@ -416,6 +453,7 @@ class CentralDifferences {
     s.u_previous.swap(s.u);
     s.u.swap(s.u_next);
     s.Ku.swap(s.Ku_next);
+    s.W = s.W_next;
     s.Mdu_previous.swap(s.Mdu);
   }
 
@@ -451,6 +489,7 @@ class CentralDifferences {
   std::unique_ptr<internal::StepAlgorithm> method_;
   std::unique_ptr<internal::IpoptQp> reference_;
   internal::EnergyBalance energy_;
+  internal::InternalForce forces_;  // K u or f_int(u), and the kinematics' switch
   std::function<void(double, Eigen::VectorXd*)>
       load_;                        // f(t) [N] (DynamicModel::load at first)
   std::vector<ContactNode> nodes_;  // the model's, with the current gaps s_c
@@ -486,6 +525,10 @@ const char* ToString(DynamicStatus s) {
       return "accuracy-not-reached";
     case DynamicStatus::kInterrupted:
       return "interrupted";
+    case DynamicStatus::kInvertedElement:
+      return "inverted-element";
+    case DynamicStatus::kOutsideSmallStrain:
+      return "outside-small-strain";
   }
   return "unknown";
 }
@@ -516,8 +559,12 @@ struct Simulation::Impl {
       integrator =
           std::make_unique<CentralDifferences>(model, options, &mass, &state, &summary);
       summary.u = state.u;
-      summary.message = "running: 0 of " + std::to_string(num_steps) + " steps";
-      if (num_steps <= 0) Finish();
+      if (!integrator->started()) {
+        run_state = SimulationState::kFailed;
+      } else {
+        summary.message = "running: 0 of " + std::to_string(num_steps) + " steps";
+        if (num_steps <= 0) Finish();
+      }
     } else {
       run_state = SimulationState::kFailed;
     }
@@ -527,6 +574,7 @@ struct Simulation::Impl {
   // The status of a run that reached end_time.
   void Finish() {
     internal::SetFinalStatus(integrator->first_inaccurate(), &summary);
+    internal::InternalForce::SetFinalStatus(&summary);
     run_state = SimulationState::kFinished;
   }
 
@@ -665,6 +713,7 @@ void Simulation::Impl::Restore(const internal::CheckpointData& d) {
     throw CheckpointError(std::string("it does not fit this run: ") + e.what());
   }
   static_cast<internal::CarriedState&>(state) = d.carried;
+  integrator->RestoreStoredEnergy();
   const double seconds = summary.seconds;
   summary = d.summary;
   summary.seconds += seconds;

@@ -385,7 +385,12 @@ std::pair<std::vector<PointField>, std::vector<CellField>> ContactSnapshotFields
                             ClassifyContact(s.normal_force(c), slip.col(i).norm(),
                                             s.force_accuracy, s.displacement_accuracy));
   }
-  const Eigen::MatrixXd stress = ElementStress(body, s.displacement);
+  Eigen::MatrixXd stress;
+  // (an inverted element has no Cauchy stress: then the linear one, as the run's status
+  // says why it stopped)
+  if (!s.finite_strain ||
+      !body.CauchyStress(s.displacement, s.finite_strain_model, &stress).ok)
+    stress = ElementStress(body, s.displacement);
   Eigen::MatrixXd von_mises(1, mesh.NumElements());
   for (int e = 0; e < mesh.NumElements(); ++e) {
     const Eigen::Map<const Eigen::Matrix3d> sigma(stress.col(e).data());

@@ -262,6 +262,16 @@ void PrintReport(std::FILE* table, const contact::Scene& scene,
                s.max_complementarity_residual, s.max_friction_residual,
                s.inaccurate_steps, contact::kAccuracySlack);
   std::fprintf(table, "  energy balance error %.3e J\n", s.energy_balance_error);
+  if (s.finite_strain_from_step >= 0)
+    std::fprintf(table, "  kinematics %s: finite strain (%s) from step %d\n",
+                 contact::ToString(scene.kinematics.kinematics), s.material_model.c_str(),
+                 s.finite_strain_from_step);
+  else
+    std::fprintf(table,
+                 "  kinematics %s: small strain (largest rotation %.3g rad, spurious "
+                 "strain %.3g)\n",
+                 contact::ToString(scene.kinematics.kinematics), s.max_rotation,
+                 s.max_spurious_strain);
 }
 
 /// CPU time of this process so far, user + system, all threads [s].
@@ -322,6 +332,14 @@ nlohmann::json JsonSummary(const contact::Scene& scene, const contact::SceneResu
   j["ncp_function"] = ncp::ToString(scene.dynamics.ncp.ncp_function);
   j["step_method"] = contact::ToString(s.step_method);  // auto resolved
   j["friction_formulation"] = contact::ToString(scene.dynamics.friction_formulation);
+  // Finite strain (docs/finite-strain.md): what ran and the step of the switch.
+  j["kinematics"] = s.kinematics;
+  j["kinematics_requested"] = contact::ToString(scene.kinematics.kinematics);
+  j["finite_strain_from_step"] = s.finite_strain_from_step;
+  j["material_model"] = s.material_model;
+  j["max_rotation"] = s.max_rotation;
+  j["max_spurious_strain"] = s.max_spurious_strain;
+  j["small_strain_invalid_step"] = s.small_strain_invalid_step;
   j["tolerance"] = scene.dynamics.ncp.tolerance;
   j["dofs"] = r.num_dofs;
   j["free_dofs"] = r.num_free_dofs;

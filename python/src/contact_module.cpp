@@ -140,7 +140,11 @@ const ColumnTable<DynamicSummary>& SummaryColumns() {
       ("inaccurate_steps", &DynamicSummary::inaccurate_steps)
       ("energy_balance_error", &DynamicSummary::energy_balance_error)
       ("critical_time_step", &DynamicSummary::critical_time_step)
-      ("max_ipopt_relative_difference", &DynamicSummary::max_ipopt_relative_difference);
+      ("max_ipopt_relative_difference", &DynamicSummary::max_ipopt_relative_difference)
+      ("finite_strain_from_step", &DynamicSummary::finite_strain_from_step)
+      ("max_rotation", &DynamicSummary::max_rotation)
+      ("max_spurious_strain", &DynamicSummary::max_spurious_strain)
+      ("small_strain_invalid_step", &DynamicSummary::small_strain_invalid_step);
   // clang-format on
   return table;
 }
@@ -195,6 +199,8 @@ py::dict SummaryDict(const DynamicSummary& summary) {
   sum["message"] = summary.message;
   sum["step_method"] =
       std::string(contact::ToString(summary.step_method));  // auto resolved
+  sum["kinematics"] = summary.kinematics;  // "small" or "finite" (docs/finite-strain.md)
+  sum["material_model"] = summary.material_model;
   return sum;
 }
 

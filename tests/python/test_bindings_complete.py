@@ -49,7 +49,8 @@ def test_every_contact_record_and_summary_field_is_returned():
     # message in result.summary, the records as result.records, u as final_displacement_free.
     # Not returned: predicted_cost, auto's prediction (a struct; in contact-sim's JSON as
     # predicted_*_step_seconds and auto_choice).
-    special = {"solver_status", "status", "message", "step_method", "records", "u", "predicted_cost"}
+    special = {"solver_status", "status", "message", "step_method", "records", "u", "predicted_cost",
+               "kinematics", "material_model"}  # (strings: in result.summary, not columns)
     # C++ fields whose record carries the name of the steps.csv column.
     renamed = {"kinetic": "kinetic_energy", "strain": "strain_energy", "tangent_force_sum": "friction_force_sum"}
     fields = {renamed.get(f, f) for f in struct_fields("contact/include/contact/dynamics_types.hpp", "StepRecord")}

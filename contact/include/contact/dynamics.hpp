@@ -60,8 +60,13 @@ enum class DynamicStatus {
   kEnergyBlowUp,        ///< the energy guard tripped (the run stopped there)
   kRefusedUnstable,     ///< dt > dt_crit without allow_unstable_time_step (nothing run)
   kAccuracyNotReached,  ///< the run went to the end, but some step missed its accuracy
-  kInterrupted,  ///< DynamicOptions::stop_requested was set (the run stopped after a
-                 ///< step)
+  kInterrupted,      ///< DynamicOptions::stop_requested was set (the run stopped after a
+                     ///< step)
+  kInvertedElement,  ///< finite strain: an element turned inside out (det F <= 0; the
+                     ///< run stopped at that step, the message names element and step)
+  kOutsideSmallStrain,  ///< material.kinematics = "small", and the run left the validity
+                        ///< of the linear strain (the message: largest rotation and the
+                        ///< spurious strain it implies)
 };
 const char* ToString(DynamicStatus s);
 
@@ -98,6 +103,17 @@ struct DynamicSummary {
   double energy_balance_error = 0.0;            ///< max over steps of |balance error| [J]
   double critical_time_step = -1.0;             ///< [s]
   double max_ipopt_relative_difference = -1.0;  ///< with compare_with_ipopt
+  /// The kinematics that ran (DynamicModel::kinematics): "small" or "finite", and the
+  /// step from which finite strain ran (0: from the start; -1: never).
+  std::string kinematics = "small";
+  int finite_strain_from_step = -1;
+  /// Material model of the finite-strain steps (ToString(MaterialModel)).
+  std::string material_model = "linear";
+  /// The largest element rotation [rad] and spurious strain of the linear model [-]
+  /// measured while small strain ran (StrainMeasure), and the first step at which the
+  /// linear model was not valid (-1: never).
+  double max_rotation = 0.0, max_spurious_strain = 0.0;
+  int small_strain_invalid_step = -1;
   std::vector<StepRecord> records;
   Eigen::VectorXd u;  ///< final displacement (free dofs)
 };

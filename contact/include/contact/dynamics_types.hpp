@@ -8,10 +8,12 @@
 #include <Eigen/SparseCore>
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "contact/contact_system.hpp"
+#include "contact/kinematics.hpp"
 #include "ncp/solver.hpp"
 
 namespace contact {
@@ -44,6 +46,10 @@ struct DynamicModel {
   /// Viscous force C v^k with the velocity lagged, v^k = (u^k - u^{k-1}) / dt, added to
   /// the step equation (eq. 68); none by default.
   RayleighDamping damping;
+  /// Small or finite strain (contact/kinematics.hpp); null: small strain, K u. Under
+  /// finite strain every step evaluates f_int(u^k) where it would form K u^k; the step's
+  /// complementarity problem (built from M) is unchanged.
+  std::shared_ptr<const BodyKinematics> kinematics;
 };
 
 /// How each step's complementarity system is posed and solved: the one choice of the step

@@ -16,6 +16,7 @@
 #include <memory>
 #include <string>
 
+#include "contact/hyperelastic_material.hpp"
 #include "contact/material.hpp"
 #include "contact/mesh.hpp"
 #include "contact/types.hpp"
@@ -78,6 +79,29 @@ class ElasticBody {
   /// for t linear in x on straight facets).
   Vector TractionFieldLoad(const TractionField& t,
                            const std::string& group = kLoadGroup) const;
+
+  /// Finite strain, total Lagrangian (contact/hyperelastic_material.hpp,
+  /// docs/finite-strain.md), for the full displacement u (NumDofs) [m]; integrals with
+  /// the stiffness rule. In 2D plane strain F_zz = 1; plane stress solves S_zz = 0 for
+  /// C_zz at every quadrature point (Newton) and condenses the tangent.
+  /// Internal force f_(a,i) = h int P_iJ dN_a/dX_J dV_0 [N] into *f (resized), and the
+  /// stored energy h int W dV_0 [J]. Zero for any rigid motion u = (R - I) X + c.
+  HyperelasticEvaluation InternalForce(const Vector& u, MaterialModel model,
+                                       Vector* f) const;
+  /// The stored energy alone [J].
+  HyperelasticEvaluation StoredEnergy(const Vector& u, MaterialModel model) const;
+  /// The tangent stiffness d f_int / d u [N/m] (material plus geometric part, symmetric)
+  /// into *K (the pattern of StiffnessMatrix); at u = 0 it equals StiffnessMatrix().
+  HyperelasticEvaluation TangentStiffness(const Vector& u, MaterialModel model,
+                                          SparseMatrix* K) const;
+  /// Cauchy stress sigma = F S F' / J [Pa] per element (the mean over the stiffness
+  /// rule's points), in the deformed configuration: 9 x NumElements, the row-major
+  /// 3 x 3 tensor as ElementStress (vtk_writer.hpp) (2D: sigma_zz = S_zz / J in plane
+  /// strain, 0 in plane stress).
+  HyperelasticEvaluation CauchyStress(const Vector& u, MaterialModel model,
+                                      Eigen::MatrixXd* sigma) const;
+  /// Rotation and spurious strain of the linear model at u (StrainMeasure).
+  StrainMeasure MeasureStrain(const Vector& u) const;
 
  private:
   Mesh mesh_;

@@ -18,6 +18,7 @@
 #include "contact/dof_map.hpp"
 #include "contact/dynamics.hpp"
 #include "contact/elastic_body.hpp"
+#include "contact/kinematics.hpp"
 #include "contact/material.hpp"
 #include "contact/mesh_generation.hpp"
 #include "contact/obstacle.hpp"
@@ -79,6 +80,8 @@ struct Scene {
   RayleighDamping damping;  ///< material.damping: C = mass M + stiffness K
   PlaneSettings plane;
   MassKind mass = MassKind::kConsistent;
+  /// material.model, material.kinematics, material.kinematics_tolerance.
+  KinematicsOptions kinematics;
 
   Eigen::VectorXd body_force;  ///< [N/m^3], size dim
   Eigen::VectorXd traction;    ///< [N/m^2] on "load", size dim (empty = none)

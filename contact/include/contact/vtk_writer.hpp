@@ -103,6 +103,10 @@ struct ContactSnapshot {
   Eigen::VectorXd gap;                 ///< gap_c [m] (< 0: penetration)
   double force_accuracy = 0.0;         ///< the step's force accuracy [N]
   double displacement_accuracy = 0.0;  ///< the step's displacement accuracy [m]
+  /// Finite strain: the stress field is ElasticBody::CauchyStress with this model (the
+  /// Cauchy stress of the deformed body); false: linear, ElementStress.
+  bool finite_strain = false;
+  MaterialModel finite_strain_model = MaterialModel::kSaintVenantKirchhoff;
 };
 
 /// The snapshot of a prescribed initial state u^0, v^0 (every dof of a dim-dimensional

@@ -685,6 +685,13 @@ std::string WhyNotDistributed(const Scene& scene) {
   if (scene.dynamics.compare_with_ipopt)
     return scene.source + ": compare_with_ipopt is not available on MPI ranks; " +
            supported;
+  if (scene.kinematics.kinematics == Kinematics::kFinite ||
+      scene.kinematics.model != MaterialModel::kLinear)
+    return scene.source + ": material.kinematics = \"" +
+           ToString(scene.kinematics.kinematics) + "\" with material.model = \"" +
+           ToString(scene.kinematics.model) +
+           "\": finite strain runs on one process only (MPI ranks run small strain, "
+           "material.model = \"linear\")";
   return ::contact::internal::SerialOnlySceneFeature(scene);
 }
 

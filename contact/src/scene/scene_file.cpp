@@ -287,6 +287,21 @@ toml::value ParseScene(const std::string& path, const std::string& scene_text,
   return root;
 }
 
+/// [material] model, kinematics and kinematics_tolerance (contact/kinematics.hpp).
+void ReadKinematics(const Table& m, Scene* s) {
+  s->kinematics.model = MaterialModelFromString(
+      m.Choice("model", {"linear", "saint-venant-kirchhoff", "neo-hookean"}, "linear"));
+  s->kinematics.kinematics =
+      KinematicsFromString(m.Choice("kinematics", {"auto", "small", "finite"}, "auto"));
+  s->kinematics.tolerance =
+      m.Number("kinematics_tolerance", Range{0.0, 1.0, "", true, false}, 1e-2);
+  if (s->kinematics.kinematics == Kinematics::kSmall &&
+      s->kinematics.model != MaterialModel::kLinear)
+    m.Fail("model", std::string("= \"") + ToString(s->kinematics.model) +
+                        "\" is a finite-strain model: it needs kinematics = \"auto\" or "
+                        "\"finite\", got \"small\"");
+}
+
 /// [material]: Young's modulus, Poisson's ratio, density, mass matrix, 2D plane model.
 void ReadMaterial(const Table& m, Scene* s) {
   s->material.youngs_modulus = m.Number("young_modulus", kModulus);
@@ -302,6 +317,7 @@ void ReadMaterial(const Table& m, Scene* s) {
     s->plane.thickness = m.Number("thickness", kLength, 1.0);
   }
   internal::ReadDamping(m, s);
+  ReadKinematics(m, s);
   m.RejectUnknownKeys();
 }
 

@@ -119,6 +119,9 @@ SceneModel BuildModel(const Scene& scene, Mesh mesh) {
       internal::WithFixedDisplacement(scene, out, LoadHistoryOf(scene, f_free));
   internal::SetFixedDisplacement(scene, scene.dynamics.start_time, &out.dofs);
   out.model.damping = scene.damping;
+  // (the body is on the heap: the pointer stays valid when the SceneModel moves)
+  out.model.kinematics =
+      std::make_shared<const BodyKinematics>(*out.body, out.dofs, scene.kinematics);
   out.options = RunOptions(scene, out);
   return out;
 }

@@ -56,6 +56,12 @@ SceneOutput::SceneOutput(const Scene& scene, const SceneModel& built, int marked
       pending_stress_times_(scene.stress_times),
       files_written_(files_written),
       series_(scene.output_directory, *built.body) {
+  // The Cauchy stress of finite strain unless the scene is forced to small strain.
+  if (built.model.kinematics &&
+      built.model.kinematics->options().kinematics != Kinematics::kSmall) {
+    finite_strain_ = true;
+    finite_strain_model_ = built.model.kinematics->FiniteModel();
+  }
   std::sort(pending_stress_times_.begin(), pending_stress_times_.end());
   if (scene_.output_directory.empty()) return;
   std::error_code error;
@@ -100,7 +106,8 @@ void SceneOutput::WriteStep(const StepRecord& record, const Eigen::VectorXd& u,
     WriteSnapshot(record.step, {record.time, dofs_.Expand(u), dofs_.Expand(u - contact.x),
                                 dt_, &frames_.nodes, force_scale * contact.normal_force,
                                 force_scale * contact.tangent_force, contact.gap,
-                                record.force_accuracy, record.displacement_accuracy});
+                                record.force_accuracy, record.displacement_accuracy,
+                                finite_strain_, finite_strain_model_});
   // The step's rows go to the files together, so each file ends at a whole step.
   for (ncp::OutputFile* csv :
        {&steps_csv_, &history_csv_, &stress_csv_, &displacement_csv_})

@@ -116,6 +116,8 @@ class SceneOutput {
   std::vector<double> pending_stress_times_;  // ascending
   std::vector<std::string>* files_written_;
   VtuSeriesWriter series_;
+  bool finite_strain_ = false;  // snapshots with the Cauchy stress of finite strain
+  MaterialModel finite_strain_model_ = MaterialModel::kSaintVenantKirchhoff;
   ncp::OutputFile steps_csv_, stress_csv_, history_csv_, displacement_csv_;
 };
 
