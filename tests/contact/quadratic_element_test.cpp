@@ -386,9 +386,10 @@ TEST_CASE("L2 displacement error converges at order 3 (quadratic) and 2 (linear)
 }
 
 // Cantilever 0 <= x <= L, |y|, |z| <= c: clamped at x = L (all components), total shear
-// force P in -y as a uniform traction on the end x = 0; nu = 0, so that the clamp does not
-// restrain a Poisson contraction that beam theory leaves free. Timoshenko beam theory: tip
-// deflection P L^3 / (3 E I) + P L / (kappa G A), kappa = 10 (1 + nu) / (12 + 11 nu).
+// force P in -y as a uniform traction on the end x = 0; nu = 0, so that the clamp does
+// not restrain a Poisson contraction that beam theory leaves free. Timoshenko beam
+// theory: tip deflection P L^3 / (3 E I) + P L / (kappa G A), kappa = 10 (1 + nu) / (12 +
+// 11 nu).
 double CantileverTipRatio(ElementType type) {
   const double L = 10.0, c = 0.5, P = 1.0e3;
   const IsotropicMaterial material{1.0e7, 0.0, 1.0};
