@@ -121,6 +121,8 @@ std::string MapStatus(ncp::TerminationType t) {
   switch (t) {
     case T::kConverged:
       return "converged";
+    case T::kAtRoundoffFloor:
+      return "at_roundoff_floor";
     case T::kMaxIterations:
       return "max_iterations";
     case T::kUserAbort:

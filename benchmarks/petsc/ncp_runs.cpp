@@ -18,6 +18,8 @@ std::string StatusOf(ncp::TerminationType termination) {
   switch (termination) {
     case ncp::TerminationType::kConverged:
       return "converged";
+    case ncp::TerminationType::kAtRoundoffFloor:
+      return "at_roundoff_floor";
     case ncp::TerminationType::kMaxIterations:
       return "max_iterations";
     case ncp::TerminationType::kTimeLimit:

@@ -117,6 +117,24 @@ class SemismoothNewton {
   }
 
   // ---- called by the back end's Start() ---------------------------------------------
+  // The Summary of a new solve of n unknowns, m of them equations: every counter 0.
+  void StartSummary(int n, int m) {
+    summary_ = Summary();
+    summary_.num_variables = n;
+    summary_.num_equations = m;
+    summary_.num_pairs = n - m;
+    summary_.ncp_function = options_.ncp_function;
+    summary_.iterations = summary_.jacobian_evaluations = summary_.residual_evaluations =
+        0;
+    summary_.gradient_steps = summary_.regularized_steps = summary_.merit_restarts = 0;
+    summary_.minimum_norm_steps = summary_.equilibrated_factorizations = 0;
+    summary_.linear_solver_failures = summary_.descent_test_failures =
+        summary_.backtracks = 0;
+    summary_.cholesky_fallbacks = 0;
+    summary_.projected_start_components = summary_.projected_final_components = 0;
+    summary_.evaluation_time_s = summary_.linear_solver_time_s = 0.0;
+  }
+
   // The merit function, restarts and strategy of a new solve (before Phi(x^0)).
   void ResetStrategies() {
     function_ = options_.ncp_function;
@@ -227,10 +245,12 @@ class SemismoothNewton {
     return FinishIfStagnated(k) || FinishIfStationary();
   }
 
-  // ||Phi||_inf <= tolerance, or every row within the round-off floor above it.
+  // ||Phi||_inf <= tolerance: kConverged; every row within the round-off floor above it:
+  // kAtRoundoffFloor.
   void FinishConverged(int k) {
     summary_.roundoff_limited = iterate_.roundoff_limited;
-    Finish(TerminationType::kConverged,
+    Finish(iterate_.roundoff_limited ? TerminationType::kAtRoundoffFloor
+                                     : TerminationType::kConverged,
            ConvergedMessage(options_, backend().WeightedResidual(),
                             iterate_.roundoff_limited, iterate_.phi_inf, k));
   }

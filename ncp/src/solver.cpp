@@ -175,20 +175,8 @@ class Solver::Iteration : public internal::SemismoothNewton<Solver::Iteration> {
   }
 
   void InitializeSummary() {
-    summary_ = Summary();
-    summary_.num_variables = n_;
-    summary_.num_equations = m_;
-    summary_.num_pairs = p_;
-    summary_.ncp_function = options_.ncp_function;
+    StartSummary(n_, m_);
     summary_.linear_solver_requested = options_.linear_solver;
-    summary_.iterations = summary_.jacobian_evaluations = summary_.residual_evaluations =
-        0;
-    summary_.gradient_steps = summary_.regularized_steps = summary_.merit_restarts = 0;
-    summary_.minimum_norm_steps = summary_.equilibrated_factorizations = 0;
-    summary_.linear_solver_failures = summary_.descent_test_failures =
-        summary_.backtracks = 0;
-    summary_.projected_start_components = summary_.projected_final_components = 0;
-    summary_.evaluation_time_s = summary_.linear_solver_time_s = 0.0;
   }
 
   // ---- Phi(x) = [E; phi(A_j, B_j)] (thesis eq. 15), rows weighted by the scales ----

@@ -56,6 +56,8 @@ const char* ToString(TerminationType t) {
       return "time-limit";
     case TerminationType::kInfeasible:
       return "infeasible";
+    case TerminationType::kAtRoundoffFloor:
+      return "at-roundoff-floor";
   }
   return "unknown";
 }

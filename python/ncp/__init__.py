@@ -144,12 +144,20 @@ def _matrix_callable(J):
 def solve(F, J, x0, lower=None, upper=None, options=None, raise_on_failure=False, **kwargs):
     """Box MCP lower <= x <= upper perp F(x) from x0.
 
-    lower defaults to -inf, upper to +inf.  A start point outside [lower, upper] is
-    projected onto it (summary.projected_start_components counts the moved components);
-    project_start_point=False uses it as given.  The returned x is in [lower, upper]
+    The bounds are required: a call without both raises ValueError (without bounds the box
+    MCP is the equation F(x) = 0, which a complementarity solver's caller rarely means;
+    pass lower=-np.inf, upper=np.inf for it, or use solve_ncp for x >= 0 perp F(x) >= 0).
+    Given one, the other defaults to -inf (lower) or +inf (upper).  A start point outside
+    [lower, upper] is projected onto it (summary.projected_start_components counts the moved
+    components); project_start_point=False uses it as given.  The returned x is in [lower, upper]
     (summary.projected_final_components).  Converged when ||Phi(x)||_inf <= tolerance
-    (default 1e-10).  Returns (x, Summary); raise_on_failure=True raises SolveError instead
-    of returning a summary that is not CONVERGED."""
+    (default 1e-10), or AT_ROUNDOFF_FLOOR above it when every row is within its round-off
+    floor (summary.is_solution_usable for both).  Returns (x, Summary); raise_on_failure=True
+    raises SolveError instead of returning a summary that is not usable."""
+    if lower is None and upper is None:
+        raise ValueError("ncp.solve: give the bounds lower and upper explicitly (lower=0.0, "
+                         "upper=np.inf for the NCP x >= 0 perp F(x) >= 0, or ncp.solve_ncp; "
+                         "lower=-np.inf, upper=np.inf for the equation F(x) = 0)")
     return _solve_box(F, J, x0, lower, upper, options, raise_on_failure, False, **kwargs)
 
 

@@ -199,9 +199,10 @@ TEST_CASE(
     "acceptable_tolerance: a solve asked for more than round-off allows ends at its "
     "floor",
     "[fc][operator][solver]") {
-  // Asked 1e-30 (below the round-off of W r + q), accepted at 1e-10: both solvers stop as
-  // converged within a few Newton steps, at an error <= the acceptable tolerance, instead
-  // of running every attempt of the hybrid out.
+  // Asked 1e-30 (below the round-off of W r + q), accepted at 1e-10: both solvers stop at
+  // the round-off floor within a few Newton steps, at an error <= the acceptable
+  // tolerance, instead of running every attempt of the hybrid out - with their own
+  // status (above the tolerance: not kConverged), usable.
   const FrictionProblem p =
       ReadProblem(std::string(NCP_FC_DATA_DIR) + "/Capsules-i101-404.dat");
   Options options;
@@ -211,14 +212,17 @@ TEST_CASE(
   Summary summary;
   Solve(options, p, &r, &summary);
   INFO(summary.message);
-  CHECK(summary.termination == Termination::kConverged);
+  CHECK(summary.termination == Termination::kAtRoundoffFloor);
+  CHECK(std::string(ToString(summary.termination)) == "at_roundoff_floor");
+  CHECK(summary.IsSolutionUsable());
   CHECK(summary.final_error <= 1e-10);
   CHECK(summary.final_error == NaturalMapError(p, r));
   CHECK_THAT(summary.message, Catch::Contains("round-off floor"));
   r.resize(0);
   Solve(options, AsOperator(p), &r, &summary);
   INFO(summary.message);
-  CHECK(summary.termination == Termination::kConverged);
+  CHECK(summary.termination == Termination::kAtRoundoffFloor);
+  CHECK(summary.IsSolutionUsable());
   CHECK(NaturalMapError(p, r) <= 1e-10);
   // without it the same request is reported as not reached
   options.acceptable_tolerance = 0.0;
@@ -226,6 +230,7 @@ TEST_CASE(
   r.resize(0);
   Solve(options, p, &r, &summary);
   CHECK(summary.termination != Termination::kConverged);
+  CHECK_FALSE(summary.IsSolutionUsable());
 }
 
 TEST_CASE("matrix-free over two parts: the same decisions on both, the whole solved",

@@ -300,3 +300,16 @@ def test_infeasible_lcp_is_reported_and_can_raise():
         ncp.solve_ncp(lambda x: -x - 1.0, lambda x: -np.eye(2), np.zeros(2), raise_on_failure=True)
     assert err.value.summary.termination != ncp.TerminationType.INFEASIBLE
     assert (err.value.x >= 0).all()
+
+
+def test_solve_without_bounds_is_refused():
+    # Without bounds the box MCP is the equation F(x) = 0: refused, asking for the bounds.
+    with pytest.raises(ValueError, match=r"give the bounds lower and upper explicitly"):
+        ncp.solve(F3, J3, np.zeros(3))
+    # Explicit infinite bounds solve F(x) = 0; one bound given, the other is infinite.
+    x, s = ncp.solve(lambda x: x - 2.0, lambda x: np.eye(2), np.zeros(2),
+                     lower=-np.inf, upper=np.inf)
+    assert s.is_solution_usable and np.allclose(x, 2.0)
+    x, s = ncp.solve(lambda x: x + 2.0, lambda x: np.eye(2), np.ones(2), lower=0.0)
+    assert s.is_solution_usable and np.allclose(x, 0.0, atol=1e-9)
+

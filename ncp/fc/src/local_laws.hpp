@@ -109,6 +109,20 @@ class AttemptProgress {
   int since_progress_ = 0;
 };
 
+/// kAtRoundoffFloor for a solve that ended kConverged by the round-off floor (error above
+/// Options::tolerance, at most Options::acceptable_tolerance); else `status`.
+inline Termination RoundoffFloorStatus(const Options& options, Termination status,
+                                       double error) {
+  return status == Termination::kConverged && error > options.tolerance
+             ? Termination::kAtRoundoffFloor
+             : status;
+}
+
+/// Converged, or at the round-off floor (Summary::IsSolutionUsable).
+inline bool Usable(Termination status) {
+  return status == Termination::kConverged || status == Termination::kAtRoundoffFloor;
+}
+
 /// "natural-map error e <= tolerance t" (or "<= acceptable tolerance a (round-off
 /// floor)", or "> tolerance t") into *out (assigned: no allocation when its capacity
 /// suffices).

@@ -83,15 +83,15 @@ class OperatorNewton {
     }
     summary_->final_error = error;
     if (error <= options.tolerance) status = Termination::kConverged;
+    status = internal::RoundoffFloorStatus(options, status, error);
     summary_->termination = status;
-    internal::ErrorReport(options, status == Termination::kConverged, error,
-                          &summary_->message);
+    internal::ErrorReport(options, internal::Usable(status), error, &summary_->message);
     char counts[160];
     std::snprintf(counts, sizeof counts,
                   " after %d Newton steps, %d GMRES iterations, %d attempts",
                   summary_->iterations, summary_->krylov_iterations, summary_->attempts);
     summary_->message += counts;
-    if (status != Termination::kConverged)
+    if (!internal::Usable(status))
       (summary_->message += "; last ended: ") += ToString(status);
   }
 
@@ -297,14 +297,42 @@ class OperatorNewton {
     return relative;
   }
 
+  /// Forcing term eta of the inexact Newton step ||J d + Phi|| <= eta ||Phi||:
+  /// superlinear (||Phi|| / ||Phi_0||), but no finer than the error asks - a tenth of the
+  /// tolerance relative to the current error (the last Newton steps of a solve to 1e-15
+  /// otherwise took two thirds of all GMRES iterations).
+  double ForcingTerm(double phi_norm, double phi0, double previous_error) const {
+    const double needed =
+        previous_error > 0.0 ? 0.1 * options_->tolerance / previous_error : 0.0;
+    return std::min(options_->newton_residual,
+                    std::max(phi0 > 0.0 ? phi_norm / phi0 : 1.0, needed));
+  }
+
+  /// Nonmonotone Armijo along direction_ from (r_, u_) with Wd_ = W d:
+  /// psi(r + t d) <= max(recent psi) - 2 beta t psi(r), t = 2^-i, i <= max_backtracks.
+  /// The accepted point in trial_r_, trial_u_, trial_phi_; false when no t passed.
+  bool LineSearch(double psi, double* t, double* trial_psi) {
+    const double reference = *std::max_element(recent_psi_.begin(), recent_psi_.end());
+    *t = 1.0;
+    for (int i = 0; i <= options_->max_backtracks; ++i, *t *= 0.5) {
+      trial_r_ = r_ + *t * direction_;
+      trial_u_ = u_ + *t * Wd_;
+      *trial_psi = Evaluate(trial_r_, trial_u_, &trial_phi_);
+      if (std::isfinite(*trial_psi) &&
+          *trial_psi <= reference - 2.0 * options_->armijo_beta * *t * psi)
+        return true;
+      ++summary_->backtracks;
+    }
+    return false;
+  }
+
   /// One attempt: the Newton loop from (r, u_ = W r + q) with error *error; keeps the
   /// best iterate in *r_best, *error_best.
   Termination Iterate(Formulation formulation, double rho_factor, Vector* r_best,
                       double* error_best) {
     formulation_ = formulation;
     rho_factor_ = rho_factor;
-    Vector &r = r_, &u = u_, &phi = phi_, &trial_phi = trial_phi_,
-           &direction = direction_, &Wd = Wd_, &trial_r = trial_r_, &trial_u = trial_u_;
+    Vector &r = r_, &u = u_, &phi = phi_, &direction = direction_, &Wd = Wd_;
     r = *r_best;
     double psi = Evaluate(r, u, &phi);
     const double phi0 = std::sqrt(2.0 * psi);
@@ -321,15 +349,8 @@ class OperatorNewton {
               options_->max_time_s))
         return Termination::kTimeLimit;
       Precondition();
-      const double phi_norm = std::sqrt(2.0 * psi);
-      // Forcing term: superlinear, but no finer than the error asks - a tenth of the
-      // tolerance relative to the current error (the last Newton steps of a solve to
-      // 1e-15 otherwise took two thirds of all GMRES iterations).
-      const double needed = progress.previous_error() > 0.0
-                                ? 0.1 * options_->tolerance / progress.previous_error()
-                                : 0.0;
-      const double eta = std::min(options_->newton_residual,
-                                  std::max(phi0 > 0.0 ? phi_norm / phi0 : 1.0, needed));
+      const double eta =
+          ForcingTerm(std::sqrt(2.0 * psi), phi0, progress.previous_error());
       minus_phi_ = -phi;
       const double reached = Gmres(minus_phi_, eta, &direction);
       if (!(reached < 1.0) || Any(!direction.allFinite())) {
@@ -337,25 +358,11 @@ class OperatorNewton {
         return Termination::kLinearSolverFailure;
       }
       MultiplyW(direction, &Wd);
-      // Nonmonotone Armijo: psi(r + t d) <= max(recent psi) - 2 beta t psi(r).
-      const double reference = *std::max_element(recent_psi_.begin(), recent_psi_.end());
       double t = 1.0, trial_psi = 0.0;
-      bool accepted = false;
-      for (int i = 0; i <= options_->max_backtracks; ++i, t *= 0.5) {
-        trial_r = r + t * direction;
-        trial_u = u + t * Wd;
-        trial_psi = Evaluate(trial_r, trial_u, &trial_phi);
-        if (std::isfinite(trial_psi) &&
-            trial_psi <= reference - 2.0 * options_->armijo_beta * t * psi) {
-          accepted = true;
-          break;
-        }
-        ++summary_->backtracks;
-      }
-      if (!accepted) return Termination::kLineSearchFailure;
-      r.swap(trial_r);
-      u.swap(trial_u);
-      phi.swap(trial_phi);
+      if (!LineSearch(psi, &t, &trial_psi)) return Termination::kLineSearchFailure;
+      r.swap(trial_r_);
+      u.swap(trial_u_);
+      phi.swap(trial_phi_);
       psi = trial_psi;
       recent_psi_.push_back(psi);
       if (static_cast<int>(recent_psi_.size()) > options_->nonmonotone_window)

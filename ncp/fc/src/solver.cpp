@@ -50,6 +50,8 @@ const char* ToString(Termination t) {
       return "stalled";
     case Termination::kNonFiniteValues:
       return "non_finite_values";
+    case Termination::kAtRoundoffFloor:
+      return "at_roundoff_floor";
   }
   return "unknown";
 }
@@ -157,6 +159,7 @@ class NewtonSolver {
     *r = best_r_;
     summary_->final_error = Error(*r);
     if (summary_->final_error <= options.tolerance) status = Termination::kConverged;
+    status = internal::RoundoffFloorStatus(options, status, summary_->final_error);
     summary_->termination = status;
     SetMessage(status);
     summary_->symbolic_factorizations =
@@ -537,13 +540,12 @@ class NewtonSolver {
   /// Summary::message, written into its kept storage.
   void SetMessage(Termination status) const {
     std::string& message = summary_->message;
-    internal::ErrorReport(*options_, status == Termination::kConverged,
-                          summary_->final_error, &message);
+    const bool usable = internal::Usable(status);
+    internal::ErrorReport(*options_, usable, summary_->final_error, &message);
     char count[48];
     std::snprintf(count, sizeof count, " after %d Newton steps", summary_->iterations);
     message += count;
-    if (status != Termination::kConverged)
-      (message += "; last attempt ended: ") += ToString(status);
+    if (!usable) (message += "; last attempt ended: ") += ToString(status);
   }
 
   const FrictionProblem& problem_;

@@ -1,6 +1,6 @@
-// fc-solve FILE [--global] [--solver hybrid|ac|nm|fb] [--tolerance T] [--max-iterations
-// N]
-//          [--time-limit S] [--gauss-seidel N] [--rho-scale S] [--stall-window N]
+// fc-solve FILE [--global] [--solver hybrid|ac|nm|fb] [--tolerance T]
+//          [--max-iterations N] [--time-limit S] [--gauss-seidel N] [--rho-scale S]
+//          [--stall-window N]
 //          [--gauss-seidel-fallback N] [--regularization R] [--shift-cap S] [--json]
 //          [--reactions OUT.txt] [--velocities OUT.txt] [--verbose]
 // Reads a frictional contact problem (Siconos .dat or FCLIB .hdf5), solves it, prints the
@@ -9,8 +9,9 @@
 // (M v = q + H r, u = H' v + b; --global for a text file, stated by an FCLIB file itself)
 // is solved through its Delassus form W = H' M^-1 H (ncp/fc/global.hpp); the global
 // velocity v = M^-1 (q + H r) is reported with the residuals of the global problem,
-// recomputed from M, H, q, b without W. Exit code: 0 converged, 1 not converged (the
-// error reached is reported), 2 bad input or usage, 3 an output file could not be written
+// recomputed from M, H, q, b without W. Exit code: 0 converged or at the round-off
+// floor (--json: "converged" only for the first, "usable" for both), 1 not (the error
+// reached is reported), 2 bad input or usage, 3 an output file could not be written
 // (its name and the reason on stderr; each file is written as NAME.partial and renamed
 // when complete, so NAME is never a truncated result).
 
@@ -49,7 +50,8 @@ nlohmann::json ToJson(const ncp::fc::FrictionProblem& p, const ncp::fc::Options&
           {"final_formulation", ncp::fc::ToString(s.formulation_final)},
           {"tolerance", o.tolerance},
           {"status", ncp::fc::ToString(s.termination)},
-          {"converged", s.IsSolutionUsable()},
+          {"converged", s.termination == ncp::fc::Termination::kConverged},
+          {"usable", s.IsSolutionUsable()},
           {"message", s.message},
           {"iterations", s.iterations},
           {"gauss_seidel_sweeps", s.gauss_seidel_sweeps},
@@ -64,9 +66,7 @@ nlohmann::json ToJson(const ncp::fc::FrictionProblem& p, const ncp::fc::Options&
           {"time_s", s.total_time_s}};
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+cxxopts::Options MakeCli() {
   cxxopts::Options cli(
       "fc-solve", "Solve a frictional contact problem (Siconos .dat or FCLIB .hdf5)");
   cli.add_options()("file", "problem file", cxxopts::value<std::string>())(
@@ -106,6 +106,83 @@ int main(int argc, char** argv) {
       "h,help", "this help")("version", "print the version and exit");
   cli.parse_positional({"file"});
   cli.positional_help("FILE");
+  return cli;
+}
+
+ncp::fc::Options OptionsFromArgs(const cxxopts::ParseResult& args) {
+  ncp::fc::Options options;
+  options.formulation = ncp::fc::ParseFormulation(args["solver"].as<std::string>());
+  options.tolerance = args["tolerance"].as<double>();
+  options.max_iterations = args["max-iterations"].as<int>();
+  options.max_time_s = args["time-limit"].as<double>();
+  options.gauss_seidel_sweeps = args["gauss-seidel"].as<int>();
+  options.gauss_seidel_fallback_sweeps = args["gauss-seidel-fallback"].as<int>();
+  options.stall_window = args["stall-window"].as<int>();
+  options.rho_scale = args["rho-scale"].as<double>();
+  options.regularization = args["regularization"].as<double>();
+  options.shift_error_cap = args["shift-cap"].as<double>();
+  options.log_to_stderr = args.count("verbose") > 0;
+  return options;
+}
+
+/// The global problem's velocity v = M^-1 (q + H r) and its residuals recomputed from M,
+/// H, q, b, into the JSON report; returns the text report's line.
+std::string ReportGlobal(const ncp::fc::GlobalFrictionProblem& global_problem,
+                         const ncp::Vector& r, const cxxopts::ParseResult& args,
+                         nlohmann::json* report) {
+  const ncp::Vector v = ncp::fc::GlobalVelocity(global_problem, r);
+  const ncp::fc::GlobalResidual residual =
+      ncp::fc::ComputeGlobalResidual(global_problem, v, r);
+  (*report)["dofs"] = global_problem.num_dofs();
+  (*report)["global_motion_residual"] = residual.motion;
+  (*report)["global_contact_error"] = residual.contact;
+  (*report)["velocity"] = std::vector<double>(v.data(), v.data() + v.size());
+  if (args.count("velocities")) WriteVector(args["velocities"].as<std::string>(), v);
+  std::ostringstream line;
+  line << std::setprecision(3) << "global form, " << global_problem.num_dofs()
+       << " dofs: |M v - q - H r| / (1 + |q|) = " << residual.motion
+       << ", contact law at u = H'v + b: error " << residual.contact << '\n';
+  return line.str();
+}
+
+/// Reads, solves, reports; the exit code (0 usable, 1 not).
+int SolveFile(const cxxopts::ParseResult& args) {
+  if (!args.count("file")) throw std::invalid_argument("no problem file given");
+  const std::string file = args["file"].as<std::string>();
+  const bool global = args.count("global") > 0 || ncp::fc::IsFclibGlobal(file);
+  ncp::fc::GlobalFrictionProblem global_problem;
+  if (global) global_problem = ncp::fc::ReadGlobalProblem(file);
+  const ncp::fc::FrictionProblem problem =
+      global ? ncp::fc::ReduceToLocal(global_problem) : ncp::fc::ReadProblem(file);
+  if (args.count("velocities") && !global)
+    throw std::invalid_argument("--velocities needs a global problem (--global)");
+  const ncp::fc::Options options = OptionsFromArgs(args);
+  ncp::Vector r;
+  ncp::fc::Summary summary;
+  ncp::fc::Solve(options, problem, &r, &summary);
+  const double error = ncp::fc::NaturalMapError(problem, r);
+  if (args.count("reactions")) WriteVector(args["reactions"].as<std::string>(), r);
+  nlohmann::json report = ToJson(problem, options, summary, error);
+  report["form"] = global ? "global" : "local";
+  const std::string global_line =
+      global ? ReportGlobal(global_problem, r, args, &report) : std::string();
+  if (args.count("json")) {
+    std::cout << report.dump(2) << '\n';
+  } else {
+    std::cout << problem.name << ": " << problem.num_contacts << " contacts, dimension "
+              << problem.dimension << '\n'
+              << global_line << summary.BriefReport() << '\n';
+    if (!summary.IsSolutionUsable())
+      std::cout << "NOT SOLVED: the returned reactions reach error " << error
+                << " > tolerance " << options.tolerance << '\n';
+  }
+  return summary.IsSolutionUsable() ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  cxxopts::Options cli = MakeCli();
   // A file-size limit (ulimit -f) makes the write fail with EFBIG, reported, instead of
   // killing the process with SIGXFSZ.
   std::signal(SIGXFSZ, SIG_IGN);
@@ -119,66 +196,13 @@ int main(int argc, char** argv) {
       std::cout << "fc-solve " << NCP_VERSION << '\n';
       return 0;
     }
-    if (!args.count("file")) throw std::invalid_argument("no problem file given");
-    const std::string file = args["file"].as<std::string>();
-    const bool global = args.count("global") > 0 || ncp::fc::IsFclibGlobal(file);
-    ncp::fc::GlobalFrictionProblem global_problem;
-    if (global) global_problem = ncp::fc::ReadGlobalProblem(file);
-    const ncp::fc::FrictionProblem problem =
-        global ? ncp::fc::ReduceToLocal(global_problem) : ncp::fc::ReadProblem(file);
-    if (args.count("velocities") && !global)
-      throw std::invalid_argument("--velocities needs a global problem (--global)");
-    ncp::fc::Options options;
-    options.formulation = ncp::fc::ParseFormulation(args["solver"].as<std::string>());
-    options.tolerance = args["tolerance"].as<double>();
-    options.max_iterations = args["max-iterations"].as<int>();
-    options.max_time_s = args["time-limit"].as<double>();
-    options.gauss_seidel_sweeps = args["gauss-seidel"].as<int>();
-    options.gauss_seidel_fallback_sweeps = args["gauss-seidel-fallback"].as<int>();
-    options.stall_window = args["stall-window"].as<int>();
-    options.rho_scale = args["rho-scale"].as<double>();
-    options.regularization = args["regularization"].as<double>();
-    options.shift_error_cap = args["shift-cap"].as<double>();
-    options.log_to_stderr = args.count("verbose") > 0;
-    ncp::Vector r;
-    ncp::fc::Summary summary;
-    ncp::fc::Solve(options, problem, &r, &summary);
-    const double error = ncp::fc::NaturalMapError(problem, r);
-    if (args.count("reactions")) WriteVector(args["reactions"].as<std::string>(), r);
-    nlohmann::json report = ToJson(problem, options, summary, error);
-    report["form"] = global ? "global" : "local";
-    std::string global_line;
-    if (global) {
-      const ncp::Vector v = ncp::fc::GlobalVelocity(global_problem, r);
-      const ncp::fc::GlobalResidual residual =
-          ncp::fc::ComputeGlobalResidual(global_problem, v, r);
-      report["dofs"] = global_problem.num_dofs();
-      report["global_motion_residual"] = residual.motion;
-      report["global_contact_error"] = residual.contact;
-      report["velocity"] = std::vector<double>(v.data(), v.data() + v.size());
-      std::ostringstream line;
-      line << std::setprecision(3) << "global form, " << global_problem.num_dofs()
-           << " dofs: |M v - q - H r| / (1 + |q|) = " << residual.motion
-           << ", contact law at u = H'v + b: error " << residual.contact << '\n';
-      global_line = line.str();
-      if (args.count("velocities")) WriteVector(args["velocities"].as<std::string>(), v);
-    }
-    if (args.count("json")) {
-      std::cout << report.dump(2) << '\n';
-    } else {
-      std::cout << problem.name << ": " << problem.num_contacts << " contacts, dimension "
-                << problem.dimension << '\n'
-                << global_line << summary.BriefReport() << '\n';
-      if (!summary.IsSolutionUsable())
-        std::cout << "NOT SOLVED: the returned reactions reach error " << error
-                  << " > tolerance " << options.tolerance << '\n';
-    }
+    const int code = SolveFile(args);
     std::cout.flush();
     if (!std::cout) {
       std::cerr << "fc-solve: writing the report to stdout failed\n";
       return 3;
     }
-    return summary.IsSolutionUsable() ? 0 : 1;
+    return code;
   } catch (const ncp::OutputError& e) {
     std::cerr << "fc-solve: output failed: " << e.what() << '\n';
     return 3;

@@ -291,7 +291,7 @@ struct Summary {
   /// converged when
   /// <= tolerance).
   bool weighted_residual = false;
-  /// kConverged although ||Phi||_inf > tolerance: every row was within tolerance + its
+  /// kAtRoundoffFloor: ||Phi||_inf > tolerance, every row within tolerance + its
   /// round-off floor (Options::roundoff_ulps); the tolerance asked for more digits than
   /// double precision carries at x.
   bool roundoff_limited = false;
@@ -322,8 +322,12 @@ struct Summary {
   std::string BriefReport() const;
   /// Several lines with every counter.
   std::string FullReport() const;
-  /// True only for kConverged.
-  bool IsSolutionUsable() const { return termination == TerminationType::kConverged; }
+  /// True for kConverged and kAtRoundoffFloor: x meets the tolerance, or is as accurate
+  /// as double precision resolves at x (every row within its round-off floor).
+  bool IsSolutionUsable() const {
+    return termination == TerminationType::kConverged ||
+           termination == TerminationType::kAtRoundoffFloor;
+  }
 };
 
 /// Keeps the linear-solver state (symbolic factorization) between solves, so a sequence

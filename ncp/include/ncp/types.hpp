@@ -70,8 +70,13 @@ enum class TerminationType {
   /// (Summary::infeasibility_certificate): no x in [l, u] has F(x) in the cone of the
   /// bounds (>= 0 on lower-bounded rows, <= 0 on upper-bounded, = 0 on free rows).
   kInfeasible,
+  /// tolerance < ||Phi(x)||_inf, but every row within the tolerance plus its round-off
+  /// floor (Options::roundoff_ulps): as accurate as double precision resolves at x, not
+  /// the accuracy asked for. Usable (Summary::IsSolutionUsable); a caller that needs the
+  /// tolerance itself asks for kConverged.
+  kAtRoundoffFloor,
 };
-constexpr TerminationType kLastTerminationType = TerminationType::kInfeasible;
+constexpr TerminationType kLastTerminationType = TerminationType::kAtRoundoffFloor;
 
 const char* ToString(NcpFunction f);
 const char* ToString(LinearSolverType t);

@@ -140,24 +140,13 @@ class Iteration : public internal::SemismoothNewton<Iteration> {
   }
 
   void InitializeSummary() {
-    summary_ = Summary();
-    summary_.num_variables = static_cast<int>(SumRanks(comm_, local_));
     long long equations = 0;
     for (Row r : layout_.rows)
       equations += r == Row::kFree || r == Row::kFixed || r == Row::kSplit;
-    summary_.num_equations = static_cast<int>(SumRanks(comm_, equations));
-    summary_.num_pairs = summary_.num_variables - summary_.num_equations;
-    summary_.ncp_function = options_.ncp_function;
+    StartSummary(static_cast<int>(SumRanks(comm_, local_)),
+                 static_cast<int>(SumRanks(comm_, equations)));
     summary_.linear_solver_requested = summary_.linear_solver_used =
         LinearSolverType::kAuto;
-    summary_.iterations = summary_.jacobian_evaluations = summary_.residual_evaluations =
-        0;
-    summary_.gradient_steps = summary_.regularized_steps = summary_.merit_restarts = 0;
-    summary_.minimum_norm_steps = summary_.equilibrated_factorizations = 0;
-    summary_.linear_solver_failures = summary_.descent_test_failures =
-        summary_.backtracks = 0;
-    summary_.cholesky_fallbacks = summary_.projected_start_components = 0;
-    summary_.evaluation_time_s = summary_.linear_solver_time_s = 0.0;
     summary_.predicted_factorization_flops =
         std::numeric_limits<double>::quiet_NaN();  // none predicted
   }

@@ -48,8 +48,7 @@ enum class Formulation {
 
 enum class Termination {
   kNotSolved,            ///< Solve() has not run (Summary default)
-  kConverged,            ///< NaturalMapError(r) <= Options::tolerance (or at its
-                         ///< round-off floor below Options::acceptable_tolerance)
+  kConverged,            ///< NaturalMapError(r) <= Options::tolerance
   kMaxIterations,        ///< Options::max_iterations Newton steps in total
   kTimeLimit,            ///< Options::max_time_s elapsed
   kLineSearchFailure,    ///< no step 2^-i, i <= max_backtracks, met the Armijo test (last
@@ -57,6 +56,11 @@ enum class Termination {
   kLinearSolverFailure,  ///< J + delta I and J'J + m I both failed (last attempt)
   kStalled,          ///< the error did not halve within stall_window steps (last attempt)
   kNonFiniteValues,  ///< NaN/Inf in Phi or the error
+  /// Options::tolerance < NaturalMapError(r) <= Options::acceptable_tolerance, the error
+  /// at the round-off of W r + q (a Newton step that did not halve it): as accurate as
+  /// double precision allows here, but not the tolerance asked for. Usable
+  /// (Summary::IsSolutionUsable).
+  kAtRoundoffFloor,
 };
 
 const char* ToString(Formulation f);
@@ -71,10 +75,10 @@ struct Options {
   /// tolerance.
   double tolerance = 1e-8;
   /// Round-off floor (0: off; else > tolerance): a Newton step that reaches an error at
-  /// most acceptable_tolerance without halving the previous one ends the solve as
-  /// converged - the error has hit the round-off of W r + q and `tolerance` is out of
-  /// reach. For callers that ask for more than they require (contact's step asks 1e-5 of
-  /// its tolerance and requires the tolerance).
+  /// most acceptable_tolerance without halving the previous one ends the solve with
+  /// kAtRoundoffFloor - the error has hit the round-off of W r + q and `tolerance` is out
+  /// of reach. For callers that ask for more than they require (contact's step asks 1e-5
+  /// of its tolerance and requires the tolerance).
   double acceptable_tolerance = 0.0;
   /// Newton steps in total, over all attempts of the hybrid.
   int max_iterations = 500;
@@ -181,7 +185,10 @@ struct Summary {
 
   /// One line: status, formulation, iterations, error, time.
   std::string BriefReport() const;
-  bool IsSolutionUsable() const { return termination == Termination::kConverged; }
+  bool IsSolutionUsable() const {
+    return termination == Termination::kConverged ||
+           termination == Termination::kAtRoundoffFloor;
+  }
 };
 
 /// Solves the problem from *r (resized to problem.size() and zeroed if empty) and returns
