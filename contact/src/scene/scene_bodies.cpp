@@ -93,10 +93,7 @@ void ReadPair(const Table& t, BodiesScene* out) {
   in.slave_group = t.String("slave_group", kContactGroup);
   in.master_group = t.String("master_group", kContactGroup);
   in.search_distance = t.Number("search_distance", kDistance, 0.0);
-  if (t.Number("friction", Range{0.0, 1e3, ""}, 0.0) > 0.0)
-    t.Fail("friction",
-           "> 0 is not supported with several bodies yet (frictionless "
-           "mortar contact only)");
+  in.friction = t.Number("friction", Range{0.0, 1e3, ""}, 0.0);  // Coulomb mu
   for (const auto& [key, name, index] :
        {std::tuple<const char*, std::string, int*>{"slave_body", slave, &in.slave_body},
         {"master_body", master, &in.master_body}}) {
