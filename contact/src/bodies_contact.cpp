@@ -49,6 +49,51 @@ bool HasFriction(const MortarConstraints& constraints) {
   return constraints.friction.size() > 0 && constraints.friction.maxCoeff() > 0.0;
 }
 
+/// The contact solve of one step: frictionless by ncp (mortar_problem.hpp), with
+/// friction by ncp::fc (mortar_friction.hpp); the slip rows measure the increment.
+class StepContactSolve {
+ public:
+  StepContactSolve(const SparseMatrix& S, const SparseMatrix& B, const SparseMatrix& T,
+                   const Vector& mu, bool friction)
+      : problem_(S, B),
+        z_(ncp::Vector::Zero(problem_.NumVariables())),
+        no_slip_(Vector::Zero(B.rows())) {
+    if (friction)
+      friction_ = std::make_unique<internal::MortarFrictionSolve>(S, B, T, mu);
+  }
+
+  /// Solves from the previous step's forces (and increment x0, frictionless); out: x,
+  /// lambda, tau; report and iterations of the solve. Returns whether it converged.
+  bool Solve(const Vector& q, const Vector& gap_base, const Vector& x0, double scale,
+             const ncp::Options& ncp, internal::MortarFrictionSolve::Outcome* out,
+             std::string* report, int* iterations) {
+    if (friction_) {
+      const bool solved =
+          friction_->Solve(q, gap_base, no_slip_, scale, ncp.tolerance, out);
+      *report = out->summary.BriefReport();
+      *iterations = out->summary.iterations;
+      return solved;
+    }
+    const Eigen::Index n = x0.size();
+    problem_.Update(q, gap_base, scale);
+    z_.head(n) = x0;
+    ncp::Summary solve;
+    ncp::Solve(ncp, problem_, &z_, &solve);
+    *report = solve.BriefReport();
+    *iterations = solve.iterations;
+    out->x = z_.head(n);
+    out->lambda = z_.tail(no_slip_.size());
+    out->tau = no_slip_;
+    return solve.IsSolutionUsable();
+  }
+
+ private:
+  internal::MortarContactProblem problem_;
+  ncp::Vector z_;
+  Vector no_slip_;
+  std::unique_ptr<internal::MortarFrictionSolve> friction_;
+};
+
 }  // namespace
 
 BodiesStaticResult SolveBodiesStatic(const BodySystem& system,
@@ -127,16 +172,11 @@ BodiesDynamicSummary RunBodiesDynamics(const BodySystem& system,
   const double m = MaxDiagonal(M);
   const SparseMatrix P = dofs.RestrictionMatrix();
   const SparseMatrix B = constraints.B * P.transpose();
-  internal::MortarContactProblem problem(M / m, B);
-  std::unique_ptr<internal::MortarFrictionSolve> friction;
-  if (HasFriction(constraints))
-    friction = std::make_unique<internal::MortarFrictionSolve>(
-        M / m, B, constraints.T * P.transpose(), constraints.friction);
-  const Vector no_slip = Vector::Zero(B.rows());
+  StepContactSolve contact(M / m, B, constraints.T * P.transpose(), constraints.friction,
+                           HasFriction(constraints));
 
   Vector u = dofs.Expand(dofs.RestrictVector(u0));
   Vector u_prev = u - dt * dofs.ExpandHomogeneous(dofs.RestrictVector(v0));
-  ncp::Vector z = ncp::Vector::Zero(problem.NumVariables());
   internal::MortarFrictionSolve::Outcome out;
   BodiesDynamicSummary summary;
   summary.records.reserve(static_cast<size_t>(options.steps));
@@ -147,25 +187,11 @@ BodiesDynamicSummary RunBodiesDynamics(const BodySystem& system,
     const Vector gap_base = constraints.initial_gap + constraints.B * u;
     const double scale = DisplacementScale(
         {q.lpNorm<Eigen::Infinity>(), increment.lpNorm<Eigen::Infinity>()});
-    bool solved = false;
     std::string report;
     int iterations = 0;
-    if (friction) {
-      solved = friction->Solve(q, gap_base, no_slip, scale, options.ncp.tolerance, &out);
-      report = out.summary.BriefReport();
-      iterations = out.summary.iterations;
-    } else {
-      problem.Update(q, gap_base, scale);
-      z.head(M.rows()) = P * increment;  // start: the previous increment and forces
-      ncp::Summary solve;
-      ncp::Solve(options.ncp, problem, &z, &solve);
-      solved = solve.IsSolutionUsable();
-      report = solve.BriefReport();
-      iterations = solve.iterations;
-      out.x = z.head(M.rows());
-      out.lambda = z.tail(B.rows());
-      out.tau = no_slip;
-    }
+    // start: the previous increment and forces
+    const bool solved = contact.Solve(q, gap_base, P * increment, scale, options.ncp,
+                                      &out, &report, &iterations);
     if (!solved) {
       summary.status = BodiesDynamicStatus::kSolverFailure;
       summary.message = "step " + std::to_string(step + 1) + ": " + report;
