@@ -607,3 +607,40 @@ TEST_CASE("bodies: friction holds a tilted stack below its angle", "[bodies][fri
           0.05 * above * g * std::sin(theta));
   }
 }
+
+// A static solve with friction condenses on the bodies (Delassus form): a body held only
+// by contact has a singular stiffness and is refused with the reason.
+TEST_CASE("bodies: static friction with a body held only by contact is refused",
+          "[bodies][friction]") {
+  const contact::IsotropicMaterial steel{210e9, 0.3, 7800.0};
+  std::vector<Body> bodies;
+  bodies.push_back({"floor",
+                    contact::ElasticBody(
+                        Rectangle(0.0, 0.0, 1.0, 0.2, 4, 1, ElementType::kQuadrilateral4,
+                                  {{Side::kYMin, BoundaryRole::kFixed},
+                                   {Side::kYMax, BoundaryRole::kContact}}),
+                        steel),
+                    {}});
+  bodies.back().dirichlet.emplace_back();
+  bodies.push_back({"block",
+                    contact::ElasticBody(
+                        Rectangle(0.2, 0.2, 0.4, 0.2, 3, 2, ElementType::kQuadrilateral4,
+                                  {{Side::kYMin, BoundaryRole::kContact}}),
+                        steel),
+                    {}});
+  contact::MortarInterface pair;
+  pair.slave_body = 1;
+  pair.slave_group = "contact";
+  pair.master_body = 0;
+  pair.master_group = "contact";
+  pair.friction = 0.3;
+  const contact::BodySystem system = contact::AssembleBodies(bodies);
+  const contact::MortarConstraints constraints =
+      contact::AssembleMortar(bodies, system, {pair});
+  CHECK_THROWS_WITH(contact::SolveBodiesStatic(system, constraints,
+                                               contact::Vector::Zero(system.NumDofs())),
+                    Catch::Contains("Dirichlet"));
+  pair.friction = -0.1;
+  CHECK_THROWS_WITH(contact::AssembleMortar(bodies, system, {pair}),
+                    Catch::Contains("friction"));
+}
