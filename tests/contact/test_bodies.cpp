@@ -1,4 +1,5 @@
-// Several bodies in mortar contact: the contact patch test, a stack at rest and two bars
+// Several bodies in mortar contact: the contact patch test, a stack at rest, Coulomb
+// friction on an incline and in a tilted stack, and two bars
 // colliding, each against its closed form.
 #include <algorithm>
 #include <catch2/catch.hpp>
