@@ -1,4 +1,5 @@
-// Several bodies in mortar contact: the contact patch test, a stack at rest and two bars
+// Several bodies in mortar contact: the contact patch test, a stack at rest, Coulomb
+// friction on an incline and in a tilted stack, and two bars
 // colliding, each against its closed form.
 #include <algorithm>
 #include <catch2/catch.hpp>
@@ -458,7 +459,7 @@ TEST_CASE("bodies: scene refusals name the key", "[bodies][scene]") {
   const std::string friction =
       refusal(stack +
               "\n[[contact]]\nslave_body = \"top\"\nmaster_body = "
-              "\"floor\"\nfriction = 0.3\n");
+              "\"floor\"\nfriction = -0.3\n");
   CHECK(friction.find("'contact[2].friction'") != std::string::npos);
   const std::string missing =
       refusal(stack + "\n[[contact]]\nslave_body = \"lid\"\nmaster_body = \"floor\"\n");
@@ -466,4 +467,181 @@ TEST_CASE("bodies: scene refusals name the key", "[bodies][scene]") {
   CHECK(missing.find("'lid'") != std::string::npos);
   CHECK_THROWS_AS(contact::LoadScene(base + "stack_2d.toml"), contact::SceneError);
   std::filesystem::remove(path);
+}
+
+namespace {
+
+/// A stack of `blocks` steel blocks (0.4 x 0.2 m each, nu = 0, non-matching meshes) on a
+/// clamped steel floor, under gravity g tilted by theta: body force rho g (sin theta,
+/// -cos theta), the floor's frame being the incline's. Friction mu at every interface.
+/// Starts at rest from the static frictionless equilibrium under the normal part of
+/// gravity (the blocks held along x at one edge for that solve only). Returns per block
+/// its centre-of-mass velocity along x after `steps` steps (from its momentum: lumped
+/// masses times velocities), and per interface the means over the steps of the normal
+/// and friction forces [N/m].
+struct TiltedStack {
+  double time = 0.0;
+  std::vector<double> velocity, mass, normal, friction;
+};
+
+TiltedStack RunTiltedStack(int blocks, double mu, double g, double theta, int steps) {
+  const contact::IsotropicMaterial steel{210e9, 0.0, 7800.0};
+  std::vector<Body> bodies;
+  bodies.push_back({"floor",
+                    contact::ElasticBody(
+                        Rectangle(0.0, 0.0, 1.0, 0.2, 5, 1, ElementType::kQuadrilateral4,
+                                  {{Side::kYMin, BoundaryRole::kFixed},
+                                   {Side::kYMax, BoundaryRole::kContact}}),
+                        steel),
+                    {}});
+  bodies.back().dirichlet.emplace_back();
+  std::vector<contact::MortarInterface> pairs;
+  for (int i = 0; i < blocks; ++i) {
+    contact::Mesh block = Rectangle(
+        0.3, 0.2 * (i + 1), 0.4, 0.2, 3 + i % 2, 2, ElementType::kQuadrilateral4,
+        {{Side::kYMin, BoundaryRole::kContact}, {Side::kYMax, BoundaryRole::kLoad}});
+    AddEdgeGroup(&block, "left", 0.3);
+    bodies.push_back({"block " + std::to_string(i),
+                      contact::ElasticBody(block, steel),
+                      {Condition("left", 0)}});
+    contact::MortarInterface pair;
+    pair.slave_body = i + 1;
+    pair.slave_group = "contact";
+    pair.master_body = i;
+    pair.master_group = i == 0 ? "contact" : "load";
+    pairs.push_back(pair);
+  }
+  auto load = [&](const contact::BodySystem& system, double along) {
+    contact::Vector f = contact::Vector::Zero(system.NumDofs());
+    for (int b = 1; b <= blocks; ++b) {
+      const contact::ElasticBody& body = bodies[static_cast<size_t>(b)].body;
+      const double rho = body.material().density;
+      f.segment(system.offset[static_cast<size_t>(b)], body.NumDofs()) =
+          body.BodyForceLoad(rho * g * Eigen::Vector2d(along, -std::cos(theta)));
+    }
+    return f;
+  };
+  const contact::BodySystem held = contact::AssembleBodies(bodies);
+  const contact::BodiesStaticResult rest = contact::SolveBodiesStatic(
+      held, contact::AssembleMortar(bodies, held, pairs), load(held, 0.0));
+  REQUIRE(rest.converged);
+  for (int b = 1; b <= blocks; ++b) bodies[static_cast<size_t>(b)].dirichlet.clear();
+  for (auto& pair : pairs) pair.friction = mu;
+  const contact::BodySystem system = contact::AssembleBodies(bodies);
+  const contact::MortarConstraints constraints =
+      contact::AssembleMortar(bodies, system, pairs);
+  contact::BodiesDynamicOptions options;
+  options.time_step = 0.5 * 0.2 / 5189.0;  // half of h / c
+  options.steps = steps;
+  options.lumped_mass = true;
+  const contact::BodiesDynamicSummary run = contact::RunBodiesDynamics(
+      system, constraints, load(system, std::sin(theta)), rest.u,
+      contact::Vector::Zero(system.NumDofs()), options);
+  INFO(run.message);
+  REQUIRE(run.status == contact::BodiesDynamicStatus::kCompleted);
+  TiltedStack out;
+  out.time = steps * options.time_step;
+  for (int b = 1; b <= blocks; ++b) {
+    double momentum = 0.0, mass = 0.0;
+    for (int i = system.offset[static_cast<size_t>(b)];
+         i < system.offset[static_cast<size_t>(b) + 1]; i += 2) {
+      momentum += system.lumped_mass(i) * run.velocity(i);
+      mass += system.lumped_mass(i);
+    }
+    out.velocity.push_back(momentum / mass);
+    out.mass.push_back(mass);
+  }
+  out.normal.assign(static_cast<size_t>(blocks), 0.0);
+  out.friction.assign(static_cast<size_t>(blocks), 0.0);
+  for (const auto& r : run.records)
+    for (size_t p = 0; p < out.normal.size(); ++p) {
+      out.normal[p] += r.interface_force[p] / steps;
+      out.friction[p] += r.interface_tangential_force[p] / steps;
+    }
+  return out;
+}
+
+}  // namespace
+
+// Coulomb friction between two bodies: a block on an incline of angle theta. Above its
+// angle (tan theta > mu) it slides with a = g (sin theta - mu cos theta), the friction
+// force being mu N, N = m g cos theta; below it sticks: no momentum gained along the
+// incline.
+TEST_CASE("bodies: a block on an incline slides above its angle at the closed form",
+          "[bodies][friction]") {
+  const double mu = 0.3, g = 9.81;
+  const int steps = 1500;
+  const double steep = std::atan(2.0 * mu), gentle = std::atan(0.5 * mu);
+  const TiltedStack slides = RunTiltedStack(1, mu, g, steep, steps);
+  const double a = g * (std::sin(steep) - mu * std::cos(steep));
+  const double weight = slides.mass[0] * g;
+  INFO("slides: v = " << slides.velocity[0] << " m/s, expected " << a * slides.time
+                      << ", N = " << slides.normal[0] << ", friction "
+                      << slides.friction[0] << ", m g = " << weight);
+  CHECK(std::abs(slides.velocity[0] - a * slides.time) <= 0.02 * a * slides.time);
+  CHECK(std::abs(slides.normal[0] - weight * std::cos(steep)) <= 0.02 * weight);
+  CHECK(std::abs(std::abs(slides.friction[0]) - mu * slides.normal[0]) <=
+        2e-3 * slides.normal[0]);  // the first steps stick
+  const TiltedStack sticks = RunTiltedStack(1, mu, g, gentle, steps);
+  const double free_flight = g * std::sin(gentle) * sticks.time;  // frictionless
+  INFO("sticks: v = " << sticks.velocity[0] << " m/s against " << free_flight
+                      << " frictionless; friction " << sticks.friction[0]);
+  CHECK(std::abs(sticks.velocity[0]) <= 0.01 * free_flight);
+}
+
+// A stack of three blocks on an incline below its angle (tan theta = mu / 2): friction
+// holds every block (no momentum gained), and each interface carries the weight above
+// it, m_above g (sin theta, cos theta) along and across the incline, on average.
+TEST_CASE("bodies: friction holds a tilted stack below its angle", "[bodies][friction]") {
+  const double mu = 0.4, g = 9.81, theta = std::atan(0.5 * mu);
+  const TiltedStack stack = RunTiltedStack(3, mu, g, theta, 1500);
+  const double free_flight = g * std::sin(theta) * stack.time;
+  double above = 0.0;
+  for (int i = 2; i >= 0; --i) {
+    const size_t b = static_cast<size_t>(i);
+    above += stack.mass[b];
+    INFO("block " << i << ": v = " << stack.velocity[b] << " m/s, N = " << stack.normal[b]
+                  << ", friction " << stack.friction[b]);
+    CHECK(std::abs(stack.velocity[b]) <= 0.01 * free_flight);
+    CHECK(std::abs(stack.normal[b] - above * g * std::cos(theta)) <= 0.02 * above * g);
+    CHECK(std::abs(std::abs(stack.friction[b]) - above * g * std::sin(theta)) <=
+          0.05 * above * g * std::sin(theta));
+  }
+}
+
+// A static solve with friction condenses on the bodies (Delassus form): a body held only
+// by contact has a singular stiffness and is refused with the reason.
+TEST_CASE("bodies: static friction with a body held only by contact is refused",
+          "[bodies][friction]") {
+  const contact::IsotropicMaterial steel{210e9, 0.3, 7800.0};
+  std::vector<Body> bodies;
+  bodies.push_back({"floor",
+                    contact::ElasticBody(
+                        Rectangle(0.0, 0.0, 1.0, 0.2, 4, 1, ElementType::kQuadrilateral4,
+                                  {{Side::kYMin, BoundaryRole::kFixed},
+                                   {Side::kYMax, BoundaryRole::kContact}}),
+                        steel),
+                    {}});
+  bodies.back().dirichlet.emplace_back();
+  bodies.push_back({"block",
+                    contact::ElasticBody(
+                        Rectangle(0.2, 0.2, 0.4, 0.2, 3, 2, ElementType::kQuadrilateral4,
+                                  {{Side::kYMin, BoundaryRole::kContact}}),
+                        steel),
+                    {}});
+  contact::MortarInterface pair;
+  pair.slave_body = 1;
+  pair.slave_group = "contact";
+  pair.master_body = 0;
+  pair.master_group = "contact";
+  pair.friction = 0.3;
+  const contact::BodySystem system = contact::AssembleBodies(bodies);
+  const contact::MortarConstraints constraints =
+      contact::AssembleMortar(bodies, system, {pair});
+  CHECK_THROWS_WITH(contact::SolveBodiesStatic(system, constraints,
+                                               contact::Vector::Zero(system.NumDofs())),
+                    Catch::Contains("Dirichlet"));
+  pair.friction = -0.1;
+  CHECK_THROWS_WITH(contact::AssembleMortar(bodies, system, {pair}),
+                    Catch::Contains("friction"));
 }

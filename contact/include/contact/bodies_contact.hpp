@@ -13,6 +13,13 @@
 ///            m = max_i M_ii, g_base = g0 + B u^k, lambda in units of N dt^2 / m.
 /// The Jacobian is constant: Newton ends in the step after the last change of the active
 /// set. Dirichlet values are time independent.
+/// With friction (some mu_j > 0) the same problem gains the friction forces tau_j on the
+/// slip rows s = s_base + T x (mortar.hpp): S x + q - B' lambda - T' tau = 0 and
+/// Coulomb's law |tau_j| <= mu_j lambda_j, tau_j s_j <= 0, tau_j = -mu_j lambda_j
+/// sign(s_j) when s_j != 0 (the bound with this solve's lambda), solved by ncp::fc in
+/// Delassus form (W = H S^-1 H' on the contact rows): static, s_base = T u_C (slip from
+/// the reference configuration, one load step); step, s_base = 0 (slip increment over the
+/// step).
 #pragma once
 
 #include <functional>
@@ -29,10 +36,12 @@ namespace contact {
 struct BodiesStaticResult {
   bool converged = false;
   std::string message = "not solved yet";
-  Vector u;             ///< all global dofs, Dirichlet values included [m]
-  Vector normal_force;  ///< lambda_j >= 0 per constraint [N]
-  Vector pressure;      ///< lambda_j / D_jj [Pa]
-  Vector gap;           ///< g0 + B u per constraint [m]
+  Vector u;                 ///< all global dofs, Dirichlet values included [m]
+  Vector normal_force;      ///< lambda_j >= 0 per constraint [N]
+  Vector tangential_force;  ///< tau_j per constraint, |tau_j| <= mu_j lambda_j [N]
+  Vector slip;              ///< s = T u per constraint [m]
+  Vector pressure;          ///< lambda_j / D_jj [Pa]
+  Vector gap;               ///< g0 + B u per constraint [m]
   int newton_iterations = -1;
   ncp::Summary summary;
 };
@@ -65,6 +74,8 @@ struct BodiesStepRecord {
   double time = 0.0;  ///< [s]
   /// Sum of lambda_j over the constraints of each interface [N].
   std::vector<double> interface_force;
+  /// Sum of tau_j over the constraints of each interface [N] (0 without friction).
+  std::vector<double> interface_tangential_force;
   /// E^{k-1/2} = 1/2 v' M v + 1/2 (u^{k-1})' K u^k, v = (u^k - u^{k-1}) / dt [J]:
   /// without external load it is conserved exactly by central differences away from
   /// contact (see dynamics.hpp).

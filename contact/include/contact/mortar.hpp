@@ -36,12 +36,19 @@ struct MortarInterface {
   /// Master segments farther than this from a slave segment along its normal are not
   /// paired [m]; <= 0: the length of the longer of the two segments.
   double search_distance = 0.0;
+  /// Coulomb friction coefficient mu >= 0 of the pair: |tau_j| <= mu lambda_j.
+  double friction = 0.0;
 };
 
 /// The constraints g = initial_gap + B u of all interfaces, one row per slave node that
-/// some master segment covers.
+/// some master segment covers, and the tangential slip s = T u of the same rows,
+///     s_j = t_j . ( sum_k M_jk / D_jj u_k^m - u_j^s ),   t_j = (-n_j,y, n_j,x),
+/// the displacement of the mortar-weighted master point relative to slave node j along
+/// its tangent [m]; the friction force tau_j [N] acts as T' tau.
 struct MortarConstraints {
   SparseMatrix B;      ///< rows x global dofs (BodySystem numbering) [1]
+  SparseMatrix T;      ///< rows x global dofs: the tangential slip rows [1]
+  Vector friction;     ///< mu_j of the interface of row j
   Vector initial_gap;  ///< g0_j in the reference configuration [m]
   Vector weight;       ///< D_jj [m^2] (2D: length times thickness); p_j = lambda_j / D_jj
   std::vector<int> interface;   ///< interface index of row j

@@ -174,7 +174,8 @@ double SurfaceSize(const Mesh& mesh, const std::string& group) {
 MortarConstraints AssembleMortar(const std::vector<Body>& bodies,
                                  const BodySystem& system,
                                  const std::vector<MortarInterface>& interfaces) {
-  std::vector<Eigen::Triplet<double>> triplets;
+  std::vector<Eigen::Triplet<double>> triplets, tangential;
+  std::vector<double> friction;
   std::vector<double> gaps, weights;
   std::vector<Eigen::Vector2d> normals;
   MortarConstraints out;
@@ -182,6 +183,9 @@ MortarConstraints AssembleMortar(const std::vector<Body>& bodies,
     const MortarInterface& in = interfaces[i];
     const std::string key = "contact pair " + std::to_string(i);
     CheckInterface(bodies, in, key);
+    if (!(in.friction >= 0.0) || !std::isfinite(in.friction))
+      throw std::invalid_argument(key + ": friction = " + std::to_string(in.friction) +
+                                  " (need a finite value >= 0)");
     const Body& slave = bodies[static_cast<size_t>(in.slave_body)];
     const Mesh& slave_mesh = slave.body.mesh();
     const Mesh& master_mesh = bodies[static_cast<size_t>(in.master_body)].body.mesh();
@@ -195,15 +199,21 @@ MortarConstraints AssembleMortar(const std::vector<Body>& bodies,
       const int node = group_nodes[c];
       const SlaveRow& row = found->second;
       const Eigen::Vector2d n = nodal.col(static_cast<Eigen::Index>(c)).head<2>();
+      const Eigen::Vector2d t(-n.y(), n.x());
       const int r = static_cast<int>(gaps.size());
       Eigen::Vector2d projected = Eigen::Vector2d::Zero();
-      for (int a = 0; a < 2; ++a)
+      for (int a = 0; a < 2; ++a) {
         triplets.emplace_back(r, system.GlobalDof(in.slave_body, node, a), -n(a));
+        tangential.emplace_back(r, system.GlobalDof(in.slave_body, node, a), -t(a));
+      }
       for (const auto& [k, Mjk] : row.M) {
         projected += Mjk / row.D * master_mesh.nodes.col(k).head<2>();
-        for (int a = 0; a < 2; ++a)
+        for (int a = 0; a < 2; ++a) {
           triplets.emplace_back(r, system.GlobalDof(in.master_body, k, a),
                                 Mjk / row.D * n(a));
+          tangential.emplace_back(r, system.GlobalDof(in.master_body, k, a),
+                                  Mjk / row.D * t(a));
+        }
       }
       const Eigen::Vector2d x = slave_mesh.nodes.col(node).head<2>();
       const double gap = n.dot(projected - x);
@@ -218,6 +228,7 @@ MortarConstraints AssembleMortar(const std::vector<Body>& bodies,
       }
       gaps.push_back(gap);
       weights.push_back(row.D);
+      friction.push_back(in.friction);
       normals.push_back(n);
       out.interface.push_back(static_cast<int>(i));
       out.slave_body.push_back(in.slave_body);
@@ -234,6 +245,9 @@ MortarConstraints AssembleMortar(const std::vector<Body>& bodies,
   const int m = static_cast<int>(gaps.size());
   out.B.resize(m, system.NumDofs());
   out.B.setFromTriplets(triplets.begin(), triplets.end());
+  out.T.resize(m, system.NumDofs());
+  out.T.setFromTriplets(tangential.begin(), tangential.end());
+  out.friction = Eigen::Map<const Vector>(friction.data(), m);
   out.initial_gap = Eigen::Map<const Vector>(gaps.data(), m);
   out.weight = Eigen::Map<const Vector>(weights.data(), m);
   out.normals.resize(2, m);

@@ -93,10 +93,7 @@ void ReadPair(const Table& t, BodiesScene* out) {
   in.slave_group = t.String("slave_group", kContactGroup);
   in.master_group = t.String("master_group", kContactGroup);
   in.search_distance = t.Number("search_distance", kDistance, 0.0);
-  if (t.Number("friction", Range{0.0, 1e3, ""}, 0.0) > 0.0)
-    t.Fail("friction",
-           "> 0 is not supported with several bodies yet (frictionless "
-           "mortar contact only)");
+  in.friction = t.Number("friction", Range{0.0, 1e3, ""}, 0.0);  // Coulomb mu
   for (const auto& [key, name, index] :
        {std::tuple<const char*, std::string, int*>{"slave_body", slave, &in.slave_body},
         {"master_body", master, &in.master_body}}) {
@@ -243,18 +240,20 @@ void WriteBodiesPvd(const std::string& path,
   if (!out) throw std::runtime_error("cannot write " + path);
 }
 
-/// steps.csv: per step the time [s], the force of each pair [N], the energy [J] and the
-/// Newton iterations.
+/// steps.csv: per step the time [s], the normal and the friction force of each pair [N],
+/// the energy [J] and the Newton iterations.
 void WriteSteps(const std::string& directory, size_t pairs,
                 const std::vector<BodiesStepRecord>& records) {
   std::ofstream steps(fs::path(directory) / "steps.csv");
   steps << "time";
   for (size_t i = 0; i < pairs; ++i) steps << ",pair" << i << "_force";
+  for (size_t i = 0; i < pairs; ++i) steps << ",pair" << i << "_friction";
   steps << ",energy,newton_iterations\n";
   steps.precision(17);
   for (const BodiesStepRecord& record : records) {
     steps << record.time;
     for (double force : record.interface_force) steps << "," << force;
+    for (double force : record.interface_tangential_force) steps << "," << force;
     steps << "," << record.energy << "," << record.newton_iterations << "\n";
   }
   if (!steps) throw std::runtime_error("cannot write " + directory + "/steps.csv");
