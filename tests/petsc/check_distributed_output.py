@@ -108,8 +108,8 @@ def check_snapshot_fields(serial_dir, mpi_dir, serial_files, files):
     compared) and cell by cell (matched by their coordinates and centres): the same
     names and components, NaN where one process has NaN (gap off the contact surface,
     forces and contact_state at the start), the values within SAME of the array's
-    largest magnitude; the contact arrays are not all zero at the last snapshot."""
-    worst = 0.0
+    largest magnitude (gap and slip: or of the displacement's); the contact arrays are not zero in every snapshot."""
+    worst, seen = 0.0, {}
     for serial_name, mpi_name in zip(serial_files, files):
         serial = vtk.vtkXMLUnstructuredGridReader()
         serial.SetFileName(os.path.join(serial_dir, serial_name))
@@ -136,15 +136,15 @@ def check_snapshot_fields(serial_dir, mpi_dir, serial_files, files):
                 assert (np.isnan(got) == np.isnan(expected)).all(), (mpi_name, name, "NaN")
                 known = ~np.isnan(expected)
                 scale = max(np.abs(expected[known]).max(initial=0.0), 1e-300)
+                if name in ("gap", "slip"):  # (a closed gap is round-off of u's size)
+                    scale = max(scale, np.abs(s_arrays["displacement"]).max())
                 error = np.abs(got[known] - expected[known]).max(initial=0.0) / scale
                 assert error <= SAME, (mpi_name, name, error)
                 worst = max(worst, error)
-    last = arrays(m_grid.GetPointData())
-    for name in ("normal_force", "friction_force", "slip", "velocity"):
-        assert np.abs(last[name]).max() > 0, name
-    state = last["contact_state"][~np.isnan(last["contact_state"])]
-    assert (state > 0).any(), "no node in contact at the last snapshot"
-    assert np.abs(arrays(m_grid.GetCellData())["von_mises"]).max() > 0
+                if name in ("normal_force", "friction_force", "slip", "contact_state",
+                            "velocity", "von_mises"):
+                    seen[name] = max(seen.get(name, 0.0), np.nanmax(np.abs(got)))
+    assert all(v > 0 for v in seen.values()) and len(seen) == 6, seen  # (contact: state > 0)
     return f"{len(files)} snapshots' arrays as one process's within {worst:.2g} (relative)"
 
 

@@ -323,8 +323,8 @@ class DistributedOutput {
     if (!local_body_ && body.local_mesh().NumElements() > 0)
       local_body_ =
           std::make_unique<ElasticBody>(body.local_mesh(), scene_.material, scene_.plane);
-    auto [points, cells] = internal::PieceFields(body, local_body_.get(), u, u_previous,
-                                                 scene_.dynamics.dt, contact);
+    auto [points, cells] =
+        internal::PieceFields(body, local_body_.get(), u, u_previous, scene_, contact);
     const Mesh& mesh = body.local_mesh();
     cells.push_back({"rank", Eigen::MatrixXd::Constant(1, mesh.NumElements(), rank_)});
     std::vector<std::string> pieces;

@@ -28,13 +28,15 @@ Vector PieceDofs(const DistributedBody& body, Vec v) {
   return out;
 }
 
-// Every dof of the piece's vertices from the node data: block 1 = u^0, 2 = u^{-1}.
-Vector PieceStart(const DistributedBody& body, int block) {
+// Every dof of the piece's vertices: u^0 of the node data (value), or the uniform
+// initial velocity v^0 [m/s] on the free components (RunOptions' v0).
+Vector PieceStart(const DistributedBody& body, const Eigen::VectorXd* velocity) {
   const int dim = body.dim(), n = body.NumLocalVertices();
   Vector out = Vector::Zero(static_cast<Eigen::Index>(dim) * n);
   for (int i = 0; i < n; ++i)
     for (int a = 0; a < dim; ++a)
-      if (body.Data(i)[a] >= 0) out(dim * i + a) = body.Data(i)[block * dim + a];
+      if (body.Data(i)[a] >= 0)
+        out(dim * i + a) = velocity ? (*velocity)(a) : body.Data(i)[dim + a];
   return out;
 }
 
@@ -106,7 +108,8 @@ SnapshotContact StartSnapshotContact(const DistributedBody& body, int num_contac
 
 std::pair<std::vector<PointField>, std::vector<CellField>> PieceFields(
     const DistributedBody& body, const ElasticBody* local_body, Vec u, Vec u_previous,
-    double dt, const SnapshotContact& contact) {
+    const Scene& scene, const SnapshotContact& contact) {
+  const double dt = scene.dynamics.dt;
   const int dim = body.dim();
   if (!local_body) {  // (the ghost exchange is collective: every rank takes part)
     if (u) PieceDofs(body, u), PieceDofs(body, u_previous);
@@ -132,8 +135,11 @@ std::pair<std::vector<PointField>, std::vector<CellField>> PieceFields(
     serial.push_back(c);
   }
   ContactSnapshot s;
-  s.displacement = u ? PieceDofs(body, u) : PieceStart(body, 1);
-  s.previous_displacement = u ? PieceDofs(body, u_previous) : PieceStart(body, 2);
+  s.displacement = u ? PieceDofs(body, u) : PieceStart(body, nullptr);
+  // (the start: u^0 - dt v^0, so that the velocity is v^0, as InitialContactSnapshot)
+  s.previous_displacement =
+      u ? PieceDofs(body, u_previous)
+        : Vector(s.displacement - dt * PieceStart(body, &scene.initial_velocity));
   s.dt = dt;
   s.contact_nodes = &nodes;
   const Eigen::Index m = static_cast<Eigen::Index>(nodes.size());
@@ -148,6 +154,13 @@ std::pair<std::vector<PointField>, std::vector<CellField>> PieceFields(
   }
   s.force_accuracy = contact.force_accuracy;
   s.displacement_accuracy = contact.displacement_accuracy;
+  // The stress one process writes (SceneOutput): unless the kinematics is "small", the
+  // Cauchy stress of the finite-strain model (BodyKinematics::FiniteModel: the linear
+  // material as Saint Venant-Kirchhoff), also while an "auto" run stays small strain.
+  s.finite_strain = scene.kinematics.kinematics != Kinematics::kSmall;
+  s.finite_strain_model = scene.kinematics.model == MaterialModel::kLinear
+                              ? MaterialModel::kSaintVenantKirchhoff
+                              : scene.kinematics.model;
   return ContactSnapshotFields(*local_body, s);
 }
 

@@ -10,6 +10,7 @@
 
 #include "contact/contact_system.hpp"
 #include "contact/elastic_body.hpp"
+#include "contact/scene.hpp"
 #include "contact/vtk_writer.hpp"
 #include "distributed_body.hpp"
 
@@ -38,12 +39,13 @@ SnapshotContact ShareSnapshotContact(MPI_Comm comm, int dim, int num_contact_nod
 SnapshotContact StartSnapshotContact(const DistributedBody& body, int num_contact_nodes);
 
 /// Collective (ghost exchange): the fields of this rank's piece, for the global Vecs u
-/// (u^{k+1}) and u_previous (u^k) [m], or with u == nullptr the start u^0, u^{-1} of the
-/// node data; local_body: ElasticBody on body.local_mesh(), null for a piece without
-/// cells (then the same arrays, empty). The contact nodes' frames are the node data's.
-/// Small strain (the ranks' kinematics).
+/// (u^{k+1}) and u_previous (u^k) [m], or with u == nullptr the start: u^0 of the node
+/// data and scene.initial_velocity [m/s] on the free components;
+/// local_body: ElasticBody on body.local_mesh(), null for a piece without cells (then the
+/// same arrays, empty). The contact nodes' frames are the node data's. Small strain (the
+/// ranks' kinematics).
 std::pair<std::vector<PointField>, std::vector<CellField>> PieceFields(
     const DistributedBody& body, const ElasticBody* local_body, Vec u, Vec u_previous,
-    double dt, const SnapshotContact& contact);
+    const Scene& scene, const SnapshotContact& contact);
 
 }  // namespace contact::petsc::internal
