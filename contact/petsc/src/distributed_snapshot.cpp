@@ -122,15 +122,8 @@ std::pair<std::vector<PointField>, std::vector<CellField>> PieceFields(
   for (int i = 0; i < body.NumLocalVertices(); ++i) {
     const int c = ContactIndex(body, i);
     if (c < 0) continue;
-    const double* d = body.Data(i);
-    ContactNode node;
+    ContactNode node = body.ContactFrame(i);
     node.node = i;
-    for (int a = 0; a < 3; ++a) {
-      node.normal(a) = d[4 * dim + 1 + a];
-      node.tangent1(a) = d[4 * dim + 4 + a];
-      node.tangent2(a) = d[4 * dim + 7 + a];
-    }
-    node.gap = d[4 * dim + 10];
     nodes.push_back(node);
     serial.push_back(c);
   }
