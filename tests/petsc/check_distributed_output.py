@@ -3,7 +3,9 @@
 files a user opens: solution.pvd lists one .pvtu per snapshot, VTK's own parallel reader
 (vtkXMLPUnstructuredGridReader) reads the last one - its cells are the mesh's, its points
 (the pieces share their partition-boundary vertices) the mesh's nodes once merged, its
-displacement the serial displacement.csv to its 10 printed digits - steps.csv has the
+displacement the serial displacement.csv to its 10 printed digits, and every snapshot's
+arrays (displacement, velocity, gap, contact forces, slip, contact state and normal,
+stress, von Mises) those of the serial .vtu - steps.csv has the
 serial rows' contact force sums (the 1e-12 comparison of the trajectories themselves is
 test_distributed_scene.cpp's, in one process without the files' rounding), and
 contact_stress.csv, node_history.csv (output.marked_point) and displacement.csv (at
@@ -83,6 +85,69 @@ def read_csv(path):
         return list(csv.DictReader(f))
 
 
+def arrays(data):
+    """name -> (n, components) array of a vtkPointData or vtkCellData."""
+    from vtk.util.numpy_support import vtk_to_numpy
+    out = {}
+    for i in range(data.GetNumberOfArrays()):
+        values = vtk_to_numpy(data.GetArray(i))
+        out[data.GetArrayName(i)] = values.reshape(len(values), -1)
+    return out
+
+
+def cell_centres(grid):
+    """(cells, 3): the mean of each cell's points."""
+    return np.array([np.mean([grid.GetPoint(cell.GetPointId(j))
+                              for j in range(cell.GetNumberOfPoints())], axis=0)
+                     for cell in (grid.GetCell(c) for c in range(grid.GetNumberOfCells()))])
+
+
+def check_snapshot_fields(serial_dir, mpi_dir, serial_files, files):
+    """Every snapshot: the arrays of the .pvtu (VTK's parallel reader, 2 pieces) against
+    the serial .vtu's, point by point (a partition-boundary point in both pieces, each
+    compared) and cell by cell (matched by their coordinates and centres): the same
+    names and components, NaN where one process has NaN (gap off the contact surface,
+    forces and contact_state at the start), the values within SAME of the array's
+    largest magnitude (gap and slip: or of the displacement's); the contact arrays are not zero in every snapshot."""
+    worst, seen = 0.0, {}
+    for serial_name, mpi_name in zip(serial_files, files):
+        serial = vtk.vtkXMLUnstructuredGridReader()
+        serial.SetFileName(os.path.join(serial_dir, serial_name))
+        serial.Update()
+        reader = vtk.vtkXMLPUnstructuredGridReader()
+        reader.SetFileName(os.path.join(mpi_dir, mpi_name))
+        reader.Update()
+        s_grid, m_grid = serial.GetOutput(), reader.GetOutput()
+        s_points = np.array([s_grid.GetPoint(i) for i in range(s_grid.GetNumberOfPoints())])
+        m_points = np.array([m_grid.GetPoint(i) for i in range(m_grid.GetNumberOfPoints())])
+        point_of = {tuple(np.round(x, 12)): i for i, x in enumerate(s_points)}
+        points = [point_of[tuple(np.round(x, 12))] for x in m_points]
+        cell_of = {tuple(np.round(x, 12)): i for i, x in enumerate(cell_centres(s_grid))}
+        cells = [cell_of[tuple(np.round(x, 12))] for x in cell_centres(m_grid)]
+        assert sorted(cells) == list(range(s_grid.GetNumberOfCells())), mpi_name
+        for kind, order in (("point", points), ("cell", cells)):
+            get = (lambda g: g.GetPointData()) if kind == "point" else (lambda g: g.GetCellData())
+            s_arrays, m_arrays = arrays(get(s_grid)), arrays(get(m_grid))
+            assert set(m_arrays) == set(s_arrays) | ({"rank"} if kind == "cell" else set()), \
+                (mpi_name, sorted(m_arrays), sorted(s_arrays))
+            for name, s_values in s_arrays.items():
+                expected, got = s_values[order], m_arrays[name]
+                assert got.shape == expected.shape, (mpi_name, name, got.shape, expected.shape)
+                assert (np.isnan(got) == np.isnan(expected)).all(), (mpi_name, name, "NaN")
+                known = ~np.isnan(expected)
+                scale = max(np.abs(expected[known]).max(initial=0.0), 1e-300)
+                if name in ("gap", "slip"):  # (a closed gap is round-off of u's size)
+                    scale = max(scale, np.abs(s_arrays["displacement"]).max())
+                error = np.abs(got[known] - expected[known]).max(initial=0.0) / scale
+                assert error <= SAME, (mpi_name, name, error)
+                worst = max(worst, error)
+                if name in ("normal_force", "friction_force", "slip", "contact_state",
+                            "velocity", "von_mises"):
+                    seen[name] = max(seen.get(name, 0.0), np.nanmax(np.abs(got)))
+    assert all(v > 0 for v in seen.values()) and len(seen) == 6, seen  # (contact: state > 0)
+    return f"{len(files)} snapshots' arrays as one process's within {worst:.2g} (relative)"
+
+
 def check_interrupt(a, mpi, scene):
     """SIGINT to mpiexec once steps.csv has rows: the run stops after a finished step."""
     with open(scene) as f:
@@ -157,7 +222,12 @@ def check_condensed(a):
                 "max_friction_residual"):
         assert np.isfinite(jm[key]) and abs(jm[key] - js[key]) <= SAME * F.max(), key
     assert abs(jm["energy_balance_error"] - js["energy_balance_error"]) <= SAME * energy_scale
-    return ("condensed on 2 ranks: " +
+    series = [[d.get("file") for d in
+               ET.parse(os.path.join(a.workdir, "condensed_" + name, "solution.pvd")).getroot()
+               .iter("DataSet")] for name in ("serial", "mpi2")]
+    fields = check_snapshot_fields(os.path.join(a.workdir, "condensed_serial"),
+                                   os.path.join(a.workdir, "condensed_mpi2"), *series)
+    return ("condensed on 2 ranks: " + fields + "; " +
             ", ".join(f"{k} {v:.2g}" for k, v in worst.items()) +
             f" (energy scale {energy_scale:.3g} J); active_nodes up to {int(active_s.max())}")
 
@@ -215,6 +285,7 @@ def main():
     u_max = np.abs(u_serial).max()
     difference = np.abs(u_piece - u_serial[matched]).max()
     assert u_max > 1e-4 and difference <= SAME * u_max, (difference, u_max)
+    fields = check_snapshot_fields(serial_dir, mpi_dir, serial_files, files)
 
     # steps.csv: the same rows' contact force sums.
     rows_serial = read_csv(os.path.join(serial_dir, "steps.csv"))
@@ -243,7 +314,7 @@ def main():
     assert len(lines) == 1 and "explicit" in lines[0], refused.stderr
     print(f"ok: {len(files)} snapshots, {grid.GetNumberOfPoints()} piece points = {len(nodes)} nodes merged, "
           f"{num_elements} cells; |u_mpi - u_serial| = {difference:.3g} m of {u_max:.3g} m; "
-          f"SIGINT: {interrupted}; {condensed}")
+          f"{fields}; SIGINT: {interrupted}; {condensed}")
     return 0
 
 

@@ -306,6 +306,18 @@ void DistributedBody::AddRows(const SparseMatrix& A, Mat target) const {
   }
 }
 
+ContactNode DistributedBody::ContactFrame(int vertex) const {
+  const double* d = Data(vertex);
+  ContactNode node;
+  for (int a = 0; a < 3; ++a) {
+    node.normal(a) = d[4 * dim_ + 1 + a];
+    node.tangent1(a) = d[4 * dim_ + 4 + a];
+    node.tangent2(a) = d[4 * dim_ + 7 + a];
+  }
+  node.gap = d[4 * dim_ + 10];
+  return node;
+}
+
 void DistributedBody::UnpackStart(PetscScalar* u, PetscScalar* u_previous, PetscScalar* f,
                                   std::vector<char>* contact_dof) const {
   for (int i = 0; i < NumLocalVertices(); ++i) {

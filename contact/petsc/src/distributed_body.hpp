@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "contact/contact_system.hpp"
 #include "contact/mesh.hpp"
 #include "contact/scene.hpp"
 
@@ -70,6 +71,9 @@ class DistributedBody {
   }
   /// Offset of component a of a local vertex in a local Vec (DMGetLocalVector).
   PetscInt LocalOffset(int vertex, int a) const;
+  /// The contact frame of a local vertex from its NodeData: n_c, t1, t2, s_c (node and
+  /// dofs left unset).
+  ContactNode ContactFrame(int vertex) const;
   /// The vertex's NodeData (Width doubles).
   const double* Data(int vertex) const {
     return &data_[static_cast<size_t>(NodeData::Width(dim_) * vertex)];

@@ -185,20 +185,13 @@ void CondensedGatheredStep::SetUpDistributed() {
       owned.emplace_back(static_cast<int>(body_.Data(i)[4 * dim_]), i);
   std::sort(owned.begin(), owned.end());
   for (const auto& [index, vertex] : owned) {
-    const double* data = body_.Data(vertex);
-    ContactNode node;
+    ContactNode node = body_.ContactFrame(vertex);
     node.node = index;
     for (int a = 0; a < dim_; ++a) {
       if (body_.OwnedIndex(vertex, a) < 0) continue;
       node.dofs[a] = static_cast<int>(owned_unknowns_.size());
       owned_unknowns_.push_back(body_.OwnedIndex(vertex, a));
     }
-    for (int c = 0; c < 3; ++c) {
-      node.normal(c) = data[4 * dim_ + 1 + c];
-      node.tangent1(c) = data[4 * dim_ + 4 + c];
-      node.tangent2(c) = data[4 * dim_ + 7 + c];
-    }
-    node.gap = data[4 * dim_ + 10];
     nodes_.push_back(node);
     node_index_.push_back(index);
   }

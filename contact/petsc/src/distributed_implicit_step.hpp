@@ -131,6 +131,7 @@ class CondensedGatheredStep {
   ::contact::internal::EnergyBalance StartEnergy() const;
 
   Vec displacement() const { return u_; }
+  Vec previous_displacement() const { return u_previous_; }
   const std::string& failure() const { return failure_; }
   int num_contact_unknowns() const { return num_unknowns_; }
   /// The KSP and PC types of the solves with M, e.g. "preonly + cholesky (mumps)".

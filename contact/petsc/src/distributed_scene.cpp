@@ -35,6 +35,7 @@
 #include "distributed_body.hpp"
 #include "distributed_critical_step.hpp"
 #include "distributed_implicit_step.hpp"
+#include "distributed_snapshot.hpp"
 #include "mass_inverse.hpp"
 #include "ncp/output_file.hpp"
 #include "parallel.hpp"
@@ -262,6 +263,7 @@ class DistributedOutput {
   DistributedOutput(MPI_Comm comm, const Scene& scene,
                     std::vector<std::string>* files_written)
       : comm_(comm),
+        scene_(scene),
         rank_(RankOf(comm)),
         size_(SizeOf(comm)),
         directory_(scene.output_directory),
@@ -312,35 +314,28 @@ class DistributedOutput {
       if (csv->is_open()) csv->Commit();
   }
 
-  /// Collective: the snapshot of global displacement vector u at `time`.
-  void WriteSnapshot(const DistributedBody& body, Vec u, int step, double time) {
+  /// Collective: the snapshot of `step` at `time` with one process's fields
+  /// (PieceFields: u, u_previous the global u^{k+1}, u^k, or null for the start) and the
+  /// rank as a cell field.
+  void WriteSnapshot(const DistributedBody& body, Vec u, Vec u_previous,
+                     const internal::SnapshotContact& contact, int step, double time) {
     if (directory_.empty()) return;
+    if (!local_body_ && body.local_mesh().NumElements() > 0)
+      local_body_ =
+          std::make_unique<ElasticBody>(body.local_mesh(), scene_.material, scene_.plane);
+    auto [points, cells] =
+        internal::PieceFields(body, local_body_.get(), u, u_previous, scene_, contact);
     const Mesh& mesh = body.local_mesh();
-    Vec local = nullptr;
-    CONTACT_PETSC_CHECK(DMGetLocalVector(body.dm(), &local));
-    CONTACT_PETSC_CHECK(VecZeroEntries(local));
-    CONTACT_PETSC_CHECK(DMGlobalToLocalBegin(body.dm(), u, INSERT_VALUES, local));
-    CONTACT_PETSC_CHECK(DMGlobalToLocalEnd(body.dm(), u, INSERT_VALUES, local));
-    PointField displacement{"displacement",
-                            Eigen::MatrixXd::Zero(body.dim(), mesh.NumNodes())};
-    const PetscScalar* x = nullptr;
-    CONTACT_PETSC_CHECK(VecGetArrayRead(local, &x));
-    for (int i = 0; i < mesh.NumNodes(); ++i)
-      for (int a = 0; a < body.dim(); ++a)
-        if (body.Data(i)[a] >= 0)
-          displacement.values(a, i) = x[body.LocalOffset(i, a)];  // (Dirichlet: 0)
-    CONTACT_PETSC_CHECK(VecRestoreArrayRead(local, &x));
-    CONTACT_PETSC_CHECK(DMRestoreLocalVector(body.dm(), &local));
-    CellField rank{"rank", Eigen::MatrixXd::Constant(1, mesh.NumElements(), rank_)};
+    cells.push_back({"rank", Eigen::MatrixXd::Constant(1, mesh.NumElements(), rank_)});
     std::vector<std::string> pieces;
     for (int r = 0; r < size_; ++r)
       pieces.push_back(SnapshotFileName(step, "_rank_" + std::to_string(r) + ".vtu"));
     const std::string piece = (directory_ / pieces[static_cast<size_t>(rank_)]).string();
-    WriteVtu(piece, mesh, {displacement}, {rank});
+    WriteVtu(piece, mesh, points, cells);
     MPI_Barrier(comm_);  // (every piece is on disk before the .pvtu names it)
     if (rank_ != 0) return;
     const std::string name = SnapshotFileName(step, ".pvtu");
-    WritePvtu((directory_ / name).string(), {displacement}, {rank}, pieces);
+    WritePvtu((directory_ / name).string(), points, cells, pieces);
     series_.emplace_back(time, name);
     WritePvd((directory_ / "solution.pvd").string(), series_);
     for (const std::string& p : pieces)
@@ -358,6 +353,7 @@ class DistributedOutput {
 
  private:
   MPI_Comm comm_;
+  const Scene& scene_;
   int rank_, size_;
   std::filesystem::path directory_;
   // A CSV of rank 0, opened with its header.
@@ -374,6 +370,7 @@ class DistributedOutput {
   std::vector<std::string>* files_written_;
   ncp::OutputFile steps_, stress_, history_, displacement_;
   std::vector<std::pair<double, std::string>> series_;
+  std::unique_ptr<ElasticBody> local_body_;  // the stresses of this rank's cells
 };
 
 // The distributed explicit time loop over the owned free dofs of `body`.
@@ -399,6 +396,7 @@ class ExplicitRun {
   ExplicitRun& operator=(const ExplicitRun&) = delete;
 
   Vec displacement() const { return u_; }
+  Vec previous_displacement() const { return u_previous_; }
   double m_max() const { return m_max_; }
 
   /// Step k -> k+1 on this rank's dofs and contact nodes, u^{k+1} and K u^{k+1}
@@ -812,6 +810,10 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   const auto u_run = [&] {
     return condensed ? condensed_run->displacement() : explicit_run->displacement();
   };
+  const auto u_previous_run = [&] {  // u^{k-1} [m] after a step: the snapshot's u^k
+    return condensed ? condensed_run->previous_displacement()
+                     : explicit_run->previous_displacement();
+  };
   // The step scaling S = M / m_max: the largest lumped mass (explicit) or entry of M_FF.
   const double m_max = condensed ? info.m_max : explicit_run->m_max();
   internal::StepGather gather(comm, scene.dim, info.num_contact_nodes);
@@ -838,7 +840,10 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
   const DynamicOptions& options = scene.dynamics;
   const long num_steps = static_cast<long>(
       std::ceil((options.end_time - options.start_time) / options.dt - 1e-3));
-  output.WriteSnapshot(body, u_run(), 0, options.start_time);
+  if (options.initial_state == InitialState::kPrescribed)  // (as one process: u^0, v^0)
+    output.WriteSnapshot(body, nullptr, nullptr,
+                         internal::StartSnapshotContact(body, info.num_contact_nodes), 0,
+                         options.start_time);
   const double force_scale = m_max / (options.dt * options.dt);
   std::vector<double> stress_times = scene.stress_times;
   std::sort(stress_times.begin(), stress_times.end());
@@ -895,7 +900,12 @@ SceneResult RunSceneDistributed(const Scene& scene, MPI_Comm comm, bool progress
     output.WriteStep(rec, mesh, dofs, nodes, marked, gathered.contact, force_scale,
                      stress_time || last ? &u_free : nullptr);
     if ((scene.snapshot_every > 0 && rec.step % scene.snapshot_every == 0) || last)
-      output.WriteSnapshot(body, u_run(), rec.step, rec.time);
+      output.WriteSnapshot(
+          body, u_run(), u_previous_run(),
+          internal::ShareSnapshotContact(comm, scene.dim, info.num_contact_nodes,
+                                         &gathered.contact, force_scale,
+                                         rec.force_accuracy, rec.displacement_accuracy),
+          rec.step, rec.time);
     if (rank == 0) {
       summary.records.push_back(rec);
       if (progress && Seconds(start) - last_progress > 1.0) {
