@@ -55,7 +55,8 @@ struct Row {
 // pressure q on the cut y = R ("load"), the arc up to x = 3a is Gamma_c ("contact").
 class HertzProblem {
  public:
-  // order 1: 3-node triangles; 2: 6-node triangles, the arc's mid-side nodes on the circle.
+  // order 1: 3-node triangles; 2: 6-node triangles, the arc's mid-side nodes on the
+  // circle.
   HertzProblem(const HertzData& data, int elements_per_half_width, int order = 1)
       : data_(data),
         order_(order),

@@ -263,7 +263,8 @@ constexpr const char* kUsage =
     "  -ncp_ksp_* -ncp_pc_*  PETSc's options of the Newton systems (default: MUMPS LU)\n"
     "  -help             PETSc's list of the options the run queries (runs the problem)\n"
     "  -h, --help        this help;  --version  the version\n"
-    "Exit code 0: usable (converged, or at the round-off floor); 1 otherwise (the status\n"
+    "Exit code 0: usable (converged, or at the round-off floor); 1 otherwise (the "
+    "status\n"
     "says why).\n";
 
 /// --help, -h and --version answer without PETSc and without running the problem.
