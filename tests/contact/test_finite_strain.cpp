@@ -117,76 +117,63 @@ Scene RollingDisc(const std::string& name, const std::string& material_extra,
   return LoadScene(path.string());
 }
 
-// The centre's acceleration along the slope [m/s^2] of a run of the rolling disc, the
-// least squares of x = x0 + v0 t + a t^2 / 2 after the first 20 ms (the contact force
-// builds up from zero at the start, and with it the friction bound).
-double RollingAcceleration(const std::vector<double>& t, const std::vector<double>& x) {
+// A run of the rolling disc: its summary, the centre's acceleration along the slope
+// [m/s^2] (least squares of x = x0 + v0 t + a t^2 / 2 after the first 20 ms: the contact
+// force builds up from zero at the start, and with it the friction bound) and its last
+// displacement along the slope [m].
+struct RollingRun {
+  DynamicSummary summary;
+  double acceleration = 0.0, distance = 0.0;
+};
+RollingRun RunRollingDisc(const SceneModel& built) {
   Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
   Eigen::Vector3d right = Eigen::Vector3d::Zero();
-  for (size_t k = 0; k < t.size(); ++k) {
-    if (t[k] < 0.02) continue;
-    const Eigen::Vector3d basis(1.0, t[k], t[k] * t[k] / 2.0);
+  RollingRun run;
+  DynamicOptions options = built.options;
+  options.on_step = [&](const StepRecord& rec, const Eigen::VectorXd& u,
+                        const ContactSystem::Result&, double) {
+    run.distance = u(built.dofs.FreeIndex(0));  // the centre node's
+    if (rec.time < 0.02) return;
+    const Eigen::Vector3d basis(1.0, rec.time, rec.time * rec.time / 2.0);
     normal += basis * basis.transpose();
-    right += basis * x[k];
-  }
-  return normal.ldlt().solve(right)(2);
+    right += basis * run.distance;
+  };
+  run.summary = RunDynamics(built.model, options);
+  run.acceleration = normal.ldlt().solve(right)(2);
+  return run;
 }
+
+const double kRollingExact = 2.0 / 3.0 * 9.81 * std::sin(20.0 * kPi / 180.0);  // [m/s^2]
 
 TEST_CASE("finite strain: with the body normal the contact frames turn with the disc") {
   // The default normal source: the body normals of the deformed disc at its current
   // contact nodes (the nodes touching the floor change as it rolls).
   const Scene scene = RollingDisc("rolling_disc_body_normal", "", 0.12, "");
   const SceneModel built = BuildSceneModel(scene, Disc(6));
-  std::vector<double> t, x;
-  DynamicOptions options = built.options;
-  options.on_step = [&](const StepRecord& rec, const Eigen::VectorXd& u,
-                        const ContactSystem::Result&, double) {
-    t.push_back(rec.time);
-    x.push_back(u(built.dofs.FreeIndex(0)));
-  };
-  const DynamicSummary s = RunDynamics(built.model, options);
-  INFO(s.message);
-  REQUIRE(s.status == DynamicStatus::kCompleted);
-  CHECK(s.kinematics == "finite");
-  const double exact = 2.0 / 3.0 * 9.81 * std::sin(20.0 * kPi / 180.0);
-  CHECK_THAT(RollingAcceleration(t, x), WithinRel(exact, 0.02));
+  const RollingRun run = RunRollingDisc(built);
+  INFO(run.summary.message);
+  REQUIRE(run.summary.status == DynamicStatus::kCompleted);
+  CHECK(run.summary.kinematics == "finite");
+  CHECK_THAT(run.acceleration, WithinRel(kRollingExact, 0.02));
+  CHECK(run.distance / kRadius > 0.25);
 }
 
 TEST_CASE("finite strain: a disc rolls down a slope at 2/3 g sin(alpha), area kept") {
   const Scene scene = RollingDisc("rolling_disc", "", 0.12);
   const SceneModel built = BuildSceneModel(scene, Disc(6));
-  // The centre node's displacement along the slope at every step.
-  std::vector<double> t, x;
-  DynamicOptions options = built.options;
-  options.on_step = [&](const StepRecord& rec, const Eigen::VectorXd& u,
-                        const ContactSystem::Result&, double) {
-    t.push_back(rec.time);
-    x.push_back(u(built.dofs.FreeIndex(0)));
-  };
-  const DynamicSummary s = RunDynamics(built.model, options);
+  const RollingRun run = RunRollingDisc(built);
+  const DynamicSummary& s = run.summary;
   INFO(s.message);
   REQUIRE(s.status == DynamicStatus::kCompleted);
   CHECK(s.kinematics == "finite");
   CHECK(s.finite_strain_from_step > 0);  // auto started small (the disc at rest)
   CHECK(s.material_model == "saint-venant-kirchhoff");
-  // Least squares of x = x0 + v0 t + a t^2 / 2 after the first 20 ms (the contact force
-  // builds up from zero at the start, and with it the friction bound).
-  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d right = Eigen::Vector3d::Zero();
-  for (size_t k = 0; k < t.size(); ++k) {
-    if (t[k] < 0.02) continue;
-    const Eigen::Vector3d basis(1.0, t[k], t[k] * t[k] / 2.0);
-    normal += basis * basis.transpose();
-    right += basis * x[k];
-  }
-  const double a = normal.ldlt().solve(right)(2);
-  const double exact = 2.0 / 3.0 * 9.81 * std::sin(20.0 * kPi / 180.0);
   INFO("finite strain from step "
        << s.finite_strain_from_step << ", energy balance error " << s.energy_balance_error
        << " J of " << s.records.back().external_work << " J external work");
-  CHECK_THAT(a, WithinRel(exact, 0.02));
+  CHECK_THAT(run.acceleration, WithinRel(kRollingExact, 0.02));
   // It turned by x / R (about 0.3 rad), and kept its area to the elastic strain.
-  CHECK(x.back() / kRadius > 0.25);
+  CHECK(run.distance / kRadius > 0.25);
   const Mesh& mesh = built.body->mesh();
   const double area0 = DeformedArea(mesh, Eigen::VectorXd::Zero(mesh.NumDofs()));
   CHECK_THAT(DeformedArea(mesh, built.dofs.Expand(s.u)), WithinRel(area0, 1e-3));
