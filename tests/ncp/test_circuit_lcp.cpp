@@ -305,9 +305,10 @@ TEST_CASE(
     INFO("seed " << seed << ": plain FB " << plain.summary.message << "; hybrid "
                  << hybrid.summary.message);
     CHECK(Rank(c) < hybrid.n);
-    CHECK(plain.summary.termination != TerminationType::kConverged);
+    CHECK_FALSE(plain.summary.IsSolutionUsable());
     CHECK(plain.natural_residual > kResidualTolerance);
-    CHECK(hybrid.summary.termination == TerminationType::kConverged);
+    // Converged, or at the round-off floor: usable either way (its residual checked next).
+    CHECK(hybrid.summary.IsSolutionUsable());
     CHECK(hybrid.natural_residual <= kResidualTolerance);
     CHECK_FALSE(hybrid.summary.strategy_switches.empty());
     CheckSwitchChain(hybrid.summary);
@@ -350,8 +351,9 @@ TEST_CASE(
     const Result hybrid = SolveCircuit(c, ncp::Options());
     INFO("seed " << seed << ": plain FB " << plain.summary.message << "; hybrid "
                  << hybrid.summary.message);
-    const bool p = plain.summary.termination == TerminationType::kConverged;
-    const bool h = hybrid.summary.termination == TerminationType::kConverged;
+    // A claim is a usable result: converged or at the round-off floor.
+    const bool p = plain.summary.IsSolutionUsable();
+    const bool h = hybrid.summary.IsSolutionUsable();
     if (p) CHECK(plain.natural_residual <= kResidualTolerance);
     if (h) CHECK(hybrid.natural_residual <= kResidualTolerance);
     if (p) CHECK(h);
