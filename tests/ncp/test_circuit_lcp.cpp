@@ -307,7 +307,8 @@ TEST_CASE(
     CHECK(Rank(c) < hybrid.n);
     CHECK_FALSE(plain.summary.IsSolutionUsable());
     CHECK(plain.natural_residual > kResidualTolerance);
-    // Converged, or at the round-off floor: usable either way (its residual checked next).
+    // Converged, or at the round-off floor: usable either way (its residual checked
+    // next).
     CHECK(hybrid.summary.IsSolutionUsable());
     CHECK(hybrid.natural_residual <= kResidualTolerance);
     CHECK_FALSE(hybrid.summary.strategy_switches.empty());
