@@ -28,18 +28,6 @@ Eigen::Vector3d BodyNormal(int dim, const ContactBoundary& boundary, int k) {
   return Eigen::Vector3d(nb(0), nb(1), dim == 3 ? nb(2) : 0.0);
 }
 
-/// Projects the constrained components out of c->normal (round-off of a normal orthogonal
-/// to them); false if one was more than round-off.
-bool ProjectConstrained(int dim, ContactNode* c) {
-  bool compatible = true;
-  for (int a = 0; a < dim; ++a) {
-    if (c->dofs[a] >= 0) continue;
-    compatible &= std::abs(c->normal(a)) <= 1e-8;
-    c->normal(a) = 0.0;
-  }
-  return compatible;
-}
-
 }  // namespace
 
 Eigen::VectorXd ObstacleGaps(const Mesh& mesh, const ContactBoundary& boundary,
@@ -60,12 +48,8 @@ Eigen::VectorXd ObstacleGaps(const Mesh& mesh, const ContactBoundary& boundary,
       gaps(static_cast<Eigen::Index>(c)) = q.gap;
       continue;
     }
-    const Eigen::Vector3d nb = BodyNormal(dim, boundary, frames.boundary_index[c]);
-    const double cosine = nb.dot(TowardsObstacle(dim, q));
-    if (!(cosine > 0.0) && frames.nodes[c].normal.dot(nb) <= 0.0) {
-      gaps(static_cast<Eigen::Index>(c)) = q.gap;  // (follow_body: the obstacle normal)
-      continue;
-    }
+    const double cosine =
+        BodyNormal(dim, boundary, frames.boundary_index[c]).dot(TowardsObstacle(dim, q));
     if (!(cosine > 0.0))
       throw std::invalid_argument(
           "at contact node " + std::to_string(node) +
@@ -78,8 +62,7 @@ Eigen::VectorXd ObstacleGaps(const Mesh& mesh, const ContactBoundary& boundary,
 
 ContactFrames MakeContactFrames(const Mesh& mesh, const ContactBoundary& boundary,
                                 const DofMap& dofs, const RigidObstacle& obstacle,
-                                NormalSource source, double allowed_initial_penetration,
-                                bool follow_body) {
+                                NormalSource source, double allowed_initial_penetration) {
   const int dim = mesh.dim;
   if (obstacle.dimension() != dim)
     throw std::invalid_argument("the obstacle is " +
@@ -114,8 +97,7 @@ ContactFrames MakeContactFrames(const Mesh& mesh, const ContactBoundary& boundar
     c.node = node;
     for (int a = 0; a < dim; ++a) c.dofs[a] = dofs.FreeIndex(dim * node + a);
     const Eigen::Vector3d towards_obstacle = TowardsObstacle(dim, q);
-    const bool away = BodyNormal(dim, boundary, k).dot(towards_obstacle) <= 0.0;
-    if (source == NormalSource::kObstacle || (follow_body && away)) {
+    if (source == NormalSource::kObstacle) {
       c.normal = towards_obstacle;
       c.gap = q.gap;
     } else {
@@ -134,7 +116,13 @@ ContactFrames MakeContactFrames(const Mesh& mesh, const ContactBoundary& boundar
     // A constrained component must be orthogonal to the normal (symmetry planes,
     // plane-strain faces); round-off is projected out, anything else leaves the node out
     // of the contact set.
-    if (!ProjectConstrained(dim, &c)) {
+    bool compatible = true;
+    for (int a = 0; a < dim; ++a) {
+      if (c.dofs[a] >= 0) continue;
+      compatible &= std::abs(c.normal(a)) <= 1e-8;
+      c.normal(a) = 0.0;
+    }
+    if (!compatible) {
       out.excluded_mesh_nodes.push_back(node);
       continue;
     }
@@ -145,49 +133,6 @@ ContactFrames MakeContactFrames(const Mesh& mesh, const ContactBoundary& boundar
     out.boundary_index.push_back(k);
   }
   return out;
-}
-
-void CurrentContactGeometry(const Mesh& deformed, const ContactBoundary& boundary,
-                            const ContactFrames& frames, const RigidObstacle& obstacle,
-                            NormalSource source, const Vector& translation,
-                            const Eigen::VectorXd& u_free,
-                            std::vector<ContactNode>* nodes, Eigen::VectorXd* gaps) {
-  const int dim = deformed.dim;
-  Eigen::MatrixXd body_normals;
-  if (source == NormalSource::kBody)
-    body_normals = OutwardNodalNormals(deformed, boundary.group);
-  *nodes = frames.nodes;
-  gaps->resize(static_cast<Eigen::Index>(frames.nodes.size()));
-  for (size_t i = 0; i < frames.nodes.size(); ++i) {
-    ContactNode& c = (*nodes)[i];
-    const ObstacleQuery q = obstacle.Query(deformed.nodes.col(c.node) - translation);
-    const Eigen::Vector3d towards_obstacle = TowardsObstacle(dim, q);
-    double gap = q.gap;  // g_c(x) along the obstacle normal [m]
-    c.normal = towards_obstacle;
-    if (source == NormalSource::kBody) {
-      const Eigen::VectorXd nb = body_normals.col(frames.boundary_index[i]);
-      const Eigen::Vector3d n(nb(0), nb(1), dim == 3 ? nb(2) : 0.0);
-      const double cosine = n.dot(towards_obstacle);
-      if (cosine > 0.0) {  // else the far side of the body: the obstacle normal
-        c.normal = n;
-        gap = q.gap / cosine;
-      }
-    }
-    // A normal along a constrained component cannot turn there (the set-up kept only
-    // nodes whose normal was orthogonal to it): the obstacle normal is used then.
-    if (!ProjectConstrained(dim, &c)) {
-      c.normal = towards_obstacle;
-      gap = q.gap;
-      ProjectConstrained(dim, &c);
-    }
-    c.normal.normalize();
-    CompleteContactFrame(dim, &c);
-    double un = 0.0;  // n_c . u_c [m]
-    for (int a = 0; a < dim; ++a)
-      if (c.dofs[a] >= 0) un += c.normal(a) * u_free(c.dofs[a]);
-    c.gap = gap + un;
-    (*gaps)(static_cast<Eigen::Index>(i)) = c.gap;
-  }
 }
 
 }  // namespace contact

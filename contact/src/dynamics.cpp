@@ -230,7 +230,6 @@ class CentralDifferences {
     StepRecord rec;
     rec.step = static_cast<int>(k + 1);
     rec.time = options_.start_time + static_cast<double>(k) * dt_ + dt_;
-    FollowBody();
     const internal::StepScales scales = LoadStep(k);
     const auto solve_start = Clock::now();
     summary_.assembly_seconds +=
@@ -305,18 +304,6 @@ class CentralDifferences {
   bool started() const { return summary_.status == DynamicStatus::kNotRun; }
 
  private:
-  // Finite strain: the contact nodes and gaps of u^k (DynamicModel::contact_geometry),
-  // and the step method set up anew for them, its friction warm start carried over.
-  void FollowBody() {
-    if (!forces_.finite() || !model_.contact_geometry) return;
-    model_.contact_geometry(state_.u, &nodes_, &gap0_);
-    if (!current_) current_ = std::make_unique<DynamicModel>(model_);  // (once)
-    current_->contact_nodes = nodes_;
-    const Eigen::MatrixXd warm_start = method_->WarmStart();
-    method_ = internal::MakeStepAlgorithm(*current_, options_, mass_, m_max_);
-    method_->SetWarmStart(warm_start);
-  }
-
   // Q^k = M (u^{k-1} - u^k) / dt^2 + K u^k - f^k (eq. 73), q = Q^k dt^2 / m_max (eq. 81),
   // the Tresca bounds f_c lambda^k (eq. 70), and the step's scales (dynamics_types.hpp,
   // kAccuracySlack).
@@ -504,10 +491,9 @@ class CentralDifferences {
   internal::EnergyBalance energy_;
   internal::InternalForce forces_;  // K u or f_int(u), and the kinematics' switch
   std::function<void(double, Eigen::VectorXd*)>
-      load_;                               // f(t) [N] (DynamicModel::load at first)
-  std::unique_ptr<DynamicModel> current_;  // the model with the nodes of FollowBody
-  std::vector<ContactNode> nodes_;         // the model's, with the current gaps s_c
-  Eigen::VectorXd gap0_;                   // s_c [m]
+      load_;                        // f(t) [N] (DynamicModel::load at first)
+  std::vector<ContactNode> nodes_;  // the model's, with the current gaps s_c
+  Eigen::VectorXd gap0_;            // s_c [m]
   StepRecord first_inaccurate_;
   internal::DampingForce damping_;  // C v^k (none unless model.damping is set)
   Eigen::VectorXd obstacle_step_;   // the obstacle's translation over the step [m]

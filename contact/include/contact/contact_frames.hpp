@@ -4,12 +4,10 @@
 /// of the thesis (eq. 55): Y picks the normal component of every contact node, Z the
 /// tangential ones, X all other dofs.
 ///
-/// Small strain (as in the thesis, section 5): gaps and normals are computed once in the
-/// reference configuration. Under finite strain the integrator re-evaluates them every
-/// step in the current configuration (CurrentContactGeometry). The non-penetration
-/// condition is the linearization  gap_c - n_c . u_c >= 0, exact for a flat obstacle
-/// whose normal is used, first order otherwise; large sliding along a curved obstacle is
-/// not represented.
+/// Small-displacement limitation (as in the thesis, section 5): gaps and normals are
+/// computed once in the reference configuration. The non-penetration condition is the
+/// linearization  gap_c - n_c . u_c >= 0, exact for a flat obstacle whose normal is used,
+/// first order otherwise; large sliding along a curved obstacle is not represented.
 #pragma once
 
 #include <string>
@@ -45,14 +43,10 @@ struct ContactFrames {
 /// 0). A negative `allowed_initial_penetration` (the default) means 1e-9 of the diagonal
 /// of the mesh's bounding box: round-off of the mesh coordinates, in the mesh's own
 /// length unit.
-/// `follow_body` (finite kinematics, CurrentContactGeometry): with kBody a node whose
-/// body normal points away from the obstacle (the far side of a body that may turn) takes
-/// the obstacle normal and gap instead of being refused.
 ContactFrames MakeContactFrames(const Mesh& mesh, const ContactBoundary& boundary,
                                 const DofMap& dofs, const RigidObstacle& obstacle,
                                 NormalSource source,
-                                double allowed_initial_penetration = -1.0,
-                                bool follow_body = false);
+                                double allowed_initial_penetration = -1.0);
 
 /// The initial gaps s_c [m] of frames.nodes against `obstacle` translated rigidly by
 /// `translation` [m] (size dim: every obstacle point y moves to y + translation),
@@ -64,21 +58,5 @@ ContactFrames MakeContactFrames(const Mesh& mesh, const ContactBoundary& boundar
 Eigen::VectorXd ObstacleGaps(const Mesh& mesh, const ContactBoundary& boundary,
                              const ContactFrames& frames, const RigidObstacle& obstacle,
                              NormalSource source, const Vector& translation);
-
-/// The contact geometry of a body that moves and turns (finite kinematics): the frames of
-/// `frames.nodes` re-evaluated in the current configuration x = X + u, with u the full
-/// displacement [m] (`deformed` is the mesh with nodes x). For each node the normal n_c
-/// is the source's (kBody: the outward normal of the deformed contact boundary at the
-/// node, area-weighted as in ContactBoundary::normals; where it points away from the
-/// obstacle, or kObstacle: -(obstacle normal at the closest point to x)), the tangents
-/// follow it, and s_c is set so that the step's linearized condition
-///   s_c - n_c . u_c >= 0   reads   g_c(x) - n_c . du_c >= 0
-/// with g_c(x) the current distance to the obstacle (translated by `translation`) along
-/// n_c: s_c = g_c(x) + n_c . u_c. Exact to first order in the step's increment du.
-void CurrentContactGeometry(const Mesh& deformed, const ContactBoundary& boundary,
-                            const ContactFrames& frames, const RigidObstacle& obstacle,
-                            NormalSource source, const Vector& translation,
-                            const Eigen::VectorXd& u_free,
-                            std::vector<ContactNode>* nodes, Eigen::VectorXd* gaps);
 
 }  // namespace contact

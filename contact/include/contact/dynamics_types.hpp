@@ -50,13 +50,6 @@ struct DynamicModel {
   /// finite strain every step evaluates f_int(u^k) where it would form K u^k; the step's
   /// complementarity problem (built from M) is unchanged.
   std::shared_ptr<const BodyKinematics> kinematics;
-  /// Under finite strain, before every step: the contact nodes (normals, tangents) and
-  /// gaps s_c [m] re-evaluated at u^k [m] (free dofs) in the current configuration
-  /// (contact_frames.hpp, CurrentContactGeometry); the step method is set up anew with
-  /// them. Null, or under small strain: contact_nodes throughout.
-  std::function<void(const Eigen::VectorXd& u, std::vector<ContactNode>* nodes,
-                     Eigen::VectorXd* gaps)>
-      contact_geometry;
 };
 
 /// How each step's complementarity system is posed and solved: the one choice of the step

@@ -134,9 +134,6 @@ struct SceneModel {
   DynamicModel model;
   DynamicOptions
       options;  ///< scene.dynamics with friction and initial velocity filled in
-  /// The obstacle's translation [m] that model.contact_geometry (finite kinematics)
-  /// measures against; null under small kinematics (contact::Simulation moves it).
-  std::shared_ptr<Vector> obstacle_translation;
 };
 SceneModel BuildSceneModel(const Scene& scene);
 /// The same on a given mesh (the scene's geometry section is ignored), e.g. one from

@@ -28,8 +28,7 @@ void MakeConstraints(const Scene& scene, SceneModel* out) {
   out->dofs = MakeDofMap(mesh, conditions);
   out->boundary = MakeContactBoundary(*out->body);
   out->frames = MakeContactFrames(mesh, out->boundary, out->dofs, *scene.obstacle,
-                                  scene.normal_source, -1.0,
-                                  scene.kinematics.kinematics != Kinematics::kSmall);
+                                  scene.normal_source);
   if (out->frames.nodes.empty())
     throw SceneError(scene.source + ": no contact node is left after removing the " +
                      std::to_string(out->frames.excluded_mesh_nodes.size()) +
@@ -113,26 +112,6 @@ SceneModel BuildGeometry(const Scene& scene, Mesh mesh) {
   return out;
 }
 
-/// DynamicModel::contact_geometry: the frames and gaps of the current configuration
-/// X + u against the obstacle at its translation *out->obstacle_translation.
-void FollowTheBody(const Scene& scene, SceneModel* out) {
-  out->obstacle_translation = std::make_shared<Vector>(Vector::Zero(scene.dim));
-  auto deformed = std::make_shared<Mesh>(out->body->mesh());
-  out->model.contact_geometry =
-      [deformed, reference = deformed->nodes, dofs = out->dofs, boundary = out->boundary,
-       frames = out->frames, obstacle = scene.obstacle, source = scene.normal_source,
-       translation = out->obstacle_translation](const Eigen::VectorXd& u,
-                                                std::vector<ContactNode>* nodes,
-                                                Eigen::VectorXd* gaps) {
-        const Vector u_full = dofs.Expand(u);
-        for (Eigen::Index n = 0; n < reference.cols(); ++n)
-          deformed->nodes.col(n) =
-              reference.col(n) + u_full.segment(deformed->dim * n, deformed->dim);
-        CurrentContactGeometry(*deformed, boundary, frames, *obstacle, source,
-                               *translation, u, nodes, gaps);
-      };
-}
-
 SceneModel BuildModel(const Scene& scene, Mesh mesh) {
   SceneModel out = BuildGeometry(scene, std::move(mesh));
   const Vector f_free = AssembleOnFreeDofs(scene, *out.body, out.dofs, &out.model);
@@ -143,7 +122,6 @@ SceneModel BuildModel(const Scene& scene, Mesh mesh) {
   // (the body is on the heap: the pointer stays valid when the SceneModel moves)
   out.model.kinematics =
       std::make_shared<const BodyKinematics>(*out.body, out.dofs, scene.kinematics);
-  if (scene.kinematics.kinematics != Kinematics::kSmall) FollowTheBody(scene, &out);
   out.options = RunOptions(scene, out);
   return out;
 }

@@ -113,8 +113,6 @@ void Simulation::RestoreScene(const internal::CheckpointData& data) {
   if (data.body_force != scene_->body_force) SetBodyForce(data.body_force);
   scene_->translation =
       data.obstacle_translation;  // (the gaps it gave are in the checkpoint)
-  if (scene_->built.obstacle_translation)
-    *scene_->built.obstacle_translation = data.obstacle_translation;
 }
 
 Simulation::Simulation(const Scene& scene) : Simulation(BuildSceneData(scene)) {}
@@ -156,7 +154,6 @@ void Simulation::MoveObstacle(const Eigen::VectorXd& translation) {
   SetContactGaps(ObstacleGaps(b.body->mesh(), b.boundary, b.frames, *data.scene.obstacle,
                               data.scene.normal_source, translation));
   data.translation = translation;
-  if (b.obstacle_translation) *b.obstacle_translation = translation;
 }
 
 const Eigen::VectorXd& Simulation::body_force() const {
