@@ -75,8 +75,9 @@ def test_quadratic_cells_as_vtk_reads_them(tmp_path, bin_dir, element, geometry,
     if not os.path.exists(exe):
         pytest.skip(f"{exe} not built (NCP_BIN_DIR)")
     (tmp_path / "scene.toml").write_text(scene(element, geometry, normal))
+    # (a relative output directory is taken from the working directory)
     subprocess.run([exe, str(tmp_path / "scene.toml"), "--quiet"], check=True,
-                   capture_output=True)
+                   capture_output=True, cwd=tmp_path)
     series = ET.parse(tmp_path / "out" / "solution.pvd").getroot().find("Collection")
     reader = vtk.vtkXMLUnstructuredGridReader()
     reader.SetFileName(str(tmp_path / "out" / series[0].get("file")))
@@ -111,7 +112,7 @@ def test_contact_on_faces_with_nonpositive_weights_is_refused(tmp_path, bin_dir,
         pytest.skip(f"{exe} not built (NCP_BIN_DIR)")
     (tmp_path / "scene.toml").write_text(scene(element, BOX, "[0.0, 0.0, 1.0]"))
     run = subprocess.run([exe, str(tmp_path / "scene.toml"), "--quiet"],
-                         capture_output=True, text=True)
+                         capture_output=True, text=True, cwd=tmp_path)
     assert run.returncode == 1
     assert "is not supported" in run.stderr and "nodal contact weight" in run.stderr
     assert not (tmp_path / "out" / "solution.pvd").exists()
