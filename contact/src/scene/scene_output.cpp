@@ -61,6 +61,8 @@ SceneOutput::SceneOutput(const Scene& scene, const SceneModel& built, int marked
       built.model.kinematics->options().kinematics != Kinematics::kSmall) {
     finite_strain_ = true;
     finite_strain_model_ = built.model.kinematics->FiniteModel();
+    if (built.model.kinematics->options().kinematics == Kinematics::kAuto)
+      auto_kinematics_ = built.model.kinematics;
   }
   std::sort(pending_stress_times_.begin(), pending_stress_times_.end());
   if (scene_.output_directory.empty()) return;
@@ -101,13 +103,19 @@ void SceneOutput::WriteStep(const StepRecord& record, const Eigen::VectorXd& u,
     WriteContactStressRows(record.time, mesh_, frames_.nodes, contact, force_scale,
                            &stress_csv_.stream());
   }
-  if ((scene_.snapshot_every > 0 && record.step % scene_.snapshot_every == 0) || last)
+  if ((scene_.snapshot_every > 0 && record.step % scene_.snapshot_every == 0) || last) {
+    // Under "auto", the Cauchy stress where small strain is not valid at u; where it is,
+    // the linear stress (they agree to the kinematics tolerance there).
+    const bool finite =
+        finite_strain_ && !(auto_kinematics_ && auto_kinematics_->SmallStrainValid(
+                                                    auto_kinematics_->Measure(u)));
     // u^k = u^{k+1} - du, du = contact.x
     WriteSnapshot(record.step, {record.time, dofs_.Expand(u), dofs_.Expand(u - contact.x),
                                 dt_, &frames_.nodes, force_scale * contact.normal_force,
                                 force_scale * contact.tangent_force, contact.gap,
                                 record.force_accuracy, record.displacement_accuracy,
-                                finite_strain_, finite_strain_model_});
+                                finite, finite_strain_model_});
+  }
   // The step's rows go to the files together, so each file ends at a whole step.
   for (ncp::OutputFile* csv :
        {&steps_csv_, &history_csv_, &stress_csv_, &displacement_csv_})

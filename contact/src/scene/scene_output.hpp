@@ -12,10 +12,12 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "contact/kinematics.hpp"
 #include "contact/scene.hpp"
 #include "contact/vtk_writer.hpp"
 #include "ncp/output_file.hpp"
@@ -117,6 +119,9 @@ class SceneOutput {
   std::vector<std::string>* files_written_;
   VtuSeriesWriter series_;
   bool finite_strain_ = false;  // snapshots with the Cauchy stress of finite strain
+  // The body's kinematics under "auto" (null otherwise): a snapshot where small strain is
+  // valid writes the linear stress, the model the run uses there.
+  std::shared_ptr<const BodyKinematics> auto_kinematics_;
   MaterialModel finite_strain_model_ = MaterialModel::kSaintVenantKirchhoff;
   ncp::OutputFile steps_csv_, stress_csv_, history_csv_, displacement_csv_;
 };
