@@ -147,13 +147,9 @@ std::pair<std::vector<PointField>, std::vector<CellField>> PieceFields(
   }
   s.force_accuracy = contact.force_accuracy;
   s.displacement_accuracy = contact.displacement_accuracy;
-  // The stress one process writes (SceneOutput): unless the kinematics is "small", the
-  // Cauchy stress of the finite-strain model (BodyKinematics::FiniteModel: the linear
-  // material as Saint Venant-Kirchhoff), also while an "auto" run stays small strain.
-  s.finite_strain = scene.kinematics.kinematics != Kinematics::kSmall;
-  s.finite_strain_model = scene.kinematics.model == MaterialModel::kLinear
-                              ? MaterialModel::kSaintVenantKirchhoff
-                              : scene.kinematics.model;
+  // Ranks run small strain (finite strain is refused there): the linear stress, as one
+  // process writes it wherever small strain is valid (SceneOutput).
+  s.finite_strain = false;
   return ContactSnapshotFields(*local_body, s);
 }
 
