@@ -34,9 +34,10 @@ const Units kLarge{1e-3, 1e-3, 1e-9, "scaled by 1e3"};
 
 }  // namespace
 
-// Known defect, reported as such ([!mayfail]): the soft block (E = 1e6 Pa) with the lumped
-// mass at dt = 0.95 dt_crit switches to finite strain at the impact ("auto") and ends with
-// the status inverted-element some 30 ms later, in 2D and 3D; every other case passes.
+// Known defect, reported as such ([!mayfail]): the soft block (E = 1e6 Pa) with the
+// lumped mass at dt = 0.95 dt_crit switches to finite strain at the impact ("auto") and
+// ends with the status inverted-element some 30 ms later, in 2D and 3D; every other case
+// passes.
 TEST_CASE("Default settings: free fall onto a floor, no force in flight, contact on time",
           "[physics][fall][!mayfail]") {
   for (int dim : {2, 3})

@@ -204,7 +204,8 @@ TEST_CASE("an unstable explicit step blows up on MPI ranks as in one process") {
   CHECK(parallel.summary.steps == serial.summary.steps);
   CHECK(parallel.summary.steps < 500);  // stopped before end_time
   // (the energies in the messages differ: under material.kinematics = "auto" one process
-  // switches to finite strain as the blow-up rotates the elements, ranks run small strain)
+  // switches to finite strain as the blow-up rotates the elements, ranks run small
+  // strain)
   CHECK(parallel.summary.message.substr(0, 30) == serial.summary.message.substr(0, 30));
 }
 
