@@ -274,7 +274,7 @@ void BindSummary(py::module_& m) {
   cls.def(py::init<>());
   // clang-format off
   FieldTable<Summary>(cls, false)
-      ("termination", &Summary::termination, "why the solve stopped (only CONVERGED is a solution)")
+      ("termination", &Summary::termination, "why the solve stopped (CONVERGED and AT_ROUNDOFF_FLOOR: x usable, see is_solution_usable)")
       ("message", &Summary::message, "human-readable reason")
       ("num_variables", &Summary::num_variables, "n")
       ("num_equations", &Summary::num_equations, "m (smooth equations)")

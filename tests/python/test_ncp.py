@@ -313,3 +313,27 @@ def test_solve_without_bounds_is_refused():
     x, s = ncp.solve(lambda x: x + 2.0, lambda x: np.eye(2), np.ones(2), lower=0.0)
     assert s.is_solution_usable and np.allclose(x, 0.0, atol=1e-9)
 
+
+
+def test_a_tolerance_below_double_precision_ends_at_the_roundoff_floor_not_converged():
+    """F(x) = a (x^2 - 2), a = 1e9 N: the root sqrt(2) has no double, so at the best double x
+    |F(x)| = a |x^2 - 2| >= a * 2 ulp(2) / 2 ~ 4e-7 > the tolerance 1e-10 - no iterate can
+    meet it. The status says so (AT_ROUNDOFF_FLOOR, not CONVERGED), x is still usable, and
+    with the round-off floor switched off the same request is reported as not reached."""
+    a = 1e9
+    F = lambda x: a * (x * x - 2.0)
+    J = lambda x: np.diag(2.0 * a * x)
+    x, s = ncp.solve(F, J, [1.0, 1.5], lower=0.0, upper=np.inf)
+    assert s.termination == ncp.TerminationType.AT_ROUNDOFF_FLOOR, s.message
+    assert s.is_solution_usable and s.roundoff_limited
+    assert "round-off floor" in s.message
+    residual = np.abs(F(x)).max()  # recomputed here: above the tolerance, at the floor
+    assert 1e-10 < residual <= 10 * np.finfo(float).eps * (2 * a * x * x).max()
+    # |F| = 2 a x |x - sqrt 2| <= 10 eps (2 a x^2): x within 10 eps of sqrt(2), relative
+    np.testing.assert_allclose(x, np.sqrt(2.0), rtol=10 * np.finfo(float).eps)
+    x, s = ncp.solve(F, J, [1.0, 1.5], lower=0.0, upper=np.inf, roundoff_ulps=0.0,
+                     max_iterations=50)
+    assert s.termination != ncp.TerminationType.CONVERGED and not s.is_solution_usable
+    with pytest.raises(ncp.SolveError):
+        ncp.solve(F, J, [1.0, 1.5], lower=0.0, upper=np.inf, roundoff_ulps=0.0,
+                  max_iterations=50, raise_on_failure=True)
