@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Consistent against lumped mass on every closed-form scene: error against the closed form
-and time, in one run (issue 28, item 5).
+and time, in one run.
 
     /usr/bin/python3 benchmarks/contact/mass_table.py [--build build] [--out DIR] [--full]
 

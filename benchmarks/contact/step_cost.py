@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Time of each step method and of `auto` on every example scene, in one run (issue 28).
+"""Time of each step method and of `auto` on every example scene, in one run.
 
     /usr/bin/python3 benchmarks/contact/step_cost.py [--build build] [--out DIR] [SCENE.toml ...]
 

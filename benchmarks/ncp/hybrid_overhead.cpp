@@ -1,5 +1,5 @@
 // ncp-hybrid-overhead: what the hybrid default (Options::hybrid) costs on the runs the
-// plain strategy solves (issue 29 item 1: "problems the plain FB solves cost at most
+// plain strategy solves (the target "problems the plain FB solves cost at most
 // ~10% more"). For every collection problem, standard start and NCP function whose plain
 // run (hybrid = false) converges: the work of both runs, which does not depend on the
 // machine's load (iterations, Jacobian and residual evaluations), and their time,

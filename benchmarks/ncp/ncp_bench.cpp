@@ -83,7 +83,7 @@ struct Settings {
   bool skip_table = false;
 };
 
-/// The "small problems" of the per-iteration comparison (issue 13 item 4).
+/// The "small problems" of the per-iteration comparison.
 constexpr int kSmallTimingMaxN = 10;
 /// Tolerance of the per-iteration comparison (ncp's and Siconos' own stopping tests).
 constexpr double kSmallTimingTolerance = 1e-10;
@@ -430,7 +430,7 @@ bool RunSmallTiming(const Settings& settings, const std::vector<BenchProblem>& p
     for (const ncp::collection::StartPoint& start : b.problem.starts)
       cases.push_back({b.problem.name, start.label, &b.peer, start.x});
   }
-  // Mixed problems with free variables (issue 28 item 6), n = 2 and 10.
+  // Mixed problems with free variables, n = 2 and 10.
   std::vector<ncp_bench::MixedFreeProblem> mixed;
   mixed.push_back(ncp_bench::MakeMixedFreeProblem(2, 1, 2));
   mixed.push_back(ncp_bench::MakeMixedFreeProblem(10, 4, 10));

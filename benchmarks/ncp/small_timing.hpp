@@ -40,7 +40,7 @@ struct SmallTimingRow {
   double peer_us_per_iteration() const { return peer_us / peer_iterations; }
 };
 
-/// Mixed MCPs with free variables (issue 28 item 6; the collection's small problems have
+/// Mixed MCPs with free variables (the collection's small problems have
 /// none): F(x) = M x + q + x.^3 / 10, M = 2 I + (K - K') + B B' / n with K, B, q normal
 /// (x'Mx >= 2 |x|^2 and F' = M + diag(0.3 x.^2): strongly monotone, one solution); the
 /// first `free_variables` are free, the rest >= 0. Starts: zero and ones.

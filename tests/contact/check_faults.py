@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""No result lost on a fault (issue 32 items 1 and 2; docs/reliability.md).
+"""No result lost on a fault (docs/reliability.md).
 
   check_faults.py --contact-sim build/bin/contact-sim --fc-solve build/bin/fc-solve \
                   --scene examples/thesis/friction_2d_flat.toml --problem data/fc3d/X.dat

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Checkpoint and resume of contact-sim (issue 32 item 3; docs/reliability.md).
+"""Checkpoint and resume of contact-sim (docs/reliability.md).
 
   check_resume.py --contact-sim build/bin/contact-sim --scene SCENE.toml --mode MODE
                   [--checkpoint-every K] [--tolerance REL] [-- OVERRIDES...]

@@ -414,7 +414,7 @@ TEST_CASE("SolveStaticContact, Coulomb fixed point: a constant few allocations p
 }
 
 // ---------------------------------------------------------------------------------------
-// The light path of small box MCPs (issue 13 item 4): a Solver kept between solves.
+// The light path of small box MCPs: a Solver kept between solves.
 // ---------------------------------------------------------------------------------------
 
 TEST_CASE("ncp box MCP, n = 4, a Solver kept between solves: no allocation per iteration",
@@ -470,7 +470,7 @@ TEST_CASE("ncp box MCP, n = 4, a Solver kept between solves: no allocation per i
 
 // A mixed problem with free variables, one- and two-sided bounds and a fixed variable:
 // the box MCP's mixed form has equations, pairs and slacks, and on the dense backend
-// writes the Jacobian of Phi itself (issue 28 item 6).
+// writes the Jacobian of Phi itself.
 TEST_CASE(
     "ncp box MCP with every kind of bound, n = 10, a Solver kept: no allocation per "
     "iteration",

@@ -322,7 +322,7 @@ TEST_CASE(
       GENERATE(NcpFunction::kFischerBurmeister, NcpFunction::kMin,
                NcpFunction::kPenalizedFischerBurmeister);
   std::vector<BoxLcp> problems;
-  // x >= 0 perp -x - 1 >= 0: F < 0 on the whole orthant (issue 29's example).
+  // x >= 0 perp -x - 1 >= 0: F < 0 on the whole orthant (an infeasible example).
   problems.push_back({"M = -I, q = -1", -Eigen::MatrixXd::Identity(2, 2),
                       Vector::Constant(2, -1.0), Vector::Zero(2),
                       Vector::Constant(2, kInf)});

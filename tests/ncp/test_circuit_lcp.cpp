@@ -1,4 +1,4 @@
-// Mixed LCPs of switched circuits (issue 29): modified nodal analysis of one
+// Mixed LCPs of switched circuits: modified nodal analysis of one
 // backward-Euler step with ideal diodes (0 <= i perp v_cathode - v_anode >= 0) and ideal
 // switches (a closed switch is a 0 V source, an open one is absent). Node voltages,
 // source and inductor currents are free rows; the diode currents are the pairs. A node
@@ -369,7 +369,7 @@ TEST_CASE("hybrid off: one strategy, nothing recorded") {
   CHECK(r.summary.strategy_switches.empty());
 }
 
-// The solver before issue 29 item 2: no equilibration, no rank-revealing step.
+// The solver without equilibration and without the rank-revealing step.
 ncp::Options WithoutSingularHandling(ncp::Options o) {
   o.scale_newton_system = false;
   o.minimum_norm_step = false;

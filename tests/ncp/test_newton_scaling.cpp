@@ -1,4 +1,4 @@
-// Badly scaled and singular Newton systems (issue 29 item 2): the equilibrated dense LU
+// Badly scaled and singular Newton systems: the equilibrated dense LU
 // (Options::scale_newton_system) and the rank-revealing least-squares step
 // (Options::minimum_norm_step). Every converged run is checked against data recomputed
 // here: the solution of the same problem with unscaled rows, and the natural residual of

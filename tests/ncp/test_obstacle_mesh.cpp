@@ -255,8 +255,8 @@ TEST_CASE("1D bump obstacle in the gap variable, n = 1e2 .. 1e5, default toleran
   }
 }
 
-// Not run by default (Catch2 hidden tag; several minutes): the sizes of issue 13's
-// target. build/bin/test_obstacle_mesh "[.obstacle-large]"
+// Not run by default (Catch2 hidden tag; several minutes): the sizes of the
+// 10^6-unknown target. build/bin/test_obstacle_mesh "[.obstacle-large]"
 TEST_CASE("bump obstacle at 10^6 unknowns, 1D and 2D, gap variable (table)",
           "[.obstacle-large]") {
   // "ratio" = total time / (linear-solver time per Jacobian): the solve's cost in

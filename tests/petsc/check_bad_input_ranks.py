@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Bad input to `mpiexec -n 2 contact-sim SCENE.toml`, as a user meets it from the command
-line (issue 27: "bad partitions work or fail with a clear message; never a hang").
+line ("bad partitions work or fail with a clear message; never a hang").
 
 Each refused case must end on every rank within TIMEOUT seconds (never a hang) with a
 non-zero exit code, a message on stderr that names the key or option, the value and what

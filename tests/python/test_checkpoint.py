@@ -1,4 +1,4 @@
-"""contact.Simulation.save / contact.Simulation.load (issue 32 item 3): a Simulation saved
+"""contact.Simulation.save / contact.Simulation.load: a Simulation saved
 after k steps, loaded and stepped to the end gives the uninterrupted run's trajectory bit for
 bit - displacement, velocity, contact forces and every step record but the timings - with the
 body force and the obstacle moved through the API before the save; a checkpoint of another

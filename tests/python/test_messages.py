@@ -1,4 +1,4 @@
-"""Every message names what to change (issue 30 item 3): each key or option a message
+"""Every message names what to change: each key or option a message
 suggests is fed back and must be accepted; paths in messages are resolved; no C++ function
 names reach a scene user; warnings for what a user probably did not mean; Python setters
 validate at once; contact-sim --quiet prints a refusal once and nothing else."""

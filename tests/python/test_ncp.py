@@ -281,7 +281,7 @@ def test_ncp_function_names_are_the_scene_file_names():
 
 
 def test_infeasible_lcp_is_reported_and_can_raise():
-    """M = -I, q = -1: F(x) < 0 on the whole orthant, no solution (issue 29). The status
+    """M = -I, q = -1: F(x) < 0 on the whole orthant, no solution. The status
     says so, its certificate y is checked here (y >= 0, M'y <= 0, q'y < 0), x stays >= 0,
     and raise_on_failure=True raises with the message."""
     M, q = -np.eye(2), -np.ones(2)

@@ -1,4 +1,4 @@
-"""Fuzz test of the Python scene-dict path (contact.scene_from_dict, issue 32 item 4): a fixed
+"""Fuzz test of the Python scene-dict path (contact.scene_from_dict): a fixed
 seed mutates the example scenes' dicts - values replaced by other types, NaN, +-inf, huge or
 negative numbers, deep nesting, keys deleted or unknown ones added - and every case must
 either build a Scene or be refused with contact.SceneError or ValueError (the documented
