@@ -44,8 +44,7 @@ namespace {
 using contact::test::MaxAbs;
 using contact::test::Rank;
 
-constexpr double kSameTrajectory =
-    1e-9;  // relative to the largest value of the quantity
+constexpr double kSameTrajectory = 1e-9;  // relative to the largest value of the quantity
 // The accuracy and energy measures of each step against one process's, relative to their
 // scales (CheckSameMeasures): with MUMPS's factor of M (one rank) 1e-11 - the residuals
 // are the round-off two direct solves leave (CHOLMOD's factor of M in one process,
